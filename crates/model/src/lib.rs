@@ -1,0 +1,26 @@
+//! The dimensionless multi-state spur-gear mesh model of geardyn (MODEL.md §2–4).
+//!
+//! * [`ModelParams`]: the dimensionless parameter set (config-file form, `--set` names).
+//! * [`MeshModel`]: the validated, tabulated model; implements
+//!   [`geardyn_solvers::HybridSystem`] with state `[x, x']` in units of `b_c` and `b_c*omega_n`,
+//!   time `tau = omega_n*t`.
+//! * [`ContactLaw`], [`ImpactLaw`]: drive/back-side contact laws and the back-side impact law.
+//! * [`presets`]: `classic` (C1), `breakage`, `internal`.
+//! * [`reference`]: other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
+//!   templates.
+#![warn(missing_docs)]
+
+pub mod contact_law;
+pub mod error;
+pub mod impact;
+pub mod mesh_model;
+pub mod params;
+pub mod phase;
+pub mod presets;
+pub mod reference;
+
+pub use contact_law::ContactLaw;
+pub use error::ModelError;
+pub use impact::ImpactLaw;
+pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone};
+pub use params::{BackSide, Breakage, Friction, ModelParams, StiffnessForm, PARAMETER_NAMES};

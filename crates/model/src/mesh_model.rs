@@ -1,0 +1,723 @@
+//! The dimensionless multi-state gear mesh model (MODEL.md §2–3) as a [`HybridSystem`].
+//!
+//! State `y = [x, x']`: dimensionless relative displacement on the line of action and its
+//! velocity; time `tau`. Equation of motion
+//! `x'' + h(phi, side)*F_m = F + xi*omega^2*cos(omega*tau)` with the mesh force `F_m` of the contact
+//! state (drive side, separation, back side, or stuck at the back stop of the impact model).
+//!
+//! Everything that varies along the excitation period — stiffness, half backlash, friction factors —
+//! is tabulated once into [`Segment`]s (one per zone piece, adjacent identical pieces merged), and
+//! each segment border is a time breakpoint. The mode carries the segment index, so the zone is
+//! never recomputed from a rounded time.
+
+use crate::contact_law::ContactLaw;
+use crate::error::ModelError;
+use crate::impact::ImpactLaw;
+use crate::params::{BackSide, ModelParams, StiffnessForm};
+use crate::phase::cos_cycles;
+use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// Meshing zone of a segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Zone {
+    /// Double-tooth zone `[0, eps-1)` (or `[0, eps_b-1)` in the broken cycle).
+    Double,
+    /// Single-tooth zone `[eps-1, 1)`.
+    Single,
+    /// "Single-tooth zone II" `[eps_b-1, eps-1)` of the broken cycle.
+    SingleII,
+}
+
+/// Contact state of the tooth pair (the discrete part of the mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactState {
+    /// Drive-side contact, `x >= D`.
+    Drive,
+    /// Tooth separation, `-D < x < D`.
+    Separated,
+    /// Back-side contact (continuous model), `x <= -D`.
+    Back,
+    /// Resting on the back stop of the impact model (`x = -D`, `x' = 0`).
+    Stuck,
+}
+
+impl ContactState {
+    /// Integer code used in CSV output: drive 1, separated 0, back -1, stuck -2.
+    pub fn code(self) -> i8 {
+        match self {
+            ContactState::Drive => 1,
+            ContactState::Separated => 0,
+            ContactState::Back => -1,
+            ContactState::Stuck => -2,
+        }
+    }
+}
+
+/// Mode of the mesh model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshMode {
+    /// Excitation-period index.
+    pub period: i64,
+    /// Segment index within the excitation period.
+    pub seg: u32,
+    /// Contact state.
+    pub contact: ContactState,
+    /// Hysteresis factor of a dissipative contact law, fixed at contact entry.
+    pub chi: f64,
+}
+
+/// Kind of a located event, for observers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// Drive-side contact begins (`x` rises through `D`).
+    DriveEnter,
+    /// Drive-side contact ends (`x` falls through `D`).
+    DriveExit,
+    /// Back-side contact begins (`x` falls through `-D`).
+    BackEnter,
+    /// Back-side contact ends.
+    BackExit,
+    /// Back-side impact with restitution.
+    Impact,
+    /// Impact below the sticking speed: the tooth comes to rest on the back stop.
+    Stick,
+    /// The tooth leaves the back stop (the free acceleration changed sign).
+    Release,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum KForm {
+    /// `k0 + kappa*cos(omega*tau)` (kappa global, 0 unless harmonic).
+    Const(f64),
+    /// Piecewise-linear table: indices into the model's table arrays.
+    Table { off: u32, len: u32 },
+}
+
+/// One piece of the excitation period with constant zone, backlash and friction factors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// Start, in mesh cycles from the start of the excitation period.
+    pub start: f64,
+    /// End, in mesh cycles.
+    pub end: f64,
+    /// Zone.
+    pub zone: Zone,
+    /// Half backlash `D`.
+    pub d: f64,
+    /// Friction factor of the drive side.
+    pub h_drive: f64,
+    /// Friction factor of the back side.
+    pub h_back: f64,
+    k: KForm,
+}
+
+/// The dimensionless mesh model. Build it with [`MeshModel::new`] from validated [`ModelParams`].
+///
+/// ```
+/// use geardyn_model::{presets, MeshModel};
+/// let m = MeshModel::new(&presets::classic()).unwrap();
+/// assert_eq!(m.cycles_per_period(), 1);
+/// assert!((m.stiffness_at(0.0) - 1.2).abs() < 1e-12); // 1 + 0.2*cos(0)
+/// ```
+#[derive(Clone, Debug)]
+pub struct MeshModel {
+    params: ModelParams,
+    omega: f64,
+    load: f64,
+    xi_w2: f64,
+    c: f64,
+    kappa: f64,
+    cycles: u32,
+    cycle_time: f64,
+    segs: Vec<Segment>,
+    table_x: Vec<f64>,
+    table_k: Vec<f64>,
+    law: ContactLaw,
+    impact: Option<ImpactLaw>,
+    impact_peak_factor: f64,
+}
+
+fn inv(field: &str, value: f64, allowed: &str) -> ModelError {
+    ModelError::invalid(field, value, allowed)
+}
+
+fn finite(field: &str, v: f64) -> Result<f64, ModelError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(inv(field, v, "a finite number"))
+    }
+}
+
+impl MeshModel {
+    /// Validates the parameters and tabulates the excitation period.
+    pub fn new(p: &ModelParams) -> Result<Self, ModelError> {
+        let omega = finite("omega", p.omega)?;
+        if omega <= 0.0 {
+            return Err(inv("omega", omega, "(0, inf)"));
+        }
+        if finite("F", p.load)? < 0.0 {
+            return Err(inv("F", p.load, "[0, inf)"));
+        }
+        if finite("xi", p.xi)? < 0.0 {
+            return Err(inv("xi", p.xi, "[0, inf)"));
+        }
+        if finite("c", p.c)? < 0.0 {
+            return Err(inv("c", p.c, "[0, inf)"));
+        }
+        if finite("D_d", p.d_double)? <= 0.0 {
+            return Err(inv(
+                "D_d",
+                p.d_double,
+                "(0, inf) (half backlash must be positive)",
+            ));
+        }
+        if finite("D_s", p.d_single)? < p.d_double {
+            return Err(inv("D_s", p.d_single, "[D_d, inf) (D_s >= D_d)"));
+        }
+        let eps = finite("eps", p.eps)?;
+        if !(eps > 1.0 && eps < 2.0) {
+            return Err(inv("eps", eps, "(1, 2)"));
+        }
+        p.contact.validate()?;
+        let impact = match p.back_side {
+            BackSide::Contact => None,
+            BackSide::Impact(law) => {
+                law.validate()?;
+                Some(law)
+            }
+        };
+        let fr = p.friction;
+        if !(finite("friction.mu", fr.mu)? >= 0.0) {
+            return Err(inv("friction.mu", fr.mu, "[0, inf)"));
+        }
+        if !(finite("friction.arm", fr.arm)? >= 0.0) {
+            return Err(inv("friction.arm", fr.arm, "[0, inf)"));
+        }
+        let friction_on = fr.mu * fr.arm != 0.0;
+        if friction_on && !(fr.pitch >= eps - 1.0 && fr.pitch <= 1.0) {
+            return Err(inv(
+                "friction.pitch",
+                fr.pitch,
+                "[eps-1, 1] (inside the single-tooth zone)",
+            ));
+        }
+        let mut kappa = 0.0;
+        match &p.stiffness {
+            StiffnessForm::Constant { k } => {
+                if !(finite("stiffness.k", *k)? > 0.0) {
+                    return Err(inv("stiffness.k", *k, "(0, inf)"));
+                }
+            }
+            StiffnessForm::Harmonic { kappa: kp } => {
+                if !(finite("stiffness.kappa", *kp)? >= 0.0 && *kp < 1.0) {
+                    return Err(inv(
+                        "stiffness.kappa",
+                        *kp,
+                        "[0, 1) (k = 1 + kappa cos must stay positive)",
+                    ));
+                }
+                kappa = *kp;
+            }
+            StiffnessForm::Rectangular { k_double, k_single } => {
+                if !(finite("stiffness.k_double", *k_double)? > 0.0) {
+                    return Err(inv("stiffness.k_double", *k_double, "(0, inf)"));
+                }
+                if !(finite("stiffness.k_single", *k_single)? > 0.0) {
+                    return Err(inv("stiffness.k_single", *k_single, "(0, inf)"));
+                }
+            }
+            StiffnessForm::Table { phase, k } => {
+                if phase.len() != k.len() || phase.len() < 2 {
+                    return Err(ModelError::Inconsistent {
+                        field: "stiffness.phase/stiffness.k".into(),
+                        reason: format!(
+                            "need two arrays of equal length >= 2, got {} and {}",
+                            phase.len(),
+                            k.len()
+                        ),
+                    });
+                }
+                for (i, w) in phase.windows(2).enumerate() {
+                    if !(w[1] > w[0]) {
+                        return Err(inv(
+                            &format!("stiffness.phase[{}]", i + 1),
+                            w[1],
+                            "strictly increasing",
+                        ));
+                    }
+                }
+                if !(phase[0] <= 0.0 && *phase.last().unwrap() >= 1.0) {
+                    return Err(ModelError::Inconsistent {
+                        field: "stiffness.phase".into(),
+                        reason: "must cover the whole cycle [0, 1]".into(),
+                    });
+                }
+                for (i, &v) in k.iter().enumerate() {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(inv(&format!("stiffness.k[{i}]"), v, "(0, inf)"));
+                    }
+                }
+            }
+        }
+        let cycles = match p.breakage {
+            None => 1,
+            Some(b) => {
+                if b.z_p < 2 {
+                    return Err(inv("breakage.z_p", b.z_p as f64, "an integer >= 2"));
+                }
+                if b.broken_cycle >= b.z_p {
+                    return Err(inv(
+                        "breakage.broken_cycle",
+                        b.broken_cycle as f64,
+                        "[0, z_p - 1]",
+                    ));
+                }
+                if !(finite("breakage.eps_b", b.eps_b)? > 1.0 && b.eps_b <= eps) {
+                    return Err(inv("breakage.eps_b", b.eps_b, "(1, eps]"));
+                }
+                if !(finite("breakage.k_zone2", b.k_zone2)? > 0.0) {
+                    return Err(inv("breakage.k_zone2", b.k_zone2, "(0, inf)"));
+                }
+                b.z_p
+            }
+        };
+
+        let mut m = MeshModel {
+            params: p.clone(),
+            omega,
+            load: p.load,
+            xi_w2: p.xi * omega * omega,
+            c: p.c,
+            kappa,
+            cycles,
+            cycle_time: 2.0 * PI / omega,
+            segs: Vec::new(),
+            table_x: Vec::new(),
+            table_k: Vec::new(),
+            law: p.contact,
+            impact,
+            impact_peak_factor: impact.map_or(1.0, |l| l.peak_factor()),
+        };
+        m.tabulate(eps, friction_on);
+        for s in &m.segs {
+            if !(s.h_drive > 0.0) {
+                return Err(inv(
+                    "friction (h_drive = 1 + mu*lambda*arm)",
+                    s.h_drive,
+                    "h > 0: lower friction.mu or friction.arm",
+                ));
+            }
+            if !(s.h_back > 0.0) {
+                return Err(inv(
+                    "friction (h_back = 1 - mu*lambda*arm)",
+                    s.h_back,
+                    "h > 0: lower friction.mu or friction.arm",
+                ));
+            }
+        }
+        Ok(m)
+    }
+
+    fn tabulate(&mut self, eps: f64, friction_on: bool) {
+        let p = &self.params;
+        let fr = p.friction;
+        let mut pieces: Vec<(f64, f64, Zone, f64)> = Vec::new(); // (start, end, zone, lambda) in-cycle
+        for n in 0..self.cycles {
+            pieces.clear();
+            let broken = p.breakage.filter(|b| b.broken_cycle == n);
+            let e_dbl = broken.map_or(eps, |b| b.eps_b) - 1.0;
+            pieces.push((0.0, e_dbl, Zone::Double, 0.0));
+            if e_dbl < eps - 1.0 {
+                pieces.push((e_dbl, eps - 1.0, Zone::SingleII, 1.0));
+            }
+            if friction_on && fr.pitch > eps - 1.0 && fr.pitch < 1.0 {
+                pieces.push((eps - 1.0, fr.pitch, Zone::Single, 1.0));
+                pieces.push((fr.pitch, 1.0, Zone::Single, -1.0));
+            } else {
+                let lambda = if friction_on && fr.pitch <= eps - 1.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                pieces.push((eps - 1.0, 1.0, Zone::Single, lambda));
+            }
+            for &(a, b, zone, lambda) in &pieces {
+                if b <= a {
+                    continue;
+                }
+                let (d, hd, hb) = match zone {
+                    Zone::Double => (p.d_double, 1.0, 1.0),
+                    _ => (
+                        p.d_single,
+                        1.0 + fr.mu * lambda * fr.arm,
+                        1.0 - fr.mu * lambda * fr.arm,
+                    ),
+                };
+                let k = match (&p.stiffness, zone) {
+                    (StiffnessForm::Constant { k }, _) => KForm::Const(*k),
+                    (StiffnessForm::Harmonic { .. }, _) => KForm::Const(1.0),
+                    (StiffnessForm::Rectangular { k_double, .. }, Zone::Double) => {
+                        KForm::Const(*k_double)
+                    }
+                    (StiffnessForm::Rectangular { k_single, .. }, Zone::Single) => {
+                        KForm::Const(*k_single)
+                    }
+                    (_, Zone::SingleII) => KForm::Const(broken.map_or(1.0, |b| b.k_zone2)),
+                    (StiffnessForm::Table { phase, k }, _) => {
+                        let off = self.table_x.len() as u32;
+                        let at = |u: f64| {
+                            let j = phase.partition_point(|&x| x <= u).clamp(1, phase.len() - 1);
+                            let (x0, x1) = (phase[j - 1], phase[j]);
+                            k[j - 1] + (k[j] - k[j - 1]) * (u - x0) / (x1 - x0)
+                        };
+                        // the zone's own end values (one-sided) plus the interior nodes
+                        self.table_x.push(n as f64 + a);
+                        self.table_k.push(at(a));
+                        for (j, &x) in phase.iter().enumerate() {
+                            if x > a && x < b {
+                                self.table_x.push(n as f64 + x);
+                                self.table_k.push(k[j]);
+                            }
+                        }
+                        self.table_x.push(n as f64 + b);
+                        let kb = {
+                            // left limit at b
+                            let j = phase.partition_point(|&x| x < b).clamp(1, phase.len() - 1);
+                            let (x0, x1) = (phase[j - 1], phase[j]);
+                            k[j - 1] + (k[j] - k[j - 1]) * (b - x0) / (x1 - x0)
+                        };
+                        self.table_k.push(kb);
+                        KForm::Table {
+                            off,
+                            len: self.table_x.len() as u32 - off,
+                        }
+                    }
+                };
+                let seg = Segment {
+                    start: n as f64 + a,
+                    end: n as f64 + b,
+                    zone,
+                    d,
+                    h_drive: hd,
+                    h_back: hb,
+                    k,
+                };
+                // merge with the previous piece when nothing jumps at the border
+                if let Some(last) = self.segs.last_mut() {
+                    if last.d == seg.d
+                        && last.h_drive == seg.h_drive
+                        && last.h_back == seg.h_back
+                        && matches!((last.k, seg.k), (KForm::Const(x), KForm::Const(y)) if x == y)
+                    {
+                        last.end = seg.end;
+                        continue;
+                    }
+                }
+                self.segs.push(seg);
+            }
+        }
+        if let Some(last) = self.segs.last_mut() {
+            last.end = self.cycles as f64;
+        }
+    }
+
+    /// The parameters the model was built from.
+    pub fn params(&self) -> &ModelParams {
+        &self.params
+    }
+    /// Segments of the excitation period.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segs
+    }
+    /// Mesh cycles per excitation period (1 healthy, `z_p` broken).
+    pub fn cycles_per_period(&self) -> u32 {
+        self.cycles
+    }
+    /// Mesh cycle duration `2*pi/omega` (dimensionless time).
+    pub fn mesh_cycle_time(&self) -> f64 {
+        self.cycle_time
+    }
+    /// Excitation period `T_s` (dimensionless time).
+    pub fn excitation_period(&self) -> f64 {
+        self.cycle_time * self.cycles as f64
+    }
+    /// The contact law.
+    pub fn contact_law(&self) -> ContactLaw {
+        self.law
+    }
+    /// The back-side impact law, if the back side is a rigid stop.
+    pub fn impact_law(&self) -> Option<ImpactLaw> {
+        self.impact
+    }
+    /// Smallest and largest half backlash over the period (`D_d`, `D_s` where present).
+    pub fn backlash_levels(&self) -> (f64, f64) {
+        (self.params.d_double, self.params.d_single)
+    }
+
+    /// Segment index containing the position `u` (mesh cycles into the excitation period).
+    pub fn segment_index(&self, u: f64) -> usize {
+        self.segs
+            .partition_point(|s| s.end <= u)
+            .min(self.segs.len() - 1)
+    }
+
+    #[inline]
+    fn k_of(&self, seg: &Segment, t: f64, cos_wt: f64, period: i64) -> f64 {
+        match seg.k {
+            KForm::Const(k0) => k0 + self.kappa * cos_wt,
+            KForm::Table { off, len } => {
+                let u = self.omega * t / (2.0 * PI) - (period * self.cycles as i64) as f64;
+                self.table_eval(off as usize, len as usize, u)
+            }
+        }
+    }
+
+    #[inline]
+    fn table_eval(&self, off: usize, len: usize, u: f64) -> f64 {
+        let xs = &self.table_x[off..off + len];
+        let ks = &self.table_k[off..off + len];
+        let j = xs.partition_point(|&x| x <= u).clamp(1, len - 1);
+        let (x0, x1) = (xs[j - 1], xs[j]);
+        ks[j - 1] + (ks[j] - ks[j - 1]) * (u - x0) / (x1 - x0)
+    }
+
+    /// Stiffness at position `u` in mesh cycles from the start of the excitation period
+    /// (`u` in `[0, cycles)`), for tables and plots.
+    pub fn stiffness_at(&self, u: f64) -> f64 {
+        let seg = &self.segs[self.segment_index(u)];
+        match seg.k {
+            KForm::Const(k0) => k0 + self.kappa * cos_cycles(u),
+            KForm::Table { off, len } => self.table_eval(off as usize, len as usize, u),
+        }
+    }
+
+    /// Right-hand side of the excitation, `F + xi*omega^2*cos(omega*tau)` (the acceleration of a
+    /// separated tooth pair).
+    #[inline]
+    pub fn excitation(&self, t: f64) -> f64 {
+        self.load + self.xi_w2 * cos_cycles(self.omega * t / (2.0 * PI))
+    }
+
+    /// Dynamic mesh force `F_m` in the given mode (0 when separated or stuck).
+    pub fn mesh_force(&self, t: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
+        let seg = &self.segs[mode.seg as usize];
+        let cos_wt = cos_cycles(self.omega * t / (2.0 * PI));
+        self.force_in(seg, t, cos_wt, y, mode)
+    }
+
+    #[inline]
+    fn force_in(&self, seg: &Segment, t: f64, cos_wt: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
+        match mode.contact {
+            ContactState::Drive => {
+                let k = self.k_of(seg, t, cos_wt, mode.period);
+                let g = self.law.elastic(y[0] - seg.d);
+                k * g * (1.0 + mode.chi * y[1]) + self.c * y[1]
+            }
+            ContactState::Back => {
+                let k = self.k_of(seg, t, cos_wt, mode.period);
+                let g = self.law.elastic(-y[0] - seg.d);
+                -k * g * (1.0 - mode.chi * y[1]) + self.c * y[1]
+            }
+            ContactState::Separated | ContactState::Stuck => 0.0,
+        }
+    }
+
+    /// Peak back-side impact force for an impact at speed `v` (see [`crate::impact`]).
+    pub fn impact_peak_force(&self, v: f64) -> f64 {
+        self.impact
+            .map_or(0.0, |l| l.hertz_peak(v.abs()) * self.impact_peak_factor)
+    }
+
+    /// What the event of guard `index`, located in mode `before`, was.
+    pub fn event_kind(&self, before: &MeshMode, after: &MeshMode, index: usize) -> EventKind {
+        match (before.contact, index) {
+            (ContactState::Separated, 0) => EventKind::DriveEnter,
+            (ContactState::Separated, _) => match (self.impact, after.contact) {
+                (None, _) => EventKind::BackEnter,
+                (Some(_), ContactState::Stuck) => EventKind::Stick,
+                (Some(_), _) => EventKind::Impact,
+            },
+            (ContactState::Drive, _) => EventKind::DriveExit,
+            (ContactState::Back, _) => EventKind::BackExit,
+            (ContactState::Stuck, _) => EventKind::Release,
+        }
+    }
+
+    fn contact_of(&self, y: &[f64; 2], d: f64) -> ContactState {
+        let (x, v) = (y[0], y[1]);
+        if x > d || (x == d && v > 0.0) {
+            ContactState::Drive
+        } else if self.impact.is_none() && (x < -d || (x == -d && v < 0.0)) {
+            ContactState::Back
+        } else {
+            ContactState::Separated
+        }
+    }
+
+    /// Projects a state onto the admissible set of the impact model (`x >= -D`), applying the
+    /// impact law to a state inside the stop that moves into it. Returns the contact state.
+    fn project_to_stop(
+        &self,
+        t: f64,
+        y: &mut [f64; 2],
+        d: f64,
+        law: ImpactLaw,
+    ) -> Option<ContactState> {
+        if y[0] > -d {
+            return None;
+        }
+        y[0] = -d;
+        if y[1] < 0.0 {
+            y[1] = -law.restitution * y[1];
+        }
+        if y[1].abs() <= law.v_stick && self.excitation(t) <= 0.0 {
+            y[1] = 0.0;
+            return Some(ContactState::Stuck);
+        }
+        Some(ContactState::Separated)
+    }
+}
+
+impl HybridSystem<2> for MeshModel {
+    type Mode = MeshMode;
+    type TimeTerms = f64;
+
+    fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> MeshMode {
+        let s = self.omega * t / (2.0 * PI);
+        let period = (s / self.cycles as f64).floor() as i64;
+        let u = s - (period * self.cycles as i64) as f64;
+        let seg = self.segment_index(u);
+        let d = self.segs[seg].d;
+        let contact = match self.impact {
+            Some(law) => self
+                .project_to_stop(t, y, d, law)
+                .unwrap_or_else(|| self.contact_of(y, d)),
+            None => self.contact_of(y, d),
+        };
+        MeshMode {
+            period,
+            seg: seg as u32,
+            contact,
+            chi: self.law.hysteresis(y[1]),
+        }
+    }
+
+    #[inline]
+    fn time_terms(&self, t: f64) -> f64 {
+        cos_cycles(self.omega * t * (0.5 / PI))
+    }
+
+    #[inline]
+    fn rhs(&self, t: f64, cos_wt: &f64, y: &[f64; 2], mode: &MeshMode, dy: &mut [f64; 2]) {
+        let seg = &self.segs[mode.seg as usize];
+        let exc = self.load + self.xi_w2 * cos_wt;
+        let acc = match mode.contact {
+            ContactState::Drive => exc - seg.h_drive * self.force_in(seg, t, *cos_wt, y, mode),
+            ContactState::Back => exc - seg.h_back * self.force_in(seg, t, *cos_wt, y, mode),
+            ContactState::Separated => exc,
+            ContactState::Stuck => {
+                *dy = [0.0, 0.0];
+                return;
+            }
+        };
+        *dy = [y[1], acc];
+    }
+
+    #[inline]
+    fn guards(&self, t: f64, y: &[f64; 2], mode: &MeshMode, g: &mut Guards) {
+        g.clear();
+        let d = self.segs[mode.seg as usize].d;
+        match mode.contact {
+            ContactState::Separated => {
+                g.push(y[0] - d, Direction::Rising);
+                g.push(y[0] + d, Direction::Falling);
+            }
+            ContactState::Drive => g.push(y[0] - d, Direction::Falling),
+            ContactState::Back => g.push(y[0] + d, Direction::Rising),
+            ContactState::Stuck => g.push(self.excitation(t), Direction::Rising),
+        }
+    }
+
+    fn on_event(&self, t: f64, y: &mut [f64; 2], mode: &mut MeshMode, index: usize) -> EventAction {
+        let d = self.segs[mode.seg as usize].d;
+        match (mode.contact, index) {
+            (ContactState::Separated, 0) => {
+                mode.contact = ContactState::Drive;
+                mode.chi = self.law.hysteresis(y[1]);
+            }
+            (ContactState::Separated, _) => match self.impact {
+                None => {
+                    mode.contact = ContactState::Back;
+                    mode.chi = self.law.hysteresis(y[1]);
+                }
+                Some(law) => {
+                    y[0] = -d;
+                    if y[1].abs() < law.v_stick && self.excitation(t) <= 0.0 {
+                        y[1] = 0.0;
+                        mode.contact = ContactState::Stuck;
+                    } else {
+                        y[1] = -law.restitution * y[1];
+                    }
+                }
+            },
+            (ContactState::Stuck, _) => {
+                y[1] = 0.0;
+                mode.contact = ContactState::Separated;
+            }
+            (ContactState::Drive, _) | (ContactState::Back, _) => {
+                mode.contact = ContactState::Separated;
+            }
+        }
+        EventAction::Continue
+    }
+
+    #[inline]
+    fn next_breakpoint(&self, _t: f64, mode: &MeshMode) -> f64 {
+        if self.segs.len() == 1 {
+            return f64::INFINITY;
+        }
+        let end = self.segs[mode.seg as usize].end;
+        ((mode.period * self.cycles as i64) as f64 + end) * self.cycle_time
+    }
+
+    fn on_breakpoint(&self, t: f64, y: &mut [f64; 2], mode: &mut MeshMode) {
+        let d_old = self.segs[mode.seg as usize].d;
+        mode.seg += 1;
+        if mode.seg as usize == self.segs.len() {
+            mode.seg = 0;
+            mode.period += 1;
+        }
+        let d = self.segs[mode.seg as usize].d;
+        let before = mode.contact;
+        let contact = match self.impact {
+            // The stop moves with the backlash: if it recedes the tooth is free; if it advances
+            // the tooth is carried with it (projection, with the impact law if moving into it).
+            Some(_) if before == ContactState::Stuck => {
+                if d > d_old {
+                    ContactState::Separated
+                } else {
+                    y[0] = -d;
+                    ContactState::Stuck
+                }
+            }
+            Some(law) => self
+                .project_to_stop(t, y, d, law)
+                .unwrap_or_else(|| self.contact_of(y, d)),
+            None => self.contact_of(y, d),
+        };
+        if contact != before {
+            mode.chi = self.law.hysteresis(y[1]);
+        }
+        mode.contact = contact;
+    }
+
+    fn max_step(&self) -> f64 {
+        self.cycle_time / 16.0
+    }
+}

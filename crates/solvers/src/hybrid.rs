@@ -1,0 +1,184 @@
+//! The hybrid (non-smooth) dynamical system interface every integrator and analysis is generic over.
+//!
+//! A hybrid system is a family of smooth vector fields indexed by a discrete *mode*. Between events
+//! the mode is fixed and the right-hand side is smooth (the integrator may evaluate it slightly past a
+//! switching surface: each mode's field must be defined, and smooth, on both sides). Modes change at
+//!
+//! * **state events** — a guard function `g_i(t, y, mode)` crosses zero in its armed direction; the
+//!   integrator locates the crossing and calls [`HybridSystem::on_event`], which may change the mode
+//!   and reset the state (an impact law, say);
+//! * **time breakpoints** — known instants where the field jumps in time (zone borders of a mesh
+//!   cycle); the integrator steps exactly onto [`HybridSystem::next_breakpoint`] and calls
+//!   [`HybridSystem::on_breakpoint`].
+//!
+//! Keeping the time-piecewise structure in the mode (rather than recomputing "which zone am I in"
+//! from a rounded time) is what makes a contact boundary crossed exactly at a zone border safe.
+
+use core::fmt::Debug;
+
+/// Most guard functions one mode may arm (stack buffers in the integrator are this long).
+pub const MAX_GUARDS: usize = 8;
+
+/// Crossing direction in which a guard fires.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// From `g <= 0` to `g > 0`.
+    Rising,
+    /// From `g >= 0` to `g < 0`.
+    Falling,
+    /// Either of the above.
+    Either,
+}
+
+impl Direction {
+    /// Whether the change `ga -> gb` is a crossing in this direction.
+    ///
+    /// The half-open convention (`<= 0` to `> 0`) means a state placed exactly on the surface after
+    /// an event is on neither side: it cannot re-trigger the event it came from, but does trigger
+    /// the opposite guard at once if the motion turns back (a grazing touch).
+    #[inline]
+    pub fn crossed(self, ga: f64, gb: f64) -> bool {
+        match self {
+            Direction::Rising => ga <= 0.0 && gb > 0.0,
+            Direction::Falling => ga >= 0.0 && gb < 0.0,
+            Direction::Either => (ga <= 0.0 && gb > 0.0) || (ga >= 0.0 && gb < 0.0),
+        }
+    }
+
+    /// Whether `g` lies on the side this guard leads *into*.
+    #[inline]
+    pub fn on_new_side(self, g_before: f64, g: f64) -> bool {
+        match self {
+            Direction::Rising => g > 0.0,
+            Direction::Falling => g < 0.0,
+            Direction::Either => {
+                if g_before <= 0.0 {
+                    g > 0.0
+                } else {
+                    g < 0.0
+                }
+            }
+        }
+    }
+}
+
+/// Values and directions of the guards armed in the current mode.
+#[derive(Clone, Copy, Debug)]
+pub struct Guards {
+    /// Number of armed guards (`<= MAX_GUARDS`).
+    pub len: usize,
+    /// Guard values.
+    pub value: [f64; MAX_GUARDS],
+    /// Crossing direction of each guard.
+    pub direction: [Direction; MAX_GUARDS],
+}
+
+impl Default for Guards {
+    fn default() -> Self {
+        Guards {
+            len: 0,
+            value: [0.0; MAX_GUARDS],
+            direction: [Direction::Either; MAX_GUARDS],
+        }
+    }
+}
+
+impl Guards {
+    /// Arms one more guard.
+    #[inline]
+    pub fn push(&mut self, value: f64, direction: Direction) {
+        debug_assert!(self.len < MAX_GUARDS, "too many guards");
+        self.value[self.len] = value;
+        self.direction[self.len] = direction;
+        self.len += 1;
+    }
+
+    /// Disarms all guards.
+    #[inline]
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+}
+
+/// What the integrator does after an event was handled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventAction {
+    /// Continue integrating from the (possibly reset) state in the (possibly new) mode.
+    Continue,
+    /// Stop: the system reached a terminal condition (divergence, say).
+    Terminate,
+}
+
+/// A hybrid dynamical system of dimension `N`.
+///
+/// # Example: a bouncing ball (gravity, restitution 0.5)
+/// ```
+/// use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem};
+/// struct Ball;
+/// impl HybridSystem<2> for Ball {
+///     type Mode = ();
+///     type TimeTerms = ();
+///     fn initial_mode(&self, _t: f64, _y: &mut [f64; 2]) {}
+///     fn time_terms(&self, _t: f64) {}
+///     fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 2], _m: &(), dy: &mut [f64; 2]) {
+///         *dy = [y[1], -9.81];
+///     }
+///     fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) {
+///         g.push(y[0], Direction::Falling);
+///     }
+///     fn on_event(&self, _t: f64, y: &mut [f64; 2], _m: &mut (), _i: usize) -> EventAction {
+///         y[0] = 0.0;
+///         y[1] = -0.5 * y[1];
+///         EventAction::Continue
+///     }
+/// }
+/// ```
+pub trait HybridSystem<const N: usize> {
+    /// Discrete state (contact state, zone index, ...). Must be cheap to copy.
+    type Mode: Copy + Debug + PartialEq;
+    /// Time-only part of the field (an excitation `cos(omega t)`, say), evaluated once per distinct
+    /// stage time and shared by the stages that use it. Use `()` if there is none.
+    type TimeTerms: Copy;
+
+    /// Mode of the state `y` at time `t` (used at the start of a run). May project `y` onto the
+    /// admissible set (a state inside a rigid stop, say).
+    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> Self::Mode;
+
+    /// Time terms at `t`.
+    fn time_terms(&self, t: f64) -> Self::TimeTerms;
+
+    /// The vector field of `mode`: `dy = f(t, y)`.
+    fn rhs(&self, t: f64, tt: &Self::TimeTerms, y: &[f64; N], mode: &Self::Mode, dy: &mut [f64; N]);
+
+    /// Guard functions armed in `mode` and their directions. Default: none.
+    fn guards(&self, _t: f64, _y: &[f64; N], _mode: &Self::Mode, g: &mut Guards) {
+        g.clear();
+    }
+
+    /// Handles the crossing of guard `index` at `t`: switch the mode, reset the state.
+    fn on_event(
+        &self,
+        _t: f64,
+        _y: &mut [f64; N],
+        _mode: &mut Self::Mode,
+        _index: usize,
+    ) -> EventAction {
+        EventAction::Continue
+    }
+
+    /// Next time breakpoint strictly after the start of the current mode's time piece
+    /// (`f64::INFINITY` if none). The integrator never steps over it.
+    fn next_breakpoint(&self, _t: f64, _mode: &Self::Mode) -> f64 {
+        f64::INFINITY
+    }
+
+    /// Called when the integrator lands on the breakpoint `t`: advance the time piece and
+    /// re-evaluate the discrete state (a backlash jump may start a separation, say).
+    fn on_breakpoint(&self, _t: f64, _y: &mut [f64; N], _mode: &mut Self::Mode) {}
+
+    /// Largest step the adaptive integrator may take (keeps grazing contacts from being stepped
+    /// over). Default: unlimited.
+    fn max_step(&self) -> f64 {
+        f64::INFINITY
+    }
+}

@@ -1,0 +1,882 @@
+//! Event-aware explicit Runge–Kutta integration of a [`HybridSystem`].
+//!
+//! Own code rather than a crate: no ODE crate locates events on the dense output *and* resets the
+//! state without allocating per step, and the event semantics below are part of the physics.
+//!
+//! Semantics, in order of precedence within one step:
+//! 1. A step never passes the next time breakpoint, the caller's `tstop`, or (fixed-step scheme)
+//!    the next grid point `t_origin + k*h`. Times closer than a few ulps are merged, so a zone border
+//!    that coincides with a stroboscopic instant is a single stop.
+//! 2. Guards are evaluated at both ends of the trial step and at `grazing_samples` interior points
+//!    of its interpolant; the earliest sign change in an armed direction is the event. Interior
+//!    samples catch a trajectory that enters and leaves a surface within one step (grazing).
+//! 3. The crossing is bracketed on the interpolant (Illinois), then *polished on the true step map*:
+//!    the event state is the result of a genuine step of the method of length `t_e - t0`, so an
+//!    event costs no order of accuracy. The state is nudged to the new side of the surface, so the
+//!    mode chosen by [`HybridSystem::on_event`] is consistent with it and the event cannot fire twice.
+//! 4. After an event or a breakpoint the first-same-as-last derivative is recomputed in the new mode.
+
+use crate::dense::Step;
+use crate::hybrid::{Direction, EventAction, Guards, HybridSystem, MAX_GUARDS};
+
+/// Most interior guard samples per step.
+pub const MAX_GRAZING_SAMPLES: usize = 6;
+
+/// Integration scheme and its settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scheme {
+    /// Adaptive Dormand–Prince 5(4) with its 4th-order continuous extension.
+    DormandPrince {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
+    /// Classical fixed-step RK4 on the grid `t_origin + k*h` with cubic Hermite dense output.
+    Rk4 {
+        /// Grid step.
+        h: f64,
+    },
+}
+
+impl Scheme {
+    /// Dormand–Prince with the project defaults `rtol = 1e-9`, `atol = 1e-12` (MODEL.md §4).
+    pub fn dopri_default() -> Self {
+        Scheme::DormandPrince {
+            rtol: 1e-9,
+            atol: 1e-12,
+        }
+    }
+}
+
+/// Why [`Integrator::step`] returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// An ordinary step was taken.
+    Step,
+    /// The step ended on a time breakpoint (already handled by the system).
+    Breakpoint,
+    /// A state event of guard `index` was located and handled; the step ended there.
+    Event {
+        /// Index of the guard (in the mode that was active before the event).
+        index: usize,
+    },
+    /// The caller's `tstop` was reached.
+    Tstop,
+    /// The system asked to stop at an event of guard `index`.
+    Terminated {
+        /// Index of the guard.
+        index: usize,
+    },
+}
+
+/// Integration failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolverError {
+    /// The adaptive step size fell below round-off level.
+    #[error("step size underflow at t = {t} (stiff or singular vector field)")]
+    StepSizeTooSmall {
+        /// Time of failure.
+        t: f64,
+    },
+    /// The state became NaN or infinite.
+    #[error("state became non-finite at t = {t} (divergent motion or invalid parameters)")]
+    NonFinite {
+        /// Time of failure.
+        t: f64,
+    },
+    /// Too many events at one instant: the system does not advance.
+    #[error(
+        "{count} events at t = {t} without progress (Zeno behaviour the model does not resolve)"
+    )]
+    Zeno {
+        /// Time of failure.
+        t: f64,
+        /// Number of events without progress.
+        count: usize,
+    },
+    /// Invalid settings.
+    #[error("invalid integrator setting: {0}")]
+    Setting(&'static str),
+}
+
+/// Work counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps (event-polished partial steps included).
+    pub steps: u64,
+    /// Rejected adaptive steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+    /// Located state events.
+    pub events: u64,
+    /// Breakpoints landed on.
+    pub breakpoints: u64,
+}
+
+/// Options beyond the scheme.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Interior interpolant samples per step at which guards are checked (grazing detection).
+    pub grazing_samples: usize,
+    /// Most events allowed at one instant before [`SolverError::Zeno`].
+    pub max_events_without_progress: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            grazing_samples: 2,
+            max_events_without_progress: 64,
+        }
+    }
+}
+
+/// A trial step: end state, end derivative, error norm and interpolant.
+struct Trial<T, const N: usize> {
+    y1: [f64; N],
+    f1: [f64; N],
+    tt1: T,
+    err: f64,
+    step: Step<N>,
+}
+
+// Dormand–Prince 5(4) tableau (Dormand & Prince 1980; dense output of Hairer, Nørsett & Wanner,
+// Solving ODEs I, 2nd ed., routine DOPRI5 / CONTD5).
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+/// Event-aware integrator of the hybrid system `S` (a generic parameter, not a trait object).
+///
+/// # Example: bouncing ball, first impact at `t = sqrt(2 h / g)`
+/// ```
+/// use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem, Integrator, Scheme, Stop};
+/// # struct Ball;
+/// # impl HybridSystem<2> for Ball {
+/// #     type Mode = (); type TimeTerms = ();
+/// #     fn initial_mode(&self, _t: f64, _y: &mut [f64; 2]) {}
+/// #     fn time_terms(&self, _t: f64) {}
+/// #     fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 2], _m: &(), dy: &mut [f64; 2]) { *dy = [y[1], -9.81]; }
+/// #     fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) { g.push(y[0], Direction::Falling); }
+/// #     fn on_event(&self, _t: f64, y: &mut [f64; 2], _m: &mut (), _i: usize) -> EventAction {
+/// #         y[0] = 0.0; y[1] = -0.5 * y[1]; EventAction::Continue }
+/// # }
+/// let mut integ = Integrator::new(Ball, Scheme::dopri_default(), 0.0, [1.0, 0.0]).unwrap();
+/// loop {
+///     match integ.step(10.0).unwrap() {
+///         Stop::Event { .. } => break,
+///         Stop::Tstop => panic!("no impact"),
+///         _ => {}
+///     }
+/// }
+/// assert!((integ.t() - (2.0f64 / 9.81).sqrt()).abs() < 1e-12);
+/// ```
+pub struct Integrator<S: HybridSystem<N>, const N: usize> {
+    sys: S,
+    scheme: Scheme,
+    opts: Options,
+    t: f64,
+    y: [f64; N],
+    mode: S::Mode,
+    f0: [f64; N],
+    tt0: S::TimeTerms,
+    f0_valid: bool,
+    g0: Guards,
+    g0_valid: bool,
+    h_next: f64,
+    grid_origin: f64,
+    grid_index: i64,
+    next_bp: f64,
+    last: Step<N>,
+    stats: Stats,
+    events_without_progress: usize,
+    last_event_t: f64,
+}
+
+impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
+    /// Creates an integrator at `(t0, y0)`; the initial mode comes from
+    /// [`HybridSystem::initial_mode`]. The RK4 grid starts at `t0`.
+    pub fn new(sys: S, scheme: Scheme, t0: f64, y0: [f64; N]) -> Result<Self, SolverError> {
+        match scheme {
+            Scheme::DormandPrince { rtol, atol } => {
+                if !(rtol > 0.0 && rtol < 1.0 && rtol.is_finite()) {
+                    return Err(SolverError::Setting("rtol must lie in (0, 1)"));
+                }
+                if !(atol > 0.0 && atol.is_finite()) {
+                    return Err(SolverError::Setting("atol must be > 0"));
+                }
+            }
+            Scheme::Rk4 { h } => {
+                if !(h > 0.0 && h.is_finite()) {
+                    return Err(SolverError::Setting("RK4 step h must be > 0 and finite"));
+                }
+            }
+        }
+        if !t0.is_finite() || y0.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite { t: t0 });
+        }
+        let tt0 = sys.time_terms(t0);
+        let mut y = y0;
+        let mode = sys.initial_mode(t0, &mut y);
+        let mut it = Integrator {
+            sys,
+            scheme,
+            opts: Options::default(),
+            t: t0,
+            y: y0,
+            mode,
+            f0: [0.0; N],
+            tt0,
+            f0_valid: false,
+            g0: Guards::default(),
+            g0_valid: false,
+            h_next: 0.0,
+            grid_origin: t0,
+            grid_index: 1,
+            next_bp: f64::INFINITY,
+            last: Step::empty(),
+            stats: Stats::default(),
+            events_without_progress: 0,
+            last_event_t: f64::NAN,
+        };
+        it.reset(t0, y)?;
+        Ok(it)
+    }
+
+    /// Restarts at `(t0, y0)` (mode from [`HybridSystem::initial_mode`], RK4 grid origin `t0`).
+    pub fn reset(&mut self, t0: f64, y0: [f64; N]) -> Result<(), SolverError> {
+        if !t0.is_finite() || y0.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite { t: t0 });
+        }
+        let mut y = y0;
+        self.mode = self.sys.initial_mode(t0, &mut y);
+        self.t = t0;
+        self.y = y;
+        self.f0_valid = false;
+        self.g0_valid = false;
+        self.h_next = 0.0;
+        self.grid_origin = t0;
+        self.grid_index = 1;
+        self.next_bp = self.sys.next_breakpoint(t0, &self.mode);
+        self.last = Step::empty();
+        self.last.t0 = t0;
+        self.last.t1 = t0;
+        self.last.r[0] = y;
+        self.events_without_progress = 0;
+        self.last_event_t = f64::NAN;
+        Ok(())
+    }
+
+    /// Replaces the options.
+    pub fn with_options(mut self, opts: Options) -> Self {
+        self.opts = opts;
+        self
+    }
+
+    /// Current time.
+    #[inline]
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+    /// Current state (after any reset of the last event).
+    #[inline]
+    pub fn y(&self) -> &[f64; N] {
+        &self.y
+    }
+    /// Current mode.
+    #[inline]
+    pub fn mode(&self) -> &S::Mode {
+        &self.mode
+    }
+    /// The system.
+    #[inline]
+    pub fn system(&self) -> &S {
+        &self.sys
+    }
+    /// The last step (up to the event or stop that ended it), with its interpolant.
+    #[inline]
+    pub fn last_step(&self) -> &Step<N> {
+        &self.last
+    }
+    /// Work counters.
+    #[inline]
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+    /// The scheme.
+    #[inline]
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    #[inline]
+    fn snap(t: f64) -> f64 {
+        64.0 * f64::EPSILON * t.abs().max(1.0)
+    }
+
+    fn ensure_start(&mut self) {
+        if !self.f0_valid {
+            self.tt0 = self.sys.time_terms(self.t);
+            self.sys
+                .rhs(self.t, &self.tt0, &self.y, &self.mode, &mut self.f0);
+            self.stats.rhs_evals += 1;
+            self.f0_valid = true;
+        }
+        if !self.g0_valid {
+            self.sys.guards(self.t, &self.y, &self.mode, &mut self.g0);
+            self.g0_valid = true;
+        }
+        if self.h_next <= 0.0 {
+            self.h_next = self.initial_step();
+        }
+    }
+
+    fn initial_step(&self) -> f64 {
+        match self.scheme {
+            Scheme::Rk4 { h } => h,
+            Scheme::DormandPrince { rtol, atol } => {
+                // Hairer's first guess: 1% of ||y|| / ||f|| in the tolerance-weighted norm.
+                let mut d0 = 0.0;
+                let mut d1 = 0.0;
+                for i in 0..N {
+                    let sc = atol + rtol * self.y[i].abs();
+                    d0 += (self.y[i] / sc).powi(2);
+                    d1 += (self.f0[i] / sc).powi(2);
+                }
+                let (d0, d1) = ((d0 / N as f64).sqrt(), (d1 / N as f64).sqrt());
+                let h = if d0 < 1e-5 || d1 < 1e-5 {
+                    1e-6
+                } else {
+                    0.01 * d0 / d1
+                };
+                h.min(self.sys.max_step()).min(1.0)
+            }
+        }
+    }
+
+    /// A step of the scheme from the current state with length `h` (no acceptance logic).
+    #[inline]
+    fn trial(&mut self, h: f64) -> Trial<S::TimeTerms, N> {
+        let (t, y, f0, mode) = (self.t, &self.y, &self.f0, &self.mode);
+        let sys = &self.sys;
+        match self.scheme {
+            Scheme::Rk4 { .. } => {
+                let mut yt = [0.0; N];
+                let mut k2 = [0.0; N];
+                let mut k3 = [0.0; N];
+                let mut k4 = [0.0; N];
+                let th = sys.time_terms(t + 0.5 * h);
+                let t1 = t + h;
+                let tt1 = sys.time_terms(t1);
+                for i in 0..N {
+                    yt[i] = y[i] + 0.5 * h * f0[i];
+                }
+                sys.rhs(t + 0.5 * h, &th, &yt, mode, &mut k2);
+                for i in 0..N {
+                    yt[i] = y[i] + 0.5 * h * k2[i];
+                }
+                sys.rhs(t + 0.5 * h, &th, &yt, mode, &mut k3);
+                for i in 0..N {
+                    yt[i] = y[i] + h * k3[i];
+                }
+                sys.rhs(t1, &tt1, &yt, mode, &mut k4);
+                let mut y1 = [0.0; N];
+                for i in 0..N {
+                    y1[i] = y[i] + h / 6.0 * (f0[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+                }
+                let mut f1 = [0.0; N];
+                sys.rhs(t1, &tt1, &y1, mode, &mut f1);
+                self.stats.rhs_evals += 4;
+                Trial {
+                    y1,
+                    f1,
+                    tt1,
+                    err: 0.0,
+                    step: Step::hermite(t, t1, y, &y1, f0, &f1),
+                }
+            }
+            Scheme::DormandPrince { rtol, atol } => {
+                let k1 = f0;
+                let mut k2 = [0.0; N];
+                let mut k3 = [0.0; N];
+                let mut k4 = [0.0; N];
+                let mut k5 = [0.0; N];
+                let mut k6 = [0.0; N];
+                let mut k7 = [0.0; N];
+                let mut yt = [0.0; N];
+                for i in 0..N {
+                    yt[i] = y[i] + h * A21 * k1[i];
+                }
+                let tc = t + C2 * h;
+                sys.rhs(tc, &sys.time_terms(tc), &yt, mode, &mut k2);
+                for i in 0..N {
+                    yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
+                }
+                let tc = t + C3 * h;
+                sys.rhs(tc, &sys.time_terms(tc), &yt, mode, &mut k3);
+                for i in 0..N {
+                    yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
+                }
+                let tc = t + C4 * h;
+                sys.rhs(tc, &sys.time_terms(tc), &yt, mode, &mut k4);
+                for i in 0..N {
+                    yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
+                }
+                let tc = t + C5 * h;
+                sys.rhs(tc, &sys.time_terms(tc), &yt, mode, &mut k5);
+                for i in 0..N {
+                    yt[i] = y[i]
+                        + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+                }
+                let t1 = t + h;
+                let tt1 = sys.time_terms(t1);
+                sys.rhs(t1, &tt1, &yt, mode, &mut k6);
+                let mut y1 = [0.0; N];
+                for i in 0..N {
+                    y1[i] = y[i]
+                        + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+                }
+                sys.rhs(t1, &tt1, &y1, mode, &mut k7);
+                self.stats.rhs_evals += 6;
+                let mut err = 0.0;
+                let mut r = [[0.0; N]; 5];
+                for i in 0..N {
+                    let e = h
+                        * (E1 * k1[i]
+                            + E3 * k3[i]
+                            + E4 * k4[i]
+                            + E5 * k5[i]
+                            + E6 * k6[i]
+                            + E7 * k7[i]);
+                    let sc = atol + rtol * y[i].abs().max(y1[i].abs());
+                    err += (e / sc) * (e / sc);
+                    let d = y1[i] - y[i];
+                    r[0][i] = y[i];
+                    r[1][i] = d;
+                    r[2][i] = h * k1[i] - d;
+                    r[3][i] = d - h * k7[i] - r[2][i];
+                    r[4][i] = h
+                        * (D1 * k1[i]
+                            + D3 * k3[i]
+                            + D4 * k4[i]
+                            + D5 * k5[i]
+                            + D6 * k6[i]
+                            + D7 * k7[i]);
+                }
+                let err = (err / N as f64).sqrt();
+                Trial {
+                    y1,
+                    f1: k7,
+                    tt1,
+                    err: if err.is_finite() { err } else { f64::INFINITY },
+                    step: Step { t0: t, t1, r },
+                }
+            }
+        }
+    }
+
+    /// Advances by one step, never past `tstop`, and says why it stopped.
+    pub fn step(&mut self, tstop: f64) -> Result<Stop, SolverError> {
+        if self.t >= tstop - Self::snap(tstop) {
+            return Ok(Stop::Tstop);
+        }
+        self.ensure_start();
+        loop {
+            // --- choose the end of the trial step
+            let t = self.t;
+            let bp = self.next_bp;
+            let mut t_end;
+            let mut on_grid = false;
+            match self.scheme {
+                Scheme::Rk4 { h } => {
+                    let mut tg = self.grid_origin + self.grid_index as f64 * h;
+                    while tg <= t + Self::snap(tg) {
+                        self.grid_index += 1;
+                        tg = self.grid_origin + self.grid_index as f64 * h;
+                    }
+                    t_end = tg;
+                    on_grid = true;
+                }
+                Scheme::DormandPrince { .. } => {
+                    let h = self.h_next.min(self.sys.max_step());
+                    t_end = t + h;
+                }
+            }
+            let target = tstop.min(bp);
+            let mut hit_tstop = false;
+            let mut hit_bp = false;
+            let adaptive = matches!(self.scheme, Scheme::DormandPrince { .. });
+            // merge stops closer than a few ulps; stretch an adaptive step that would leave a sliver
+            if t_end >= target - Self::snap(target)
+                || (adaptive && t_end + 0.1 * (t_end - t) >= target)
+            {
+                t_end = target;
+                hit_tstop = (tstop - t_end).abs() <= Self::snap(tstop);
+                hit_bp = (bp - t_end).abs() <= Self::snap(t_end);
+                if on_grid {
+                    let tg = self.grid_origin + self.grid_index as f64 * self.rk4_h();
+                    on_grid = (tg - t_end).abs() <= Self::snap(tg);
+                }
+            }
+            let h = t_end - t;
+            let trial = self.trial(h);
+
+            if let Scheme::DormandPrince { .. } = self.scheme {
+                if trial.err > 1.0 {
+                    self.stats.rejected += 1;
+                    let fac = if trial.err.is_finite() {
+                        (0.9 * trial.err.powf(-0.2)).max(0.2)
+                    } else {
+                        0.1
+                    };
+                    self.h_next = h * fac;
+                    if self.h_next < 4.0 * f64::EPSILON * t.abs().max(1.0) {
+                        return Err(SolverError::StepSizeTooSmall { t });
+                    }
+                    continue;
+                }
+                let fac = if trial.err > 0.0 {
+                    (0.9 * trial.err.powf(-0.2)).clamp(0.2, 5.0)
+                } else {
+                    5.0
+                };
+                // a step shortened to meet a stop does not shrink the next one
+                let h_cand = h * fac;
+                self.h_next = if hit_tstop || hit_bp {
+                    self.h_next.max(h_cand)
+                } else {
+                    h_cand
+                };
+            }
+            if trial.y1.iter().any(|v| !v.is_finite()) {
+                return Err(SolverError::NonFinite { t: t_end });
+            }
+
+            // --- state events
+            let mut g1 = Guards::default();
+            self.sys.guards(t_end, &trial.y1, &self.mode, &mut g1);
+            if let Some((idx, ta, ga, tb, gb)) = self.find_crossing(&trial, &g1) {
+                return self.handle_event(idx, ta, ga, tb, gb, h);
+            }
+
+            // --- accept
+            self.stats.steps += 1;
+            self.t = t_end;
+            self.y = trial.y1;
+            self.f0 = trial.f1;
+            self.tt0 = trial.tt1;
+            self.g0 = g1;
+            self.last = trial.step;
+            if on_grid {
+                self.grid_index += 1;
+            }
+            if hit_bp {
+                self.stats.breakpoints += 1;
+                self.sys.on_breakpoint(self.t, &mut self.y, &mut self.mode);
+                self.f0_valid = false;
+                self.g0_valid = false;
+                self.next_bp = self.sys.next_breakpoint(self.t, &self.mode);
+                self.ensure_start();
+            }
+            return Ok(if hit_tstop {
+                Stop::Tstop
+            } else if hit_bp {
+                Stop::Breakpoint
+            } else {
+                Stop::Step
+            });
+        }
+    }
+
+    fn rk4_h(&self) -> f64 {
+        match self.scheme {
+            Scheme::Rk4 { h } => h,
+            _ => f64::NAN,
+        }
+    }
+
+    /// Earliest armed crossing in the trial step: guard index and a bracket in time.
+    ///
+    /// Sign changes between samples are found first; failing that, a sample that is a local
+    /// extremum of a guard (the trajectory turning near the surface) is refined by a golden-section
+    /// search on the interpolant, which catches a graze that enters and leaves within one step.
+    fn find_crossing(
+        &self,
+        trial: &Trial<S::TimeTerms, N>,
+        g1: &Guards,
+    ) -> Option<(usize, f64, f64, f64, f64)> {
+        let n = self.g0.len.min(g1.len);
+        if n == 0 {
+            return None;
+        }
+        let m = self.opts.grazing_samples.min(MAX_GRAZING_SAMPLES);
+        let (t0, t1) = (trial.step.t0, trial.step.t1);
+        let mut ts = [0.0; MAX_GRAZING_SAMPLES + 2];
+        let mut gs = [[0.0; MAX_GUARDS]; MAX_GRAZING_SAMPLES + 2];
+        ts[0] = t0;
+        gs[0] = self.g0.value;
+        let mut gi = Guards::default();
+        for j in 1..=m + 1 {
+            if j == m + 1 {
+                ts[j] = t1;
+                gs[j] = g1.value;
+            } else {
+                let th = j as f64 / (m + 1) as f64;
+                ts[j] = t0 + th * (t1 - t0);
+                let yb = trial.step.at_theta(th);
+                self.sys.guards(ts[j], &yb, &self.mode, &mut gi);
+                gs[j] = gi.value;
+            }
+            // earliest root among the guards crossing in this sub-interval
+            let mut best: Option<(usize, f64, f64, f64, f64)> = None;
+            for i in 0..n {
+                let dir = self.g0.direction[i];
+                if dir.crossed(gs[j - 1][i], gs[j][i]) {
+                    let br = self.locate(trial, i, dir, ts[j - 1], gs[j - 1][i], ts[j], gs[j][i]);
+                    if best.is_none_or(|b| br.3 < b.3) {
+                        best = Some(br);
+                    }
+                }
+            }
+            if best.is_some() {
+                return best;
+            }
+        }
+        // grazing: an interior sample nearer the surface than both neighbours
+        let mut best: Option<(usize, f64, f64, f64, f64)> = None;
+        for i in 0..n {
+            let dir = self.g0.direction[i];
+            for j in 1..=m {
+                let (ga, gj, gb) = (gs[j - 1][i], gs[j][i], gs[j + 1][i]);
+                let turning = if gj < 0.0 {
+                    gj > ga && gj >= gb
+                } else {
+                    gj < ga && gj <= gb
+                };
+                if !turning || gj == 0.0 {
+                    continue;
+                }
+                // golden-section search for the extremum of the guard on [t_{j-1}, t_{j+1}]
+                let sgn = if gj < 0.0 { 1.0 } else { -1.0 }; // maximise sgn*g
+                let mut gbuf = Guards::default();
+                let mut gfun = |t: f64| {
+                    let y = trial.step.interpolate(t);
+                    self.sys.guards(t, &y, &self.mode, &mut gbuf);
+                    gbuf.value[i]
+                };
+                let (mut a, mut b) = (ts[j - 1], ts[j + 1]);
+                const R: f64 = 0.618_033_988_749_894_9;
+                let mut c = b - R * (b - a);
+                let mut d = a + R * (b - a);
+                let (mut fc, mut fd) = (sgn * gfun(c), sgn * gfun(d));
+                let tol = 1e-10 * (ts[j + 1] - ts[j - 1]).abs();
+                let mut peak = (sgn * gj, ts[j]);
+                for _ in 0..60 {
+                    if fc.max(fd) > 0.0 || (b - a).abs() < tol {
+                        break;
+                    }
+                    if fc > fd {
+                        b = d;
+                        d = c;
+                        fd = fc;
+                        c = b - R * (b - a);
+                        fc = sgn * gfun(c);
+                    } else {
+                        a = c;
+                        c = d;
+                        fc = fd;
+                        d = a + R * (b - a);
+                        fd = sgn * gfun(d);
+                    }
+                }
+                if fc > peak.0 {
+                    peak = (fc, c);
+                }
+                if fd > peak.0 {
+                    peak = (fd, d);
+                }
+                if peak.0 > 0.0 {
+                    let g_peak = sgn * peak.0;
+                    if dir.crossed(ga, g_peak) {
+                        let br = self.locate(trial, i, dir, ts[j - 1], ga, peak.1, g_peak);
+                        if best.is_none_or(|b| br.3 < b.3) {
+                            best = Some(br);
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+        best
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
+        &self,
+        trial: &Trial<S::TimeTerms, N>,
+        i: usize,
+        dir: Direction,
+        ta: f64,
+        ga: f64,
+        tb: f64,
+        gb: f64,
+    ) -> (usize, f64, f64, f64, f64) {
+        let mut gbuf = Guards::default();
+        let xtol = 4.0 * f64::EPSILON * tb.abs().max(1.0);
+        let br = crate::root::illinois(
+            |t| {
+                let y = trial.step.interpolate(t);
+                self.sys.guards(t, &y, &self.mode, &mut gbuf);
+                gbuf.value[i]
+            },
+            ta,
+            ga,
+            tb,
+            gb,
+            xtol,
+            |g| dir.on_new_side(ga, g),
+        );
+        (i, br.a, br.fa, br.b, br.fb)
+    }
+
+    /// Polishes the crossing on the true step map, lands on the new side, applies the event.
+    fn handle_event(
+        &mut self,
+        idx: usize,
+        ta: f64,
+        ga: f64,
+        tb: f64,
+        gb: f64,
+        h_max: f64,
+    ) -> Result<Stop, SolverError> {
+        let t0 = self.t;
+        let dir = self.g0.direction[idx];
+        let g_start = self.g0.value[idx];
+        let xtol = 4.0 * f64::EPSILON * tb.abs().max(1.0);
+        let mut gbuf = Guards::default();
+        // secant iterations on phi(h) = g(step(h)), started from the interpolant's root
+        let slope = if tb != ta { (gb - ga) / (tb - ta) } else { 0.0 };
+        let mut h = (tb - t0).clamp(0.0, h_max);
+        let mut tr = self.trial(h);
+        self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+        let mut phi = gbuf.value[idx];
+        let mut prev: Option<(f64, f64)> = None;
+        let mut slope = slope;
+        for _ in 0..6 {
+            if phi == 0.0 || !slope.is_finite() || slope == 0.0 {
+                break;
+            }
+            if let Some((hp, pp)) = prev {
+                if h != hp && phi != pp {
+                    slope = (phi - pp) / (h - hp);
+                }
+            }
+            let dh = -phi / slope;
+            if !dh.is_finite() {
+                break;
+            }
+            let h_new = (h + dh).clamp(0.0, h_max);
+            if (h_new - h).abs() <= xtol {
+                break;
+            }
+            prev = Some((h, phi));
+            h = h_new;
+            tr = self.trial(h);
+            self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+            phi = gbuf.value[idx];
+        }
+        // make sure the state lies on the new side (so the new mode is consistent with it)
+        let mut nudge = xtol;
+        for _ in 0..40 {
+            if dir.on_new_side(g_start, phi) || h >= h_max {
+                break;
+            }
+            h = (h + nudge).min(h_max);
+            nudge *= 2.0;
+            tr = self.trial(h);
+            self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+            phi = gbuf.value[idx];
+        }
+        if tr.y1.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite { t: t0 + h });
+        }
+        self.stats.steps += 1;
+        self.stats.events += 1;
+        self.t = t0 + h;
+        self.y = tr.y1;
+        self.last = tr.step;
+        if self.t - self.last_event_t <= Self::snap(self.t) {
+            self.events_without_progress += 1;
+            if self.events_without_progress > self.opts.max_events_without_progress {
+                return Err(SolverError::Zeno {
+                    t: self.t,
+                    count: self.events_without_progress,
+                });
+            }
+        } else {
+            self.events_without_progress = 0;
+        }
+        self.last_event_t = self.t;
+        let action = self.sys.on_event(self.t, &mut self.y, &mut self.mode, idx);
+        self.f0_valid = false;
+        self.g0_valid = false;
+        self.next_bp = self.sys.next_breakpoint(self.t, &self.mode);
+        if self.y.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite { t: self.t });
+        }
+        Ok(match action {
+            EventAction::Continue => Stop::Event { index: idx },
+            EventAction::Terminate => Stop::Terminated { index: idx },
+        })
+    }
+
+    /// Integrates to `tstop`, calling `observe(self, stop)` after every step.
+    pub fn run_until<F>(&mut self, tstop: f64, mut observe: F) -> Result<(), SolverError>
+    where
+        F: FnMut(&Self, Stop),
+    {
+        loop {
+            let stop = self.step(tstop)?;
+            observe(self, stop);
+            match stop {
+                Stop::Tstop | Stop::Terminated { .. } => return Ok(()),
+                _ => {}
+            }
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! Event-aware integrators for hybrid (non-smooth) dynamical systems.
+//!
+//! * [`HybridSystem`]: the public interface (vector field per mode, guards with crossing direction,
+//!   resets, time breakpoints) that every geardyn integrator and analysis is generic over.
+//! * [`Integrator`]: adaptive Dormand–Prince 5(4) or fixed-step RK4 ([`Scheme`]), stepping exactly
+//!   onto breakpoints and locating state events on the dense output; [`Integrator::step`] returns
+//!   why it stopped ([`Stop`]).
+//!
+//! Time and state are in whatever units the system uses (geardyn's gear model is dimensionless).
+#![warn(missing_docs)]
+
+pub mod dense;
+pub mod hybrid;
+pub mod integrator;
+pub mod root;
+
+pub use dense::Step;
+pub use hybrid::{Direction, EventAction, Guards, HybridSystem, MAX_GUARDS};
+pub use integrator::{Integrator, Options, Scheme, SolverError, Stats, Stop};
