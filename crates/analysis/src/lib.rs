@@ -1,1 +1,12 @@
+//! Nonlinear analyses of geardyn: the generic driving loop with observers, time-history
+//! simulation of the gear model with its recorders, period detection and motion labels.
+//!
+//! Units are those of the model: dimensionless time `tau`, displacement in `b_c`.
+#![warn(missing_docs)]
 
+pub mod driver;
+pub mod period;
+pub mod simulate;
+
+pub use driver::{run_periods, Discard, Observer};
+pub use simulate::{simulate, summarize, Method, SimOptions, SimResult, Summary};

@@ -460,6 +460,13 @@ impl MeshModel {
         (self.params.d_double, self.params.d_single)
     }
 
+    /// Position of time `t` in the excitation period, in mesh cycles (`[0, cycles)`).
+    pub fn cycle_position(&self, t: f64) -> f64 {
+        let s = self.omega * t / (2.0 * PI);
+        let c = self.cycles as f64;
+        s - (s / c).floor() * c
+    }
+
     /// Segment index containing the position `u` (mesh cycles into the excitation period).
     pub fn segment_index(&self, u: f64) -> usize {
         self.segs

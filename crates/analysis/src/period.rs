@@ -1,0 +1,47 @@
+//! Minimal period of a stroboscopic sequence.
+
+/// Tolerance of period detection: two stroboscopic points repeat when
+/// `|dx| + |dv| <= PERIOD_TOL * (1 + max |state|)` over the whole compared window.
+pub const PERIOD_TOL: f64 = 1e-6;
+
+/// Minimal period `n` (in excitation periods, `1 <= n <= max_n`) of the stroboscopic points
+/// `pts`, or `None` (chaotic, quasi-periodic or not yet settled). Each of the last `2*n` points is
+/// compared with the one `n` before it, so at least `3*n` points are needed.
+///
+/// ```
+/// let pts: Vec<[f64; 2]> = (0..12).map(|j| if j % 2 == 0 { [1.0, 0.0] } else { [2.0, 0.5] }).collect();
+/// assert_eq!(geardyn_analysis::period::minimal_period(&pts, 8), Some(2));
+/// ```
+pub fn minimal_period<const N: usize>(pts: &[[f64; N]], max_n: usize) -> Option<usize> {
+    let scale = 1.0
+        + pts
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+    let tol = PERIOD_TOL * scale;
+    let len = pts.len();
+    (1..=max_n).find(|&n| {
+        if len < 3 * n {
+            return false;
+        }
+        (len - 2 * n..len).all(|j| {
+            let d: f64 = (0..N).map(|i| (pts[j][i] - pts[j - n][i]).abs()).sum();
+            d <= tol
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn detects_minimal_not_multiple() {
+        let p4: Vec<[f64; 2]> = (0..40).map(|j| [(j % 4) as f64, 0.0]).collect();
+        assert_eq!(minimal_period(&p4, 16), Some(4));
+        let chaos: Vec<[f64; 2]> = (0..40).map(|j| [(j as f64 * 1.618).fract(), 0.0]).collect();
+        assert_eq!(minimal_period(&chaos, 16), None);
+        // too short to confirm
+        assert_eq!(minimal_period(&p4[..10], 16), None);
+    }
+}

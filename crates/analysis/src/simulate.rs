@@ -1,0 +1,441 @@
+//! Time-history simulation of the gear [`MeshModel`] with the observers the analyses need:
+//! stroboscopic points, level crossings (impact sections), contact-state durations, impacts with
+//! velocity and peak force, mesh-force extrema, and the motion summary (period, `n-p-q-r-s`
+//! label, healthy flag, P_ID) of MODEL.md §5.
+
+use crate::driver::{run_periods, Discard, Observer};
+use crate::period::minimal_period;
+use geardyn_model::{ContactState, EventKind, MeshMode, MeshModel};
+use geardyn_solvers::{Integrator, Scheme, SolverError, Step, Stop};
+use serde::Serialize;
+
+/// Integrator choice in model terms.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "method", rename_all = "snake_case")]
+pub enum Method {
+    /// Adaptive Dormand–Prince 5(4).
+    Dopri {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
+    /// Fixed-step RK4 with `steps_per_cycle` steps per mesh cycle.
+    Rk4 {
+        /// Steps per mesh cycle.
+        steps_per_cycle: u32,
+    },
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::Dopri {
+            rtol: 1e-9,
+            atol: 1e-12,
+        }
+    }
+}
+
+impl Method {
+    /// The solver scheme for `model`.
+    pub fn scheme(&self, model: &MeshModel) -> Scheme {
+        match *self {
+            Method::Dopri { rtol, atol } => Scheme::DormandPrince { rtol, atol },
+            Method::Rk4 { steps_per_cycle } => Scheme::Rk4 {
+                h: model.mesh_cycle_time() / steps_per_cycle.max(1) as f64,
+            },
+        }
+    }
+}
+
+/// Simulation settings.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SimOptions {
+    /// Integrator.
+    pub method: Method,
+    /// Excitation periods discarded as transient.
+    pub transient_periods: u64,
+    /// Excitation periods recorded.
+    pub record_periods: u64,
+    /// Keep the trajectory (every step end and both sides of every event).
+    pub trajectory: bool,
+    /// Start time `tau_0` (the stroboscopic phase).
+    pub tau0: f64,
+    /// Largest period searched by period detection.
+    pub max_period: usize,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions {
+            method: Method::default(),
+            transient_periods: 300,
+            record_periods: 100,
+            trajectory: false,
+            tau0: 0.0,
+            max_period: 32,
+        }
+    }
+}
+
+/// One trajectory sample.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TrajectoryPoint {
+    /// Dimensionless time.
+    pub tau: f64,
+    /// Displacement.
+    pub x: f64,
+    /// Velocity.
+    pub v: f64,
+    /// Dynamic mesh force `F_m`.
+    pub mesh_force: f64,
+    /// Contact state code (drive 1, separated 0, back -1, stuck -2).
+    pub state: i8,
+}
+
+/// A located event.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// Time.
+    pub tau: f64,
+    /// Position in the excitation period, in mesh cycles.
+    pub cycle_position: f64,
+    /// Kind.
+    pub kind: EventKind,
+    /// Displacement at the event (before any reset).
+    pub x: f64,
+    /// Velocity before the event.
+    pub v_before: f64,
+    /// Velocity after the event.
+    pub v_after: f64,
+    /// Peak impact force (impacts only, else 0).
+    pub peak_force: f64,
+}
+
+/// Section levels of MODEL.md §5.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord, Hash)]
+#[serde(rename_all = "snake_case")]
+pub enum Level {
+    /// `x = D_s`, upward.
+    DsUp,
+    /// `x = -D_s`, downward.
+    DsDown,
+    /// `x = D_d`, upward.
+    DdUp,
+    /// `x = -D_d`, downward.
+    DdDown,
+}
+
+impl Level {
+    /// All four, in label order `p, q, r, s`.
+    pub const ALL: [Level; 4] = [Level::DsUp, Level::DsDown, Level::DdUp, Level::DdDown];
+    /// Short name used on the command line and in CSV (`ds_up`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::DsUp => "ds_up",
+            Level::DsDown => "ds_down",
+            Level::DdUp => "dd_up",
+            Level::DdDown => "dd_down",
+        }
+    }
+}
+
+/// A section crossing: the state where `x` crosses a level in its direction.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Crossing {
+    /// Level crossed.
+    pub level: Level,
+    /// Time.
+    pub tau: f64,
+    /// Displacement (the level).
+    pub x: f64,
+    /// Velocity.
+    pub v: f64,
+}
+
+/// Everything recorded over the recorded periods.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SimResult {
+    /// Stroboscopic points `(tau, x, v)`, one per recorded excitation period (end of period).
+    pub strobe: Vec<[f64; 3]>,
+    /// Trajectory (if requested).
+    pub trajectory: Vec<TrajectoryPoint>,
+    /// Events.
+    pub events: Vec<EventRecord>,
+    /// Section crossings.
+    pub crossings: Vec<Crossing>,
+    /// Crossing counts `[p, q, r, s]` per recorded excitation period.
+    pub counts_per_period: Vec<[u32; 4]>,
+    /// Largest impact force in each recorded excitation period (0 if none).
+    pub impact_force_per_period: Vec<f64>,
+    /// Time in drive contact, separated, and back contact (stuck included).
+    pub durations: [f64; 3],
+    /// Maximum mesh force.
+    pub max_force: f64,
+    /// Minimum mesh force (most negative = back-side load).
+    pub min_force: f64,
+    /// Number of back-side impacts.
+    pub impacts: u64,
+    /// Final time and state (for continuation).
+    pub final_state: (f64, [f64; 2]),
+    /// Solver work counters.
+    pub steps: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+}
+
+/// Motion summary (MODEL.md §5).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Minimal period in excitation periods (0 = chaotic or quasi-periodic).
+    pub period: usize,
+    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`).
+    pub label: String,
+    /// Counts `p, q, r, s` over one motion period (per excitation period, rounded, if `n = 0`).
+    pub counts: [u32; 4],
+    /// Periodic without back-side contact or impact.
+    pub healthy: bool,
+    /// Dynamic instability proportion.
+    pub p_id: f64,
+    /// Maximum mesh force.
+    pub max_force: f64,
+    /// Minimum mesh force.
+    pub min_force: f64,
+    /// Number of back-side impacts over the recorded periods.
+    pub impacts: u64,
+    /// Largest impact force over the recorded periods.
+    pub max_impact_force: f64,
+}
+
+struct Recorder<'a> {
+    model: &'a MeshModel,
+    res: SimResult,
+    keep_traj: bool,
+    levels: [f64; 4],
+    count_levels: [bool; 4],
+    counts: [u32; 4],
+    impact_max: f64,
+}
+
+impl<'a> Recorder<'a> {
+    fn new(model: &'a MeshModel, keep_traj: bool) -> Self {
+        let (dd, ds) = model.backlash_levels();
+        let distinct = dd != ds;
+        Recorder {
+            model,
+            res: SimResult {
+                max_force: f64::NEG_INFINITY,
+                min_force: f64::INFINITY,
+                ..Default::default()
+            },
+            keep_traj,
+            levels: [ds, -ds, dd, -dd],
+            count_levels: [true, true, distinct, distinct],
+            counts: [0; 4],
+            impact_max: 0.0,
+        }
+    }
+
+    fn force(&mut self, t: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
+        let f = self.model.mesh_force(t, y, mode);
+        self.res.max_force = self.res.max_force.max(f);
+        self.res.min_force = self.res.min_force.min(f);
+        f
+    }
+
+    fn push_traj(&mut self, tau: f64, y: &[f64; 2], f: f64, mode: &MeshMode) {
+        if self.keep_traj {
+            self.res.trajectory.push(TrajectoryPoint {
+                tau,
+                x: y[0],
+                v: y[1],
+                mesh_force: f,
+                state: mode.contact.code(),
+            });
+        }
+    }
+}
+
+impl Observer<MeshModel, 2> for Recorder<'_> {
+    fn on_step(
+        &mut self,
+        sys: &MeshModel,
+        step: &Step<2>,
+        before: &MeshMode,
+        stop: Stop,
+        after: &MeshMode,
+        y_after: &[f64; 2],
+    ) {
+        let (t0, t1) = (step.t0, step.t1);
+        let dt = t1 - t0;
+        let slot = match before.contact {
+            ContactState::Drive => 0,
+            ContactState::Separated => 1,
+            ContactState::Back | ContactState::Stuck => 2,
+        };
+        self.res.durations[slot] += dt;
+        // force extrema: interior samples of the interpolant (contact steps only)
+        if matches!(before.contact, ContactState::Drive | ContactState::Back) {
+            for th in [0.25, 0.5, 0.75] {
+                let y = step.at_theta(th);
+                self.force(t0 + th * dt, &y, before);
+            }
+        }
+        let y1 = step.y1();
+        let f1 = self.force(t1, &y1, before);
+        self.push_traj(t1, &y1, f1, before);
+        // level crossings on this step (x is continuous within it)
+        let (x0, x1) = (step.y0()[0], y1[0]);
+        for (i, &lv) in self.levels.iter().enumerate() {
+            if !self.count_levels[i] {
+                continue;
+            }
+            let up = i % 2 == 0;
+            let crossed = if up {
+                x0 <= lv && x1 > lv
+            } else {
+                x0 >= lv && x1 < lv
+            };
+            if crossed {
+                self.counts[i] += 1;
+                // locate on the interpolant for the section point
+                let br = geardyn_solvers::root::illinois(
+                    |t| step.interpolate(t)[0] - lv,
+                    t0,
+                    x0 - lv,
+                    t1,
+                    x1 - lv,
+                    1e-13 * t1.abs().max(1.0),
+                    |g| if up { g > 0.0 } else { g < 0.0 },
+                );
+                let y = step.interpolate(br.b);
+                self.res.crossings.push(Crossing {
+                    level: Level::ALL[i],
+                    tau: br.b,
+                    x: lv,
+                    v: y[1],
+                });
+            }
+        }
+        if let Stop::Event { index } = stop {
+            let kind = sys.event_kind(before, after, index);
+            let peak = if kind == EventKind::Impact {
+                self.res.impacts += 1;
+                let p = sys.impact_peak_force(y1[1]);
+                self.impact_max = self.impact_max.max(p);
+                p
+            } else {
+                0.0
+            };
+            let u = sys.cycle_position(t1);
+            self.res.events.push(EventRecord {
+                tau: t1,
+                cycle_position: u,
+                kind,
+                x: y1[0],
+                v_before: y1[1],
+                v_after: y_after[1],
+                peak_force: peak,
+            });
+            let fa = self.force(t1, y_after, after);
+            self.push_traj(t1, y_after, fa, after);
+        } else if matches!(stop, Stop::Breakpoint) && before.contact != after.contact {
+            let fa = self.force(t1, y_after, after);
+            self.push_traj(t1, y_after, fa, after);
+        }
+    }
+
+    fn on_strobe(&mut self, t: f64, y: &[f64; 2]) {
+        self.res.strobe.push([t, y[0], y[1]]);
+        self.res.counts_per_period.push(self.counts);
+        self.counts = [0; 4];
+        self.res.impact_force_per_period.push(self.impact_max);
+        self.impact_max = 0.0;
+    }
+}
+
+/// Failure of a simulation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The integrator failed.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+}
+
+/// Integrates `model` from `y0` at `opts.tau0`: `transient_periods` discarded, `record_periods`
+/// recorded.
+///
+/// ```
+/// use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
+/// let model = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
+/// let opts = SimOptions { transient_periods: 200, record_periods: 20, ..Default::default() };
+/// let res = simulate(&model, [1.1, 0.0], &opts).unwrap();
+/// assert_eq!(summarize(&model, &res, &opts).period, 1);
+/// ```
+pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<SimResult, SimError> {
+    let mut integ = Integrator::new(model.clone(), opts.method.scheme(model), opts.tau0, y0)?;
+    let period = model.excitation_period();
+    run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
+    let mut rec = Recorder::new(model, opts.trajectory);
+    // the first recorded point is the state at the start of the recording
+    if opts.trajectory {
+        let y = *integ.y();
+        let m = *integ.mode();
+        let f = rec.force(integ.t(), &y, &m);
+        rec.push_traj(integ.t(), &y, f, &m);
+    }
+    run_periods(&mut integ, period, opts.record_periods, &mut rec)?;
+    let mut res = rec.res;
+    if res.max_force == f64::NEG_INFINITY {
+        res.max_force = 0.0;
+        res.min_force = 0.0;
+    }
+    let st = integ.stats();
+    res.steps = st.steps;
+    res.rhs_evals = st.rhs_evals;
+    res.final_state = (integ.t(), *integ.y());
+    Ok(res)
+}
+
+/// Period, label, healthy flag and P_ID of a simulation.
+pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summary {
+    let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+    let period = minimal_period(&pts, opts.max_period).unwrap_or(0);
+    let counts = if period > 0 && res.counts_per_period.len() >= period {
+        let mut c = [0u32; 4];
+        for row in &res.counts_per_period[res.counts_per_period.len() - period..] {
+            for i in 0..4 {
+                c[i] += row[i];
+            }
+        }
+        c
+    } else {
+        let n = res.counts_per_period.len().max(1) as f64;
+        let mut c = [0u32; 4];
+        for i in 0..4 {
+            let tot: u32 = res.counts_per_period.iter().map(|r| r[i]).sum();
+            c[i] = (tot as f64 / n).round() as u32;
+        }
+        c
+    };
+    let (dd, ds) = model.backlash_levels();
+    let label = if dd == ds {
+        format!("{}-{}-{}", period, counts[0], counts[1])
+    } else {
+        format!("{}-{}-{}-{}-{}", period, counts[0], counts[1], counts[2], counts[3])
+    };
+    let [t_drive, t_sep, t_back] = res.durations;
+    let total = t_drive + t_sep + t_back;
+    let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
+    Summary {
+        period,
+        label,
+        counts,
+        healthy: period > 0 && !any_back,
+        p_id: if total > 0.0 { (t_sep + t_back) / total } else { 0.0 },
+        max_force: res.max_force,
+        min_force: res.min_force,
+        impacts: res.impacts,
+        max_impact_force: res.impact_force_per_period.iter().cloned().fold(0.0, f64::max),
+    }
+}
