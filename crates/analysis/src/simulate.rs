@@ -57,8 +57,11 @@ pub struct SimOptions {
     pub transient_periods: u64,
     /// Excitation periods recorded.
     pub record_periods: u64,
-    /// Keep the trajectory (every step end and both sides of every event).
+    /// Keep the trajectory: uniform samples (`samples_per_cycle` per mesh cycle, from the dense
+    /// output) plus both sides of every event.
     pub trajectory: bool,
+    /// Trajectory samples per mesh cycle.
+    pub samples_per_cycle: u32,
     /// Start time `tau_0` (the stroboscopic phase).
     pub tau0: f64,
     /// Largest period searched by period detection.
@@ -72,6 +75,7 @@ impl Default for SimOptions {
             transient_periods: 300,
             record_periods: 100,
             trajectory: false,
+            samples_per_cycle: 128,
             tau0: 0.0,
             max_period: 32,
         }
@@ -189,7 +193,8 @@ pub struct SimResult {
 pub struct Summary {
     /// Minimal period in excitation periods (0 = chaotic or quasi-periodic).
     pub period: usize,
-    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`).
+    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`); for `n = 0` the counts are mean crossings per
+    /// excitation period with two decimals (e.g. `0-0.84-0.31`).
     pub label: String,
     /// Counts `p, q, r, s` over one motion period (per excitation period, rounded, if `n = 0`).
     pub counts: [u32; 4],
@@ -211,6 +216,9 @@ struct Recorder<'a> {
     model: &'a MeshModel,
     res: SimResult,
     keep_traj: bool,
+    sample_dt: f64,
+    next_sample: u64,
+    sample_origin: f64,
     levels: [f64; 4],
     count_levels: [bool; 4],
     counts: [u32; 4],
@@ -218,7 +226,7 @@ struct Recorder<'a> {
 }
 
 impl<'a> Recorder<'a> {
-    fn new(model: &'a MeshModel, keep_traj: bool) -> Self {
+    fn new(model: &'a MeshModel, keep_traj: bool, samples_per_cycle: u32, t_start: f64) -> Self {
         let (dd, ds) = model.backlash_levels();
         let distinct = dd != ds;
         Recorder {
@@ -229,6 +237,9 @@ impl<'a> Recorder<'a> {
                 ..Default::default()
             },
             keep_traj,
+            sample_dt: model.mesh_cycle_time() / samples_per_cycle.max(1) as f64,
+            next_sample: 0,
+            sample_origin: t_start,
             levels: [ds, -ds, dd, -dd],
             count_levels: [true, true, distinct, distinct],
             counts: [0; 4],
@@ -282,8 +293,22 @@ impl Observer<MeshModel, 2> for Recorder<'_> {
             }
         }
         let y1 = step.y1();
-        let f1 = self.force(t1, &y1, before);
-        self.push_traj(t1, &y1, f1, before);
+        self.force(t1, &y1, before);
+        if self.keep_traj {
+            // uniform samples from the dense output, times computed from an integer index
+            loop {
+                let ts = self.sample_origin + self.next_sample as f64 * self.sample_dt;
+                if ts > t1 {
+                    break;
+                }
+                if ts >= t0 {
+                    let y = step.interpolate(ts);
+                    let f = self.model.mesh_force(ts, &y, before);
+                    self.push_traj(ts, &y, f, before);
+                }
+                self.next_sample += 1;
+            }
+        }
         // level crossings on this step (x is continuous within it)
         let (x0, x1) = (step.y0()[0], y1[0]);
         for (i, &lv) in self.levels.iter().enumerate() {
@@ -337,6 +362,8 @@ impl Observer<MeshModel, 2> for Recorder<'_> {
                 v_after: y_after[1],
                 peak_force: peak,
             });
+            let fb = self.model.mesh_force(t1, &y1, before);
+            self.push_traj(t1, &y1, fb, before);
             let fa = self.force(t1, y_after, after);
             self.push_traj(t1, y_after, fa, after);
         } else if matches!(stop, Stop::Breakpoint) && before.contact != after.contact {
@@ -369,21 +396,14 @@ pub enum SimError {
 /// use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
 /// let model = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
 /// let opts = SimOptions { transient_periods: 200, record_periods: 20, ..Default::default() };
-/// let res = simulate(&model, [1.1, 0.0], &opts).unwrap();
+/// let res = simulate(&model, [0.0, 0.0], &opts).unwrap();
 /// assert_eq!(summarize(&model, &res, &opts).period, 1);
 /// ```
 pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<SimResult, SimError> {
     let mut integ = Integrator::new(model.clone(), opts.method.scheme(model), opts.tau0, y0)?;
     let period = model.excitation_period();
     run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
-    let mut rec = Recorder::new(model, opts.trajectory);
-    // the first recorded point is the state at the start of the recording
-    if opts.trajectory {
-        let y = *integ.y();
-        let m = *integ.mode();
-        let f = rec.force(integ.t(), &y, &m);
-        rec.push_traj(integ.t(), &y, f, &m);
-    }
+    let mut rec = Recorder::new(model, opts.trajectory, opts.samples_per_cycle, integ.t());
     run_periods(&mut integ, period, opts.record_periods, &mut rec)?;
     let mut res = rec.res;
     if res.max_force == f64::NEG_INFINITY {
@@ -419,10 +439,20 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
         c
     };
     let (dd, ds) = model.backlash_levels();
-    let label = if dd == ds {
-        format!("{}-{}-{}", period, counts[0], counts[1])
+    let n_lv = if dd == ds { 2 } else { 4 };
+    let label = if period > 0 {
+        let parts: Vec<String> = counts[..n_lv].iter().map(|c| c.to_string()).collect();
+        format!("{}-{}", period, parts.join("-"))
     } else {
-        format!("{}-{}-{}-{}-{}", period, counts[0], counts[1], counts[2], counts[3])
+        // not periodic: crossings per excitation period, averaged over the record
+        let n = res.counts_per_period.len().max(1) as f64;
+        let parts: Vec<String> = (0..n_lv)
+            .map(|i| {
+                let tot: u32 = res.counts_per_period.iter().map(|r| r[i]).sum();
+                format!("{:.2}", tot as f64 / n)
+            })
+            .collect();
+        format!("0-{}", parts.join("-"))
     };
     let [t_drive, t_sep, t_back] = res.durations;
     let total = t_drive + t_sep + t_back;
@@ -432,10 +462,18 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
         label,
         counts,
         healthy: period > 0 && !any_back,
-        p_id: if total > 0.0 { (t_sep + t_back) / total } else { 0.0 },
+        p_id: if total > 0.0 {
+            (t_sep + t_back) / total
+        } else {
+            0.0
+        },
         max_force: res.max_force,
         min_force: res.min_force,
         impacts: res.impacts,
-        max_impact_force: res.impact_force_per_period.iter().cloned().fold(0.0, f64::max),
+        max_impact_force: res
+            .impact_force_per_period
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max),
     }
 }

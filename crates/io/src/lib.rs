@@ -1,1 +1,9 @@
+//! Files of geardyn: configuration (TOML), data output (CSV/JSON) and plots (PNG/SVG).
+//! Everything that touches the file system lives here, not in the physics or analysis crates.
+#![warn(missing_docs)]
 
+pub mod config;
+pub mod output;
+pub mod plot;
+
+pub use config::{Config, ConfigError};

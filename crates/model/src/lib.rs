@@ -9,6 +9,8 @@
 //! * [`reference`]: other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
 //!   templates.
 #![warn(missing_docs)]
+// `!(v > 0.0)` is deliberate: it rejects NaN along with the out-of-range values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod contact_law;
 pub mod error;

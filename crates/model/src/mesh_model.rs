@@ -474,7 +474,7 @@ impl MeshModel {
             .min(self.segs.len() - 1)
     }
 
-    #[inline]
+    #[inline(always)]
     fn k_of(&self, seg: &Segment, t: f64, cos_wt: f64, period: i64) -> f64 {
         match seg.k {
             KForm::Const(k0) => k0 + self.kappa * cos_wt,
@@ -518,7 +518,7 @@ impl MeshModel {
         self.force_in(seg, t, cos_wt, y, mode)
     }
 
-    #[inline]
+    #[inline(always)]
     fn force_in(&self, seg: &Segment, t: f64, cos_wt: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
         match mode.contact {
             ContactState::Drive => {
@@ -581,7 +581,7 @@ impl MeshModel {
         }
         y[0] = -d;
         if y[1] < 0.0 {
-            y[1] = -law.restitution * y[1];
+            y[1] *= -law.restitution;
         }
         if y[1].abs() <= law.v_stick && self.excitation(t) <= 0.0 {
             y[1] = 0.0;
@@ -615,18 +615,27 @@ impl HybridSystem<2> for MeshModel {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn time_terms(&self, t: f64) -> f64 {
         cos_cycles(self.omega * t * (0.5 / PI))
     }
 
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, t: f64, cos_wt: &f64, y: &[f64; 2], mode: &MeshMode, dy: &mut [f64; 2]) {
         let seg = &self.segs[mode.seg as usize];
         let exc = self.load + self.xi_w2 * cos_wt;
+        // one match on the contact state (force_in would match again)
         let acc = match mode.contact {
-            ContactState::Drive => exc - seg.h_drive * self.force_in(seg, t, *cos_wt, y, mode),
-            ContactState::Back => exc - seg.h_back * self.force_in(seg, t, *cos_wt, y, mode),
+            ContactState::Drive => {
+                let k = self.k_of(seg, t, *cos_wt, mode.period);
+                let g = self.law.elastic(y[0] - seg.d);
+                exc - seg.h_drive * (k * g * (1.0 + mode.chi * y[1]) + self.c * y[1])
+            }
+            ContactState::Back => {
+                let k = self.k_of(seg, t, *cos_wt, mode.period);
+                let g = self.law.elastic(-y[0] - seg.d);
+                exc - seg.h_back * (-k * g * (1.0 - mode.chi * y[1]) + self.c * y[1])
+            }
             ContactState::Separated => exc,
             ContactState::Stuck => {
                 *dy = [0.0, 0.0];
@@ -636,9 +645,8 @@ impl HybridSystem<2> for MeshModel {
         *dy = [y[1], acc];
     }
 
-    #[inline]
+    #[inline(always)]
     fn guards(&self, t: f64, y: &[f64; 2], mode: &MeshMode, g: &mut Guards) {
-        g.clear();
         let d = self.segs[mode.seg as usize].d;
         match mode.contact {
             ContactState::Separated => {
@@ -669,7 +677,7 @@ impl HybridSystem<2> for MeshModel {
                         y[1] = 0.0;
                         mode.contact = ContactState::Stuck;
                     } else {
-                        y[1] = -law.restitution * y[1];
+                        y[1] *= -law.restitution;
                     }
                 }
             },

@@ -100,12 +100,11 @@ impl HybridSystem<2> for ImpactOscillator {
         dy[1] = self.a * c - 2.0 * self.zeta * y[1] - y[0];
     }
     fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) {
-        g.clear();
         g.push(y[0] + self.gap, Direction::Falling);
     }
     fn on_event(&self, _t: f64, y: &mut [f64; 2], _m: &mut (), _i: usize) -> EventAction {
         y[0] = -self.gap;
-        y[1] = -self.r * y[1];
+        y[1] *= -self.r;
         EventAction::Continue
     }
 }

@@ -42,7 +42,10 @@ fn run<S: HybridSystem<2>>(sys: S, scheme: Scheme, y0: [f64; 2], t_end: f64) -> 
 
 fn fixed_dopri(h: f64) -> Scheme {
     let _ = h;
-    Scheme::DormandPrince { rtol: 0.9, atol: 1.0 }
+    Scheme::DormandPrince {
+        rtol: 0.9,
+        atol: 1.0,
+    }
 }
 
 /// Least-squares slope of log(err) against log(h).
@@ -71,7 +74,7 @@ fn impact_oscillator_exact(gap: f64, r: f64, x0: f64, t_end: f64) -> [f64; 2] {
         return [x0 * t_end.cos(), -x0 * t_end.sin()];
     }
     loop {
-        // arc from the stop: x = -gap cos s + v sin s; back at the stop after s = 2*atan2(v, -gap)... 
+        // arc from the stop: x = -gap cos s + v sin s; back at the stop after s = 2*atan2(v, -gap)...
         // x(s) = A cos(s - p), A = hypot(gap, v), p = atan2(v, -gap); returns at s = 2p
         let p = v_plus.atan2(-gap);
         let arc = 2.0 * p;
@@ -89,17 +92,38 @@ fn impact_oscillator_exact(gap: f64, r: f64, x0: f64, t_end: f64) -> [f64; 2] {
 #[test]
 fn rk4_and_dopri_orders_on_a_smooth_case() {
     // Duffing with an exact reference from a tight adaptive run cross-checked by a second scheme
-    let sys = Duffing { delta: 0.1, alpha: 1.0, beta: 0.5, gamma: 0.3, omega: 1.2 };
+    let sys = Duffing {
+        delta: 0.1,
+        alpha: 1.0,
+        beta: 0.5,
+        gamma: 0.3,
+        omega: 1.2,
+    };
     let t_end = 10.0;
-    let reference = run(sys, Scheme::DormandPrince { rtol: 1e-13, atol: 1e-15 }, [0.5, 0.0], t_end).0;
+    let reference = run(
+        sys,
+        Scheme::DormandPrince {
+            rtol: 1e-13,
+            atol: 1e-15,
+        },
+        [0.5, 0.0],
+        t_end,
+    )
+    .0;
     let check = run(sys, Scheme::Rk4 { h: 1e-3 }, [0.5, 0.0], t_end).0;
-    assert!((reference[0] - check[0]).abs() < 1e-11, "reference not converged");
+    assert!(
+        (reference[0] - check[0]).abs() < 1e-11,
+        "reference not converged"
+    );
     let err = |scheme: Scheme, h: f64| {
         let y = run(Capped(sys, h), scheme, [0.5, 0.0], t_end).0;
         (y[0] - reference[0]).abs() + (y[1] - reference[1]).abs()
     };
     let (h1, h2) = (0.2, 0.1);
-    let p_rk4 = order(err(Scheme::Rk4 { h: h1 }, h1), err(Scheme::Rk4 { h: h2 }, h2));
+    let p_rk4 = order(
+        err(Scheme::Rk4 { h: h1 }, h1),
+        err(Scheme::Rk4 { h: h2 }, h2),
+    );
     assert!((p_rk4 - 4.0).abs() < 0.3, "RK4 order {p_rk4}");
     // least-squares slope over four halvings (single ratios are noisy pre-asymptotically)
     let hs = [0.4, 0.2, 0.1, 0.05];
@@ -112,7 +136,13 @@ fn rk4_and_dopri_orders_on_a_smooth_case() {
 fn orders_survive_events() {
     // Impacts every half cycle: if events were stepped over, order would drop to 1.
     let (gap, r, x0) = (0.5, 0.8, 1.0);
-    let sys = ImpactOscillator { zeta: 0.0, a: 0.0, omega: 1.0, gap, r };
+    let sys = ImpactOscillator {
+        zeta: 0.0,
+        a: 0.0,
+        omega: 1.0,
+        gap,
+        r,
+    };
     let t_end = 20.0;
     let exact = impact_oscillator_exact(gap, r, x0, t_end);
     let err = |scheme: Scheme, h: f64| {
@@ -120,7 +150,11 @@ fn orders_survive_events() {
         assert!(events >= 4, "only {events} impacts");
         (y[0] - exact[0]).abs() + (y[1] - exact[1]).abs()
     };
-    let e = [err(Scheme::Rk4 { h: 0.1 }, 0.1), err(Scheme::Rk4 { h: 0.05 }, 0.05), err(Scheme::Rk4 { h: 0.025 }, 0.025)];
+    let e = [
+        err(Scheme::Rk4 { h: 0.1 }, 0.1),
+        err(Scheme::Rk4 { h: 0.05 }, 0.05),
+        err(Scheme::Rk4 { h: 0.025 }, 0.025),
+    ];
     let p = order(e[1], e[2]);
     assert!((p - 4.0).abs() < 0.4, "RK4 order with events {p} ({e:?})");
     let e = [err(fixed_dopri(0.2), 0.2), err(fixed_dopri(0.1), 0.1)];
@@ -145,7 +179,6 @@ impl HybridSystem<2> for Coincident {
         *dy = [1.0, if m.0 == 0 { 0.0 } else { 1.0 }];
     }
     fn guards(&self, _t: f64, y: &[f64; 2], m: &(u8, u8), g: &mut Guards) {
-        g.clear();
         if m.1 == 0 {
             g.push(y[0] - 1.0, Direction::Rising);
         } else {
@@ -208,7 +241,6 @@ fn zeno_sequence_is_reported_not_hung() {
             *dy = [y[1], -1.0];
         }
         fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) {
-            g.clear();
             g.push(y[0], Direction::Falling);
         }
         fn on_event(&self, _t: f64, y: &mut [f64; 2], _m: &mut (), _i: usize) -> EventAction {

@@ -17,7 +17,7 @@
 use core::fmt::Debug;
 
 /// Most guard functions one mode may arm (stack buffers in the integrator are this long).
-pub const MAX_GUARDS: usize = 8;
+pub const MAX_GUARDS: usize = 4;
 
 /// Crossing direction in which a guard fires.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,8 +84,15 @@ impl Default for Guards {
 }
 
 impl Guards {
+    /// No guard armed.
+    pub const EMPTY: Guards = Guards {
+        len: 0,
+        value: [0.0; MAX_GUARDS],
+        direction: [Direction::Either; MAX_GUARDS],
+    };
+
     /// Arms one more guard.
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, value: f64, direction: Direction) {
         debug_assert!(self.len < MAX_GUARDS, "too many guards");
         self.value[self.len] = value;
@@ -94,7 +101,7 @@ impl Guards {
     }
 
     /// Disarms all guards.
-    #[inline]
+    #[inline(always)]
     pub fn clear(&mut self) {
         self.len = 0;
     }
@@ -150,10 +157,9 @@ pub trait HybridSystem<const N: usize> {
     /// The vector field of `mode`: `dy = f(t, y)`.
     fn rhs(&self, t: f64, tt: &Self::TimeTerms, y: &[f64; N], mode: &Self::Mode, dy: &mut [f64; N]);
 
-    /// Guard functions armed in `mode` and their directions. Default: none.
-    fn guards(&self, _t: f64, _y: &[f64; N], _mode: &Self::Mode, g: &mut Guards) {
-        g.clear();
-    }
+    /// Guard functions armed in `mode` and their directions: `push` them onto `g`, which the
+    /// integrator hands over empty. Default: none.
+    fn guards(&self, _t: f64, _y: &[f64; N], _mode: &Self::Mode, _g: &mut Guards) {}
 
     /// Handles the crossing of guard `index` at `t`: switch the mode, reset the state.
     fn on_event(

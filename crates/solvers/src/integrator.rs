@@ -17,10 +17,10 @@
 //! 4. After an event or a breakpoint the first-same-as-last derivative is recomputed in the new mode.
 
 use crate::dense::Step;
-use crate::hybrid::{Direction, EventAction, Guards, HybridSystem, MAX_GUARDS};
+use crate::hybrid::{Direction, EventAction, Guards, HybridSystem};
 
 /// Most interior guard samples per step.
-pub const MAX_GRAZING_SAMPLES: usize = 6;
+pub const MAX_GRAZING_SAMPLES: usize = 4;
 
 /// Integration scheme and its settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,8 +118,9 @@ pub struct Stats {
 /// Options beyond the scheme.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
-    /// Interior interpolant samples per step at which guards are checked (grazing detection).
-    pub grazing_samples: usize,
+    /// Interior interpolant samples per step at which guards are checked (grazing detection);
+    /// `None`: 1 for RK4 (short fixed steps), 2 for Dormand–Prince.
+    pub grazing_samples: Option<usize>,
     /// Most events allowed at one instant before [`SolverError::Zeno`].
     pub max_events_without_progress: usize,
 }
@@ -127,7 +128,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            grazing_samples: 2,
+            grazing_samples: None,
             max_events_without_progress: 64,
         }
     }
@@ -216,7 +217,10 @@ pub struct Integrator<S: HybridSystem<N>, const N: usize> {
     f0: [f64; N],
     tt0: S::TimeTerms,
     f0_valid: bool,
-    g0: Guards,
+    /// Guard values at the current state and at the end of the trial step (flipped, not copied).
+    gbuf: [Guards; 2],
+    gcur: usize,
+    grazing_m: usize,
     g0_valid: bool,
     h_next: f64,
     grid_origin: f64,
@@ -263,7 +267,9 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             f0: [0.0; N],
             tt0,
             f0_valid: false,
-            g0: Guards::default(),
+            gbuf: [Guards::EMPTY; 2],
+            gcur: 0,
+            grazing_m: Self::grazing_samples(scheme, &Options::default()),
             g0_valid: false,
             h_next: 0.0,
             grid_origin: t0,
@@ -305,6 +311,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
     /// Replaces the options.
     pub fn with_options(mut self, opts: Options) -> Self {
         self.opts = opts;
+        self.grazing_m = Self::grazing_samples(self.scheme, &opts);
         self
     }
 
@@ -349,7 +356,16 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         64.0 * f64::EPSILON * t.abs().max(1.0)
     }
 
+    #[inline(always)]
     fn ensure_start(&mut self) {
+        if !(self.f0_valid && self.g0_valid && self.h_next > 0.0) {
+            self.restart();
+        }
+    }
+
+    /// Recomputes the derivative, guards and first step after a reset, event or breakpoint.
+    #[cold]
+    fn restart(&mut self) {
         if !self.f0_valid {
             self.tt0 = self.sys.time_terms(self.t);
             self.sys
@@ -358,7 +374,13 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             self.f0_valid = true;
         }
         if !self.g0_valid {
-            self.sys.guards(self.t, &self.y, &self.mode, &mut self.g0);
+            guards_into(
+                &self.sys,
+                self.t,
+                &self.y,
+                &self.mode,
+                &mut self.gbuf[self.gcur],
+            );
             self.g0_valid = true;
         }
         if self.h_next <= 0.0 {
@@ -390,7 +412,8 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
     }
 
     /// A step of the scheme from the current state with length `h` (no acceptance logic).
-    #[inline]
+    // always inlined: returned by value, the 144-byte trial was otherwise memmoved twice per step
+    #[inline(always)]
     fn trial(&mut self, h: f64) -> Trial<S::TimeTerms, N> {
         let (t, y, f0, mode) = (self.t, &self.y, &self.f0, &self.mode);
         let sys = &self.sys;
@@ -417,7 +440,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                 sys.rhs(t1, &tt1, &yt, mode, &mut k4);
                 let mut y1 = [0.0; N];
                 for i in 0..N {
-                    y1[i] = y[i] + h / 6.0 * (f0[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+                    y1[i] = y[i] + h * (1.0 / 6.0) * (f0[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
                 }
                 let mut f1 = [0.0; N];
                 sys.rhs(t1, &tt1, &y1, mode, &mut f1);
@@ -588,9 +611,17 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             }
 
             // --- state events
-            let mut g1 = Guards::default();
-            self.sys.guards(t_end, &trial.y1, &self.mode, &mut g1);
-            if let Some((idx, ta, ga, tb, gb)) = self.find_crossing(&trial, &g1) {
+            let (cur, next) = (self.gcur, 1 - self.gcur);
+            guards_into(
+                &self.sys,
+                t_end,
+                &trial.y1,
+                &self.mode,
+                &mut self.gbuf[next],
+            );
+            if let Some((idx, ta, ga, tb, gb)) =
+                self.find_crossing(&trial, &self.gbuf[cur], &self.gbuf[next])
+            {
                 return self.handle_event(idx, ta, ga, tb, gb, h);
             }
 
@@ -600,7 +631,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             self.y = trial.y1;
             self.f0 = trial.f1;
             self.tt0 = trial.tt1;
-            self.g0 = g1;
+            self.gcur = next;
             self.last = trial.step;
             if on_grid {
                 self.grid_index += 1;
@@ -632,42 +663,119 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
 
     /// Earliest armed crossing in the trial step: guard index and a bracket in time.
     ///
-    /// Sign changes between samples are found first; failing that, a sample that is a local
-    /// extremum of a guard (the trajectory turning near the surface) is refined by a golden-section
-    /// search on the interpolant, which catches a graze that enters and leaves within one step.
+    /// Sign changes between samples are found first; a sample that is a local extremum of a guard
+    /// towards zero (the trajectory turning near the surface) is refined by a golden-section search
+    /// on the interpolant, which catches a graze that enters and leaves within one step.
+    /// Samples are read element by element from the guard buffers: copying whole freshly written
+    /// arrays stalled store forwarding and cost a third of the step time.
+    #[inline]
     fn find_crossing(
         &self,
         trial: &Trial<S::TimeTerms, N>,
+        g0: &Guards,
         g1: &Guards,
     ) -> Option<(usize, f64, f64, f64, f64)> {
-        let n = self.g0.len.min(g1.len);
+        let n = g0.len.min(g1.len);
         if n == 0 {
             return None;
         }
-        let m = self.opts.grazing_samples.min(MAX_GRAZING_SAMPLES);
+        let m = self.grazing_m;
         let (t0, t1) = (trial.step.t0, trial.step.t1);
-        let mut ts = [0.0; MAX_GRAZING_SAMPLES + 2];
-        let mut gs = [[0.0; MAX_GUARDS]; MAX_GRAZING_SAMPLES + 2];
-        ts[0] = t0;
-        gs[0] = self.g0.value;
-        let mut gi = Guards::default();
-        for j in 1..=m + 1 {
-            if j == m + 1 {
-                ts[j] = t1;
-                gs[j] = g1.value;
-            } else {
-                let th = j as f64 / (m + 1) as f64;
-                ts[j] = t0 + th * (t1 - t0);
-                let yb = trial.step.at_theta(th);
-                self.sys.guards(ts[j], &yb, &self.mode, &mut gi);
-                gs[j] = gi.value;
+        // Fast path (almost every step): no sign change between the ends; only a turning point
+        // at the midpoint can hide a graze.
+        let any_end_crossing = (0..n).any(|i| g0.direction[i].crossed(g0.value[i], g1.value[i]));
+        if !any_end_crossing {
+            if m == 0 {
+                return None;
             }
-            // earliest root among the guards crossing in this sub-interval
+            let mut gm = Guards::EMPTY;
+            let tm = 0.5 * (t0 + t1);
+            guards_into(
+                &self.sys,
+                tm,
+                &trial.step.at_theta(0.5),
+                &self.mode,
+                &mut gm,
+            );
             let mut best: Option<(usize, f64, f64, f64, f64)> = None;
             for i in 0..n {
-                let dir = self.g0.direction[i];
-                if dir.crossed(gs[j - 1][i], gs[j][i]) {
-                    let br = self.locate(trial, i, dir, ts[j - 1], gs[j - 1][i], ts[j], gs[j][i]);
+                let (p, a, b) = (g0.value[i], gm.value[i], g1.value[i]);
+                let d = g0.direction[i];
+                // parabola through the three samples: vertex position and value
+                let curv = p - 2.0 * a + b;
+                let near = if d.crossed(p, a) || d.crossed(a, b) {
+                    true
+                } else if curv != 0.0 {
+                    let th = 0.5 + 0.25 * (p - b) / curv;
+                    let vertex = a - (b - p) * (b - p) / (8.0 * curv);
+                    th > 0.0
+                        && th < 1.0
+                        && (vertex.signum() != p.signum()
+                            || vertex.abs() < 0.5 * p.abs().min(b.abs()))
+                } else {
+                    false
+                };
+                if near {
+                    if let Some(br) = self.graze_search(trial, i, d, t0, p, t1) {
+                        if best.is_none_or(|x| br.3 < x.3) {
+                            best = Some(br);
+                        }
+                    }
+                }
+            }
+            return best;
+        }
+        const INV: [f64; MAX_GRAZING_SAMPLES + 2] = [1.0, 1.0, 0.5, 1.0 / 3.0, 0.25, 0.2];
+        let mut ts = [0.0; MAX_GRAZING_SAMPLES + 2];
+        let mut gint = [Guards::EMPTY; MAX_GRAZING_SAMPLES];
+        ts[0] = t0;
+        ts[m + 1] = t1;
+        let val = |gint: &[Guards; MAX_GRAZING_SAMPLES], j: usize, i: usize| -> f64 {
+            if j == 0 {
+                g0.value[i]
+            } else if j == m + 1 {
+                g1.value[i]
+            } else {
+                gint[j - 1].value[i]
+            }
+        };
+        for j in 1..=m + 1 {
+            if j <= m {
+                let th = j as f64 * INV[m + 1];
+                ts[j] = t0 + th * (t1 - t0);
+                let yb = trial.step.at_theta(th);
+                guards_into(&self.sys, ts[j], &yb, &self.mode, &mut gint[j - 1]);
+            }
+            let mut best: Option<(usize, f64, f64, f64, f64)> = None;
+            // a turning point at the previous interior sample (window j-2 .. j)
+            if j >= 2 {
+                for i in 0..n {
+                    let (p, a, b) = (val(&gint, j - 2, i), val(&gint, j - 1, i), val(&gint, j, i));
+                    let turning = if a < 0.0 {
+                        a > p && a >= b
+                    } else {
+                        a > 0.0 && a < p && a <= b
+                    };
+                    if turning {
+                        if let Some(br) =
+                            self.graze_search(trial, i, g0.direction[i], ts[j - 2], p, ts[j])
+                        {
+                            if best.is_none_or(|x| br.3 < x.3) {
+                                best = Some(br);
+                            }
+                        }
+                    }
+                }
+                if best.is_some() {
+                    return best;
+                }
+            }
+            // earliest root among the guards crossing in [t_{j-1}, t_j]
+            for i in 0..n {
+                let dir = g0.direction[i];
+                let (ga, gb) = (val(&gint, j - 1, i), val(&gint, j, i));
+                if dir.crossed(ga, gb) {
+                    let br = self.locate(trial, i, dir, ts[j - 1], ga, ts[j], gb);
                     if best.is_none_or(|b| br.3 < b.3) {
                         best = Some(br);
                     }
@@ -677,72 +785,73 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                 return best;
             }
         }
-        // grazing: an interior sample nearer the surface than both neighbours
-        let mut best: Option<(usize, f64, f64, f64, f64)> = None;
-        for i in 0..n {
-            let dir = self.g0.direction[i];
-            for j in 1..=m {
-                let (ga, gj, gb) = (gs[j - 1][i], gs[j][i], gs[j + 1][i]);
-                let turning = if gj < 0.0 {
-                    gj > ga && gj >= gb
-                } else {
-                    gj < ga && gj <= gb
-                };
-                if !turning || gj == 0.0 {
-                    continue;
-                }
-                // golden-section search for the extremum of the guard on [t_{j-1}, t_{j+1}]
-                let sgn = if gj < 0.0 { 1.0 } else { -1.0 }; // maximise sgn*g
-                let mut gbuf = Guards::default();
-                let mut gfun = |t: f64| {
-                    let y = trial.step.interpolate(t);
-                    self.sys.guards(t, &y, &self.mode, &mut gbuf);
-                    gbuf.value[i]
-                };
-                let (mut a, mut b) = (ts[j - 1], ts[j + 1]);
-                const R: f64 = 0.618_033_988_749_894_9;
-                let mut c = b - R * (b - a);
-                let mut d = a + R * (b - a);
-                let (mut fc, mut fd) = (sgn * gfun(c), sgn * gfun(d));
-                let tol = 1e-10 * (ts[j + 1] - ts[j - 1]).abs();
-                let mut peak = (sgn * gj, ts[j]);
-                for _ in 0..60 {
-                    if fc.max(fd) > 0.0 || (b - a).abs() < tol {
-                        break;
-                    }
-                    if fc > fd {
-                        b = d;
-                        d = c;
-                        fd = fc;
-                        c = b - R * (b - a);
-                        fc = sgn * gfun(c);
-                    } else {
-                        a = c;
-                        c = d;
-                        fc = fd;
-                        d = a + R * (b - a);
-                        fd = sgn * gfun(d);
-                    }
-                }
-                if fc > peak.0 {
-                    peak = (fc, c);
-                }
-                if fd > peak.0 {
-                    peak = (fd, d);
-                }
-                if peak.0 > 0.0 {
-                    let g_peak = sgn * peak.0;
-                    if dir.crossed(ga, g_peak) {
-                        let br = self.locate(trial, i, dir, ts[j - 1], ga, peak.1, g_peak);
-                        if best.is_none_or(|b| br.3 < b.3) {
-                            best = Some(br);
-                        }
-                    }
-                    break;
-                }
+        None
+    }
+
+    fn grazing_samples(scheme: Scheme, opts: &Options) -> usize {
+        match opts.grazing_samples {
+            Some(m) => m.min(MAX_GRAZING_SAMPLES),
+            // small fixed steps need fewer samples than long adaptive ones
+            None => match scheme {
+                Scheme::Rk4 { .. } => 1,
+                Scheme::DormandPrince { .. } => 3,
+            },
+        }
+    }
+
+    /// The guard `i` turns towards zero inside `[tp, tb]` (it starts at `gpi` at `tp`): find its
+    /// extremum on the interpolant and, if that crosses zero in the armed direction, bracket the
+    /// first crossing.
+    #[cold]
+    fn graze_search(
+        &self,
+        trial: &Trial<S::TimeTerms, N>,
+        i: usize,
+        dir: Direction,
+        tp: f64,
+        gpi: f64,
+        tb: f64,
+    ) -> Option<(usize, f64, f64, f64, f64)> {
+        let mut gbuf = Guards::default();
+        // move from the start value towards zero: maximise sgn*g
+        let sgn = if gpi < 0.0 { 1.0 } else { -1.0 };
+        let mut gfun = |t: f64| {
+            let y = trial.step.interpolate(t);
+            guards_into(&self.sys, t, &y, &self.mode, &mut gbuf);
+            sgn * gbuf.value[i]
+        };
+        const R: f64 = 0.618_033_988_749_894_9;
+        let (mut a, mut b) = (tp, tb);
+        let mut c = b - R * (b - a);
+        let mut d = a + R * (b - a);
+        let (mut fc, mut fd) = (gfun(c), gfun(d));
+        let tol = 1e-10 * (tb - tp).abs();
+        for _ in 0..60 {
+            if fc.max(fd) >= 0.0 || (b - a).abs() < tol {
+                break;
+            }
+            if fc > fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - R * (b - a);
+                fc = gfun(c);
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + R * (b - a);
+                fd = gfun(d);
             }
         }
-        best
+        let (fpk, tpk) = if fc >= fd { (fc, c) } else { (fd, d) };
+        if fpk >= 0.0 {
+            let g_peak = sgn * fpk;
+            if dir.crossed(gpi, g_peak) {
+                return Some(self.locate(trial, i, dir, tp, gpi, tpk, g_peak));
+            }
+        }
+        None
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -761,7 +870,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         let br = crate::root::illinois(
             |t| {
                 let y = trial.step.interpolate(t);
-                self.sys.guards(t, &y, &self.mode, &mut gbuf);
+                guards_into(&self.sys, t, &y, &self.mode, &mut gbuf);
                 gbuf.value[i]
             },
             ta,
@@ -785,15 +894,15 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         h_max: f64,
     ) -> Result<Stop, SolverError> {
         let t0 = self.t;
-        let dir = self.g0.direction[idx];
-        let g_start = self.g0.value[idx];
+        let dir = self.gbuf[self.gcur].direction[idx];
+        let g_start = self.gbuf[self.gcur].value[idx];
         let xtol = 4.0 * f64::EPSILON * tb.abs().max(1.0);
         let mut gbuf = Guards::default();
         // secant iterations on phi(h) = g(step(h)), started from the interpolant's root
         let slope = if tb != ta { (gb - ga) / (tb - ta) } else { 0.0 };
         let mut h = (tb - t0).clamp(0.0, h_max);
         let mut tr = self.trial(h);
-        self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+        guards_into(&self.sys, t0 + h, &tr.y1, &self.mode, &mut gbuf);
         let mut phi = gbuf.value[idx];
         let mut prev: Option<(f64, f64)> = None;
         let mut slope = slope;
@@ -817,7 +926,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             prev = Some((h, phi));
             h = h_new;
             tr = self.trial(h);
-            self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+            guards_into(&self.sys, t0 + h, &tr.y1, &self.mode, &mut gbuf);
             phi = gbuf.value[idx];
         }
         // make sure the state lies on the new side (so the new mode is consistent with it)
@@ -829,7 +938,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             h = (h + nudge).min(h_max);
             nudge *= 2.0;
             tr = self.trial(h);
-            self.sys.guards(t0 + h, &tr.y1, &self.mode, &mut gbuf);
+            guards_into(&self.sys, t0 + h, &tr.y1, &self.mode, &mut gbuf);
             phi = gbuf.value[idx];
         }
         if tr.y1.iter().any(|v| !v.is_finite()) {
@@ -879,4 +988,17 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             }
         }
     }
+}
+
+/// Evaluates the guards into an emptied buffer.
+#[inline(always)]
+fn guards_into<S: HybridSystem<N>, const N: usize>(
+    sys: &S,
+    t: f64,
+    y: &[f64; N],
+    mode: &S::Mode,
+    g: &mut Guards,
+) {
+    g.clear();
+    sys.guards(t, y, mode, g);
 }

@@ -8,6 +8,8 @@
 //!
 //! Time and state are in whatever units the system uses (geardyn's gear model is dimensionless).
 #![warn(missing_docs)]
+// Runge–Kutta stage formulas over several arrays read clearer with an index.
+#![allow(clippy::needless_range_loop)]
 
 pub mod dense;
 pub mod hybrid;

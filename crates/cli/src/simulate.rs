@@ -1,0 +1,185 @@
+//! `geardyn simulate`.
+
+use crate::run_config::ConfigArgs;
+use anyhow::{Context, Result};
+use clap::Args;
+use geardyn_analysis::simulate::{simulate, summarize};
+use geardyn_io::output;
+use geardyn_io::plot::{decimate, xy_chart, Chart, Mark, Series, PALETTE};
+use std::path::PathBuf;
+
+/// Arguments of `geardyn simulate`.
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    /// Recorded excitation periods (default: simulation.record_periods of the config).
+    #[arg(long)]
+    periods: Option<u64>,
+    /// Transient excitation periods discarded first (default: simulation.transient_periods).
+    #[arg(long)]
+    transient: Option<u64>,
+    /// Output directory.
+    #[arg(long, default_value = "out/simulate")]
+    out: PathBuf,
+}
+
+pub fn run(args: SimulateArgs) -> Result<()> {
+    let mut cfg = args.cfg.resolve()?;
+    if let Some(p) = args.periods {
+        cfg.set("record_periods", p as f64)?;
+    }
+    if let Some(t) = args.transient {
+        cfg.set("transient_periods", t as f64)?;
+    }
+    let model = cfg.build_model()?;
+    let mut opts = cfg.sim_options()?;
+    opts.trajectory = true;
+    let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+    let t = std::time::Instant::now();
+    let res = simulate(&model, y0, &opts).context("integration failed")?;
+    let elapsed = t.elapsed().as_secs_f64();
+    let summary = summarize(&model, &res, &opts);
+
+    let out = &args.out;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    output::write_text(&out.join("config.toml"), &cfg.to_toml())?;
+    output::write_trajectory(&out.join("trajectory.csv"), &res)?;
+    output::write_strobe(&out.join("strobe.csv"), &res)?;
+    output::write_events(&out.join("events.csv"), &res)?;
+    output::write_sections(&out.join("sections.csv"), &res)?;
+    output::write_summary(
+        &out.join("summary.json"),
+        &summary,
+        serde_json::json!({
+            "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+            "excitation_period": model.excitation_period(),
+            "transient_periods": opts.transient_periods,
+            "record_periods": opts.record_periods,
+            "method": opts.method,
+            "steps": res.steps,
+            "rhs_evals": res.rhs_evals,
+            "wall_time_s": elapsed,
+        }),
+    )?;
+    plots(out, &model, &res)?;
+    println!(
+        "{}: label {} ({}), P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts; {} steps in {:.3} s -> {}",
+        if summary.period > 0 { format!("period {}", summary.period) } else { "chaotic/quasi-periodic".into() },
+        summary.label,
+        if summary.healthy { "healthy" } else { "unstable" },
+        summary.p_id,
+        summary.min_force,
+        summary.max_force,
+        summary.impacts,
+        res.steps,
+        elapsed,
+        out.display()
+    );
+    Ok(())
+}
+
+fn plots(
+    out: &std::path::Path,
+    model: &geardyn_model::MeshModel,
+    res: &geardyn_analysis::SimResult,
+) -> Result<()> {
+    let ts = model.excitation_period();
+    // the time history and mesh force show the last few excitation periods
+    let shown = if model.cycles_per_period() > 1 {
+        1.0
+    } else {
+        5.0
+    };
+    let t_end = res.final_state.0;
+    let window: Vec<_> = res
+        .trajectory
+        .iter()
+        .filter(|p| p.tau >= t_end - shown * ts)
+        .collect();
+    let xs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.x)).collect();
+    let fs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.mesh_force)).collect();
+    let (dd, ds) = model.backlash_levels();
+    let (t0, t1) = (xs.first().map_or(0.0, |p| p.0), t_end);
+    let mut levels = vec![vec![(t0, ds), (t1, ds)], vec![(t0, -ds), (t1, -ds)]];
+    if dd != ds {
+        levels.push(vec![(t0, dd), (t1, dd)]);
+        levels.push(vec![(t0, -dd), (t1, -dd)]);
+    }
+    let xs = decimate(&xs, 20_000);
+    let mut series = vec![Series {
+        label: "x",
+        points: &xs,
+        mark: Mark::Line,
+        color: PALETTE[0],
+    }];
+    for (i, l) in levels.iter().enumerate() {
+        series.push(Series {
+            label: if i == 0 {
+                "±D_s"
+            } else if i == 2 {
+                "±D_d"
+            } else {
+                ""
+            },
+            points: l,
+            mark: Mark::Line,
+            color: if i < 2 { PALETTE[6] } else { PALETTE[4] },
+        });
+    }
+    xy_chart(
+        &out.join("time_history"),
+        &Chart {
+            title: "Time history",
+            x_label: "τ (dimensionless time)",
+            y_label: "x (units of b_c)",
+        },
+        &series,
+    )?;
+    let fs = decimate(&fs, 20_000);
+    xy_chart(
+        &out.join("mesh_force"),
+        &Chart {
+            title: "Dynamic mesh force",
+            x_label: "τ",
+            y_label: "F_m (units of k_av b_c)",
+        },
+        &[Series {
+            label: "",
+            points: &fs,
+            mark: Mark::Line,
+            color: PALETTE[1],
+        }],
+    )?;
+    let stride = (res.trajectory.len() / 40_000).max(1);
+    let phase: Vec<(f64, f64)> = res
+        .trajectory
+        .iter()
+        .step_by(stride)
+        .map(|p| (p.x, p.v))
+        .collect();
+    let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p[1], p[2])).collect();
+    xy_chart(
+        &out.join("phase_portrait"),
+        &Chart {
+            title: "Phase portrait and stroboscopic Poincaré section",
+            x_label: "x",
+            y_label: "x'",
+        },
+        &[
+            Series {
+                label: "trajectory",
+                points: &phase,
+                mark: Mark::Line,
+                color: PALETTE[5],
+            },
+            Series {
+                label: "Poincaré points",
+                points: &strobe,
+                mark: Mark::Dots(4),
+                color: PALETTE[1],
+            },
+        ],
+    )?;
+    Ok(())
+}

@@ -1,0 +1,150 @@
+//! Writers for simulation results: CSV tables and JSON summaries.
+
+use geardyn_analysis::simulate::{SimResult, Summary};
+use std::io::Write;
+use std::path::Path;
+
+/// Output failure.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// File system error.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// CSV error.
+    #[error("cannot write {path}: {source}")]
+    Csv {
+        /// Path.
+        path: String,
+        /// Cause.
+        source: csv::Error,
+    },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Writes a CSV file with the given header and rows (numbers in shortest round-trip form).
+pub fn write_csv<R, I>(path: &Path, header: &[&str], rows: I) -> Result<(), OutputError>
+where
+    I: IntoIterator<Item = R>,
+    R: IntoIterator<Item = String>,
+{
+    let mk = |source| OutputError::Csv {
+        path: path.display().to_string(),
+        source,
+    };
+    let mut w = csv::Writer::from_path(path).map_err(mk)?;
+    w.write_record(header).map_err(mk)?;
+    for r in rows {
+        w.write_record(r).map_err(mk)?;
+    }
+    w.flush().map_err(io_err(path))?;
+    Ok(())
+}
+
+/// Writes any serialisable value as pretty JSON.
+pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), OutputError> {
+    let mut f = std::fs::File::create(path).map_err(io_err(path))?;
+    let text = serde_json::to_string_pretty(value).expect("serialisable");
+    f.write_all(text.as_bytes()).map_err(io_err(path))?;
+    f.write_all(b"\n").map_err(io_err(path))
+}
+
+/// Writes a text file.
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    std::fs::write(path, text).map_err(io_err(path))
+}
+
+fn num(v: f64) -> String {
+    format!("{v}")
+}
+
+/// `trajectory.csv`: `tau,x,v,mesh_force,state`.
+pub fn write_trajectory(path: &Path, res: &SimResult) -> Result<(), OutputError> {
+    write_csv(
+        path,
+        &["tau", "x", "v", "mesh_force", "state"],
+        res.trajectory.iter().map(|p| {
+            [
+                num(p.tau),
+                num(p.x),
+                num(p.v),
+                num(p.mesh_force),
+                p.state.to_string(),
+            ]
+        }),
+    )
+}
+
+/// `strobe.csv`: `tau,x,v`, one row per recorded excitation period.
+pub fn write_strobe(path: &Path, res: &SimResult) -> Result<(), OutputError> {
+    write_csv(
+        path,
+        &["tau", "x", "v"],
+        res.strobe.iter().map(|p| [num(p[0]), num(p[1]), num(p[2])]),
+    )
+}
+
+/// `events.csv`: `tau,cycle_position,kind,x,v_before,v_after,peak_force`.
+pub fn write_events(path: &Path, res: &SimResult) -> Result<(), OutputError> {
+    write_csv(
+        path,
+        &[
+            "tau",
+            "cycle_position",
+            "kind",
+            "x",
+            "v_before",
+            "v_after",
+            "peak_force",
+        ],
+        res.events.iter().map(|e| {
+            let kind = serde_json::to_value(e.kind)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            [
+                num(e.tau),
+                num(e.cycle_position),
+                kind,
+                num(e.x),
+                num(e.v_before),
+                num(e.v_after),
+                num(e.peak_force),
+            ]
+        }),
+    )
+}
+
+/// `sections.csv`: `section,tau,x,v` for every level crossing.
+pub fn write_sections(path: &Path, res: &SimResult) -> Result<(), OutputError> {
+    write_csv(
+        path,
+        &["section", "tau", "x", "v"],
+        res.crossings
+            .iter()
+            .map(|c| [c.level.name().to_string(), num(c.tau), num(c.x), num(c.v)]),
+    )
+}
+
+/// `summary.json`.
+pub fn write_summary(
+    path: &Path,
+    summary: &Summary,
+    extra: serde_json::Value,
+) -> Result<(), OutputError> {
+    let mut v = serde_json::to_value(summary).expect("serialisable");
+    if let (Some(obj), serde_json::Value::Object(more)) = (v.as_object_mut(), extra) {
+        obj.extend(more);
+    }
+    write_json(path, &v)
+}

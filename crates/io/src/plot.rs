@@ -1,0 +1,250 @@
+//! PNG and SVG charts with no system fonts or libraries: `plotters` with its pure-Rust bitmap and
+//! SVG backends and the DejaVu Sans font embedded in the binary (`assets/`, Bitstream Vera
+//! licence).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+/// Registers the embedded font under the family name `sans-serif` (idempotent).
+pub fn register_font() {
+    REGISTER.call_once(|| {
+        // the embedded file is a valid TTF; a failure here is a build defect
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// Plot failure.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot draw {path}: {msg}")]
+pub struct PlotError {
+    path: String,
+    msg: String,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug)]
+pub enum Mark {
+    /// Polyline.
+    Line,
+    /// Filled dots of the given radius in pixels.
+    Dots(u32),
+}
+
+/// One data series.
+pub struct Series<'a> {
+    /// Legend label (empty: no legend entry).
+    pub label: &'a str,
+    /// Points `(x, y)`.
+    pub points: &'a [(f64, f64)],
+    /// Drawing style.
+    pub mark: Mark,
+    /// Colour.
+    pub color: RGBColor,
+}
+
+/// Colour-blind-safe palette (Okabe–Ito).
+pub const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+/// Axes and titles of a chart.
+pub struct Chart<'a> {
+    /// Title.
+    pub title: &'a str,
+    /// X-axis label.
+    pub x_label: &'a str,
+    /// Y-axis label.
+    pub y_label: &'a str,
+}
+
+fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
+    let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in series {
+        for &(x, y) in s.points {
+            if x.is_finite() && y.is_finite() {
+                xr = (xr.0.min(x), xr.1.max(x));
+                yr = (yr.0.min(y), yr.1.max(y));
+            }
+        }
+    }
+    let pad = |r: (f64, f64)| {
+        if !r.0.is_finite() {
+            return (0.0, 1.0);
+        }
+        let w = (r.1 - r.0).max(1e-12 * r.0.abs().max(1.0));
+        (r.0 - 0.04 * w, r.1 + 0.04 * w)
+    };
+    (pad(xr), pad(yr))
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    chart: &Chart,
+    series: &[Series],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let ((x0, x1), (y0, y1)) = bounds(series);
+    let mut ctx = ChartBuilder::on(&root)
+        .caption(chart.title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    ctx.configure_mesh()
+        .x_desc(chart.x_label)
+        .y_desc(chart.y_label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let mut any_label = false;
+    for s in series {
+        let color = s.color;
+        let anno = match s.mark {
+            Mark::Line => ctx
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    color.stroke_width(1),
+                ))
+                .map_err(|e| e.to_string())?,
+            Mark::Dots(r) => ctx
+                .draw_series(s.points.iter().map(|&p| Circle::new(p, r, color.filled())))
+                .map_err(|e| e.to_string())?,
+        };
+        if !s.label.is_empty() {
+            any_label = true;
+            anno.label(s.label).legend(move |(x, y)| {
+                Rectangle::new([(x, y - 4), (x + 14, y + 4)], color.filled())
+            });
+        }
+    }
+    if any_label {
+        ctx.configure_series_labels()
+            .label_font(("sans-serif", 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Writes `stem.png` (1000x600) and `stem.svg`.
+pub fn xy_chart(stem: &Path, chart: &Chart, series: &[Series]) -> Result<(), PlotError> {
+    register_font();
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    let err = |p: &Path, msg: String| PlotError {
+        path: p.display().to_string(),
+        msg,
+    };
+    draw(
+        BitMapBackend::new(&png, (1000, 600)).into_drawing_area(),
+        chart,
+        series,
+    )
+    .map_err(|m| err(&png, m))?;
+    draw(
+        SVGBackend::new(&svg, (1000, 600)).into_drawing_area(),
+        chart,
+        series,
+    )
+    .map_err(|m| err(&svg, m))?;
+    Ok(())
+}
+
+/// Keeps at most `max` points of a polyline, preserving each bucket's min and max in `y`
+/// (so peaks of a long time history survive decimation).
+pub fn decimate(points: &[(f64, f64)], max: usize) -> Vec<(f64, f64)> {
+    if points.len() <= max || max < 4 {
+        return points.to_vec();
+    }
+    let buckets = max / 2;
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(max + 2);
+    for chunk in points.chunks(per) {
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(chunk[a]);
+        if b != a {
+            out.push(chunk[b]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimation_keeps_extremes() {
+        let pts: Vec<(f64, f64)> = (0..10_000)
+            .map(|i| {
+                (
+                    i as f64,
+                    if i == 4321 {
+                        9.0
+                    } else {
+                        (i as f64 * 0.01).sin()
+                    },
+                )
+            })
+            .collect();
+        let d = decimate(&pts, 500);
+        assert!(d.len() <= 502);
+        assert!(d.iter().any(|p| p.1 == 9.0));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+    }
+
+    #[test]
+    fn writes_png_and_svg() {
+        let dir = std::env::temp_dir().join(format!("geardyn-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 0.5)];
+        let chart = Chart {
+            title: "t",
+            x_label: "x",
+            y_label: "y",
+        };
+        xy_chart(
+            &dir.join("c"),
+            &chart,
+            &[Series {
+                label: "a",
+                points: &pts,
+                mark: Mark::Line,
+                color: PALETTE[0],
+            }],
+        )
+        .unwrap();
+        let png = std::fs::read(dir.join("c.png")).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        let svg = std::fs::read_to_string(dir.join("c.svg")).unwrap();
+        assert!(svg.contains("<svg"));
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
