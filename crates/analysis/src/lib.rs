@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod driver;
+pub mod lyapunov;
 pub mod period;
 pub mod simulate;
 

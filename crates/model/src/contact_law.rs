@@ -62,6 +62,23 @@ impl ContactLaw {
         }
     }
 
+    /// Slope `g'(delta)` of the elastic part (for the variational equation).
+    #[inline]
+    pub fn elastic_slope(&self, delta: f64) -> f64 {
+        match *self {
+            ContactLaw::Linear => 1.0,
+            ContactLaw::Power { exponent }
+            | ContactLaw::HuntCrossley { exponent, .. }
+            | ContactLaw::LankaraniNikravesh { exponent, .. } => {
+                if exponent == 1.0 {
+                    1.0
+                } else {
+                    exponent * delta.abs().powf(exponent - 1.0)
+                }
+            }
+        }
+    }
+
     /// Hysteresis factor `chi` such that the damping force is `k * g(delta) * chi * x'`, for an
     /// entry speed `v_in` (floored at [`V_IN_FLOOR`]). Zero for elastic laws.
     #[inline]
@@ -181,6 +198,21 @@ mod tests {
             restitution: 0.9,
         };
         assert!((restitution_of(ln, 0.05) - restitution_of(ln, 2.0)).abs() < 1e-4);
+    }
+
+    #[test]
+    fn slope_is_the_derivative() {
+        for law in [
+            ContactLaw::Linear,
+            ContactLaw::Power { exponent: 1.5 },
+            ContactLaw::Power { exponent: 2.2 },
+        ] {
+            for d in [-0.7, 0.05, 0.3, 1.4] {
+                let h = 1e-6;
+                let fd = (law.elastic(d + h) - law.elastic(d - h)) / (2.0 * h);
+                assert!((law.elastic_slope(d) - fd).abs() < 1e-6, "{law:?} at {d}");
+            }
+        }
     }
 
     #[test]

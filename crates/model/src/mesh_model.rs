@@ -15,7 +15,7 @@ use crate::error::ModelError;
 use crate::impact::ImpactLaw;
 use crate::params::{BackSide, ModelParams, StiffnessForm};
 use crate::phase::cos_cycles;
-use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem};
+use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem, Variational};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -734,5 +734,76 @@ impl HybridSystem<2> for MeshModel {
 
     fn max_step(&self) -> f64 {
         self.cycle_time / 16.0
+    }
+}
+
+impl Variational<2> for MeshModel {
+    fn jacobian(
+        &self,
+        t: f64,
+        cos_wt: &f64,
+        y: &[f64; 2],
+        mode: &MeshMode,
+        jac: &mut [[f64; 2]; 2],
+    ) {
+        let seg = &self.segs[mode.seg as usize];
+        let (dax, dav) = match mode.contact {
+            ContactState::Drive => {
+                let k = self.k_of(seg, t, *cos_wt, mode.period);
+                let d = y[0] - seg.d;
+                let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
+                (
+                    -seg.h_drive * k * dg * (1.0 + mode.chi * y[1]),
+                    -seg.h_drive * (k * g * mode.chi + self.c),
+                )
+            }
+            ContactState::Back => {
+                let k = self.k_of(seg, t, *cos_wt, mode.period);
+                let d = -y[0] - seg.d;
+                let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
+                (
+                    -seg.h_back * k * dg * (1.0 - mode.chi * y[1]),
+                    -seg.h_back * (k * g * mode.chi + self.c),
+                )
+            }
+            ContactState::Separated => (0.0, 0.0),
+            ContactState::Stuck => {
+                *jac = [[0.0; 2]; 2];
+                return;
+            }
+        };
+        *jac = [[0.0, 1.0], [dax, dav]];
+    }
+
+    fn guard_gradient(
+        &self,
+        t: f64,
+        _y: &[f64; 2],
+        mode: &MeshMode,
+        _index: usize,
+    ) -> ([f64; 2], f64) {
+        match mode.contact {
+            // g = xi w^2 cos(w t) + F: only time-dependent
+            ContactState::Stuck => {
+                let w = self.omega;
+                ([0.0, 0.0], -self.xi_w2 * w * (w * t).sin())
+            }
+            // g = x -+ D with D constant within a segment
+            _ => ([1.0, 0.0], 0.0),
+        }
+    }
+
+    fn reset_jacobian(&self, t: f64, y: &[f64; 2], mode: &MeshMode, index: usize) -> [[f64; 2]; 2] {
+        match (mode.contact, index, self.impact) {
+            (ContactState::Separated, 1, Some(law)) => {
+                if y[1].abs() < law.v_stick && self.excitation(t) <= 0.0 {
+                    // sticking: the velocity is annihilated
+                    [[1.0, 0.0], [0.0, 0.0]]
+                } else {
+                    [[1.0, 0.0], [0.0, -law.restitution]]
+                }
+            }
+            _ => [[1.0, 0.0], [0.0, 1.0]],
+        }
     }
 }

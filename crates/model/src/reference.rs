@@ -2,7 +2,7 @@
 //! integrators against closed forms, and as templates a user can copy to implement
 //! [`HybridSystem`] for a system of their own.
 
-use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem};
+use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem, Variational};
 
 /// Forced Duffing oscillator `x'' + delta x' + alpha x + beta x^3 = gamma cos(omega t)`
 /// (smooth; no events). State `[x, x']`.
@@ -106,5 +106,42 @@ impl HybridSystem<2> for ImpactOscillator {
         y[0] = -self.gap;
         y[1] *= -self.r;
         EventAction::Continue
+    }
+}
+
+impl Variational<2> for Duffing {
+    fn jacobian(&self, _t: f64, _c: &f64, y: &[f64; 2], _m: &(), jac: &mut [[f64; 2]; 2]) {
+        *jac = [
+            [0.0, 1.0],
+            [-self.alpha - 3.0 * self.beta * y[0] * y[0], -self.delta],
+        ];
+    }
+    fn guard_gradient(&self, _t: f64, _y: &[f64; 2], _m: &(), _i: usize) -> ([f64; 2], f64) {
+        ([0.0; 2], 0.0)
+    }
+}
+
+impl Variational<3> for Lorenz {
+    fn jacobian(&self, _t: f64, _tt: &(), y: &[f64; 3], _m: &(), jac: &mut [[f64; 3]; 3]) {
+        *jac = [
+            [-self.sigma, self.sigma, 0.0],
+            [self.rho - y[2], -1.0, -y[0]],
+            [y[1], y[0], -self.beta],
+        ];
+    }
+    fn guard_gradient(&self, _t: f64, _y: &[f64; 3], _m: &(), _i: usize) -> ([f64; 3], f64) {
+        ([0.0; 3], 0.0)
+    }
+}
+
+impl Variational<2> for ImpactOscillator {
+    fn jacobian(&self, _t: f64, _c: &f64, _y: &[f64; 2], _m: &(), jac: &mut [[f64; 2]; 2]) {
+        *jac = [[0.0, 1.0], [-1.0, -2.0 * self.zeta]];
+    }
+    fn guard_gradient(&self, _t: f64, _y: &[f64; 2], _m: &(), _i: usize) -> ([f64; 2], f64) {
+        ([1.0, 0.0], 0.0)
+    }
+    fn reset_jacobian(&self, _t: f64, _y: &[f64; 2], _m: &(), _i: usize) -> [[f64; 2]; 2] {
+        [[1.0, 0.0], [0.0, -self.r]]
     }
 }

@@ -308,6 +308,15 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         Ok(())
     }
 
+    /// Replaces the state at the current time, keeping the mode (for renormalising the tangent
+    /// part of an augmented state; the caller keeps the state consistent with the mode).
+    pub fn set_state(&mut self, y: [f64; N]) {
+        self.y = y;
+        self.f0_valid = false;
+        self.g0_valid = false;
+        self.last.r[0] = y;
+    }
+
     /// Replaces the options.
     pub fn with_options(mut self, opts: Options) -> Self {
         self.opts = opts;

@@ -15,7 +15,9 @@ pub mod dense;
 pub mod hybrid;
 pub mod integrator;
 pub mod root;
+pub mod variational;
 
 pub use dense::Step;
 pub use hybrid::{Direction, EventAction, Guards, HybridSystem, MAX_GUARDS};
 pub use integrator::{Integrator, Options, Scheme, SolverError, Stats, Stop};
+pub use variational::Variational;
