@@ -4,6 +4,7 @@
 //! Units are those of the model: dimensionless time `tau`, displacement in `b_c`.
 #![warn(missing_docs)]
 
+pub mod bifurcation;
 pub mod driver;
 pub mod lyapunov;
 pub mod period;

@@ -180,12 +180,51 @@ pub struct SimResult {
     pub min_force: f64,
     /// Number of back-side impacts.
     pub impacts: u64,
+    /// Time integrals of `x`, `x^2`, `F_m`, `F_m^2` over the recorded periods.
+    pub integrals: [f64; 4],
+    /// Smallest and largest `x`.
+    pub x_range: (f64, f64),
     /// Final time and state (for continuation).
     pub final_state: (f64, [f64; 2]),
     /// Solver work counters.
     pub steps: u64,
     /// Right-hand-side evaluations.
     pub rhs_evals: u64,
+}
+
+/// Response amplitudes over the recorded periods (for frequency-response curves).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct Amplitudes {
+    /// Mean of `x`.
+    pub mean_x: f64,
+    /// RMS of `x - mean(x)` (the alternating part of the dynamic transmission error).
+    pub rms_x: f64,
+    /// Peak-to-peak of `x`.
+    pub p2p_x: f64,
+    /// Mean mesh force.
+    pub mean_force: f64,
+    /// RMS of `F_m - mean(F_m)`.
+    pub rms_force: f64,
+    /// Peak-to-peak of `F_m`.
+    pub p2p_force: f64,
+}
+
+impl SimResult {
+    /// Means, RMS and peak-to-peak values over the recorded periods.
+    pub fn amplitudes(&self) -> Amplitudes {
+        let total: f64 = self.durations.iter().sum();
+        let t = if total > 0.0 { total } else { 1.0 };
+        let mx = self.integrals[0] / t;
+        let mf = self.integrals[2] / t;
+        Amplitudes {
+            mean_x: mx,
+            rms_x: (self.integrals[1] / t - mx * mx).max(0.0).sqrt(),
+            p2p_x: self.x_range.1 - self.x_range.0,
+            mean_force: mf,
+            rms_force: (self.integrals[3] / t - mf * mf).max(0.0).sqrt(),
+            p2p_force: self.max_force - self.min_force,
+        }
+    }
 }
 
 /// Motion summary (MODEL.md §5).
@@ -234,6 +273,7 @@ impl<'a> Recorder<'a> {
             res: SimResult {
                 max_force: f64::NEG_INFINITY,
                 min_force: f64::INFINITY,
+                x_range: (f64::INFINITY, f64::NEG_INFINITY),
                 ..Default::default()
             },
             keep_traj,
@@ -285,15 +325,37 @@ impl Observer<MeshModel, 2> for Recorder<'_> {
             ContactState::Back | ContactState::Stuck => 2,
         };
         self.res.durations[slot] += dt;
-        // force extrema: interior samples of the interpolant (contact steps only)
-        if matches!(before.contact, ContactState::Drive | ContactState::Back) {
-            for th in [0.25, 0.5, 0.75] {
-                let y = step.at_theta(th);
-                self.force(t0 + th * dt, &y, before);
-            }
-        }
+        // time averages (Boole's rule on five interpolant samples) and force extrema
         let y1 = step.y1();
-        self.force(t1, &y1, before);
+        let mut xs = [0.0; 5];
+        let mut fs = [0.0; 5];
+        let contact = matches!(before.contact, ContactState::Drive | ContactState::Back);
+        for (k, th) in [0.0, 0.25, 0.5, 0.75, 1.0].into_iter().enumerate() {
+            let y = if k == 4 { y1 } else { step.at_theta(th) };
+            xs[k] = y[0];
+            fs[k] = if contact {
+                self.force(t0 + th * dt, &y, before)
+            } else {
+                0.0
+            };
+            self.res.x_range = (self.res.x_range.0.min(y[0]), self.res.x_range.1.max(y[0]));
+        }
+        if !contact {
+            self.force(t1, &y1, before);
+        }
+        const W: [f64; 5] = [
+            7.0 / 90.0,
+            32.0 / 90.0,
+            12.0 / 90.0,
+            32.0 / 90.0,
+            7.0 / 90.0,
+        ];
+        for k in 0..5 {
+            self.res.integrals[0] += W[k] * dt * xs[k];
+            self.res.integrals[1] += W[k] * dt * xs[k] * xs[k];
+            self.res.integrals[2] += W[k] * dt * fs[k];
+            self.res.integrals[3] += W[k] * dt * fs[k] * fs[k];
+        }
         if self.keep_traj {
             // uniform samples from the dense output, times computed from an integer index
             loop {

@@ -349,3 +349,43 @@ fn broken_model_is_zp_cycles_periodic_with_zone_ii() {
     let mode = m.initial_mode(t, &mut y);
     assert!((m.next_breakpoint(t, &mode) - zone2[0].end * m.mesh_cycle_time()).abs() < 1e-12);
 }
+
+#[test]
+fn forced_linear_response_amplitudes_match_closed_form() {
+    // permanent contact (large F): delta'' + c delta' + k delta = F + xi w^2 cos(w tau), steady
+    // state delta = F/k + A cos(w tau - phase), A = xi w^2 / sqrt((k - w^2)^2 + (c w)^2)
+    let mut p = base();
+    p.load = 2.0;
+    p.xi = 0.2;
+    p.c = 0.1;
+    p.omega = 0.5;
+    let m = MeshModel::new(&p).unwrap();
+    let (k, c, w, xi) = (1.0f64, 0.1f64, 0.5f64, 0.2f64);
+    let a = xi * w * w / ((k - w * w).powi(2) + (c * w).powi(2)).sqrt();
+    for method in [
+        Method::default(),
+        Method::Rk4 {
+            steps_per_cycle: 256,
+        },
+    ] {
+        let opts = SimOptions {
+            method,
+            transient_periods: 150,
+            record_periods: 20,
+            ..Default::default()
+        };
+        let r = simulate(&m, [3.0, 0.0], &opts).unwrap();
+        let amp = r.amplitudes();
+        assert!((amp.mean_x - 3.0).abs() < 1e-7, "{amp:?}");
+        assert!((amp.rms_x - a / 2f64.sqrt()).abs() < 1e-7, "{amp:?} vs {a}");
+        assert!((amp.p2p_x - 2.0 * a).abs() < 1e-6);
+        let af = a * (k * k + (c * w).powi(2)).sqrt();
+        assert!((amp.mean_force - 2.0).abs() < 1e-7);
+        assert!(
+            (amp.rms_force - af / 2f64.sqrt()).abs() < 1e-7,
+            "{amp:?} vs {af}"
+        );
+        let s = summarize(&m, &r, &opts);
+        assert_eq!((s.period, s.p_id), (1, 0.0));
+    }
+}

@@ -1,8 +1,11 @@
 //! `geardyn`: nonlinear dynamics of spur gear pairs from the command line.
 
 mod bench;
+mod bifurcation;
+mod lyapunov;
 mod run_config;
 mod simulate;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 
@@ -21,7 +24,13 @@ enum Command {
     Show(run_config::ConfigArgs),
     /// Integrate the model and write trajectory, stroboscopic points, events, summary and plots.
     Simulate(simulate::SimulateArgs),
-    /// Measure integrator speed on case C1 and print the figures.
+    /// Bifurcation diagram over a parameter (fixed, continuation or multi-initial), resumable.
+    Bifurcation(bifurcation::BifurcationArgs),
+    /// Top Lyapunov exponent (variational with saltation, and/or two-trajectory).
+    Lyapunov(lyapunov::LyapunovArgs),
+    /// Frequency response: up and down continuation sweeps, RMS and peak-to-peak, jumps.
+    Response(bifurcation::ResponseArgs),
+    /// Measure integrator and sweep speed on case C1 and print the figures.
     Bench(bench::BenchArgs),
 }
 
@@ -36,6 +45,9 @@ fn main() {
         }
         Command::Show(args) => args.resolve().map(|c| print!("{}", c.to_toml())),
         Command::Simulate(args) => simulate::run(args),
+        Command::Bifurcation(args) => bifurcation::run(args),
+        Command::Lyapunov(args) => lyapunov::run(args),
+        Command::Response(args) => bifurcation::response(args),
         Command::Bench(args) => bench::run(args),
     };
     if let Err(e) = result {

@@ -121,3 +121,127 @@ fn presets_and_show() {
         assert!(toml.contains("[model]") && toml.contains("omega"));
     }
 }
+
+fn geardyn_env(args: &[&str], threads: &str) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn bifurcation_is_resumable_and_thread_count_independent() {
+    let a = tmp("bif1");
+    let b = tmp("bif2");
+    let args = |d: &std::path::Path| -> Vec<String> {
+        [
+            "bifurcation",
+            "--range",
+            "0.8:1.4:9",
+            "--mode",
+            "multi",
+            "--ics",
+            "3",
+            "--periods",
+            "20",
+            "--transient",
+            "100",
+            "--sections",
+            "strobe,ds_up,ds_down",
+            "--lyapunov",
+            "--out",
+            d.to_str().unwrap(),
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let aa = args(&a);
+    let ba = args(&b);
+    let aa: Vec<&str> = aa.iter().map(|s| s.as_str()).collect();
+    let ba: Vec<&str> = ba.iter().map(|s| s.as_str()).collect();
+    let (c1, _, e1) = geardyn_env(&aa, "1");
+    let (c2, _, e2) = geardyn_env(&ba, "2");
+    assert_eq!((c1, c2), (0, 0), "{e1}{e2}");
+    for f in ["bifurcation.csv", "runs.csv"] {
+        let x = std::fs::read(a.join(f)).unwrap();
+        assert_eq!(
+            x,
+            std::fs::read(b.join(f)).unwrap(),
+            "{f} differs between 1 and 2 threads"
+        );
+    }
+    assert!(a.join("bifurcation.png").exists() && a.join("bifurcation.svg").exists());
+    // a rerun resumes from the checkpoint and reproduces the same bytes
+    let before = std::fs::read(a.join("bifurcation.csv")).unwrap();
+    let (c3, _, e3) = geardyn_env(&aa, "2");
+    assert_eq!(c3, 0);
+    assert!(e3.contains("resuming: 9 of 9"), "{e3}");
+    assert_eq!(before, std::fs::read(a.join("bifurcation.csv")).unwrap());
+    // an interrupted run (checkpoint truncated to a few tasks, last line torn) completes the rest
+    let cp = a.join("checkpoint.jsonl");
+    let text = std::fs::read_to_string(&cp).unwrap();
+    let keep: Vec<&str> = text.lines().take(4).collect();
+    std::fs::write(&cp, format!("{}\n{{\"task\":", keep.join("\n"))).unwrap();
+    let (c4, _, e4) = geardyn_env(&aa, "2");
+    assert_eq!(c4, 0, "{e4}");
+    assert!(e4.contains("resuming: 3 of 9"), "{e4}");
+    assert_eq!(before, std::fs::read(a.join("bifurcation.csv")).unwrap());
+}
+
+#[test]
+fn lyapunov_and_response_commands() {
+    let (code, out, err) = geardyn(&[
+        "lyapunov",
+        "--set",
+        "omega=1.3",
+        "--periods",
+        "200",
+        "--transient",
+        "100",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("variational") && out.contains("two-trajectory"),
+        "{out}"
+    );
+    let d = tmp("resp");
+    let (code, out, err) = geardyn(&[
+        "response",
+        "--range",
+        "0.7:1.2:11",
+        "--periods",
+        "20",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("both sweeps"));
+    let csv = std::fs::read_to_string(d.join("response.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 22);
+    assert!(d.join("response.png").exists() && d.join("jumps.json").exists());
+    let (code, _, err) = geardyn(&[
+        "bifurcation",
+        "--range",
+        "1:2",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("START:STOP:COUNT"), "{err}");
+    let (code, _, err) = geardyn(&[
+        "bifurcation",
+        "--sections",
+        "strobe,foo",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("unknown section 'foo'"), "{err}");
+}

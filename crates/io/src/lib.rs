@@ -2,8 +2,10 @@
 //! Everything that touches the file system lives here, not in the physics or analysis crates.
 #![warn(missing_docs)]
 
+pub mod checkpoint;
 pub mod config;
 pub mod output;
 pub mod plot;
+pub mod sweep_output;
 
 pub use config::{Config, ConfigError};

@@ -168,6 +168,113 @@ pub fn xy_chart(stem: &Path, chart: &Chart, series: &[Series]) -> Result<(), Plo
     Ok(())
 }
 
+/// One panel of a stacked figure.
+pub struct Panel<'a> {
+    /// Y-axis label.
+    pub y_label: &'a str,
+    /// Series.
+    pub series: Vec<Series<'a>>,
+}
+
+fn draw_panels<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    x_label: &str,
+    x_range: (f64, f64),
+    panels: &[Panel],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let root = root
+        .titled(title, ("sans-serif", 22))
+        .map_err(|e| e.to_string())?;
+    let areas = root.split_evenly((panels.len().max(1), 1));
+    for (k, (area, panel)) in areas.into_iter().zip(panels).enumerate() {
+        let (_, (y0, y1)) = bounds(&panel.series);
+        let last = k + 1 == panels.len();
+        let mut ctx = ChartBuilder::on(&area)
+            .margin(8)
+            .x_label_area_size(if last { 40 } else { 18 })
+            .y_label_area_size(64)
+            .build_cartesian_2d(x_range.0..x_range.1, y0..y1)
+            .map_err(|e| e.to_string())?;
+        let mut mesh = ctx.configure_mesh();
+        mesh.y_desc(panel.y_label)
+            .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 15))
+            .light_line_style(RGBColor(240, 240, 240));
+        if last {
+            mesh.x_desc(x_label);
+        }
+        mesh.draw().map_err(|e| e.to_string())?;
+        let mut any_label = false;
+        for s in &panel.series {
+            let color = s.color;
+            let anno = match s.mark {
+                Mark::Line => ctx
+                    .draw_series(LineSeries::new(
+                        s.points.iter().copied(),
+                        color.stroke_width(1),
+                    ))
+                    .map_err(|e| e.to_string())?,
+                Mark::Dots(r) => ctx
+                    .draw_series(s.points.iter().map(|&p| Circle::new(p, r, color.filled())))
+                    .map_err(|e| e.to_string())?,
+            };
+            if !s.label.is_empty() {
+                any_label = true;
+                anno.label(s.label).legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 4), (x + 14, y + 4)], color.filled())
+                });
+            }
+        }
+        if any_label {
+            ctx.configure_series_labels()
+                .label_font(("sans-serif", 12))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Writes a figure of stacked panels sharing the x axis as `stem.png` and `stem.svg`.
+pub fn stacked_chart(
+    stem: &Path,
+    title: &str,
+    x_label: &str,
+    x_range: (f64, f64),
+    panels: &[Panel],
+) -> Result<(), PlotError> {
+    register_font();
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    let h = (260 * panels.len().max(1) + 60) as u32;
+    let err = |p: &Path, msg: String| PlotError {
+        path: p.display().to_string(),
+        msg,
+    };
+    draw_panels(
+        BitMapBackend::new(&png, (1100, h)).into_drawing_area(),
+        title,
+        x_label,
+        x_range,
+        panels,
+    )
+    .map_err(|m| err(&png, m))?;
+    draw_panels(
+        SVGBackend::new(&svg, (1100, h)).into_drawing_area(),
+        title,
+        x_label,
+        x_range,
+        panels,
+    )
+    .map_err(|m| err(&svg, m))?;
+    Ok(())
+}
+
 /// Keeps at most `max` points of a polyline, preserving each bucket's min and max in `y`
 /// (so peaks of a long time history survive decimation).
 pub fn decimate(points: &[(f64, f64)], max: usize) -> Vec<(f64, f64)> {

@@ -1,0 +1,488 @@
+//! Bifurcation diagrams and frequency-response sweeps of the gear model over any parameter
+//! (MODEL.md §5): fixed initial state, continuation (forward and backward), or multi-initial with
+//! `K` seeded initial states per value, each run tagged with its attractor's label.
+//!
+//! Work is split into [`Task`]s (one parameter value on one branch). Fixed and multi-initial tasks
+//! run in parallel (rayon); the two continuation chains run side by side, each sequentially. Every
+//! result is keyed by its task, never by completion order, so the output is identical for any
+//! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
+//! listed as done are skipped, which makes long sweeps resumable.
+
+use crate::lyapunov::{tle_variational, LyapunovOptions};
+use crate::simulate::{simulate, summarize, Amplitudes, Level, SimOptions};
+use geardyn_model::{MeshModel, ModelError, ModelParams};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// A Poincaré section of the bifurcation diagram.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Section {
+    /// Stroboscopic: once per excitation period.
+    Strobe,
+    /// `x = D_s` upward.
+    DsUp,
+    /// `x = -D_s` downward.
+    DsDown,
+    /// `x = D_d` upward.
+    DdUp,
+    /// `x = -D_d` downward.
+    DdDown,
+    /// Back-side impacts (state before the impact).
+    Impact,
+}
+
+impl Section {
+    /// All sections.
+    pub const ALL: [Section; 6] = [
+        Section::Strobe,
+        Section::DsUp,
+        Section::DsDown,
+        Section::DdUp,
+        Section::DdDown,
+        Section::Impact,
+    ];
+    /// Name used on the command line and in CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            Section::Strobe => "strobe",
+            Section::DsUp => "ds_up",
+            Section::DsDown => "ds_down",
+            Section::DdUp => "dd_up",
+            Section::DdDown => "dd_down",
+            Section::Impact => "impact",
+        }
+    }
+    /// Parses a name.
+    pub fn parse(s: &str) -> Option<Section> {
+        Section::ALL.into_iter().find(|x| x.name() == s)
+    }
+    fn of_level(l: Level) -> Section {
+        match l {
+            Level::DsUp => Section::DsUp,
+            Level::DsDown => Section::DsDown,
+            Level::DdUp => Section::DdUp,
+            Level::DdDown => Section::DdDown,
+        }
+    }
+}
+
+/// How initial states are chosen.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "mode", rename_all = "snake_case")]
+pub enum SweepMode {
+    /// Every value from the same initial state.
+    Fixed,
+    /// Continuation: each value starts from the final state of the previous one, in both
+    /// directions (branches `up` and `down`).
+    Sweep,
+    /// `ics` initial states per value, uniformly random in the box `x0_range x v0_range` from a
+    /// generator seeded by `(seed, value index, ic index)`.
+    Multi {
+        /// Initial states per value.
+        ics: usize,
+        /// Seed.
+        seed: u64,
+        /// Range of `x0`.
+        x0_range: (f64, f64),
+        /// Range of `v0`.
+        v0_range: (f64, f64),
+    },
+}
+
+/// Settings of a sweep.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepOptions {
+    /// Parameter name (any of [`geardyn_model::PARAMETER_NAMES`]).
+    pub param: String,
+    /// Parameter values, in order.
+    pub values: Vec<f64>,
+    /// Initial-state mode.
+    pub mode: SweepMode,
+    /// Simulation settings (method, transient and recorded periods).
+    pub sim: SimOptions,
+    /// Initial state for `Fixed` and the start of each continuation chain.
+    pub y0: [f64; 2],
+    /// Sections recorded.
+    pub sections: Vec<Section>,
+    /// Also compute the TLE (variational) from each run's final state over `sim.record_periods`.
+    pub lyapunov: bool,
+}
+
+/// One unit of work: a value index on a branch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Task {
+    /// Index into the values.
+    pub index: usize,
+    /// Branch: 0 fixed/multi, 1 forward (`up`), 2 backward (`down`).
+    pub branch: u8,
+}
+
+impl Task {
+    /// Branch name.
+    pub fn branch_name(&self) -> &'static str {
+        match self.branch {
+            1 => "up",
+            2 => "down",
+            _ => "fixed",
+        }
+    }
+}
+
+/// One simulation within a task.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Run {
+    /// Initial-state index (0 unless multi-initial).
+    pub ic: usize,
+    /// Initial state.
+    pub y0: [f64; 2],
+    /// Motion label (`failed: ...` if the integration failed).
+    pub label: String,
+    /// Period (0 = chaotic/quasi-periodic or failed).
+    pub period: usize,
+    /// Healthy attractor.
+    pub healthy: bool,
+    /// Dynamic instability proportion.
+    pub p_id: f64,
+    /// Maximum mesh force.
+    pub max_force: f64,
+    /// Minimum mesh force.
+    pub min_force: f64,
+    /// Back-side impacts in the record.
+    pub impacts: u64,
+    /// Largest impact force in each recorded excitation period.
+    pub impact_force_per_period: Vec<f64>,
+    /// Response amplitudes.
+    pub amplitudes: Option<Amplitudes>,
+    /// Section points `(section, x, v)`.
+    pub points: Vec<(Section, f64, f64)>,
+    /// TLE, if requested.
+    pub tle: Option<f64>,
+    /// Final state (continuation carries it on).
+    pub final_state: [f64; 2],
+}
+
+/// The result of one task.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TaskResult {
+    /// The task.
+    pub task: Task,
+    /// Parameter value.
+    pub value: f64,
+    /// Runs (one, or `ics` for multi-initial).
+    pub runs: Vec<Run>,
+}
+
+/// Sweep failure before any work starts.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SweepError {
+    /// A parameter value makes an invalid model.
+    #[error("{param} = {value}: {source}")]
+    Model {
+        /// Parameter.
+        param: String,
+        /// Value.
+        value: f64,
+        /// Cause.
+        source: ModelError,
+    },
+    /// No values.
+    #[error("empty parameter range")]
+    Empty,
+}
+
+/// All tasks of a sweep, in output order.
+pub fn tasks(opts: &SweepOptions) -> Vec<Task> {
+    let n = opts.values.len();
+    match opts.mode {
+        SweepMode::Sweep => (0..n)
+            .map(|index| Task { index, branch: 1 })
+            .chain((0..n).map(|index| Task { index, branch: 2 }))
+            .collect(),
+        _ => (0..n).map(|index| Task { index, branch: 0 }).collect(),
+    }
+}
+
+/// Deterministic initial state `ic` of value `index` (independent of scheduling).
+pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) -> [f64; 2] {
+    match *mode {
+        SweepMode::Multi {
+            seed,
+            x0_range,
+            v0_range,
+            ..
+        } => {
+            let mut rng = ChaCha8Rng::seed_from_u64(
+                seed ^ ((index as u64) << 32) ^ (ic as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+            );
+            [
+                rng.gen_range(x0_range.0..=x0_range.1),
+                rng.gen_range(v0_range.0..=v0_range.1),
+            ]
+        }
+        _ => y0,
+    }
+}
+
+fn model_at(base: &ModelParams, param: &str, value: f64) -> Result<MeshModel, SweepError> {
+    let mut p = base.clone();
+    let err = |source| SweepError::Model {
+        param: param.to_string(),
+        value,
+        source,
+    };
+    p.set(param, value).map_err(err)?;
+    MeshModel::new(&p).map_err(err)
+}
+
+/// Simulates one run and extracts what a sweep records.
+pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions) -> Run {
+    match simulate(model, y0, &opts.sim) {
+        Err(e) => Run {
+            ic,
+            y0,
+            label: format!("failed: {e}"),
+            period: 0,
+            healthy: false,
+            // numbers of a failed run are meaningless; the label says so (0, not NaN, so that
+            // checkpoints round-trip through JSON)
+            p_id: 0.0,
+            max_force: 0.0,
+            min_force: 0.0,
+            impacts: 0,
+            impact_force_per_period: vec![],
+            amplitudes: None,
+            points: vec![],
+            tle: None,
+            final_state: y0,
+        },
+        Ok(res) => {
+            let s = summarize(model, &res, &opts.sim);
+            let mut points = Vec::new();
+            for sec in &opts.sections {
+                match sec {
+                    Section::Strobe => {
+                        points.extend(res.strobe.iter().map(|p| (Section::Strobe, p[1], p[2])))
+                    }
+                    Section::Impact => points.extend(
+                        res.events
+                            .iter()
+                            .filter(|e| e.kind == geardyn_model::EventKind::Impact)
+                            .map(|e| (Section::Impact, e.x, e.v_before)),
+                    ),
+                    _ => points.extend(
+                        res.crossings
+                            .iter()
+                            .filter(|c| Section::of_level(c.level) == *sec)
+                            .map(|c| (*sec, c.x, c.v)),
+                    ),
+                }
+            }
+            let (t_end, y_end) = res.final_state;
+            let tle = if opts.lyapunov {
+                let lo = LyapunovOptions {
+                    period: model.excitation_period(),
+                    transient_periods: 0,
+                    periods: opts.sim.record_periods,
+                    d0: 1e-6,
+                };
+                tle_variational::<_, 2, 4>(
+                    model.clone(),
+                    opts.sim.method.scheme(model),
+                    t_end,
+                    y_end,
+                    &lo,
+                )
+                .ok()
+                .map(|r| r.tle)
+            } else {
+                None
+            };
+            Run {
+                ic,
+                y0,
+                label: s.label,
+                period: s.period,
+                healthy: s.healthy,
+                p_id: s.p_id,
+                max_force: s.max_force,
+                min_force: s.min_force,
+                impacts: s.impacts,
+                impact_force_per_period: res.impact_force_per_period.clone(),
+                amplitudes: Some(res.amplitudes()),
+                points,
+                tle,
+                final_state: y_end,
+            }
+        }
+    }
+}
+
+/// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
+/// `on_done` receives each newly finished task (from any thread). Returns all results in
+/// [`tasks`] order.
+///
+/// The start time of every run is `sim.tau0`: continuation carries the state, not the time, so
+/// that each value sees the excitation at the same phase.
+pub fn run_sweep<F>(
+    base: &ModelParams,
+    opts: &SweepOptions,
+    done: &HashMap<Task, TaskResult>,
+    on_done: F,
+) -> Result<Vec<TaskResult>, SweepError>
+where
+    F: Fn(&TaskResult) + Sync,
+{
+    if opts.values.is_empty() {
+        return Err(SweepError::Empty);
+    }
+    // validate every value before spending any time
+    let models: Vec<MeshModel> = opts
+        .values
+        .iter()
+        .map(|&v| model_at(base, &opts.param, v))
+        .collect::<Result<_, _>>()?;
+    let all = tasks(opts);
+    let finish = |t: Task, runs: Vec<Run>| {
+        let r = TaskResult {
+            task: t,
+            value: opts.values[t.index],
+            runs,
+        };
+        on_done(&r);
+        r
+    };
+    let mut results: HashMap<Task, TaskResult> = done.clone();
+    match &opts.mode {
+        SweepMode::Sweep => {
+            let n = opts.values.len();
+            let chain = |branch: u8| -> Vec<TaskResult> {
+                let order: Vec<usize> = if branch == 1 {
+                    (0..n).collect()
+                } else {
+                    (0..n).rev().collect()
+                };
+                let mut y = opts.y0;
+                let mut out = Vec::new();
+                for i in order {
+                    let t = Task { index: i, branch };
+                    if let Some(r) = done.get(&t) {
+                        y = r.runs[0].final_state;
+                        continue;
+                    }
+                    let run = run_once(&models[i], y, 0, opts);
+                    y = run.final_state;
+                    out.push(finish(t, vec![run]));
+                }
+                out
+            };
+            let (up, down) = rayon::join(|| chain(1), || chain(2));
+            for r in up.into_iter().chain(down) {
+                results.insert(r.task, r);
+            }
+        }
+        mode => {
+            let k = match mode {
+                SweepMode::Multi { ics, .. } => (*ics).max(1),
+                _ => 1,
+            };
+            let todo: Vec<Task> = all
+                .iter()
+                .copied()
+                .filter(|t| !done.contains_key(t))
+                .collect();
+            let fresh: Vec<TaskResult> = todo
+                .par_iter()
+                .map(|&t| {
+                    let runs: Vec<Run> = (0..k)
+                        .into_par_iter()
+                        .map(|ic| {
+                            let y0 = initial_state(mode, opts.y0, t.index, ic);
+                            run_once(&models[t.index], y0, ic, opts)
+                        })
+                        .collect();
+                    finish(t, runs)
+                })
+                .collect();
+            for r in fresh {
+                results.insert(r.task, r);
+            }
+        }
+    }
+    Ok(all.into_iter().filter_map(|t| results.remove(&t)).collect())
+}
+
+/// A jump in a frequency-response branch: between `from` and `to` the RMS of `x` changes by more
+/// than five times the branch's median step change and by at least 10% of its range, and at least
+/// one side is periodic (chaotic windows fluctuate from value to value without "jumping").
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Jump {
+    /// Branch (`up` or `down`).
+    pub branch: &'static str,
+    /// Parameter value before the jump.
+    pub from: f64,
+    /// Parameter value after the jump.
+    pub to: f64,
+    /// RMS of `x` before.
+    pub rms_before: f64,
+    /// RMS of `x` after.
+    pub rms_after: f64,
+}
+
+/// Jumps of the continuation branches of a sweep (see [`Jump`]).
+pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
+    let mut jumps = Vec::new();
+    for branch in [1u8, 2u8] {
+        let mut pts: Vec<(f64, f64, usize)> = results
+            .iter()
+            .filter(|r| r.task.branch == branch)
+            .filter_map(|r| {
+                r.runs[0]
+                    .amplitudes
+                    .map(|a| (r.value, a.rms_x, r.runs[0].period))
+            })
+            .collect();
+        if branch == 2 {
+            // in the order the backward sweep visited them
+            pts.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
+        } else {
+            pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+        }
+        if pts.len() < 3 {
+            continue;
+        }
+        let mut d: Vec<f64> = pts.windows(2).map(|w| (w[1].1 - w[0].1).abs()).collect();
+        let range = pts.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
+            - pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        let steps = d.clone();
+        d.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+        let median = d[d.len() / 2];
+        for (i, &s) in steps.iter().enumerate() {
+            let periodic = pts[i].2 > 0 || pts[i + 1].2 > 0;
+            if s > 5.0 * median && s > 0.1 * range && periodic {
+                jumps.push(Jump {
+                    branch: if branch == 1 { "up" } else { "down" },
+                    from: pts[i].0,
+                    to: pts[i + 1].0,
+                    rms_before: pts[i].1,
+                    rms_after: pts[i + 1].1,
+                });
+            }
+        }
+    }
+    jumps
+}
+
+/// Evenly spaced values `start..=stop` (`count` of them).
+pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
+    match count {
+        0 => vec![],
+        1 => vec![start],
+        _ => (0..count)
+            .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
+            .collect(),
+    }
+}

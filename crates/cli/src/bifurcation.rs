@@ -1,0 +1,177 @@
+//! `geardyn bifurcation` and `geardyn response`.
+
+use crate::run_config::ConfigArgs;
+use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
+use anyhow::{bail, Result};
+use clap::Args;
+use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
+use geardyn_io::{output, sweep_output};
+use std::path::PathBuf;
+
+/// Arguments of `geardyn bifurcation`.
+#[derive(Args, Debug)]
+pub struct BifurcationArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    /// Parameter swept (omega, F, xi, c, D, D_d, D_s, mu, R, kappa, ...).
+    #[arg(long, default_value = "omega")]
+    param: String,
+    /// START:STOP:COUNT.
+    #[arg(long, default_value = "0.5:2:200")]
+    range: String,
+    /// fixed (same initial state), sweep (continuation up and down) or multi (K initial states).
+    #[arg(long, default_value = "fixed", value_parser = ["fixed", "sweep", "multi"])]
+    mode: String,
+    /// Initial states per value (multi).
+    #[arg(long, default_value_t = 8)]
+    ics: usize,
+    /// Seed of the initial states (multi).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// x0 range of the initial states (multi), MIN:MAX; default -1.5*D_s:1.5*D_s.
+    #[arg(long)]
+    x0_range: Option<String>,
+    /// v0 range of the initial states (multi), MIN:MAX.
+    #[arg(long, default_value = "-1:1")]
+    v0_range: String,
+    /// Sections: comma-separated from strobe, ds_up, ds_down, dd_up, dd_down, impact.
+    #[arg(long, default_value = "strobe")]
+    sections: String,
+    /// Also compute the top Lyapunov exponent per value (variational, with saltation).
+    #[arg(long)]
+    lyapunov: bool,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/bifurcation")]
+    out: PathBuf,
+}
+
+fn sections(s: &str) -> Result<Vec<Section>> {
+    s.split(',')
+        .map(|t| {
+            Section::parse(t.trim()).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "unknown section '{t}': allowed {}",
+                    Section::ALL
+                        .iter()
+                        .map(|s| s.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
+pub fn run(a: BifurcationArgs) -> Result<()> {
+    let mut cfg = a.cfg.resolve()?;
+    a.sim.apply(&mut cfg)?;
+    let (lo, hi, n) = parse_range(&a.range)?;
+    let secs = sections(&a.sections)?;
+    let ds = cfg.model.d_single;
+    let mode = match a.mode.as_str() {
+        "fixed" => SweepMode::Fixed,
+        "sweep" => SweepMode::Sweep,
+        _ => {
+            if a.ics == 0 || a.ics > 100_000 {
+                bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
+            }
+            SweepMode::Multi {
+                ics: a.ics,
+                seed: a.seed,
+                x0_range: match &a.x0_range {
+                    Some(s) => parse_pair(s, "--x0-range")?,
+                    None => (-1.5 * ds, 1.5 * ds),
+                },
+                v0_range: parse_pair(&a.v0_range, "--v0-range")?,
+            }
+        }
+    };
+    let opts = SweepOptions {
+        param: a.param.clone(),
+        values: linspace(lo, hi, n),
+        mode,
+        sim: cfg.sim_options()?,
+        y0: [cfg.simulation.x0, cfg.simulation.v0],
+        sections: secs.clone(),
+        lyapunov: a.lyapunov,
+    };
+    let t = std::time::Instant::now();
+    let results = run_checkpointed(&cfg, &opts, &a.out, "bifurcation")?;
+    let elapsed = t.elapsed().as_secs_f64();
+    output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    sweep_output::write_bifurcation(&a.out.join("bifurcation.csv"), &a.param, &results)?;
+    sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
+    let title = format!("Bifurcation diagram over {} ({} mode)", a.param, a.mode);
+    sweep_output::plot_bifurcation(
+        &a.out.join("bifurcation"),
+        &a.param,
+        &results,
+        &secs,
+        &title,
+    )?;
+    let runs: usize = results.iter().map(|r| r.runs.len()).sum();
+    println!(
+        "{} values x {} runs of {}+{} periods in {:.2} s -> {}",
+        n,
+        runs,
+        opts.sim.transient_periods,
+        opts.sim.record_periods,
+        elapsed,
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// Arguments of `geardyn response`.
+#[derive(Args, Debug)]
+pub struct ResponseArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    /// Parameter swept (normally omega).
+    #[arg(long, default_value = "omega")]
+    param: String,
+    /// START:STOP:COUNT.
+    #[arg(long, default_value = "0.5:2:150")]
+    range: String,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/response")]
+    out: PathBuf,
+}
+
+pub fn response(a: ResponseArgs) -> Result<()> {
+    let mut cfg = a.cfg.resolve()?;
+    a.sim.apply(&mut cfg)?;
+    let (lo, hi, n) = parse_range(&a.range)?;
+    let opts = SweepOptions {
+        param: a.param.clone(),
+        values: linspace(lo, hi, n),
+        mode: SweepMode::Sweep,
+        sim: cfg.sim_options()?,
+        y0: [cfg.simulation.x0, cfg.simulation.v0],
+        sections: vec![],
+        lyapunov: false,
+    };
+    let results = run_checkpointed(&cfg, &opts, &a.out, "response")?;
+    output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    sweep_output::write_response(&a.out.join("response.csv"), &a.param, &results)?;
+    let jumps = detect_jumps(&results);
+    output::write_json(&a.out.join("jumps.json"), &jumps)?;
+    sweep_output::plot_response(
+        &a.out.join("response"),
+        &a.param,
+        &results,
+        &format!("Frequency response over {}", a.param),
+    )?;
+    for j in &jumps {
+        println!(
+            "jump on the {} sweep between {} = {:.4} and {:.4}: RMS x {:.4} -> {:.4}",
+            j.branch, a.param, j.from, j.to, j.rms_before, j.rms_after
+        );
+    }
+    println!("{} values, both sweeps -> {}", n, a.out.display());
+    Ok(())
+}
