@@ -251,6 +251,17 @@ pub struct Summary {
     pub max_impact_force: f64,
 }
 
+/// Extremum of the parabola through three equally spaced samples whose middle one is extreme.
+#[inline]
+fn parabola_peak(a: f64, b: f64, c: f64) -> Option<f64> {
+    let curv = a - 2.0 * b + c;
+    if curv != 0.0 && ((b >= a && b >= c) || (b <= a && b <= c)) {
+        Some(b - (c - a) * (c - a) / (8.0 * curv))
+    } else {
+        None
+    }
+}
+
 struct Recorder<'a> {
     model: &'a MeshModel,
     res: SimResult,
@@ -325,36 +336,55 @@ impl Observer<MeshModel, 2> for Recorder<'_> {
             ContactState::Back | ContactState::Stuck => 2,
         };
         self.res.durations[slot] += dt;
-        // time averages (Boole's rule on five interpolant samples) and force extrema
+        // time averages and extrema from interpolant samples: Simpson's rule on three for short
+        // steps (fixed-step RK4), Boole's rule on five for long adaptive steps; a parabola through
+        // the samples around an interior extremum refines the peak force.
         let y1 = step.y1();
+        let long = dt > self.sample_dt * 2.0;
+        let (ths, w): (&[f64], &[f64]) = if long {
+            (
+                &[0.0, 0.25, 0.5, 0.75, 1.0],
+                &[
+                    7.0 / 90.0,
+                    32.0 / 90.0,
+                    12.0 / 90.0,
+                    32.0 / 90.0,
+                    7.0 / 90.0,
+                ],
+            )
+        } else {
+            (&[0.0, 0.5, 1.0], &[1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0])
+        };
+        let contact = matches!(before.contact, ContactState::Drive | ContactState::Back);
         let mut xs = [0.0; 5];
         let mut fs = [0.0; 5];
-        let contact = matches!(before.contact, ContactState::Drive | ContactState::Back);
-        for (k, th) in [0.0, 0.25, 0.5, 0.75, 1.0].into_iter().enumerate() {
-            let y = if k == 4 { y1 } else { step.at_theta(th) };
+        for (k, &th) in ths.iter().enumerate() {
+            let y = if th == 1.0 { y1 } else { step.at_theta(th) };
             xs[k] = y[0];
-            fs[k] = if contact {
-                self.force(t0 + th * dt, &y, before)
-            } else {
-                0.0
-            };
-            self.res.x_range = (self.res.x_range.0.min(y[0]), self.res.x_range.1.max(y[0]));
+            if contact {
+                fs[k] = self.model.mesh_force(t0 + th * dt, &y, before);
+            }
         }
-        if !contact {
-            self.force(t1, &y1, before);
+        let n = ths.len();
+        for k in 0..n {
+            self.res.x_range = (self.res.x_range.0.min(xs[k]), self.res.x_range.1.max(xs[k]));
+            self.res.max_force = self.res.max_force.max(fs[k]);
+            self.res.min_force = self.res.min_force.min(fs[k]);
+            self.res.integrals[0] += w[k] * dt * xs[k];
+            self.res.integrals[1] += w[k] * dt * xs[k] * xs[k];
+            self.res.integrals[2] += w[k] * dt * fs[k];
+            self.res.integrals[3] += w[k] * dt * fs[k] * fs[k];
         }
-        const W: [f64; 5] = [
-            7.0 / 90.0,
-            32.0 / 90.0,
-            12.0 / 90.0,
-            32.0 / 90.0,
-            7.0 / 90.0,
-        ];
-        for k in 0..5 {
-            self.res.integrals[0] += W[k] * dt * xs[k];
-            self.res.integrals[1] += W[k] * dt * xs[k] * xs[k];
-            self.res.integrals[2] += W[k] * dt * fs[k];
-            self.res.integrals[3] += W[k] * dt * fs[k] * fs[k];
+        for k in 1..n - 1 {
+            if let Some(p) = parabola_peak(xs[k - 1], xs[k], xs[k + 1]) {
+                self.res.x_range = (self.res.x_range.0.min(p), self.res.x_range.1.max(p));
+            }
+            if contact {
+                if let Some(p) = parabola_peak(fs[k - 1], fs[k], fs[k + 1]) {
+                    self.res.max_force = self.res.max_force.max(p);
+                    self.res.min_force = self.res.min_force.min(p);
+                }
+            }
         }
         if self.keep_traj {
             // uniform samples from the dense output, times computed from an integer index

@@ -21,6 +21,9 @@ pub struct BenchArgs {
     /// Repetitions (the best is reported).
     #[arg(long, default_value_t = 5)]
     repeat: u32,
+    /// Also time the C1 bifurcation diagram (200 values of omega in [0.5, 2], 300 + 100 periods).
+    #[arg(long)]
+    bifurcation: bool,
 }
 
 pub fn run(a: BenchArgs) -> Result<()> {
@@ -58,6 +61,43 @@ pub fn run(a: BenchArgs) -> Result<()> {
             best,
             best * 1e9 / stats.steps as f64
         );
+    }
+    if a.bifurcation {
+        use geardyn_analysis::bifurcation::{
+            linspace, run_sweep, Section, SweepMode, SweepOptions,
+        };
+        use geardyn_analysis::simulate::{Method, SimOptions};
+        for method in [
+            Method::Rk4 {
+                steps_per_cycle: a.steps_per_cycle,
+            },
+            Method::default(),
+        ] {
+            let opts = SweepOptions {
+                param: "omega".into(),
+                values: linspace(0.5, 2.0, 200),
+                mode: SweepMode::Fixed,
+                sim: SimOptions {
+                    method,
+                    transient_periods: 300,
+                    record_periods: 100,
+                    ..Default::default()
+                },
+                y0: [0.0, 0.0],
+                sections: vec![Section::Strobe],
+                lyapunov: false,
+            };
+            let t = std::time::Instant::now();
+            let r = run_sweep(&p, &opts, &Default::default(), |_| {})?;
+            let el = t.elapsed().as_secs_f64();
+            println!(
+                "C1 bifurcation, 200 values x 400 periods, {:?}, {} threads: {:.3} s ({} runs)",
+                method,
+                rayon::current_num_threads(),
+                el,
+                r.len()
+            );
+        }
     }
     Ok(())
 }

@@ -103,6 +103,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     sweep_output::write_bifurcation(&a.out.join("bifurcation.csv"), &a.param, &results)?;
     sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
+    sweep_output::write_impact_force(&a.out.join("impact_force.csv"), &a.param, &results)?;
     let title = format!("Bifurcation diagram over {} ({} mode)", a.param, a.mode);
     sweep_output::plot_bifurcation(
         &a.out.join("bifurcation"),

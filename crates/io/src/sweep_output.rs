@@ -93,6 +93,33 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
 /// Diagram points `(parameter, x)` of one colour group, per section.
 type PointsBySection = BTreeMap<Section, Vec<(f64, f64)>>;
 
+/// `impact_force.csv`: the impact-force record of seed A — the largest back-side impact force in
+/// each recorded excitation period, per run (`param,branch,ic,period,impact_force`; 0 = no impact).
+pub fn write_impact_force(
+    path: &Path,
+    param: &str,
+    results: &[TaskResult],
+) -> Result<(), OutputError> {
+    let header = [param, "branch", "ic", "period", "impact_force"];
+    let rows = results.iter().flat_map(|r| {
+        r.runs.iter().flat_map(move |run| {
+            run.impact_force_per_period
+                .iter()
+                .enumerate()
+                .map(move |(j, f)| {
+                    vec![
+                        num(r.value),
+                        r.task.branch_name().to_string(),
+                        run.ic.to_string(),
+                        j.to_string(),
+                        num(*f),
+                    ]
+                })
+        })
+    });
+    write_csv(path, &header, rows)
+}
+
 /// Label classes in order of first appearance (stable colours).
 fn label_order(results: &[TaskResult]) -> Vec<String> {
     let mut seen = Vec::new();
