@@ -6,6 +6,7 @@
 
 pub mod bifurcation;
 pub mod driver;
+pub mod generic;
 pub mod lyapunov;
 pub mod period;
 pub mod simulate;
