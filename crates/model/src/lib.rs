@@ -25,4 +25,6 @@ pub use contact_law::ContactLaw;
 pub use error::ModelError;
 pub use impact::ImpactLaw;
 pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone};
-pub use params::{BackSide, Breakage, Friction, ModelParams, StiffnessForm, PARAMETER_NAMES};
+pub use params::{
+    BackSide, Breakage, Friction, ModelParams, StiffnessForm, ZonePiece, PARAMETER_NAMES,
+};

@@ -96,6 +96,8 @@ enum KForm {
     Const(f64),
     /// Piecewise-linear table: indices into the model's table arrays.
     Table { off: u32, len: u32 },
+    /// Uniform samples over the segment (O(1) lookup): offset into `uniform`.
+    Uniform { off: u32 },
 }
 
 /// One piece of the excitation period with constant zone, backlash and friction factors.
@@ -114,6 +116,11 @@ pub struct Segment {
     /// Friction factor of the back side.
     pub h_back: f64,
     k: KForm,
+    /// Uniform tables of the friction factors (offsets into `uniform`), when they vary.
+    h_tab: Option<(u32, u32)>,
+    /// Samples per uniform table of this segment and their spacing inverse (1/cycles).
+    n_uni: u32,
+    inv_du: f64,
 }
 
 /// The dimensionless mesh model. Build it with [`MeshModel::new`] from validated [`ModelParams`].
@@ -137,6 +144,7 @@ pub struct MeshModel {
     segs: Vec<Segment>,
     table_x: Vec<f64>,
     table_k: Vec<f64>,
+    uniform: Vec<f64>,
     law: ContactLaw,
     impact: Option<ImpactLaw>,
     impact_peak_factor: f64,
@@ -232,6 +240,33 @@ impl MeshModel {
                     return Err(inv("stiffness.k_single", *k_single, "(0, inf)"));
                 }
             }
+            StiffnessForm::Zoned { pieces } => {
+                if pieces.is_empty() {
+                    return Err(ModelError::Inconsistent {
+                        field: "stiffness.pieces".into(),
+                        reason: "no zone pieces".into(),
+                    });
+                }
+                for (i, pc) in pieces.iter().enumerate() {
+                    let n = pc.k.len();
+                    if n < 2
+                        || pc.h_drive.len() != n
+                        || pc.h_back.len() != n
+                        || !(pc.end > pc.start)
+                    {
+                        return Err(ModelError::Inconsistent {
+                            field: format!("stiffness.pieces[{i}]"),
+                            reason: "need end > start and k, h_drive, h_back of equal length >= 2"
+                                .into(),
+                        });
+                    }
+                    for &v in &pc.k {
+                        if !(v.is_finite() && v > 0.0) {
+                            return Err(inv(&format!("stiffness.pieces[{i}].k"), v, "(0, inf)"));
+                        }
+                    }
+                }
+            }
             StiffnessForm::Table { phase, k } => {
                 if phase.len() != k.len() || phase.len() < 2 {
                     return Err(ModelError::Inconsistent {
@@ -300,11 +335,19 @@ impl MeshModel {
             segs: Vec::new(),
             table_x: Vec::new(),
             table_k: Vec::new(),
+            uniform: Vec::new(),
             law: p.contact,
             impact,
             impact_peak_factor: impact.map_or(1.0, |l| l.peak_factor()),
         };
         m.tabulate(eps, friction_on);
+        if let Some(bad) = m.uniform_h_min() {
+            return Err(inv(
+                "friction (h from the pair's friction arms)",
+                bad,
+                "h > 0 everywhere: lower the friction coefficient",
+            ));
+        }
         for s in &m.segs {
             if !(s.h_drive > 0.0) {
                 return Err(inv(
@@ -325,6 +368,42 @@ impl MeshModel {
     }
 
     fn tabulate(&mut self, eps: f64, friction_on: bool) {
+        if let StiffnessForm::Zoned { pieces } = &self.params.stiffness {
+            let pieces = pieces.clone();
+            for pc in &pieces {
+                let n = pc.k.len();
+                let off = self.uniform.len() as u32;
+                self.uniform.extend_from_slice(&pc.k);
+                self.uniform.extend_from_slice(&pc.h_drive);
+                self.uniform.extend_from_slice(&pc.h_back);
+                self.segs.push(Segment {
+                    start: pc.start,
+                    end: pc.end,
+                    zone: if pc.zone_ii {
+                        Zone::SingleII
+                    } else if pc.single {
+                        Zone::Single
+                    } else {
+                        Zone::Double
+                    },
+                    d: if pc.single {
+                        self.params.d_single
+                    } else {
+                        self.params.d_double
+                    },
+                    h_drive: pc.h_drive[0],
+                    h_back: pc.h_back[0],
+                    k: KForm::Uniform { off },
+                    h_tab: Some((off + n as u32, off + 2 * n as u32)),
+                    n_uni: n as u32,
+                    inv_du: (n - 1) as f64 / (pc.end - pc.start),
+                });
+            }
+            if let Some(last) = self.segs.last_mut() {
+                last.end = self.cycles as f64;
+            }
+            return;
+        }
         let p = &self.params;
         let fr = p.friction;
         let mut pieces: Vec<(f64, f64, Zone, f64)> = Vec::new(); // (start, end, zone, lambda) in-cycle
@@ -369,6 +448,8 @@ impl MeshModel {
                         KForm::Const(*k_single)
                     }
                     (_, Zone::SingleII) => KForm::Const(broken.map_or(1.0, |b| b.k_zone2)),
+                    // handled before the loop
+                    (StiffnessForm::Zoned { .. }, _) => unreachable!("zoned tables return early"),
                     (StiffnessForm::Table { phase, k }, _) => {
                         let off = self.table_x.len() as u32;
                         let at = |u: f64| {
@@ -407,6 +488,9 @@ impl MeshModel {
                     h_drive: hd,
                     h_back: hb,
                     k,
+                    h_tab: None,
+                    n_uni: 0,
+                    inv_du: 0.0,
                 };
                 // merge with the previous piece when nothing jumps at the border
                 if let Some(last) = self.segs.last_mut() {
@@ -474,15 +558,79 @@ impl MeshModel {
             .min(self.segs.len() - 1)
     }
 
+    /// Smallest friction factor in the uniform tables, if any is not positive.
+    fn uniform_h_min(&self) -> Option<f64> {
+        let mut worst = None;
+        for s in &self.segs {
+            if let Some((a, b)) = s.h_tab {
+                let n = s.n_uni as usize;
+                for &h in self.uniform[a as usize..a as usize + n]
+                    .iter()
+                    .chain(&self.uniform[b as usize..b as usize + n])
+                {
+                    if !(h > 0.0) {
+                        worst = Some(h);
+                    }
+                }
+            }
+        }
+        worst
+    }
+
+    /// Linear interpolation in a uniform table of `seg` starting at `off`, at position `u`.
+    #[inline(always)]
+    fn uniform_eval(&self, seg: &Segment, off: u32, u: f64) -> f64 {
+        let x = ((u - seg.start) * seg.inv_du).max(0.0);
+        let last = seg.n_uni as usize - 1;
+        let i = (x as usize).min(last - 1);
+        let f = (x - i as f64).min(1.0);
+        let base = off as usize + i;
+        let (a, b) = (self.uniform[base], self.uniform[base + 1]);
+        a + (b - a) * f
+    }
+
+    /// Position in the excitation period (mesh cycles) of time `t` in `period`.
+    #[inline(always)]
+    fn position(&self, t: f64, period: i64) -> f64 {
+        self.omega * t * (0.5 / PI) - (period * self.cycles as i64) as f64
+    }
+
     #[inline(always)]
     fn k_of(&self, seg: &Segment, t: f64, cos_wt: f64, period: i64) -> f64 {
         match seg.k {
             KForm::Const(k0) => k0 + self.kappa * cos_wt,
             KForm::Table { off, len } => {
-                let u = self.omega * t / (2.0 * PI) - (period * self.cycles as i64) as f64;
-                self.table_eval(off as usize, len as usize, u)
+                self.table_eval(off as usize, len as usize, self.position(t, period))
+            }
+            KForm::Uniform { off } => self.uniform_eval(seg, off, self.position(t, period)),
+        }
+    }
+
+    /// Friction factors `(h_drive, h_back)` of `seg` at time `t`.
+    #[inline(always)]
+    fn h_of(&self, seg: &Segment, t: f64, period: i64) -> (f64, f64) {
+        match seg.h_tab {
+            None => (seg.h_drive, seg.h_back),
+            Some((a, b)) => {
+                let u = self.position(t, period);
+                (self.uniform_eval(seg, a, u), self.uniform_eval(seg, b, u))
             }
         }
+    }
+
+    /// Friction factors `(h_drive, h_back)` at position `u` (mesh cycles) of the excitation
+    /// period, for tables and plots.
+    pub fn friction_factors_at(&self, u: f64) -> (f64, f64) {
+        let seg = &self.segs[self.segment_index(u)];
+        match seg.h_tab {
+            None => (seg.h_drive, seg.h_back),
+            Some((a, b)) => (self.uniform_eval(seg, a, u), self.uniform_eval(seg, b, u)),
+        }
+    }
+
+    /// Half backlash at position `u` (mesh cycles) of the excitation period.
+    pub fn backlash_at(&self, u: f64) -> f64 {
+        self.segs[self.segment_index(u)].d
     }
 
     #[inline]
@@ -501,6 +649,7 @@ impl MeshModel {
         match seg.k {
             KForm::Const(k0) => k0 + self.kappa * cos_cycles(u),
             KForm::Table { off, len } => self.table_eval(off as usize, len as usize, u),
+            KForm::Uniform { off } => self.uniform_eval(seg, off, u),
         }
     }
 
@@ -629,12 +778,14 @@ impl HybridSystem<2> for MeshModel {
             ContactState::Drive => {
                 let k = self.k_of(seg, t, *cos_wt, mode.period);
                 let g = self.law.elastic(y[0] - seg.d);
-                exc - seg.h_drive * (k * g * (1.0 + mode.chi * y[1]) + self.c * y[1])
+                let h = self.h_of(seg, t, mode.period).0;
+                exc - h * (k * g * (1.0 + mode.chi * y[1]) + self.c * y[1])
             }
             ContactState::Back => {
                 let k = self.k_of(seg, t, *cos_wt, mode.period);
                 let g = self.law.elastic(-y[0] - seg.d);
-                exc - seg.h_back * (-k * g * (1.0 - mode.chi * y[1]) + self.c * y[1])
+                let h = self.h_of(seg, t, mode.period).1;
+                exc - h * (-k * g * (1.0 - mode.chi * y[1]) + self.c * y[1])
             }
             ContactState::Separated => exc,
             ContactState::Stuck => {
@@ -752,18 +903,20 @@ impl Variational<2> for MeshModel {
                 let k = self.k_of(seg, t, *cos_wt, mode.period);
                 let d = y[0] - seg.d;
                 let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
+                let h = self.h_of(seg, t, mode.period).0;
                 (
-                    -seg.h_drive * k * dg * (1.0 + mode.chi * y[1]),
-                    -seg.h_drive * (k * g * mode.chi + self.c),
+                    -h * k * dg * (1.0 + mode.chi * y[1]),
+                    -h * (k * g * mode.chi + self.c),
                 )
             }
             ContactState::Back => {
                 let k = self.k_of(seg, t, *cos_wt, mode.period);
                 let d = -y[0] - seg.d;
                 let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
+                let h = self.h_of(seg, t, mode.period).1;
                 (
-                    -seg.h_back * k * dg * (1.0 - mode.chi * y[1]),
-                    -seg.h_back * (k * g * mode.chi + self.c),
+                    -h * k * dg * (1.0 - mode.chi * y[1]),
+                    -h * (k * g * mode.chi + self.c),
                 )
             }
             ContactState::Separated => (0.0, 0.0),

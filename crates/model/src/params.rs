@@ -29,6 +29,13 @@ pub enum StiffnessForm {
         /// Stiffness in the single-tooth zone.
         k_single: f64,
     },
+    /// Tables filled by the gear-physics layer: one entry per zone piece of the excitation period,
+    /// each with uniform samples of `k`, `h_drive`, `h_back` from its start to its end (both
+    /// included), so jumps at zone borders are exact. Not meant to be written by hand.
+    Zoned {
+        /// Zone pieces in order, covering `[0, cycles)` (mesh cycles).
+        pieces: Vec<ZonePiece>,
+    },
     /// User table over one mesh cycle: `k` at phases `phase` (strictly increasing in `[0, 1]`),
     /// interpolated linearly inside each zone; a jump at the zone border `eps-1` is kept exact by
     /// evaluating each zone from its own side.
@@ -38,6 +45,28 @@ pub enum StiffnessForm {
         /// Stiffness values.
         k: Vec<f64>,
     },
+}
+
+/// One zone piece of a [`StiffnessForm::Zoned`] table (positions in mesh cycles from the start
+/// of the excitation period).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZonePiece {
+    /// Start (mesh cycles).
+    pub start: f64,
+    /// End (mesh cycles).
+    pub end: f64,
+    /// Single-tooth zone (half backlash `D_s`) or double (`D_d`).
+    pub single: bool,
+    /// Broken cycle's single-tooth zone II.
+    #[serde(default)]
+    pub zone_ii: bool,
+    /// Dimensionless stiffness samples `k/k_av`, uniform over `[start, end]`.
+    pub k: Vec<f64>,
+    /// Drive-side friction factor samples.
+    pub h_drive: Vec<f64>,
+    /// Back-side friction factor samples.
+    pub h_back: Vec<f64>,
 }
 
 /// Friction of the stand-in model: `h = 1 + mu*lambda*arm` in single-tooth zones (drive side),
