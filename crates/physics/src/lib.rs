@@ -7,8 +7,12 @@
 //! and GPa and says so in its field names.
 #![warn(missing_docs)]
 
+pub mod breakage;
 pub mod error;
 pub mod geometry;
+pub mod mesh_stiffness;
+pub mod pair;
 pub mod tooth;
 
 pub use error::PhysicsError;
+pub use pair::{OperatingPoint, PairModel, PairSpec};

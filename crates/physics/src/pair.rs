@@ -1,0 +1,569 @@
+//! A dimensional gear pair (`[pair]` of a config) turned into the dimensionless tables of the
+//! mesh model: geometry, mesh stiffness over the excitation period, load sharing, friction
+//! factors, and the normalisation `k_av`, `m_e`, `omega_n` with the operating-point mapping
+//! (MODEL.md §1–3).
+//!
+//! Config units: mm, degrees, GPa, kg/m³, rpm, N·m, µm (stated in every field name).
+
+use crate::breakage::{broken_contact, Chip};
+use crate::error::PhysicsError;
+use crate::geometry::{PairGeometry, PairGeometryInput, PairKind};
+use crate::mesh_stiffness::{load_shares, HertzModel, LoadSharing, StiffnessModel};
+use crate::tooth::Material;
+use geardyn_model::{Breakage, ModelParams, StiffnessForm, ZonePiece};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+fn one() -> f64 {
+    1.0
+}
+fn quarter() -> f64 {
+    0.25
+}
+fn steel_density() -> f64 {
+    7850.0
+}
+fn samples() -> u32 {
+    1024
+}
+fn hertz_default() -> HertzModel {
+    HertzModel::Linear
+}
+fn sharing_default() -> LoadSharing {
+    LoadSharing::Stiffness
+}
+
+/// Chipped pinion tooth.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BreakageSpec {
+    /// Removed tip height, radially (mm). Give this or `tip_radius_mm`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub removed_height_mm: Option<f64>,
+    /// Broken tip radius `R_ab` (mm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip_radius_mm: Option<f64>,
+    /// Mesh cycle (within the `z1`-cycle excitation period) in which the broken tooth leaves mesh.
+    #[serde(default)]
+    pub broken_cycle: u32,
+}
+
+/// A physical operating point (sets the model's `omega`, `F`, `xi`, `D`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OperatingPoint {
+    /// Pinion speed (rpm).
+    pub speed_rpm: f64,
+    /// Pinion torque (N·m).
+    pub torque_nm: f64,
+    /// Transmission-error amplitude `E_a` (µm).
+    pub error_amplitude_um: f64,
+    /// Static half backlash `b` (µm).
+    pub half_backlash_um: f64,
+}
+
+/// A dimensional spur pair.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    /// `external` or `internal`.
+    pub kind: PairKind,
+    /// Pinion teeth.
+    pub z1: u32,
+    /// Gear (ring) teeth.
+    pub z2: u32,
+    /// Module (mm).
+    pub module_mm: f64,
+    /// Pressure angle (deg).
+    pub pressure_angle_deg: f64,
+    /// Addendum coefficient `ha*`.
+    #[serde(default = "one")]
+    pub addendum: f64,
+    /// Tip clearance coefficient `c*`.
+    #[serde(default = "quarter")]
+    pub clearance: f64,
+    /// Pinion profile shift.
+    #[serde(default)]
+    pub x1: f64,
+    /// Gear (ring) profile shift.
+    #[serde(default)]
+    pub x2: f64,
+    /// Face width (mm).
+    pub face_width_mm: f64,
+    /// Young's modulus (GPa).
+    pub youngs_modulus_gpa: f64,
+    /// Poisson's ratio.
+    pub poisson: f64,
+    /// Density (kg/m³), for inertias when they are not given.
+    #[serde(default = "steel_density")]
+    pub density_kg_m3: f64,
+    /// Pinion bore radius (mm); default half the pitch radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bore_radius_pinion_mm: Option<f64>,
+    /// Gear bore radius (mm), or for a ring its rim outer radius; default half the pitch radius,
+    /// or root radius + 3 modules for a ring.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bore_radius_gear_mm: Option<f64>,
+    /// Pinion polar inertia (kg·m²); default from density and geometry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia_pinion_kgm2: Option<f64>,
+    /// Gear polar inertia (kg·m²).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia_gear_kgm2: Option<f64>,
+    /// Hertz model: `linear` (Yang & Lin) or `nonlinear` (Chen & Shao, needs a torque).
+    #[serde(default = "hertz_default")]
+    pub hertz: HertzModel,
+    /// Load sharing: `stiffness` or `linear`.
+    #[serde(default = "sharing_default")]
+    pub load_sharing: LoadSharing,
+    /// Friction coefficient `mu` (constant).
+    #[serde(default)]
+    pub mu: f64,
+    /// Chipped pinion tooth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub breakage: Option<BreakageSpec>,
+    /// Table samples per mesh cycle.
+    #[serde(default = "samples")]
+    pub samples_per_cycle: u32,
+    /// Characteristic length `b_c` (µm) of the dimensionless displacement.
+    pub characteristic_length_um: f64,
+    /// Damping ratio `zeta` (sets `c = 2 zeta`); default: keep `model.c`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_ratio: Option<f64>,
+    /// Operating point (sets `omega`, `F`, `xi`, `D`); default: keep the model's values.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub operating: Option<OperatingPoint>,
+}
+
+/// One row of the stiffness table (for `stiffness.csv` and plots).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StiffnessRow {
+    /// Position in the excitation period (mesh cycles).
+    pub position: f64,
+    /// Stiffness of the entering pair (N/m; 0 if not in contact).
+    pub k_pair1: f64,
+    /// Stiffness of the leaving pair (N/m; 0 if not in contact).
+    pub k_pair2: f64,
+    /// Mesh stiffness (N/m).
+    pub k_mesh: f64,
+    /// Load share of the entering pair.
+    pub share1: f64,
+    /// Load share of the leaving pair.
+    pub share2: f64,
+    /// Drive-side friction factor.
+    pub h_drive: f64,
+    /// Back-side friction factor.
+    pub h_back: f64,
+    /// Single-tooth zone.
+    pub single: bool,
+}
+
+/// Everything derived from a [`PairSpec`].
+#[derive(Clone, Debug)]
+pub struct PairModel {
+    /// Geometry.
+    pub geom: PairGeometry,
+    /// Reduced contact ratio of the broken tooth (None if healthy).
+    pub eps_b: Option<f64>,
+    /// Mean mesh stiffness over a healthy cycle (N/m).
+    pub k_av: f64,
+    /// Pinion inertia (kg·m²).
+    pub i_p: f64,
+    /// Gear inertia (kg·m²).
+    pub i_g: f64,
+    /// Equivalent mass (kg).
+    pub m_e: f64,
+    /// Natural frequency `sqrt(k_av/m_e)` (rad/s).
+    pub omega_n: f64,
+    /// Characteristic length (m).
+    pub b_c: f64,
+    /// Mesh cycles per excitation period.
+    pub cycles: u32,
+    /// Table rows over the excitation period.
+    pub rows: Vec<StiffnessRow>,
+    /// Zone pieces for the mesh model (dimensionless).
+    pub pieces: Vec<ZonePiece>,
+    /// The spec it came from.
+    pub spec: PairSpec,
+}
+
+fn bad(field: &str, value: f64, allowed: &str) -> PhysicsError {
+    PhysicsError::Invalid {
+        field: field.to_string(),
+        value,
+        allowed: allowed.to_string(),
+    }
+}
+
+impl PairSpec {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        let pos = |f: &str, v: f64, allowed: &str| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(bad(f, v, allowed))
+            }
+        };
+        pos("face_width_mm", self.face_width_mm, "(0, inf) mm")?;
+        pos(
+            "youngs_modulus_gpa",
+            self.youngs_modulus_gpa,
+            "(0, inf) GPa",
+        )?;
+        pos("density_kg_m3", self.density_kg_m3, "(0, inf)")?;
+        pos(
+            "characteristic_length_um",
+            self.characteristic_length_um,
+            "(0, inf) um",
+        )?;
+        if !(self.poisson > 0.0 && self.poisson < 0.5) {
+            return Err(bad("poisson", self.poisson, "(0, 0.5)"));
+        }
+        if !(self.mu >= 0.0 && self.mu < 1.0) {
+            return Err(bad("mu", self.mu, "[0, 1)"));
+        }
+        if !(64..=65536).contains(&self.samples_per_cycle) {
+            return Err(bad(
+                "samples_per_cycle",
+                self.samples_per_cycle as f64,
+                "64 ..= 65536",
+            ));
+        }
+        if let Some(z) = self.damping_ratio {
+            if !(z >= 0.0 && z < 1.0) {
+                return Err(bad("damping_ratio", z, "[0, 1)"));
+            }
+        }
+        if let Some(op) = &self.operating {
+            pos("operating.speed_rpm", op.speed_rpm, "(0, inf) rpm")?;
+            if !(op.torque_nm >= 0.0 && op.torque_nm.is_finite()) {
+                return Err(bad("operating.torque_nm", op.torque_nm, "[0, inf) N m"));
+            }
+            if !(op.error_amplitude_um >= 0.0 && op.error_amplitude_um.is_finite()) {
+                return Err(bad(
+                    "operating.error_amplitude_um",
+                    op.error_amplitude_um,
+                    "[0, inf) um",
+                ));
+            }
+            pos(
+                "operating.half_backlash_um",
+                op.half_backlash_um,
+                "(0, inf) um (backlash must be positive)",
+            )?;
+        }
+        for (f, v) in [
+            ("inertia_pinion_kgm2", self.inertia_pinion_kgm2),
+            ("inertia_gear_kgm2", self.inertia_gear_kgm2),
+        ] {
+            if let Some(v) = v {
+                pos(f, v, "(0, inf) kg m^2")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds geometry, stiffness tables and normalisation.
+    pub fn build(&self) -> Result<PairModel, PhysicsError> {
+        self.validate()?;
+        let geom = PairGeometry::new(&PairGeometryInput {
+            kind: self.kind,
+            z1: self.z1,
+            z2: self.z2,
+            module: self.module_mm * 1e-3,
+            pressure_angle: self.pressure_angle_deg.to_radians(),
+            addendum: self.addendum,
+            clearance: self.clearance,
+            x1: self.x1,
+            x2: self.x2,
+        })?;
+        geom.check_two_zone()?;
+        let m = geom.module;
+        let b = self.face_width_mm * 1e-3;
+        let mat = Material {
+            e: self.youngs_modulus_gpa * 1e9,
+            nu: self.poisson,
+            b,
+        };
+        let r_int1 = self
+            .bore_radius_pinion_mm
+            .map_or(0.5 * geom.r1, |r| r * 1e-3);
+        let r_int2 = self.bore_radius_gear_mm.map_or(
+            match self.kind {
+                PairKind::External => 0.5 * geom.r2,
+                PairKind::Internal => geom.rf2 + 3.0 * m,
+            },
+            |r| r * 1e-3,
+        );
+        if !(r_int1 > 0.0 && r_int1 < geom.rf1) {
+            return Err(bad(
+                "bore_radius_pinion_mm",
+                r_int1 * 1e3,
+                &format!("(0, {:.3}) mm (inside the root circle)", geom.rf1 * 1e3),
+            ));
+        }
+        match self.kind {
+            PairKind::External if !(r_int2 > 0.0 && r_int2 < geom.rf2) => {
+                return Err(bad(
+                    "bore_radius_gear_mm",
+                    r_int2 * 1e3,
+                    &format!("(0, {:.3}) mm (inside the root circle)", geom.rf2 * 1e3),
+                ));
+            }
+            PairKind::Internal if r_int2 <= geom.rf2 => {
+                return Err(bad(
+                    "bore_radius_gear_mm",
+                    r_int2 * 1e3,
+                    &format!(
+                        "({:.3}, inf) mm (ring rim outside its root circle)",
+                        geom.rf2 * 1e3
+                    ),
+                ));
+            }
+            _ => {}
+        }
+        let rho = self.density_kg_m3;
+        let disk = |ro: f64, ri: f64| rho * b * PI * (ro.powi(4) - ri.powi(4)) / 2.0;
+        let i_p = self
+            .inertia_pinion_kgm2
+            .unwrap_or_else(|| disk(geom.r1, r_int1));
+        let i_g = self.inertia_gear_kgm2.unwrap_or_else(|| match self.kind {
+            PairKind::External => disk(geom.r2, r_int2),
+            PairKind::Internal => disk(r_int2, geom.r2),
+        });
+        let m_e = i_p * i_g / (geom.rb1 * geom.rb1 * i_g + geom.rb2 * geom.rb2 * i_p);
+        let static_load = match (self.hertz, &self.operating) {
+            (HertzModel::Linear, _) => 0.0,
+            (HertzModel::Nonlinear, Some(op)) if op.torque_nm > 0.0 => op.torque_nm / geom.rb1,
+            (HertzModel::Nonlinear, _) => {
+                return Err(bad("hertz", 0.0, "\"linear\", or \"nonlinear\" together with pair.operating.torque_nm > 0 (the Hertz stiffness depends on the load)"));
+            }
+        };
+        let sm = StiffnessModel {
+            geom,
+            mat,
+            r_int1,
+            r_int2,
+            hertz: self.hertz,
+            static_load,
+        };
+        let (eps_b, s_d1, broken_cycle) = match &self.breakage {
+            None => (None, geom.s_d, None),
+            Some(bs) => {
+                let chip = match (bs.removed_height_mm, bs.tip_radius_mm) {
+                    (Some(h), None) => Chip::RemovedHeight(h * 1e-3),
+                    (None, Some(r)) => Chip::TipRadius(r * 1e-3),
+                    _ => {
+                        return Err(bad(
+                            "breakage",
+                            0.0,
+                            "exactly one of removed_height_mm or tip_radius_mm",
+                        ));
+                    }
+                };
+                if bs.broken_cycle >= self.z1 {
+                    return Err(bad(
+                        "breakage.broken_cycle",
+                        bs.broken_cycle as f64,
+                        &format!("[0, {}] (z1 - 1)", self.z1 - 1),
+                    ));
+                }
+                let (eb, sd1) = broken_contact(&geom, chip)?;
+                (Some(eb), sd1, Some(bs.broken_cycle))
+            }
+        };
+        let cycles = if eps_b.is_some() { self.z1 } else { 1 };
+        let n = self.samples_per_cycle as usize;
+        let mu = self.mu;
+        let arms = |s: f64| {
+            let (sp, sg) = geom.friction_arms(s);
+            m_e * (geom.rb1 * sp / i_p + geom.rb2 * sg / i_g)
+        };
+        // one healthy cycle and, if broken, the broken cycle: samples of each zone piece
+        let eps = geom.eps;
+        let sample_cycle = |broken: bool| -> Vec<(f64, f64, bool, bool, Vec<StiffnessRow>)> {
+            let e_dbl = if broken {
+                eps_b.unwrap_or(eps) - 1.0
+            } else {
+                eps - 1.0
+            };
+            let mut out = Vec::new();
+            let mut pieces = vec![(0.0, e_dbl, false, false)];
+            if broken && e_dbl < eps - 1.0 {
+                pieces.push((e_dbl, eps - 1.0, true, true));
+            }
+            pieces.push((eps - 1.0, 1.0, true, false));
+            for (a, bnd, single, zone_ii) in pieces {
+                let cnt = (((bnd - a) * n as f64).ceil() as usize).max(2);
+                let mut rows = Vec::with_capacity(cnt + 1);
+                for j in 0..=cnt {
+                    let phi = a + (bnd - a) * j as f64 / cnt as f64;
+                    let s0 = geom.s_a + phi * geom.pb;
+                    let s1 = s0 + geom.pb;
+                    let end1 = if broken { s_d1 } else { geom.s_d };
+                    let in1 = !single && s1 <= end1 + 1e-12;
+                    let contact = [true, in1];
+                    let frac = if e_dbl > 0.0 {
+                        (phi / e_dbl).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    let mut k = [
+                        sm.pair_stiffness(s0, if in1 { 0.5 } else { 1.0 }),
+                        if in1 { sm.pair_stiffness(s1, 0.5) } else { 0.0 },
+                    ];
+                    let mut l = load_shares(self.load_sharing, k, contact, frac, 0);
+                    if self.hertz == HertzModel::Nonlinear {
+                        // one fixed-point pass: Hertz stiffness at the pair's own load share
+                        k = [
+                            sm.pair_stiffness(s0, l[0]),
+                            if in1 {
+                                sm.pair_stiffness(s1, l[1])
+                            } else {
+                                0.0
+                            },
+                        ];
+                        l = load_shares(self.load_sharing, k, contact, frac, 0);
+                    }
+                    let mut fr = mu * geom.sliding_direction(s0) * arms(s0) * l[0];
+                    if in1 {
+                        fr += mu * geom.sliding_direction(s1) * arms(s1) * l[1];
+                    }
+                    rows.push(StiffnessRow {
+                        position: phi,
+                        k_pair1: k[0],
+                        k_pair2: k[1],
+                        k_mesh: k[0] + k[1],
+                        share1: l[0],
+                        share2: l[1],
+                        h_drive: 1.0 + fr,
+                        h_back: 1.0 - fr,
+                        single,
+                    });
+                }
+                out.push((a, bnd, single, zone_ii, rows));
+            }
+            out
+        };
+        let healthy = sample_cycle(false);
+        // k_av: trapezoidal mean over the healthy cycle
+        let mut k_int = 0.0;
+        for (a, bnd, _, _, rows) in &healthy {
+            let w = (bnd - a) / (rows.len() - 1) as f64;
+            for (j, r) in rows.iter().enumerate() {
+                let f = if j == 0 || j + 1 == rows.len() {
+                    0.5
+                } else {
+                    1.0
+                };
+                k_int += f * w * r.k_mesh;
+            }
+        }
+        let k_av = k_int;
+        let broken = if eps_b.is_some() {
+            Some(sample_cycle(true))
+        } else {
+            None
+        };
+        let mut rows_all = Vec::new();
+        let mut pieces = Vec::new();
+        for c in 0..cycles {
+            let src = match (&broken, broken_cycle) {
+                (Some(bc), Some(nb)) if nb == c => bc,
+                _ => &healthy,
+            };
+            for (a, bnd, single, zone_ii, rows) in src {
+                pieces.push(ZonePiece {
+                    start: c as f64 + a,
+                    end: c as f64 + bnd,
+                    single: *single,
+                    zone_ii: *zone_ii,
+                    k: rows.iter().map(|r| r.k_mesh / k_av).collect(),
+                    h_drive: rows.iter().map(|r| r.h_drive).collect(),
+                    h_back: rows.iter().map(|r| r.h_back).collect(),
+                });
+                rows_all.extend(rows.iter().map(|r| StiffnessRow {
+                    position: c as f64 + r.position,
+                    ..*r
+                }));
+            }
+        }
+        let b_c = self.characteristic_length_um * 1e-6;
+        Ok(PairModel {
+            geom,
+            eps_b,
+            k_av,
+            i_p,
+            i_g,
+            m_e,
+            omega_n: (k_av / m_e).sqrt(),
+            b_c,
+            cycles,
+            rows: rows_all,
+            pieces,
+            spec: self.clone(),
+        })
+    }
+}
+
+/// Dimensionless operating parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Dimensionless {
+    /// `omega = omega_h/omega_n`.
+    pub omega: f64,
+    /// `F = (T/R_bp)/(k_av b_c)`.
+    pub load: f64,
+    /// `xi = E_a/b_c`.
+    pub xi: f64,
+    /// `D = b/b_c`.
+    pub d: f64,
+}
+
+impl PairModel {
+    /// Physical operating point → dimensionless parameters.
+    pub fn to_dimensionless(&self, op: &OperatingPoint) -> Dimensionless {
+        let omega_h = self.geom.z1 as f64 * op.speed_rpm * 2.0 * PI / 60.0;
+        Dimensionless {
+            omega: omega_h / self.omega_n,
+            load: op.torque_nm / self.geom.rb1 / (self.k_av * self.b_c),
+            xi: op.error_amplitude_um * 1e-6 / self.b_c,
+            d: op.half_backlash_um * 1e-6 / self.b_c,
+        }
+    }
+
+    /// Dimensionless parameters → physical operating point (the inverse mapping).
+    pub fn to_physical(&self, d: &Dimensionless) -> OperatingPoint {
+        OperatingPoint {
+            speed_rpm: d.omega * self.omega_n * 60.0 / (2.0 * PI * self.geom.z1 as f64),
+            torque_nm: d.load * self.k_av * self.b_c * self.geom.rb1,
+            error_amplitude_um: d.xi * self.b_c * 1e6,
+            half_backlash_um: d.d * self.b_c * 1e6,
+        }
+    }
+
+    /// Writes the pair's tables and (if given) operating point into dimensionless parameters.
+    pub fn apply(&self, p: &mut ModelParams) {
+        p.eps = self.geom.eps;
+        p.stiffness = StiffnessForm::Zoned {
+            pieces: self.pieces.clone(),
+        };
+        p.friction.mu = 0.0; // friction is in the tables
+        p.breakage = self.eps_b.map(|eb| Breakage {
+            z_p: self.geom.z1,
+            broken_cycle: self.spec.breakage.map_or(0, |b| b.broken_cycle),
+            eps_b: eb,
+            k_zone2: 1.0,
+        });
+        if let Some(op) = &self.spec.operating {
+            let d = self.to_dimensionless(op);
+            p.omega = d.omega;
+            p.load = d.load;
+            p.xi = d.xi;
+            p.d_double = d.d;
+            p.d_single = d.d;
+        }
+        if let Some(z) = self.spec.damping_ratio {
+            p.c = 2.0 * z;
+        }
+    }
+}

@@ -1,0 +1,328 @@
+//! Gear-pair physics against closed forms, standards and limit cases.
+
+use geardyn_physics::geometry::{PairGeometry, PairGeometryInput, PairKind};
+use geardyn_physics::mesh_stiffness::{HertzModel, LoadSharing};
+use geardyn_physics::pair::{BreakageSpec, OperatingPoint, PairSpec};
+use std::f64::consts::PI;
+
+fn spec_40_40() -> PairSpec {
+    PairSpec {
+        kind: PairKind::External,
+        z1: 40,
+        z2: 40,
+        module_mm: 3.0,
+        pressure_angle_deg: 20.0,
+        addendum: 1.0,
+        clearance: 0.25,
+        x1: 0.0,
+        x2: 0.0,
+        face_width_mm: 20.0,
+        youngs_modulus_gpa: 206.0,
+        poisson: 0.3,
+        density_kg_m3: 7850.0,
+        bore_radius_pinion_mm: None,
+        bore_radius_gear_mm: None,
+        inertia_pinion_kgm2: None,
+        inertia_gear_kgm2: None,
+        hertz: HertzModel::Linear,
+        load_sharing: LoadSharing::Stiffness,
+        mu: 0.15,
+        breakage: None,
+        samples_per_cycle: 512,
+        characteristic_length_um: 10.0,
+        damping_ratio: None,
+        operating: None,
+    }
+}
+
+#[test]
+fn contact_ratios_match_the_closed_forms() {
+    let a = 20f64.to_radians();
+    // external 40/40, m = 3: eps = (2 sqrt(ra^2 - rb^2) - 2 r sin a) / (pi m cos a)
+    let g = PairGeometry::new(&PairGeometryInput {
+        kind: PairKind::External,
+        z1: 40,
+        z2: 40,
+        module: 3e-3,
+        pressure_angle: a,
+        addendum: 1.0,
+        clearance: 0.25,
+        x1: 0.0,
+        x2: 0.0,
+    })
+    .unwrap();
+    let (r, ra) = (60e-3f64, 63e-3f64);
+    let rb = r * a.cos();
+    let eps = (2.0 * (ra * ra - rb * rb).sqrt() - 2.0 * r * a.sin()) / (PI * 3e-3 * a.cos());
+    assert!((g.eps - eps).abs() < 1e-12, "{} vs {eps}", g.eps);
+    assert!((eps - 1.7145).abs() < 1e-3);
+    // internal 30/70, m = 3: eps = (sqrt(ra1^2 - rb1^2) - sqrt(ra2^2 - rb2^2) + a sin(alpha)) / p_b
+    // with ra2 = r2 - m (ring tip inside), a = r2 - r1 (e.g. Maitra, Handbook of Gear Design, 1994)
+    let gi = PairGeometry::new(&PairGeometryInput {
+        kind: PairKind::Internal,
+        z1: 30,
+        z2: 70,
+        module: 3e-3,
+        pressure_angle: a,
+        addendum: 1.0,
+        clearance: 0.25,
+        x1: 0.0,
+        x2: 0.0,
+    })
+    .unwrap();
+    let (r1, r2) = (45e-3f64, 105e-3f64);
+    let (rb1, rb2) = (r1 * a.cos(), r2 * a.cos());
+    let (ra1, ra2) = (48e-3f64, 102e-3f64);
+    let eps_i = ((ra1 * ra1 - rb1 * rb1).sqrt() - (ra2 * ra2 - rb2 * rb2).sqrt() + 60e-3 * a.sin())
+        / (PI * 3e-3 * a.cos());
+    assert!((gi.eps - eps_i).abs() < 1e-12, "{} vs {eps_i}", gi.eps);
+    assert!(gi.eps > 1.9 && gi.eps < 2.0);
+    // a profile-shifted pair: the operating pressure angle solves the involute equation
+    let gs = PairGeometry::new(&PairGeometryInput {
+        kind: PairKind::External,
+        z1: 20,
+        z2: 40,
+        module: 3e-3,
+        pressure_angle: a,
+        addendum: 1.0,
+        clearance: 0.25,
+        x1: 0.3,
+        x2: 0.1,
+    })
+    .unwrap();
+    let lhs = gs.alpha_w.tan() - gs.alpha_w;
+    let rhs = a.tan() - a + 2.0 * a.tan() * 0.4 / 60.0;
+    assert!((lhs - rhs).abs() < 1e-14);
+    assert!((gs.a_w * gs.alpha_w.cos() - 90e-3 * a.cos()).abs() < 1e-12);
+}
+
+#[test]
+fn impossible_geometry_is_rejected_with_the_reason() {
+    let a = 20f64.to_radians();
+    let mk = |z1, z2, x1, kind| {
+        PairGeometry::new(&PairGeometryInput {
+            kind,
+            z1,
+            z2,
+            module: 3e-3,
+            pressure_angle: a,
+            addendum: 1.0,
+            clearance: 0.25,
+            x1,
+            x2: 0.0,
+        })
+    };
+    let e = mk(12, 40, 0.0, PairKind::External).unwrap_err().to_string();
+    assert!(e.contains("undercut") && e.contains("short by"), "{e}");
+    assert!(mk(12, 40, 0.4, PairKind::External).is_ok());
+    let e = mk(30, 36, 0.0, PairKind::Internal).unwrap_err().to_string();
+    assert!(e.contains("interference"), "{e}");
+    let mut s = spec_40_40();
+    s.face_width_mm = -1.0;
+    assert!(s.build().unwrap_err().to_string().contains("face_width_mm"));
+    let mut s = spec_40_40();
+    s.poisson = 0.7;
+    assert!(s.build().unwrap_err().to_string().contains("poisson"));
+}
+
+#[test]
+fn mesh_stiffness_lies_in_the_iso_6336_range() {
+    // ISO 6336-1 method B for solid steel spur gears: single-pair stiffness c' ~ 14 N/(mm um)
+    // (c'_th = 1/q' = 17.4 for 40/40 times C_M = 0.8) and mesh stiffness
+    // c_gamma = c' (0.75 eps + 0.25) ~ 21 N/(mm um). Potential-energy models fall within about
+    // +-35% of these (e.g. Liang, Zuo & Pandey, Mech. Mach. Theory 76 (2014) 20).
+    let m = spec_40_40().build().unwrap();
+    let b_mm = 20.0;
+    // N/m per mm of face width -> N/(mm um)
+    let single_max = m
+        .rows
+        .iter()
+        .filter(|r| r.single)
+        .map(|r| r.k_mesh)
+        .fold(0.0, f64::max)
+        / b_mm
+        / 1e6;
+    let c_gamma = m.k_av / b_mm / 1e6;
+    assert!(
+        single_max > 14.0 * 0.65 && single_max < 14.0 * 1.35,
+        "c' = {single_max} N/(mm um)"
+    );
+    assert!(
+        c_gamma > 21.0 * 0.65 && c_gamma < 21.0 * 1.35,
+        "c_gamma = {c_gamma} N/(mm um)"
+    );
+}
+
+#[test]
+fn stiffness_continuous_inside_zones_and_jumping_at_borders() {
+    let m = spec_40_40().build().unwrap();
+    let rows = &m.rows;
+    let mut jumps = 0;
+    for w in rows.windows(2) {
+        let dk = (w[1].k_mesh - w[0].k_mesh).abs() / m.k_av;
+        if w[1].position == w[0].position {
+            // a zone border: stored from both sides
+            if dk > 0.2 {
+                jumps += 1;
+            }
+        } else {
+            assert!(
+                dk < 0.02,
+                "discontinuity inside a zone at {}: {dk}",
+                w[0].position
+            );
+        }
+    }
+    assert!(jumps >= 1, "the double/single border must jump");
+    // the double zone is stiffer than the single zone
+    let dbl = rows
+        .iter()
+        .filter(|r| !r.single)
+        .map(|r| r.k_mesh)
+        .fold(f64::INFINITY, f64::min);
+    let sgl = rows
+        .iter()
+        .filter(|r| r.single)
+        .map(|r| r.k_mesh)
+        .fold(0.0, f64::max);
+    assert!(dbl > sgl);
+}
+
+#[test]
+fn load_shares_sum_to_one_and_friction_behaves() {
+    for sharing in [LoadSharing::Stiffness, LoadSharing::Linear] {
+        let mut s = spec_40_40();
+        s.load_sharing = sharing;
+        let m = s.build().unwrap();
+        for r in &m.rows {
+            assert!((r.share1 + r.share2 - 1.0).abs() < 1e-12);
+            if r.single {
+                assert_eq!(r.share2, 0.0);
+            }
+        }
+    }
+    // mu = 0: h = 1 everywhere
+    let mut s = spec_40_40();
+    s.mu = 0.0;
+    let m = s.build().unwrap();
+    assert!(m.rows.iter().all(|r| r.h_drive == 1.0 && r.h_back == 1.0));
+    // the sliding speed vanishes at the pitch point: S_p/S_g = omega_g/omega_p = z1/z2 there
+    let g = m.geom;
+    let (sp, sg) = g.friction_arms(g.s_p);
+    assert!((sp / sg - g.z1 as f64 / g.z2 as f64).abs() < 1e-12);
+    assert_eq!(g.sliding_direction(g.s_p - 1e-9), -1.0);
+    assert_eq!(g.sliding_direction(g.s_p + 1e-9), 1.0);
+    // in the single zone, friction opposes the pinion in recess (h > 1) and helps in approach
+    let m = spec_40_40().build().unwrap();
+    let single: Vec<_> = m.rows.iter().filter(|r| r.single).collect();
+    assert!(single.first().unwrap().h_drive < 1.0 && single.last().unwrap().h_drive > 1.0);
+}
+
+#[test]
+fn breakage_shortens_contact_and_never_stiffens() {
+    let healthy = spec_40_40().build().unwrap();
+    let mut s = spec_40_40();
+    s.breakage = Some(BreakageSpec {
+        removed_height_mm: Some(1.0),
+        tip_radius_mm: None,
+        broken_cycle: 3,
+    });
+    let broken = s.build().unwrap();
+    let eb = broken.eps_b.unwrap();
+    assert!(eb < broken.geom.eps);
+    assert_eq!(broken.cycles, 40);
+    // compare the dimensionless mesh stiffness at equal positions (same k_av: healthy cycles)
+    assert!((broken.k_av - healthy.k_av).abs() < 1e-9 * healthy.k_av);
+    let mut ph = geardyn_model::presets::breakage();
+    let mut pb = ph.clone();
+    healthy.apply(&mut ph);
+    broken.apply(&mut pb);
+    ph.breakage = None;
+    let (mh, mb) = (
+        geardyn_model::MeshModel::new(&ph).unwrap(),
+        geardyn_model::MeshModel::new(&pb).unwrap(),
+    );
+    let mut lower = 0;
+    for i in 0..40 * 200 {
+        let u = (i as f64 + 0.37) / 200.0;
+        let (kh, kb) = (mh.stiffness_at(u.fract()), mb.stiffness_at(u));
+        // (1e-6: the broken cycle is sampled on its own grid; linear interpolation differs by less)
+        assert!(
+            kb <= kh * (1.0 + 1e-6),
+            "broken stiffer at {u}: {kb} > {kh}"
+        );
+        if kb < kh * 0.999 {
+            lower += 1;
+            assert!(u > 3.0 && u < 4.0, "only the broken cycle may change: {u}");
+        }
+    }
+    assert!(lower > 0);
+    // zone II of the broken cycle carries a single pair
+    let zone2: Vec<_> = broken.pieces.iter().filter(|p| p.zone_ii).collect();
+    assert_eq!(zone2.len(), 1);
+    assert!((zone2[0].start - (3.0 + eb - 1.0)).abs() < 1e-12);
+}
+
+#[test]
+fn normalisation_round_trips_and_matches_hand_values() {
+    let mut s = spec_40_40();
+    s.operating = Some(OperatingPoint {
+        speed_rpm: 1500.0,
+        torque_nm: 200.0,
+        error_amplitude_um: 5.0,
+        half_backlash_um: 10.0,
+    });
+    let m = s.build().unwrap();
+    // m_e from the inertias, for equal gears: I / (2 rb^2)
+    assert!((m.m_e - m.i_p / (2.0 * m.geom.rb1 * m.geom.rb1)).abs() < 1e-12 * m.m_e);
+    // solid disk of the pitch radius with a bore of half of it: I = rho B pi (r^4 - r_i^4)/2
+    let (r, ri) = (60e-3f64, 30e-3f64);
+    assert!((m.i_p - 7850.0 * 0.02 * PI * (r.powi(4) - ri.powi(4)) / 2.0).abs() < 1e-12);
+    let d = m.to_dimensionless(&s.operating.unwrap());
+    assert!((d.omega - 40.0 * 1500.0 * 2.0 * PI / 60.0 / (m.k_av / m.m_e).sqrt()).abs() < 1e-12);
+    assert!((d.d - 1.0).abs() < 1e-12 && (d.xi - 0.5).abs() < 1e-12);
+    let back = m.to_physical(&d);
+    assert!((back.speed_rpm - 1500.0).abs() < 1e-9 && (back.torque_nm - 200.0).abs() < 1e-9);
+    // the model built from it is consistent
+    let mut p = geardyn_model::presets::breakage();
+    m.apply(&mut p);
+    let mm = geardyn_model::MeshModel::new(&p).unwrap();
+    assert!((p.omega - d.omega).abs() < 1e-15);
+    // mean of k/k_av over the healthy cycle is 1
+    let mean: f64 = (0..4000)
+        .map(|i| mm.stiffness_at((i as f64 + 0.5) / 4000.0))
+        .sum::<f64>()
+        / 4000.0;
+    assert!((mean - 1.0).abs() < 1e-3, "{mean}");
+}
+
+#[test]
+fn internal_pair_builds_and_is_stiffer_per_pair_than_external() {
+    let mut s = spec_40_40();
+    s.kind = PairKind::Internal;
+    s.z1 = 30;
+    s.z2 = 70;
+    s.face_width_mm = 25.0;
+    s.youngs_modulus_gpa = 210.0;
+    let m = s.build().unwrap();
+    assert!(m.geom.eps > 1.9 && m.geom.eps < 2.0);
+    // the concave ring flank and its thick-rooted teeth make the internal mesh stiffer than an
+    // external 30/30 pair of the same module and width
+    let mut e = s.clone();
+    e.kind = PairKind::External;
+    e.z2 = 30;
+    let me = e.build().unwrap();
+    let single_i = m
+        .rows
+        .iter()
+        .filter(|r| r.single)
+        .map(|r| r.k_mesh)
+        .fold(0.0, f64::max);
+    let single_e = me
+        .rows
+        .iter()
+        .filter(|r| r.single)
+        .map(|r| r.k_mesh)
+        .fold(0.0, f64::max);
+    assert!(single_i > single_e, "{single_i} vs {single_e}");
+}
