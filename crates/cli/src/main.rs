@@ -5,6 +5,7 @@ mod bifurcation;
 mod lyapunov;
 mod run_config;
 mod simulate;
+mod stiffness;
 mod sweep;
 
 use clap::{Parser, Subcommand};
@@ -22,6 +23,9 @@ enum Command {
     Presets,
     /// Print the full resolved configuration as TOML (ready to edit and pass to --config).
     Show(run_config::ConfigArgs),
+    /// Mesh stiffness, load shares, friction factors and backlash over the excitation period
+    /// (healthy versus broken for a broken pair): stiffness.csv and plots.
+    Stiffness(stiffness::StiffnessArgs),
     /// Integrate the model and write trajectory, stroboscopic points, events, summary and plots.
     Simulate(simulate::SimulateArgs),
     /// Bifurcation diagram over a parameter (fixed, continuation or multi-initial), resumable.
@@ -43,7 +47,12 @@ fn main() {
             }
             Ok(())
         }
-        Command::Show(args) => args.resolve().map(|c| print!("{}", c.to_toml())),
+        Command::Show(args) => args.resolve().and_then(|c| {
+            print!("{}", c.to_toml());
+            print!("{}", geardyn_io::describe::describe(&c)?);
+            Ok(())
+        }),
+        Command::Stiffness(args) => stiffness::run(args),
         Command::Simulate(args) => simulate::run(args),
         Command::Bifurcation(args) => bifurcation::run(args),
         Command::Lyapunov(args) => lyapunov::run(args),

@@ -91,10 +91,8 @@ fn bad_input_gives_one_line_errors() {
         (vec!["simulate", "--set", "omgea=1"], "omgea"),
         (vec!["simulate", "--set", "D=-1"], "D_d"),
         (vec!["simulate", "--set", "omega=NaN"], "omega"),
-        (
-            vec!["simulate", "--set", "mu=1e6", "--preset", "breakage"],
-            "h > 0",
-        ),
+        (vec!["simulate", "--set", "arm=0.1", "--set", "mu=20"], "h > 0"),
+        (vec!["simulate", "--set", "mu=0.3", "--preset", "breakage"], "pair.mu"),
         (
             vec!["simulate", "--config", bad_toml.to_str().unwrap()],
             "malformed",
@@ -244,4 +242,53 @@ fn lyapunov_and_response_commands() {
     ]);
     assert_ne!(code, 0);
     assert!(err.contains("unknown section 'foo'"), "{err}");
+}
+
+#[test]
+fn stiffness_command_and_physical_show() {
+    let d = tmp("stiff");
+    let (code, out, err) = geardyn(&[
+        "stiffness",
+        "--preset",
+        "breakage",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("eps_b"), "{out}");
+    let csv = std::fs::read_to_string(d.join("stiffness.csv")).unwrap();
+    assert!(csv.starts_with("position_cycles,k_pair1_N_per_m"));
+    assert!(csv.lines().count() > 40 * 1024);
+    assert!(d.join("stiffness.png").exists() && d.join("stiffness_detail.svg").exists());
+    let (code, out, _) = geardyn(&["show", "--preset", "internal"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("k_av = 4.0000e8") && out.contains("rpm"),
+        "{out}"
+    );
+    // physical fields can be overridden, and bad ones are named
+    let (code, out, _) = geardyn(&[
+        "show",
+        "--preset",
+        "breakage",
+        "--set",
+        "pair.breakage.removed_height_mm=0.5",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("removed_height_mm = 0.5"));
+    let (code, _, err) = geardyn(&[
+        "show",
+        "--preset",
+        "breakage",
+        "--set",
+        "pair.face_width_mm=-3",
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("face_width_mm") && err.contains("(0, inf)"),
+        "{err}"
+    );
+    let (code, _, err) = geardyn(&["simulate", "--preset", "breakage", "--set", "mu=0.3"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("pair.mu"), "{err}");
 }

@@ -3,6 +3,7 @@
 
 use geardyn_analysis::simulate::{Method, SimOptions};
 use geardyn_model::{presets, MeshModel, ModelError, ModelParams};
+use geardyn_physics::{PairModel, PairSpec, PhysicsError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -50,8 +51,12 @@ impl Default for SimulationConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
-    /// Dimensionless model parameters (MODEL.md §1–3).
+    /// Dimensionless model parameters (MODEL.md §1–3). With a `[pair]`, its stiffness, zones,
+    /// breakage and friction come from the pair; the study parameters stay these.
     pub model: ModelParams,
+    /// Optional dimensional gear pair (mm, deg, GPa).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair: Option<PairSpec>,
     /// Simulation settings.
     #[serde(default)]
     pub simulation: SimulationConfig,
@@ -92,6 +97,9 @@ pub enum ConfigError {
     /// A model parameter error.
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// A physical pair error.
+    #[error(transparent)]
+    Physics(#[from] PhysicsError),
 }
 
 /// Names accepted by [`Config::set`] besides the model parameters.
@@ -109,8 +117,15 @@ pub const SIMULATION_NAMES: &[&str] = &[
 impl Config {
     /// The configuration of a built-in preset with default simulation settings.
     pub fn preset(name: &str) -> Result<Self, ConfigError> {
+        let mut model = presets::by_name(name)?;
+        let pair = geardyn_physics::presets::by_name(name);
+        if pair.is_some() {
+            // friction comes from the pair's friction arms
+            model.friction = Default::default();
+        }
         Ok(Config {
-            model: presets::by_name(name)?,
+            model,
+            pair,
             simulation: SimulationConfig::default(),
         })
     }
@@ -161,8 +176,12 @@ impl Config {
         self.set(name.trim(), value)
     }
 
-    /// Sets a model parameter or a simulation setting by name.
+    /// Sets a model parameter or a simulation setting by name; `pair.FIELD` (and
+    /// `pair.operating.FIELD`, `pair.breakage.FIELD`) set fields of the physical pair.
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ConfigError> {
+        if let Some(field) = name.strip_prefix("pair.") {
+            return self.set_pair(field, value);
+        }
         let s = &mut self.simulation;
         let as_count = |v: f64| -> Result<u64, ConfigError> {
             if v >= 0.0 && v.fract() == 0.0 && v < 1e12 {
@@ -196,10 +215,49 @@ impl Config {
         Ok(())
     }
 
+    fn set_pair(&mut self, field: &str, value: f64) -> Result<(), ConfigError> {
+        let pair = self.pair.as_ref().ok_or_else(|| {
+            ConfigError::Model(ModelError::Inconsistent {
+                field: format!("pair.{field}"),
+                reason: "this configuration has no [pair] (use the breakage or internal preset, or add one)".into(),
+            })
+        })?;
+        let mut v = toml::Value::try_from(pair).expect("pair serialises");
+        let parts: Vec<&str> = field.split('.').collect();
+        if !set_path(&mut v, &parts, value) {
+            return Err(ConfigError::SetSyntax(format!("pair.{field}={value}")));
+        }
+        let spec: PairSpec = v
+            .try_into()
+            .map_err(|e: toml::de::Error| ConfigError::Parse {
+                path: "--set".into(),
+                msg: format!("pair.{field}: {}", e.message()),
+            })?;
+        self.pair = Some(spec);
+        Ok(())
+    }
+
+    /// The physical pair model, if the configuration has a `[pair]`.
+    pub fn pair_model(&self) -> Result<Option<PairModel>, ConfigError> {
+        Ok(match &self.pair {
+            Some(p) => Some(p.build()?),
+            None => None,
+        })
+    }
+
+    /// The dimensionless parameters the model is built from (tables filled from the pair).
+    pub fn effective_params(&self) -> Result<ModelParams, ConfigError> {
+        let mut p = self.model.clone();
+        if let Some(pm) = self.pair_model()? {
+            pm.apply(&mut p);
+        }
+        Ok(p)
+    }
+
     /// Validates everything and builds the model.
     pub fn build_model(&self) -> Result<MeshModel, ConfigError> {
         self.sim_options()?;
-        Ok(MeshModel::new(&self.model)?)
+        Ok(MeshModel::new(&self.effective_params()?)?)
     }
 
     /// Simulation options (validated).
@@ -271,6 +329,33 @@ impl Config {
             tau0: s.tau0,
             max_period: 32,
         })
+    }
+}
+
+/// Sets `value` at a dotted path of a TOML table, creating intermediate tables; integers stay
+/// integers when the value is whole.
+fn set_path(v: &mut toml::Value, parts: &[&str], value: f64) -> bool {
+    let Some(table) = v.as_table_mut() else {
+        return false;
+    };
+    match parts {
+        [] => false,
+        [last] => {
+            let new = match table.get(*last) {
+                Some(toml::Value::Integer(_)) if value.fract() == 0.0 => {
+                    toml::Value::Integer(value as i64)
+                }
+                _ => toml::Value::Float(value),
+            };
+            table.insert(last.to_string(), new);
+            true
+        }
+        [first, rest @ ..] => {
+            let child = table
+                .entry(first.to_string())
+                .or_insert_with(|| toml::Value::Table(Default::default()));
+            set_path(child, rest, value)
+        }
     }
 }
 

@@ -4,6 +4,7 @@
 
 pub mod checkpoint;
 pub mod config;
+pub mod describe;
 pub mod output;
 pub mod plot;
 pub mod sweep_output;

@@ -241,6 +241,12 @@ impl MeshModel {
                 }
             }
             StiffnessForm::Zoned { pieces } => {
+                if fr.mu != 0.0 {
+                    return Err(ModelError::Inconsistent {
+                        field: "friction.mu".into(),
+                        reason: "has no effect on a physical pair, whose friction factors come from pair.mu: set pair.mu instead".into(),
+                    });
+                }
                 if pieces.is_empty() {
                     return Err(ModelError::Inconsistent {
                         field: "stiffness.pieces".into(),

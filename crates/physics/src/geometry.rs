@@ -256,16 +256,12 @@ impl PairGeometry {
         }
         let eps = (s_d - s_a) / pb;
         // tooth tip must not be pointed
-        for (name, ra, rb, half, z) in [("pinion", ra1, rb1, half1, z1)] {
-            let aa = (rb / ra).acos();
-            let tip_half = half - inv(aa);
-            if tip_half <= 0.0 {
-                return Err(PhysicsError::Geometry(format!(
-                    "{name} teeth are pointed (tip thickness {:.4} mm): reduce the addendum or the profile shift",
-                    2.0 * ra * tip_half * 1e3
-                )));
-            }
-            let _ = z;
+        let tip_half = half1 - inv((rb1 / ra1).acos());
+        if tip_half <= 0.0 {
+            return Err(PhysicsError::Geometry(format!(
+                "pinion teeth are pointed (tip thickness {:.4} mm): reduce the addendum or the profile shift",
+                2.0 * ra1 * tip_half * 1e3
+            )));
         }
         Ok(PairGeometry {
             kind: i.kind,

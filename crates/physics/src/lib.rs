@@ -6,12 +6,16 @@
 //! SI units throughout the API (m, rad, N, Pa, kg); the config table `[pair]` uses mm, degrees
 //! and GPa and says so in its field names.
 #![warn(missing_docs)]
+// `!(v > 0.0)` is deliberate: it rejects NaN along with the out-of-range values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+#![allow(clippy::manual_range_contains)]
 
 pub mod breakage;
 pub mod error;
 pub mod geometry;
 pub mod mesh_stiffness;
 pub mod pair;
+pub mod presets;
 pub mod tooth;
 
 pub use error::PhysicsError;

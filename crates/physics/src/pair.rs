@@ -127,6 +127,10 @@ pub struct PairSpec {
     pub samples_per_cycle: u32,
     /// Characteristic length `b_c` (µm) of the dimensionless displacement.
     pub characteristic_length_um: f64,
+    /// Prescribed mean mesh stiffness `k_av` (N/m): the computed tables are scaled to it (seed B
+    /// states `k_av = 4e8 N/m` for its pair). Default: the potential-energy value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_stiffness_n_per_m: Option<f64>,
     /// Damping ratio `zeta` (sets `c = 2 zeta`); default: keep `model.c`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping_ratio: Option<f64>,
@@ -228,6 +232,9 @@ impl PairSpec {
                 self.samples_per_cycle as f64,
                 "64 ..= 65536",
             ));
+        }
+        if let Some(k) = self.mean_stiffness_n_per_m {
+            pos("mean_stiffness_n_per_m", k, "(0, inf) N/m")?;
         }
         if let Some(z) = self.damping_ratio {
             if !(z >= 0.0 && z < 1.0) {
@@ -459,7 +466,12 @@ impl PairSpec {
                 k_int += f * w * r.k_mesh;
             }
         }
-        let k_av = k_int;
+        // optional prescribed mean: scale every stiffness (shares and friction are unchanged)
+        let scale = match self.mean_stiffness_n_per_m {
+            Some(k) => k / k_int,
+            None => 1.0,
+        };
+        let k_av = k_int * scale;
         let broken = if eps_b.is_some() {
             Some(sample_cycle(true))
         } else {
@@ -478,7 +490,7 @@ impl PairSpec {
                     end: c as f64 + bnd,
                     single: *single,
                     zone_ii: *zone_ii,
-                    k: rows.iter().map(|r| r.k_mesh / k_av).collect(),
+                    k: rows.iter().map(|r| r.k_mesh * scale / k_av).collect(),
                     h_drive: rows.iter().map(|r| r.h_drive).collect(),
                     h_back: rows.iter().map(|r| r.h_back).collect(),
                 });
@@ -547,7 +559,6 @@ impl PairModel {
         p.stiffness = StiffnessForm::Zoned {
             pieces: self.pieces.clone(),
         };
-        p.friction.mu = 0.0; // friction is in the tables
         p.breakage = self.eps_b.map(|eb| Breakage {
             z_p: self.geom.z1,
             broken_cycle: self.spec.breakage.map_or(0, |b| b.broken_cycle),

@@ -30,6 +30,7 @@ fn spec_40_40() -> PairSpec {
         breakage: None,
         samples_per_cycle: 512,
         characteristic_length_um: 10.0,
+        mean_stiffness_n_per_m: None,
         damping_ratio: None,
         operating: None,
     }
@@ -234,6 +235,7 @@ fn breakage_shortens_contact_and_never_stiffens() {
     // compare the dimensionless mesh stiffness at equal positions (same k_av: healthy cycles)
     assert!((broken.k_av - healthy.k_av).abs() < 1e-9 * healthy.k_av);
     let mut ph = geardyn_model::presets::breakage();
+    ph.friction = Default::default(); // friction comes from the pair
     let mut pb = ph.clone();
     healthy.apply(&mut ph);
     broken.apply(&mut pb);
@@ -285,6 +287,7 @@ fn normalisation_round_trips_and_matches_hand_values() {
     assert!((back.speed_rpm - 1500.0).abs() < 1e-9 && (back.torque_nm - 200.0).abs() < 1e-9);
     // the model built from it is consistent
     let mut p = geardyn_model::presets::breakage();
+    p.friction = Default::default(); // friction comes from the pair
     m.apply(&mut p);
     let mm = geardyn_model::MeshModel::new(&p).unwrap();
     assert!((p.omega - d.omega).abs() < 1e-15);
@@ -325,4 +328,19 @@ fn internal_pair_builds_and_is_stiffer_per_pair_than_external() {
         .map(|r| r.k_mesh)
         .fold(0.0, f64::max);
     assert!(single_i > single_e, "{single_i} vs {single_e}");
+}
+
+#[test]
+fn friction_factor_magnitude_matches_hand_value() {
+    // equal gears: g = m_e R_b (S_p + S_g)/I = N1N2/(2 R_b) * 2 = tan(alpha_w); in the single
+    // zone h = 1 -+ mu tan(alpha_w)
+    let m = spec_40_40().build().unwrap();
+    let expect = 0.15 * m.geom.alpha_w.tan();
+    for r in m.rows.iter().filter(|r| r.single) {
+        assert!(
+            ((r.h_drive - 1.0).abs() - expect).abs() < 1e-12,
+            "{}",
+            r.h_drive
+        );
+    }
 }

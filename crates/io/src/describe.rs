@@ -1,0 +1,84 @@
+//! Human-readable derived quantities of a configuration (printed by `geardyn show` as TOML
+//! comments, so the output stays a valid config file).
+
+use crate::config::{Config, ConfigError};
+use geardyn_physics::pair::Dimensionless;
+use std::fmt::Write;
+
+/// Derived quantities as `# ` comment lines.
+pub fn describe(cfg: &Config) -> Result<String, ConfigError> {
+    let mut s = String::new();
+    let p = cfg.effective_params()?;
+    let model = cfg.build_model()?;
+    let _ = writeln!(s, "# --- derived quantities (comments; not read back) ---");
+    let _ = writeln!(
+        s,
+        "# contact ratio eps = {:.4}{}; excitation period = {} mesh cycle(s) = {:.6} (dimensionless time)",
+        p.eps,
+        p.breakage.map_or(String::new(), |b| format!(", broken tooth eps_b = {:.4} (cycle {})", b.eps_b, b.broken_cycle)),
+        model.cycles_per_period(),
+        model.excitation_period()
+    );
+    if let Some(pm) = cfg.pair_model()? {
+        let g = &pm.geom;
+        let _ = writeln!(
+            s,
+            "# geometry: centre distance {:.4} mm, operating pressure angle {:.4} deg, base pitch {:.4} mm, path of contact {:.4} mm",
+            g.a_w * 1e3,
+            g.alpha_w.to_degrees(),
+            g.pb * 1e3,
+            (g.s_d - g.s_a) * 1e3
+        );
+        let _ = writeln!(
+            s,
+            "# radii (mm): pinion base {:.4} tip {:.4} root {:.4}; gear base {:.4} tip {:.4} root {:.4}",
+            g.rb1 * 1e3,
+            g.ra1 * 1e3,
+            g.rf1 * 1e3,
+            g.rb2 * 1e3,
+            g.ra2 * 1e3,
+            g.rf2 * 1e3
+        );
+        let kmin = pm
+            .rows
+            .iter()
+            .map(|r| r.k_mesh)
+            .fold(f64::INFINITY, f64::min);
+        let kmax = pm.rows.iter().map(|r| r.k_mesh).fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "# mesh stiffness: k_av = {:.4e} N/m (range {:.4e} .. {:.4e}); m_e = {:.4e} kg (I_p = {:.4e}, I_g = {:.4e} kg m^2)",
+            pm.k_av, kmin, kmax, pm.m_e, pm.i_p, pm.i_g
+        );
+        let _ = writeln!(
+            s,
+            "# omega_n = sqrt(k_av/m_e) = {:.4e} rad/s ({:.2} Hz); b_c = {:.3} um",
+            pm.omega_n,
+            pm.omega_n / (2.0 * std::f64::consts::PI),
+            pm.b_c * 1e6
+        );
+        let op = pm.to_physical(&Dimensionless {
+            omega: p.omega,
+            load: p.load,
+            xi: p.xi,
+            d: p.d_single,
+        });
+        let _ = writeln!(
+            s,
+            "# operating point of omega = {}, F = {}, xi = {}, D = {}: pinion {:.2} rpm, torque {:.4} N m, E_a = {:.4} um, half backlash b = {:.4} um",
+            p.omega, p.load, p.xi, p.d_single, op.speed_rpm, op.torque_nm, op.error_amplitude_um, op.half_backlash_um
+        );
+        let per = pm.to_physical(&Dimensionless {
+            omega: 1.0,
+            load: 1.0,
+            xi: 1.0,
+            d: 1.0,
+        });
+        let _ = writeln!(
+            s,
+            "# scales: omega = 1 <-> {:.2} rpm; F = 1 <-> {:.4} N m; xi = 1 <-> {:.4} um",
+            per.speed_rpm, per.torque_nm, per.error_amplitude_um
+        );
+    }
+    Ok(s)
+}
