@@ -91,8 +91,14 @@ fn bad_input_gives_one_line_errors() {
         (vec!["simulate", "--set", "omgea=1"], "omgea"),
         (vec!["simulate", "--set", "D=-1"], "D_d"),
         (vec!["simulate", "--set", "omega=NaN"], "omega"),
-        (vec!["simulate", "--set", "arm=0.1", "--set", "mu=20"], "h > 0"),
-        (vec!["simulate", "--set", "mu=0.3", "--preset", "breakage"], "pair.mu"),
+        (
+            vec!["simulate", "--set", "arm=0.1", "--set", "mu=20"],
+            "h > 0",
+        ),
+        (
+            vec!["simulate", "--set", "mu=0.3", "--preset", "breakage"],
+            "pair.mu",
+        ),
         (
             vec!["simulate", "--config", bad_toml.to_str().unwrap()],
             "malformed",
