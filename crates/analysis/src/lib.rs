@@ -4,6 +4,8 @@
 //! Units are those of the model: dimensionless time `tau`, displacement in `b_c`.
 #![warn(missing_docs)]
 
+pub mod attractor;
+pub mod basins;
 pub mod bifurcation;
 pub mod driver;
 pub mod generic;

@@ -318,10 +318,10 @@ impl<'a> Recorder<'a> {
     }
 }
 
-impl Observer<MeshModel, 2> for Recorder<'_> {
+impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
     fn on_step(
         &mut self,
-        sys: &MeshModel,
+        sys: &&'m MeshModel,
         step: &Step<2>,
         before: &MeshMode,
         stop: Stop,
@@ -492,7 +492,7 @@ pub enum SimError {
 /// assert_eq!(summarize(&model, &res, &opts).period, 1);
 /// ```
 pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<SimResult, SimError> {
-    let mut integ = Integrator::new(model.clone(), opts.method.scheme(model), opts.tau0, y0)?;
+    let mut integ = Integrator::new(model, opts.method.scheme(model), opts.tau0, y0)?;
     let period = model.excitation_period();
     run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
     let mut rec = Recorder::new(model, opts.trajectory, opts.samples_per_cycle, integ.t());

@@ -188,3 +188,42 @@ pub trait HybridSystem<const N: usize> {
         f64::INFINITY
     }
 }
+
+/// A shared reference to a system is a system: many integrators (one per basin cell, say) can
+/// borrow one model instead of cloning its tables.
+impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
+    type Mode = S::Mode;
+    type TimeTerms = S::TimeTerms;
+    #[inline(always)]
+    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode {
+        (**self).initial_mode(t, y)
+    }
+    #[inline(always)]
+    fn time_terms(&self, t: f64) -> S::TimeTerms {
+        (**self).time_terms(t)
+    }
+    #[inline(always)]
+    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, dy: &mut [f64; N]) {
+        (**self).rhs(t, tt, y, mode, dy)
+    }
+    #[inline(always)]
+    fn guards(&self, t: f64, y: &[f64; N], mode: &S::Mode, g: &mut Guards) {
+        (**self).guards(t, y, mode, g)
+    }
+    #[inline(always)]
+    fn on_event(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> EventAction {
+        (**self).on_event(t, y, mode, index)
+    }
+    #[inline(always)]
+    fn next_breakpoint(&self, t: f64, mode: &S::Mode) -> f64 {
+        (**self).next_breakpoint(t, mode)
+    }
+    #[inline(always)]
+    fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode) {
+        (**self).on_breakpoint(t, y, mode)
+    }
+    #[inline(always)]
+    fn max_step(&self) -> f64 {
+        (**self).max_step()
+    }
+}

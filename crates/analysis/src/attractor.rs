@@ -1,0 +1,407 @@
+//! Automatic attractor identification on the stroboscopic section (MODEL.md §5).
+//!
+//! A trajectory is integrated period by period. After every period its stroboscopic point is
+//! compared with the known periodic attractors: when `2n` consecutive points (n = the attractor's
+//! period) each lie within `capture_tol` of the attractor's points, in cyclic order, and the
+//! distance has not grown over the last period, the run stops early and is assigned to that
+//! attractor. This is a strong (not a formal) proof of convergence: the orbit is stable (it was
+//! found as an attractor) and the trajectory sits in a contracting neighbourhood of it; the
+//! tolerance (default 1e-4 of the state scale) is far below typical basin sizes.
+//! Otherwise, after `max_transient` periods, `record` periods are recorded and summarised into a
+//! [`Descriptor`] (period, `n-p-q-r-s` label, healthy flag, section points, bounding box).
+//!
+//! Two descriptors match when (periodic) they have the same period and every point of one lies
+//! within `match_tol` of a point of the other, or (chaotic) each cloud has at least 90% of its
+//! points inside the other's bounding box enlarged by 5%.
+
+use crate::driver::{run_periods, Discard, Observer};
+use crate::period::minimal_period;
+use crate::simulate::{simulate, summarize, SimOptions};
+use geardyn_model::MeshModel;
+use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError};
+use serde::{Deserialize, Serialize};
+
+/// A system whose attractors can be identified: a 2-dimensional [`HybridSystem`] with a
+/// stroboscopic period and a way to record and describe a steady state. The gear model records
+/// labels, P_ID and forces; [`StrobeOnly`] describes any system by its stroboscopic points.
+pub trait Recordable: HybridSystem<2> + Sync {
+    /// Stroboscopic period.
+    fn strobe_period(&self) -> f64;
+    /// Integration scheme for these settings.
+    fn scheme(&self, sim: &SimOptions) -> Scheme;
+    /// Records `sim.record_periods` periods from `(t0, y0)` and describes the steady state.
+    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError>;
+}
+
+impl Recordable for MeshModel {
+    fn strobe_period(&self) -> f64 {
+        self.excitation_period()
+    }
+    fn scheme(&self, sim: &SimOptions) -> Scheme {
+        sim.method.scheme(self)
+    }
+    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
+        let rec_opts = SimOptions {
+            transient_periods: 0,
+            tau0: t0,
+            ..*sim
+        };
+        let res = simulate(self, y0, &rec_opts).map_err(|e| match e {
+            crate::simulate::SimError::Solver(s) => s,
+        })?;
+        let s = summarize(self, &res, &rec_opts);
+        let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        Ok(Descriptor::new(
+            s.period,
+            s.label,
+            s.healthy,
+            &pts,
+            s.max_force,
+            s.p_id,
+        ))
+    }
+}
+
+/// Any 2-dimensional system described by its stroboscopic points alone (label `P<n>` or
+/// `chaotic`; "healthy" = periodic).
+pub struct StrobeOnly<S> {
+    /// The system.
+    pub sys: S,
+    /// Stroboscopic period.
+    pub period: f64,
+    /// Integration scheme.
+    pub scheme: Scheme,
+}
+
+impl<S: HybridSystem<2>> HybridSystem<2> for StrobeOnly<S> {
+    type Mode = S::Mode;
+    type TimeTerms = S::TimeTerms;
+    fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> S::Mode {
+        self.sys.initial_mode(t, y)
+    }
+    fn time_terms(&self, t: f64) -> S::TimeTerms {
+        self.sys.time_terms(t)
+    }
+    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; 2], m: &S::Mode, dy: &mut [f64; 2]) {
+        self.sys.rhs(t, tt, y, m, dy)
+    }
+    fn guards(&self, t: f64, y: &[f64; 2], m: &S::Mode, g: &mut geardyn_solvers::Guards) {
+        self.sys.guards(t, y, m, g)
+    }
+    fn on_event(
+        &self,
+        t: f64,
+        y: &mut [f64; 2],
+        m: &mut S::Mode,
+        i: usize,
+    ) -> geardyn_solvers::EventAction {
+        self.sys.on_event(t, y, m, i)
+    }
+    fn next_breakpoint(&self, t: f64, m: &S::Mode) -> f64 {
+        self.sys.next_breakpoint(t, m)
+    }
+    fn on_breakpoint(&self, t: f64, y: &mut [f64; 2], m: &mut S::Mode) {
+        self.sys.on_breakpoint(t, y, m)
+    }
+    fn max_step(&self) -> f64 {
+        self.sys.max_step()
+    }
+}
+
+struct Collect(Vec<[f64; 2]>);
+impl<S: HybridSystem<2>> Observer<S, 2> for Collect {
+    fn on_strobe(&mut self, _t: f64, y: &[f64; 2]) {
+        self.0.push(*y);
+    }
+}
+
+impl<S: HybridSystem<2> + Sync> Recordable for StrobeOnly<S> {
+    fn strobe_period(&self) -> f64 {
+        self.period
+    }
+    fn scheme(&self, _sim: &SimOptions) -> Scheme {
+        self.scheme
+    }
+    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
+        let mut it = Integrator::new(self, self.scheme, t0, y0)?;
+        let mut c = Collect(Vec::new());
+        run_periods(&mut it, self.period, sim.record_periods, &mut c)?;
+        let n = minimal_period(&c.0, sim.max_period).unwrap_or(0);
+        let label = if n > 0 {
+            format!("P{n}")
+        } else {
+            "chaotic".to_string()
+        };
+        Ok(Descriptor::new(n, label, n > 0, &c.0, 0.0, 0.0))
+    }
+}
+
+/// Compact description of an attractor.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Descriptor {
+    /// Period in excitation periods (0: chaotic or quasi-periodic).
+    pub period: usize,
+    /// Motion label.
+    pub label: String,
+    /// Healthy (periodic, no back-side contact or impact).
+    pub healthy: bool,
+    /// Stroboscopic points: the `period` points of a periodic orbit, or up to 128 points of a
+    /// chaotic one.
+    pub points: Vec<[f64; 2]>,
+    /// Bounding box `[xmin, xmax, vmin, vmax]` of the points.
+    pub bbox: [f64; 4],
+    /// Maximum mesh force on the attractor.
+    pub max_force: f64,
+    /// Dynamic instability proportion.
+    pub p_id: f64,
+}
+
+/// Tolerances and lengths of the identification.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct IdentifyOptions {
+    /// Simulation settings (method; `transient_periods` is the most before recording;
+    /// `record_periods` the recorded length of a new attractor).
+    pub sim: SimOptions,
+    /// Early-capture tolerance (absolute, in state units).
+    pub capture_tol: f64,
+    /// Matching tolerance of periodic descriptors.
+    pub match_tol: f64,
+    /// `|x|` or `|x'|` beyond which a run counts as divergent.
+    pub divergence: f64,
+    /// Allow early capture.
+    pub early_capture: bool,
+}
+
+impl Default for IdentifyOptions {
+    fn default() -> Self {
+        IdentifyOptions {
+            sim: SimOptions {
+                transient_periods: 300,
+                record_periods: 64,
+                ..Default::default()
+            },
+            capture_tol: 1e-4,
+            match_tol: 1e-3,
+            divergence: 1e3,
+            early_capture: true,
+        }
+    }
+}
+
+/// Outcome of one trajectory.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Outcome {
+    /// Captured early by known attractor `id` after `periods` periods.
+    Captured {
+        /// Attractor index in the known list.
+        id: usize,
+        /// Periods integrated.
+        periods: u64,
+    },
+    /// Ran the whole transient and was recorded.
+    Recorded(Descriptor),
+    /// Left the bounded region.
+    Diverged,
+    /// The integrator failed.
+    Failed(String),
+}
+
+fn bbox(points: &[[f64; 2]]) -> [f64; 4] {
+    let mut b = [
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in points {
+        b[0] = b[0].min(p[0]);
+        b[1] = b[1].max(p[0]);
+        b[2] = b[2].min(p[1]);
+        b[3] = b[3].max(p[1]);
+    }
+    b
+}
+
+#[inline]
+fn dist(a: &[f64; 2], b: &[f64; 2]) -> f64 {
+    (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
+}
+
+impl Descriptor {
+    /// A descriptor from recorded stroboscopic points: the last `period` points of a periodic
+    /// orbit, or up to 128 evenly spread points of a chaotic one.
+    pub fn new(
+        period: usize,
+        label: String,
+        healthy: bool,
+        pts: &[[f64; 2]],
+        max_force: f64,
+        p_id: f64,
+    ) -> Self {
+        let points: Vec<[f64; 2]> = if period > 0 && pts.len() >= period {
+            pts[pts.len() - period..].to_vec()
+        } else {
+            let step = (pts.len() / 128).max(1);
+            pts.iter().step_by(step).copied().collect()
+        };
+        Descriptor {
+            period,
+            label,
+            healthy,
+            bbox: bbox(&points),
+            points,
+            max_force,
+            p_id,
+        }
+    }
+
+    /// Whether two descriptors describe the same attractor (see module doc).
+    pub fn matches(&self, other: &Descriptor, tol: f64) -> bool {
+        if self.period != other.period {
+            return false;
+        }
+        if self.period > 0 {
+            self.points
+                .iter()
+                .all(|p| other.points.iter().any(|q| dist(p, q) <= tol))
+                && other
+                    .points
+                    .iter()
+                    .all(|p| self.points.iter().any(|q| dist(p, q) <= tol))
+        } else {
+            let inside = |pts: &[[f64; 2]], b: &[f64; 4]| {
+                let (wx, wv) = (0.05 * (b[1] - b[0]) + tol, 0.05 * (b[3] - b[2]) + tol);
+                let n = pts
+                    .iter()
+                    .filter(|p| {
+                        p[0] >= b[0] - wx
+                            && p[0] <= b[1] + wx
+                            && p[1] >= b[2] - wv
+                            && p[1] <= b[3] + wv
+                    })
+                    .count();
+                n as f64 >= 0.9 * pts.len() as f64
+            };
+            inside(&self.points, &other.bbox) && inside(&other.points, &self.bbox)
+        }
+    }
+}
+
+struct Capture<'a> {
+    known: &'a [Descriptor],
+    tol: f64,
+    divergence: f64,
+    /// per known periodic attractor: (consecutive matches, phase index, last distance)
+    state: Vec<(usize, usize, f64)>,
+    captured: Option<usize>,
+    diverged: bool,
+}
+
+impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
+    fn on_strobe(&mut self, _t: f64, y: &[f64; 2]) {
+        if !(y[0].abs() < self.divergence && y[1].abs() < self.divergence) {
+            self.diverged = true;
+            return;
+        }
+        for (k, a) in self.known.iter().enumerate() {
+            let n = a.period;
+            if n == 0 || self.captured.is_some() {
+                continue;
+            }
+            let (run, phase, last) = self.state[k];
+            let (next_run, next_phase, d) = if run == 0 {
+                // look for the nearest point of the orbit
+                match a
+                    .points
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| (i, dist(y, p)))
+                    .min_by(|x, y| x.1.total_cmp(&y.1))
+                {
+                    Some((i, d)) if d <= self.tol => (1, (i + 1) % n, d),
+                    _ => (0, 0, f64::INFINITY),
+                }
+            } else {
+                let d = dist(y, &a.points[phase]);
+                if d <= self.tol {
+                    (run + 1, (phase + 1) % n, d)
+                } else {
+                    (0, 0, f64::INFINITY)
+                }
+            };
+            self.state[k] = (next_run, next_phase, d);
+            if next_run >= 2 * n && d <= last * 1.5 + 1e-14 {
+                self.captured = Some(k);
+            }
+        }
+    }
+}
+
+/// Integrates from `y0` and identifies the attractor reached (see module doc). `known` are the
+/// attractors found so far; the system is borrowed, not cloned.
+pub fn identify<S: Recordable>(
+    sys: &S,
+    y0: [f64; 2],
+    known: &[Descriptor],
+    opts: &IdentifyOptions,
+) -> Outcome {
+    let run = || -> Result<Outcome, SolverError> {
+        let mut it = Integrator::new(sys, sys.scheme(&opts.sim), opts.sim.tau0, y0)?;
+        let period = sys.strobe_period();
+        let mut cap = Capture {
+            known,
+            tol: opts.capture_tol,
+            divergence: opts.divergence,
+            state: vec![(0, 0, f64::INFINITY); known.len()],
+            captured: None,
+            diverged: false,
+        };
+        let mut done = 0u64;
+        while done < opts.sim.transient_periods {
+            if opts.early_capture && !known.is_empty() {
+                run_periods(&mut it, period, 1, &mut cap)?;
+            } else {
+                let chunk = opts.sim.transient_periods - done;
+                run_periods(&mut it, period, chunk, &mut Discard)?;
+                done += chunk;
+                continue;
+            }
+            done += 1;
+            if cap.diverged {
+                return Ok(Outcome::Diverged);
+            }
+            if let Some(id) = cap.captured {
+                return Ok(Outcome::Captured { id, periods: done });
+            }
+        }
+        let y = *it.y();
+        if !(y[0].abs() < opts.divergence && y[1].abs() < opts.divergence) {
+            return Ok(Outcome::Diverged);
+        }
+        Ok(Outcome::Recorded(sys.describe(it.t(), y, &opts.sim)?))
+    };
+    match run() {
+        Ok(o) => o,
+        Err(e) => Outcome::Failed(e.to_string()),
+    }
+}
+
+/// Merges the new descriptors of `outcomes` (in order) into `known`, returning for each outcome
+/// its attractor index, or `-1` (diverged) / `-2` (failed).
+pub fn assign(known: &mut Vec<Descriptor>, outcomes: &[Outcome], match_tol: f64) -> Vec<i64> {
+    outcomes
+        .iter()
+        .map(|o| match o {
+            Outcome::Captured { id, .. } => *id as i64,
+            Outcome::Recorded(d) => match known.iter().position(|k| k.matches(d, match_tol)) {
+                Some(i) => i as i64,
+                None => {
+                    known.push(d.clone());
+                    (known.len() - 1) as i64
+                }
+            },
+            Outcome::Diverged => -1,
+            Outcome::Failed(_) => -2,
+        })
+        .collect()
+}
