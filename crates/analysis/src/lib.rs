@@ -7,9 +7,11 @@
 pub mod attractor;
 pub mod basins;
 pub mod bifurcation;
+pub mod continuation;
 pub mod driver;
 pub mod generic;
 pub mod lyapunov;
+pub mod map2d;
 pub mod period;
 pub mod simulate;
 

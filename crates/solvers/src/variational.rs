@@ -90,3 +90,35 @@ pub fn saltation<const N: usize>(
     }
     s
 }
+
+/// A shared reference to a linearisable system is linearisable.
+impl<S: Variational<N>, const N: usize> Variational<N> for &S {
+    fn jacobian(
+        &self,
+        t: f64,
+        tt: &Self::TimeTerms,
+        y: &[f64; N],
+        mode: &Self::Mode,
+        jac: &mut [[f64; N]; N],
+    ) {
+        (**self).jacobian(t, tt, y, mode, jac)
+    }
+    fn guard_gradient(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        mode: &Self::Mode,
+        index: usize,
+    ) -> ([f64; N], f64) {
+        (**self).guard_gradient(t, y, mode, index)
+    }
+    fn reset_jacobian(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        mode: &Self::Mode,
+        index: usize,
+    ) -> [[f64; N]; N] {
+        (**self).reset_jacobian(t, y, mode, index)
+    }
+}

@@ -1,0 +1,404 @@
+//! Attractor continuation along a parameter — the "bifurcation and safety tree" (MODEL.md §5).
+//!
+//! At every value, the same `K` seeded initial states are integrated and their attractors
+//! identified ([`crate::attractor`]); the values are independent and run in parallel. Attractors
+//! of consecutive values are then matched into branches by **basin overlap** — how many of the
+//! same initial states go to the old and to the new attractor — and only where no initial state
+//! is shared, by descriptor distance. Events between consecutive values are reported: an
+//! attractor appears while others persist (incomplete bifurcation), disappears, doubles its
+//! period, turns chaotic, or several merge into one chaotic attractor.
+
+use crate::attractor::{assign, identify, Descriptor, IdentifyOptions, Outcome};
+use geardyn_model::{MeshModel, ModelError, ModelParams};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// Settings of a continuation.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ContinuationOptions {
+    /// Parameter name.
+    pub param: String,
+    /// Values, in order.
+    pub values: Vec<f64>,
+    /// Initial states per value.
+    pub ics: usize,
+    /// Seed of the initial states.
+    pub seed: u64,
+    /// Range of `x0`.
+    pub x0_range: (f64, f64),
+    /// Range of `v0`.
+    pub v0_range: (f64, f64),
+    /// Identification settings.
+    pub identify: IdentifyOptions,
+}
+
+/// Attractors found at one value.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ValueAttractors {
+    /// Index of the value.
+    pub index: usize,
+    /// Parameter value.
+    pub value: f64,
+    /// Attractors (in order of discovery).
+    pub attractors: Vec<Descriptor>,
+    /// Attractor of each initial state (-1 divergent, -2 failed).
+    pub assignment: Vec<i64>,
+}
+
+impl ValueAttractors {
+    /// Basin fraction of attractor `a` (over all initial states).
+    pub fn fraction(&self, a: usize) -> f64 {
+        self.assignment.iter().filter(|&&x| x == a as i64).count() as f64
+            / self.assignment.len().max(1) as f64
+    }
+}
+
+/// One row of the continuation table: an attractor at a value, on its branch.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BranchPoint {
+    /// Parameter value.
+    pub value: f64,
+    /// Branch id (stable along the parameter).
+    pub branch: usize,
+    /// Label.
+    pub label: String,
+    /// Period.
+    pub period: usize,
+    /// Healthy.
+    pub healthy: bool,
+    /// Basin fraction.
+    pub fraction: f64,
+    /// Maximum mesh force.
+    pub max_force: f64,
+    /// First stroboscopic point.
+    pub x: f64,
+    /// First stroboscopic point (velocity).
+    pub v: f64,
+}
+
+/// An event between two consecutive values.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ContinuationEvent {
+    /// Value before.
+    pub from: f64,
+    /// Value after.
+    pub to: f64,
+    /// Kind: `appearance`, `incomplete_bifurcation`, `disappearance`, `period_doubling`,
+    /// `period_change`, `transition_to_chaos`, `merger_into_chaos`, `exit_from_chaos`.
+    pub kind: String,
+    /// Branches involved.
+    pub branches: Vec<usize>,
+    /// Human-readable description.
+    pub text: String,
+}
+
+/// A parameter interval over which the set of attractors (branch and label) does not change.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Interval {
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Healthy attractors: `(branch, label, min fraction, max fraction)`.
+    pub healthy: Vec<(usize, String, f64, f64)>,
+    /// Unstable attractors.
+    pub unstable: Vec<(usize, String, f64, f64)>,
+}
+
+/// Continuation result.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ContinuationResult {
+    /// Parameter name.
+    pub param: String,
+    /// Table rows.
+    pub points: Vec<BranchPoint>,
+    /// Events.
+    pub events: Vec<ContinuationEvent>,
+    /// Intervals (the seeds' attractor-evolution table).
+    pub intervals: Vec<Interval>,
+    /// Fraction of divergent or failed initial states per value.
+    pub lost: Vec<(f64, f64)>,
+}
+
+/// Initial state `ic` (the same set at every value, so basins can be compared).
+pub fn initial_state(opts: &ContinuationOptions, ic: usize) -> [f64; 2] {
+    let mut rng =
+        ChaCha8Rng::seed_from_u64(opts.seed ^ (ic as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    [
+        rng.gen_range(opts.x0_range.0..=opts.x0_range.1),
+        rng.gen_range(opts.v0_range.0..=opts.v0_range.1),
+    ]
+}
+
+/// Attractors at one value (first quarter of the initial states without, the rest with early
+/// capture; deterministic).
+pub fn attractors_at(
+    model: &MeshModel,
+    index: usize,
+    value: f64,
+    opts: &ContinuationOptions,
+) -> ValueAttractors {
+    let k = opts.ics.max(1);
+    let first = k.div_ceil(4);
+    let mut known = Vec::new();
+    let mut assignment = vec![-2i64; k];
+    for (lo, hi) in [(0, first), (first, k)] {
+        let snapshot = known.clone();
+        let outs: Vec<Outcome> = (lo..hi)
+            .into_par_iter()
+            .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &opts.identify))
+            .collect();
+        let ids = assign(&mut known, &outs, opts.identify.match_tol);
+        assignment[lo..hi].copy_from_slice(&ids);
+    }
+    ValueAttractors {
+        index,
+        value,
+        attractors: known,
+        assignment,
+    }
+}
+
+/// Runs the continuation. `done` holds values finished by an interrupted run; `on_done` receives
+/// each newly finished value.
+pub fn continuation<F>(
+    base: &ModelParams,
+    opts: &ContinuationOptions,
+    done: &HashMap<usize, ValueAttractors>,
+    on_done: F,
+) -> Result<ContinuationResult, ModelError>
+where
+    F: Fn(&ValueAttractors) + Sync,
+{
+    let models: Vec<MeshModel> = opts
+        .values
+        .iter()
+        .map(|&v| {
+            let mut p = base.clone();
+            p.set(&opts.param, v)?;
+            MeshModel::new(&p)
+        })
+        .collect::<Result<_, _>>()?;
+    let per_value: Vec<ValueAttractors> = (0..opts.values.len())
+        .into_par_iter()
+        .map(|i| {
+            if let Some(v) = done.get(&i) {
+                return v.clone();
+            }
+            let r = attractors_at(&models[i], i, opts.values[i], opts);
+            on_done(&r);
+            r
+        })
+        .collect();
+    Ok(link(&opts.param, &per_value, opts.identify.match_tol))
+}
+
+/// Links the attractors of consecutive values into branches and derives events and intervals.
+pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> ContinuationResult {
+    let mut points = Vec::new();
+    let mut events = Vec::new();
+    let mut lost = Vec::new();
+    let mut next_branch = 0usize;
+    let mut prev_branch: Vec<usize> = Vec::new();
+    for (j, va) in per_value.iter().enumerate() {
+        let n = va.attractors.len();
+        let mut branch = vec![usize::MAX; n];
+        if j == 0 {
+            for b in branch.iter_mut() {
+                *b = next_branch;
+                next_branch += 1;
+            }
+        } else {
+            let pv = &per_value[j - 1];
+            // overlap[a][b]: initial states that went to old attractor b and now go to a
+            let mut overlap = vec![vec![0usize; pv.attractors.len()]; n];
+            for (now, before) in va.assignment.iter().zip(&pv.assignment) {
+                if *now >= 0 && *before >= 0 {
+                    overlap[*now as usize][*before as usize] += 1;
+                }
+            }
+            // greedy by decreasing overlap; a branch continues at most once
+            let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+            for (a, row) in overlap.iter().enumerate() {
+                for (b, &o) in row.iter().enumerate() {
+                    if o > 0 {
+                        pairs.push((o, a, b));
+                    }
+                }
+            }
+            pairs.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+            let mut taken_old = vec![false; pv.attractors.len()];
+            for &(_, a, b) in &pairs {
+                if branch[a] == usize::MAX && !taken_old[b] {
+                    branch[a] = prev_branch[b];
+                    taken_old[b] = true;
+                }
+            }
+            // no shared initial state: fall back to descriptor distance
+            for a in 0..n {
+                if branch[a] == usize::MAX {
+                    if let Some(b) = (0..pv.attractors.len()).find(|&b| {
+                        !taken_old[b]
+                            && pv.attractors[b].matches(&va.attractors[a], 10.0 * match_tol)
+                    }) {
+                        branch[a] = prev_branch[b];
+                        taken_old[b] = true;
+                    }
+                }
+            }
+            let persisting = branch.iter().filter(|b| **b != usize::MAX).count();
+            for a in 0..n {
+                if branch[a] == usize::MAX {
+                    branch[a] = next_branch;
+                    next_branch += 1;
+                    let d = &va.attractors[a];
+                    let kind = if persisting > 0 {
+                        "incomplete_bifurcation"
+                    } else {
+                        "appearance"
+                    };
+                    events.push(ContinuationEvent {
+                        from: pv.value,
+                        to: va.value,
+                        kind: kind.into(),
+                        branches: vec![branch[a]],
+                        text: format!(
+                            "{} attractor {} (branch {}) appears{}",
+                            if d.healthy { "healthy" } else { "unstable" },
+                            d.label,
+                            branch[a],
+                            if persisting > 0 {
+                                " while others persist"
+                            } else {
+                                ""
+                            }
+                        ),
+                    });
+                }
+            }
+            for b in 0..pv.attractors.len() {
+                let merged_into: Vec<usize> = (0..n).filter(|&a| overlap[a][b] > 0).collect();
+                if !taken_old[b] {
+                    // merged into another attractor, or disappeared
+                    let target = merged_into.iter().max_by_key(|&&a| overlap[a][b]).copied();
+                    match target {
+                        Some(a) if va.attractors[a].period == 0 => events.push(ContinuationEvent {
+                            from: pv.value,
+                            to: va.value,
+                            kind: "merger_into_chaos".into(),
+                            branches: vec![prev_branch[b], branch[a]],
+                            text: format!(
+                                "branch {} ({}) merges into the chaotic attractor of branch {}",
+                                prev_branch[b], pv.attractors[b].label, branch[a]
+                            ),
+                        }),
+                        _ => events.push(ContinuationEvent {
+                            from: pv.value,
+                            to: va.value,
+                            kind: "disappearance".into(),
+                            branches: vec![prev_branch[b]],
+                            text: format!(
+                                "branch {} ({}) disappears",
+                                prev_branch[b], pv.attractors[b].label
+                            ),
+                        }),
+                    }
+                }
+            }
+            for a in 0..n {
+                if let Some(b) = prev_branch.iter().position(|&x| x == branch[a]) {
+                    let (old, new) = (&pv.attractors[b], &va.attractors[a]);
+                    let kind = match (old.period, new.period) {
+                        (p, q) if p > 0 && q == 2 * p => Some("period_doubling"),
+                        (p, 0) if p > 0 => Some("transition_to_chaos"),
+                        (0, q) if q > 0 => Some("exit_from_chaos"),
+                        (p, q) if p != q => Some("period_change"),
+                        _ => None,
+                    };
+                    if let Some(kind) = kind {
+                        events.push(ContinuationEvent {
+                            from: pv.value,
+                            to: va.value,
+                            kind: kind.into(),
+                            branches: vec![branch[a]],
+                            text: format!("branch {}: {} -> {}", branch[a], old.label, new.label),
+                        });
+                    }
+                }
+            }
+        }
+        let lost_frac = va.assignment.iter().filter(|&&x| x < 0).count() as f64
+            / va.assignment.len().max(1) as f64;
+        lost.push((va.value, lost_frac));
+        for (a, d) in va.attractors.iter().enumerate() {
+            let p0 = d.points.first().copied().unwrap_or([f64::NAN; 2]);
+            points.push(BranchPoint {
+                value: va.value,
+                branch: branch[a],
+                label: d.label.clone(),
+                period: d.period,
+                healthy: d.healthy,
+                fraction: va.fraction(a),
+                max_force: d.max_force,
+                x: p0[0],
+                v: p0[1],
+            });
+        }
+        prev_branch = branch;
+    }
+    let intervals = intervals(per_value, &points);
+    ContinuationResult {
+        param: param.to_string(),
+        points,
+        events,
+        intervals,
+        lost,
+    }
+}
+
+fn intervals(per_value: &[ValueAttractors], points: &[BranchPoint]) -> Vec<Interval> {
+    let mut out: Vec<Interval> = Vec::new();
+    let mut last_key: Option<Vec<(usize, String)>> = None;
+    for va in per_value {
+        let here: Vec<&BranchPoint> = points.iter().filter(|p| p.value == va.value).collect();
+        let mut key: Vec<(usize, String)> =
+            here.iter().map(|p| (p.branch, p.label.clone())).collect();
+        key.sort();
+        if last_key.as_ref() == Some(&key) {
+            let iv = out.last_mut().expect("interval open");
+            iv.to = va.value;
+            for p in &here {
+                let list = if p.healthy {
+                    &mut iv.healthy
+                } else {
+                    &mut iv.unstable
+                };
+                if let Some(e) = list.iter_mut().find(|e| e.0 == p.branch) {
+                    e.2 = e.2.min(p.fraction);
+                    e.3 = e.3.max(p.fraction);
+                }
+            }
+        } else {
+            let mut iv = Interval {
+                from: va.value,
+                to: va.value,
+                healthy: vec![],
+                unstable: vec![],
+            };
+            for p in &here {
+                let e = (p.branch, p.label.clone(), p.fraction, p.fraction);
+                if p.healthy {
+                    iv.healthy.push(e);
+                } else {
+                    iv.unstable.push(e);
+                }
+            }
+            out.push(iv);
+            last_key = Some(key);
+        }
+    }
+    out
+}

@@ -1,0 +1,181 @@
+//! Two-parameter maps of scalar responses (maximum mesh force, P_ID, period, label class, TLE)
+//! over a grid of two model parameters (MODEL.md §5), in parallel, deterministic and resumable.
+
+use crate::lyapunov::{tle_variational, LyapunovOptions};
+use crate::simulate::{simulate, summarize, SimOptions};
+use geardyn_model::{MeshModel, ModelError, ModelParams};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// Settings of a map.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MapOptions {
+    /// Parameter on the x axis.
+    pub x_param: String,
+    /// Its values.
+    pub x_values: Vec<f64>,
+    /// Parameter on the y axis.
+    pub y_param: String,
+    /// Its values.
+    pub y_values: Vec<f64>,
+    /// Simulation settings.
+    pub sim: SimOptions,
+    /// Initial state.
+    pub y0: [f64; 2],
+    /// Also compute the TLE of each cell.
+    pub lyapunov: bool,
+}
+
+/// One cell of a map.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapCell {
+    /// Cell index `iy * nx + ix`.
+    pub index: usize,
+    /// x value.
+    pub x: f64,
+    /// y value.
+    pub y: f64,
+    /// Label (`failed: ...` or `invalid: ...` when no result).
+    pub label: String,
+    /// Period (0 chaotic / failed).
+    pub period: usize,
+    /// Healthy attractor.
+    pub healthy: bool,
+    /// Maximum mesh force.
+    pub max_force: f64,
+    /// Minimum mesh force.
+    pub min_force: f64,
+    /// Dynamic instability proportion.
+    pub p_id: f64,
+    /// Back-side impacts in the record.
+    pub impacts: u64,
+    /// TLE, if computed.
+    pub tle: Option<f64>,
+}
+
+impl MapCell {
+    /// Value of a metric by name: `max_force`, `min_force`, `p_id`, `period`, `tle`,
+    /// `healthy` (1/0), `class` (0 healthy periodic, 1 unstable periodic, 2 chaotic, 3 failed).
+    pub fn metric(&self, name: &str) -> Option<f64> {
+        let failed = self.label.starts_with("failed") || self.label.starts_with("invalid");
+        Some(match name {
+            _ if failed && name != "class" => f64::NAN,
+            "max_force" => self.max_force,
+            "min_force" => self.min_force,
+            "p_id" => self.p_id,
+            "period" => self.period as f64,
+            "tle" => self.tle.unwrap_or(f64::NAN),
+            "healthy" => f64::from(u8::from(self.healthy)),
+            "class" => {
+                if failed {
+                    3.0
+                } else if self.period == 0 {
+                    2.0
+                } else if self.healthy {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            _ => return None,
+        })
+    }
+}
+
+/// Metric names accepted by [`MapCell::metric`].
+pub const METRICS: &[&str] = &[
+    "max_force",
+    "min_force",
+    "p_id",
+    "period",
+    "tle",
+    "healthy",
+    "class",
+];
+
+fn params_at(
+    base: &ModelParams,
+    o: &MapOptions,
+    x: f64,
+    y: f64,
+) -> Result<ModelParams, ModelError> {
+    let mut p = base.clone();
+    p.set(&o.x_param, x)?;
+    p.set(&o.y_param, y)?;
+    Ok(p)
+}
+
+/// Computes the map. Parameter values are validated along both axes before any work; `done`
+/// holds cells of an interrupted run, `on_done` receives each newly finished cell.
+pub fn map2d<F>(
+    base: &ModelParams,
+    o: &MapOptions,
+    done: &HashMap<usize, MapCell>,
+    on_done: F,
+) -> Result<Vec<MapCell>, ModelError>
+where
+    F: Fn(&MapCell) + Sync,
+{
+    let (nx, ny) = (o.x_values.len(), o.y_values.len());
+    for &x in &o.x_values {
+        MeshModel::new(&params_at(base, o, x, o.y_values[0])?)?;
+    }
+    for &y in &o.y_values {
+        MeshModel::new(&params_at(base, o, o.x_values[0], y)?)?;
+    }
+    let cells: Vec<MapCell> = (0..nx * ny)
+        .into_par_iter()
+        .map(|index| {
+            if let Some(c) = done.get(&index) {
+                return c.clone();
+            }
+            let (x, y) = (o.x_values[index % nx], o.y_values[index / nx]);
+            let mut cell = MapCell {
+                index,
+                x,
+                y,
+                label: String::new(),
+                period: 0,
+                healthy: false,
+                max_force: 0.0,
+                min_force: 0.0,
+                p_id: 0.0,
+                impacts: 0,
+                tle: None,
+            };
+            match params_at(base, o, x, y).and_then(|p| MeshModel::new(&p)) {
+                Err(e) => cell.label = format!("invalid: {e}"),
+                Ok(m) => match simulate(&m, o.y0, &o.sim) {
+                    Err(e) => cell.label = format!("failed: {e}"),
+                    Ok(r) => {
+                        let s = summarize(&m, &r, &o.sim);
+                        cell.label = s.label;
+                        cell.period = s.period;
+                        cell.healthy = s.healthy;
+                        cell.max_force = s.max_force;
+                        cell.min_force = s.min_force;
+                        cell.p_id = s.p_id;
+                        cell.impacts = s.impacts;
+                        if o.lyapunov {
+                            let lo = LyapunovOptions {
+                                period: m.excitation_period(),
+                                transient_periods: 0,
+                                periods: o.sim.record_periods,
+                                d0: 1e-6,
+                            };
+                            let (t, y) = r.final_state;
+                            cell.tle =
+                                tle_variational::<_, 2, 4>(&m, o.sim.method.scheme(&m), t, y, &lo)
+                                    .ok()
+                                    .map(|l| l.tle);
+                        }
+                    }
+                },
+            }
+            on_done(&cell);
+            cell
+        })
+        .collect();
+    Ok(cells)
+}

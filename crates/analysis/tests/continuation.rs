@@ -1,0 +1,149 @@
+//! Attractor continuation and 2-parameter maps.
+
+use geardyn_analysis::attractor::IdentifyOptions;
+use geardyn_analysis::bifurcation::{linspace, run_sweep, SweepMode, SweepOptions, Task};
+use geardyn_analysis::continuation::{continuation, ContinuationOptions};
+use geardyn_analysis::map2d::{map2d, MapOptions};
+use geardyn_analysis::simulate::SimOptions;
+use geardyn_model::presets;
+use std::collections::HashMap;
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+fn copts(values: Vec<f64>) -> ContinuationOptions {
+    ContinuationOptions {
+        param: "omega".into(),
+        values,
+        ics: 24,
+        seed: 3,
+        x0_range: (-3.0, 3.0),
+        v0_range: (-2.0, 2.0),
+        identify: IdentifyOptions {
+            sim: SimOptions {
+                transient_periods: 300,
+                record_periods: 40,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    }
+}
+
+#[test]
+fn continuation_finds_both_attractors_of_the_hysteresis_window() {
+    let base = presets::classic();
+    // forward and backward sweeps over [1.4, 1.9] land on different attractors at omega = 1.8
+    let so = SweepOptions {
+        param: "omega".into(),
+        values: linspace(1.4, 1.9, 11),
+        mode: SweepMode::Sweep,
+        sim: SimOptions {
+            transient_periods: 300,
+            record_periods: 40,
+            ..Default::default()
+        },
+        y0: [0.0, 0.0],
+        sections: vec![],
+        lyapunov: false,
+    };
+    let sweep = run_sweep(&base, &so, &HashMap::new(), |_| {}).unwrap();
+    let label = |b: u8| {
+        sweep
+            .iter()
+            .find(|r| {
+                r.task
+                    == Task {
+                        index: 8,
+                        branch: b,
+                    }
+            })
+            .unwrap()
+            .runs[0]
+            .label
+            .clone()
+    };
+    let (up, down) = (label(1), label(2));
+    let o = copts(vec![1.75, 1.8, 1.85]);
+    let one = in_pool(1, || {
+        continuation(&base, &o, &HashMap::new(), |_| {}).unwrap()
+    });
+    let two = in_pool(2, || {
+        continuation(&base, &o, &HashMap::new(), |_| {}).unwrap()
+    });
+    assert_eq!(
+        serde_json::to_string(&one).unwrap(),
+        serde_json::to_string(&two).unwrap()
+    );
+    let at: Vec<_> = one.points.iter().filter(|p| p.value == 1.8).collect();
+    let labels: Vec<&String> = at.iter().map(|p| &p.label).collect();
+    assert!(
+        labels.contains(&&up) && labels.contains(&&down),
+        "sweeps {up} / {down}, continuation {labels:?}"
+    );
+    let total: f64 = at.iter().map(|p| p.fraction).sum::<f64>()
+        + one.lost.iter().find(|l| l.0 == 1.8).unwrap().1;
+    assert!((total - 1.0).abs() < 1e-12);
+    // branches persist across the window: no spurious appearance/disappearance
+    assert!(
+        one.events.iter().all(|e| e.kind != "disappearance"),
+        "{:?}",
+        one.events
+    );
+    assert!(!one.intervals.is_empty());
+}
+
+#[test]
+fn continuation_reports_period_doubling_of_c1() {
+    // C1 doubles its period between omega = 0.85 and 0.9
+    let base = presets::classic();
+    let mut o = copts(vec![0.84, 0.92]);
+    o.ics = 8;
+    o.x0_range = (-0.5, 0.5);
+    o.v0_range = (-0.1, 0.1);
+    let r = continuation(&base, &o, &HashMap::new(), |_| {}).unwrap();
+    assert!(
+        r.events.iter().any(|e| e.kind == "period_doubling"),
+        "{:?}\n{:?}",
+        r.events,
+        r.points
+    );
+}
+
+#[test]
+fn map_of_max_force_is_deterministic() {
+    let base = presets::classic();
+    let o = MapOptions {
+        x_param: "xi".into(),
+        x_values: linspace(0.05, 0.3, 4),
+        y_param: "F".into(),
+        y_values: linspace(0.02, 0.2, 3),
+        sim: SimOptions {
+            transient_periods: 200,
+            record_periods: 20,
+            ..Default::default()
+        },
+        y0: [0.0, 0.0],
+        lyapunov: false,
+    };
+    let a = in_pool(1, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
+    let b = in_pool(2, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
+    assert_eq!(
+        serde_json::to_string(&a).unwrap(),
+        serde_json::to_string(&b).unwrap()
+    );
+    assert_eq!(a.len(), 12);
+    // at fixed error amplitude the static load raises the maximum mesh force
+    assert!(a[0].max_force < a[8].max_force);
+    let mut bad = o.clone();
+    bad.y_values = vec![0.1, -0.5];
+    assert!(map2d(&base, &bad, &HashMap::new(), |_| {})
+        .unwrap_err()
+        .to_string()
+        .contains("F"));
+}
