@@ -8,6 +8,9 @@
 //! attractor appears while others persist (incomplete bifurcation), disappears, doubles its
 //! period, turns chaotic, or several merge into one chaotic attractor.
 
+// Branch matching indexes several parallel tables by attractor number.
+#![allow(clippy::needless_range_loop)]
+
 use crate::attractor::{assign, identify, Descriptor, IdentifyOptions, Outcome};
 use geardyn_model::{MeshModel, ModelError, ModelParams};
 use rand::{Rng, SeedableRng};

@@ -2,6 +2,7 @@
 
 mod bench;
 mod bifurcation;
+mod global;
 mod lyapunov;
 mod run_config;
 mod simulate;
@@ -34,6 +35,12 @@ enum Command {
     Lyapunov(lyapunov::LyapunovArgs),
     /// Frequency response: up and down continuation sweeps, RMS and peak-to-peak, jumps.
     Response(bifurcation::ResponseArgs),
+    /// Basins of attraction on a grid of initial states, with automatic attractor identification.
+    Basins(global::BasinArgs),
+    /// Attractor continuation along a parameter: branches, basin fractions, events (resumable).
+    Continuation(global::ContinuationArgs),
+    /// Two-parameter map of max mesh force, P_ID, period, TLE or motion class (resumable).
+    Map2d(global::MapArgs),
     /// Measure integrator and sweep speed on case C1 and print the figures.
     Bench(bench::BenchArgs),
 }
@@ -57,6 +64,9 @@ fn main() {
         Command::Bifurcation(args) => bifurcation::run(args),
         Command::Lyapunov(args) => lyapunov::run(args),
         Command::Response(args) => bifurcation::response(args),
+        Command::Basins(args) => global::basins_cmd(args),
+        Command::Continuation(args) => global::continuation_cmd(args),
+        Command::Map2d(args) => global::map_cmd(args),
         Command::Bench(args) => bench::run(args),
     };
     if let Err(e) = result {

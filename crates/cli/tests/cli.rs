@@ -298,3 +298,100 @@ fn stiffness_command_and_physical_show() {
     assert_ne!(code, 0);
     assert!(err.contains("pair.mu"), "{err}");
 }
+
+#[test]
+fn basins_continuation_and_map_commands() {
+    let d = tmp("basins");
+    let (code, out, err) = geardyn(&[
+        "basins",
+        "--set",
+        "omega=1.8",
+        "--grid",
+        "x:-3:3:24",
+        "--grid",
+        "v:-2:2:24",
+        "--transient",
+        "200",
+        "--periods",
+        "24",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("attractor #0") && out.contains("attractor #1"),
+        "{out}"
+    );
+    for f in [
+        "basins.csv",
+        "basins.npy",
+        "attractors.json",
+        "basins.png",
+        "basins.svg",
+    ] {
+        assert!(d.join(f).exists(), "{f}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("attractors.json")).unwrap()).unwrap();
+    let sum: f64 = json["attractors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a["fraction"].as_f64().unwrap())
+        .sum::<f64>()
+        + json["diverged"].as_f64().unwrap()
+        + json["failed"].as_f64().unwrap();
+    assert!((sum - 1.0).abs() < 1e-12);
+    let (code, _, err) = geardyn(&["basins", "--grid", "y:0:1:4", "--out", d.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--grid"), "{err}");
+
+    let c = tmp("cont");
+    let (code, out, err) = geardyn(&[
+        "continuation",
+        "--range",
+        "1.75:1.85:3",
+        "--ics",
+        "12",
+        "--transient",
+        "200",
+        "--periods",
+        "24",
+        "--out",
+        c.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("healthy {"), "{out}");
+    assert!(
+        c.join("continuation.csv").exists()
+            && c.join("continuation.json").exists()
+            && c.join("continuation.png").exists()
+    );
+
+    let m = tmp("map");
+    let (code, out, err) = geardyn(&[
+        "map2d",
+        "--x",
+        "xi:0.05:0.3:3",
+        "--y",
+        "F:0.02:0.2:3",
+        "--transient",
+        "100",
+        "--periods",
+        "10",
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("max_force in"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(m.join("map.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        10
+    );
+    let (code, _, err) = geardyn(&["map2d", "--metric", "nope", "--out", m.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("max_force"), "{err}");
+}

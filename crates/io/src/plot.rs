@@ -275,6 +275,182 @@ pub fn stacked_chart(
     Ok(())
 }
 
+/// A regular grid of coloured cells (`colors[iy * nx + ix]`).
+pub struct Raster<'a> {
+    /// x range and cell count.
+    pub x: (f64, f64, usize),
+    /// y range and cell count.
+    pub y: (f64, f64, usize),
+    /// Cell colours, row-major with y rows.
+    pub colors: &'a [RGBColor],
+}
+
+fn draw_raster<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    chart: &Chart,
+    r: &Raster,
+    legend: &[(String, RGBColor)],
+    colorbar: Option<(f64, f64)>,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let (w, _) = root.dim_in_pixel();
+    let (main, side) =
+        root.split_horizontally(w.saturating_sub(if colorbar.is_some() { 120 } else { 0 }));
+    let mut ctx = ChartBuilder::on(&main)
+        .caption(chart.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(r.x.0..r.x.1, r.y.0..r.y.1)
+        .map_err(|e| e.to_string())?;
+    ctx.configure_mesh()
+        .disable_mesh()
+        .x_desc(chart.x_label)
+        .y_desc(chart.y_label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let (dx, dy) = (
+        (r.x.1 - r.x.0) / r.x.2 as f64,
+        (r.y.1 - r.y.0) / r.y.2 as f64,
+    );
+    ctx.draw_series((0..r.x.2 * r.y.2).map(|c| {
+        let (ix, iy) = (c % r.x.2, c / r.x.2);
+        let x0 = r.x.0 + ix as f64 * dx;
+        let y0 = r.y.0 + iy as f64 * dy;
+        Rectangle::new([(x0, y0), (x0 + dx, y0 + dy)], r.colors[c].filled())
+    }))
+    .map_err(|e| e.to_string())?;
+    for (name, color) in legend {
+        let c = *color;
+        ctx.draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+            .map_err(|e| e.to_string())?
+            .label(name.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], c.filled()));
+    }
+    if !legend.is_empty() {
+        ctx.configure_series_labels()
+            .label_font(("sans-serif", 13))
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    if let Some((lo, hi)) = colorbar {
+        let mut cb = ChartBuilder::on(&side)
+            .margin_top(40)
+            .margin_bottom(56)
+            .margin_right(8)
+            .y_label_area_size(64)
+            .build_cartesian_2d(0.0..1.0, lo..hi.max(lo + 1e-12))
+            .map_err(|e| e.to_string())?;
+        cb.configure_mesh()
+            .disable_x_axis()
+            .disable_mesh()
+            .label_style(("sans-serif", 12))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let n = 100;
+        cb.draw_series((0..n).map(|i| {
+            let (a, b) = (
+                lo + (hi - lo) * i as f64 / n as f64,
+                lo + (hi - lo) * (i + 1) as f64 / n as f64,
+            );
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                colormap((i as f64 + 0.5) / n as f64).filled(),
+            )
+        }))
+        .map_err(|e| e.to_string())?;
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Writes a raster image (basins, maps) as `stem.png` and `stem.svg`, with a legend of named
+/// colours or a colour bar `(min, max)` of [`colormap`].
+pub fn raster_chart(
+    stem: &Path,
+    chart: &Chart,
+    r: &Raster,
+    legend: &[(String, RGBColor)],
+    colorbar: Option<(f64, f64)>,
+) -> Result<(), PlotError> {
+    register_font();
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    let err = |p: &Path, msg: String| PlotError {
+        path: p.display().to_string(),
+        msg,
+    };
+    draw_raster(
+        BitMapBackend::new(&png, (1000, 820)).into_drawing_area(),
+        chart,
+        r,
+        legend,
+        colorbar,
+    )
+    .map_err(|m| err(&png, m))?;
+    draw_raster(
+        SVGBackend::new(&svg, (1000, 820)).into_drawing_area(),
+        chart,
+        r,
+        legend,
+        colorbar,
+    )
+    .map_err(|m| err(&svg, m))?;
+    Ok(())
+}
+
+/// A perceptually ordered colour map (viridis, five stops, linear in between) for `t` in `[0, 1]`.
+pub fn colormap(t: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * 4.0;
+    let i = (x as usize).min(3);
+    let f = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let l = |p: f64, q: f64| (p + (q - p) * f).round() as u8;
+    RGBColor(l(a.0, b.0), l(a.1, b.1), l(a.2, b.2))
+}
+
+/// Colours of attractors: healthy ones in a blue–green family, unstable ones in a red–orange
+/// family, each in order of its id within the family.
+pub fn attractor_color(healthy: bool, k: usize) -> RGBColor {
+    const HEALTHY: [RGBColor; 6] = [
+        RGBColor(0, 114, 178),
+        RGBColor(0, 158, 115),
+        RGBColor(86, 180, 233),
+        RGBColor(0, 80, 120),
+        RGBColor(120, 200, 170),
+        RGBColor(40, 60, 200),
+    ];
+    const UNSTABLE: [RGBColor; 6] = [
+        RGBColor(213, 94, 0),
+        RGBColor(230, 159, 0),
+        RGBColor(204, 121, 167),
+        RGBColor(160, 30, 30),
+        RGBColor(240, 200, 80),
+        RGBColor(150, 60, 120),
+    ];
+    if healthy {
+        HEALTHY[k % HEALTHY.len()]
+    } else {
+        UNSTABLE[k % UNSTABLE.len()]
+    }
+}
+
 /// Keeps at most `max` points of a polyline, preserving each bucket's min and max in `y`
 /// (so peaks of a long time history survive decimation).
 pub fn decimate(points: &[(f64, f64)], max: usize) -> Vec<(f64, f64)> {

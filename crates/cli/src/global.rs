@@ -1,0 +1,676 @@
+//! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
+
+use crate::run_config::ConfigArgs;
+use crate::sweep::{parse_pair, parse_range, SimArgs};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+use geardyn_analysis::basins::{basins, Axis, BasinOptions};
+use geardyn_analysis::bifurcation::linspace;
+use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
+use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
+use geardyn_io::checkpoint::Checkpoint;
+use geardyn_io::output::{write_csv, write_json, write_text};
+use geardyn_io::plot::{
+    attractor_color, colormap, raster_chart, stacked_chart, Chart, Mark, Panel, Raster, Series,
+    PALETTE,
+};
+use geardyn_io::{npy, Config};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+fn progress(total: u64, done: u64, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(total);
+    pb.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed} elapsed, ETA {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(what.to_string());
+    pb.set_position(done);
+    pb.reset_eta();
+    pb
+}
+
+fn checkpoint<T: serde::Serialize + serde::de::DeserializeOwned>(
+    out: &Path,
+    cfg: &Config,
+    kind: &str,
+    settings: &impl serde::Serialize,
+) -> Result<(Checkpoint, Vec<T>)> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let key = serde_json::to_string(
+        &serde_json::json!({ "kind": kind, "config": cfg, "settings": settings }),
+    )?;
+    let (cp, done) = Checkpoint::open::<T>(&out.join("checkpoint.jsonl"), &key)?;
+    if !done.is_empty() {
+        eprintln!(
+            "resuming: {} items already computed in {}",
+            done.len(),
+            out.display()
+        );
+    }
+    Ok((cp, done))
+}
+
+fn identify_options(cfg: &Config, a: &IdentArgs) -> Result<IdentifyOptions> {
+    let mut sim = cfg.sim_options()?;
+    if let geardyn_analysis::simulate::Method::Dopri { rtol, atol } = &mut sim.method {
+        if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
+            bail!("bad --ident-rtol {}: allowed (0, 1e-3)", a.ident_rtol);
+        }
+        *rtol = a.ident_rtol;
+        *atol = atol.max(a.ident_rtol * 1e-3);
+    }
+    if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
+        bail!("bad --capture-tol {}: allowed (0, 1)", a.capture_tol);
+    }
+    Ok(IdentifyOptions {
+        sim,
+        capture_tol: a.capture_tol,
+        match_tol: 10.0 * a.capture_tol,
+        early_capture: !a.no_early_stop,
+        ..Default::default()
+    })
+}
+
+/// Attractor-identification settings.
+#[derive(Args, Debug)]
+pub struct IdentArgs {
+    /// Early-capture tolerance (state units); matching uses ten times it.
+    #[arg(long, default_value_t = 1e-4)]
+    capture_tol: f64,
+    /// Integrate every cell for the whole transient (no early stop on a known attractor).
+    #[arg(long)]
+    no_early_stop: bool,
+    /// Relative tolerance of the adaptive integrator for identification (the capture test
+    /// needs ~1e-5 in the state; 1e-7 leaves a factor 100).
+    #[arg(long, default_value_t = 1e-7)]
+    ident_rtol: f64,
+}
+
+/// Arguments of `geardyn basins`.
+#[derive(Args, Debug)]
+pub struct BasinArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    #[command(flatten)]
+    ident: IdentArgs,
+    /// Grid axes: `--grid x:MIN:MAX:N --grid v:MIN:MAX:N` (default 200 x 200 over ±2 D, ±1.5).
+    #[arg(long = "grid", value_name = "AXIS:MIN:MAX:N")]
+    grid: Vec<String>,
+    /// Phase of the initial states as a fraction of the excitation period, in [0, 1).
+    #[arg(long, default_value_t = 0.0)]
+    phase: f64,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/basins")]
+    out: PathBuf,
+}
+
+fn parse_axis(s: &str) -> Result<(char, Axis)> {
+    let parts: Vec<&str> = s.split(':').collect();
+    if parts.len() != 4 || !(parts[0] == "x" || parts[0] == "v") {
+        bail!("bad --grid '{s}': expected x:MIN:MAX:N or v:MIN:MAX:N");
+    }
+    let (lo, hi, n) = parse_range(&parts[1..].join(":"))?;
+    if hi <= lo || n > 4000 {
+        bail!("bad --grid '{s}': MIN < MAX and 1 <= N <= 4000");
+    }
+    Ok((
+        parts[0].chars().next().unwrap_or('x'),
+        Axis {
+            min: lo,
+            max: hi,
+            n,
+        },
+    ))
+}
+
+pub fn basins_cmd(a: BasinArgs) -> Result<()> {
+    let mut cfg = a.cfg.resolve()?;
+    a.sim.apply(&mut cfg)?;
+    let model = cfg.build_model()?;
+    if !(0.0..1.0).contains(&a.phase) {
+        bail!(
+            "bad --phase {}: allowed [0, 1) (fraction of the excitation period)",
+            a.phase
+        );
+    }
+    let d = cfg.effective_params()?.d_single;
+    let mut x = Axis {
+        min: -2.0 * d,
+        max: 2.0 * d,
+        n: 200,
+    };
+    let mut v = Axis {
+        min: -1.5,
+        max: 1.5,
+        n: 200,
+    };
+    for g in &a.grid {
+        match parse_axis(g)? {
+            ('x', ax) => x = ax,
+            (_, ax) => v = ax,
+        }
+    }
+    let mut ident = identify_options(&cfg, &a.ident)?;
+    ident.sim.tau0 = a.phase * model.excitation_period();
+    let opts = BasinOptions {
+        x,
+        v,
+        identify: ident,
+    };
+    let (cp, done) = checkpoint::<(usize, Outcome)>(&a.out, &cfg, "basins", &opts)?;
+    let done: HashMap<usize, Outcome> = done.into_iter().collect();
+    let pb = progress((x.n * v.n) as u64, done.len() as u64, "basins");
+    let err = Mutex::new(None);
+    let t = std::time::Instant::now();
+    let r = basins(&model, &opts, &done, |c, o| {
+        if let Err(e) = cp.append(&(c, o)) {
+            err.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get_or_insert(e);
+        }
+        pb.inc(1);
+    });
+    pb.finish_and_clear();
+    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        return Err(e.into());
+    }
+    let elapsed = t.elapsed().as_secs_f64();
+    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    let num = |v: f64| format!("{v}");
+    write_csv(
+        &a.out.join("basins.csv"),
+        &["x0", "v0", "attractor"],
+        (0..x.n * v.n).map(|c| {
+            vec![
+                num(x.value(c % x.n)),
+                num(v.value(c / x.n)),
+                r.cells[c].to_string(),
+            ]
+        }),
+    )?;
+    npy::write_i64(&a.out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
+    write_json(&a.out.join("attractors.json"), &r)?;
+    // colours: healthy and unstable families, in id order within each
+    let (mut kh, mut ku) = (0, 0);
+    let colors_by_id: Vec<_> = r
+        .attractors
+        .iter()
+        .map(|at| {
+            let k = if at.descriptor.healthy {
+                &mut kh
+            } else {
+                &mut ku
+            };
+            *k += 1;
+            attractor_color(at.descriptor.healthy, *k - 1)
+        })
+        .collect();
+    let colors: Vec<_> = r
+        .cells
+        .iter()
+        .map(|&c| match c {
+            -1 => plotters::style::RGBColor(0, 0, 0),
+            -2 => plotters::style::RGBColor(170, 170, 170),
+            i => colors_by_id[i as usize],
+        })
+        .collect();
+    let mut legend: Vec<(String, _)> = r
+        .attractors
+        .iter()
+        .zip(&colors_by_id)
+        .map(|(at, c)| {
+            (
+                format!(
+                    "#{} {} {} ({:.1}%)",
+                    at.id,
+                    at.descriptor.label,
+                    if at.descriptor.healthy {
+                        "healthy"
+                    } else {
+                        "unstable"
+                    },
+                    100.0 * at.fraction
+                ),
+                *c,
+            )
+        })
+        .collect();
+    if r.diverged > 0.0 {
+        legend.push((
+            format!("divergent ({:.1}%)", 100.0 * r.diverged),
+            plotters::style::RGBColor(0, 0, 0),
+        ));
+    }
+    if r.failed > 0.0 {
+        legend.push((
+            format!("failed ({:.1}%)", 100.0 * r.failed),
+            plotters::style::RGBColor(170, 170, 170),
+        ));
+    }
+    let title = format!("Basins of attraction at phase {}", a.phase);
+    raster_chart(
+        &a.out.join("basins"),
+        &Chart {
+            title: &title,
+            x_label: "x0",
+            y_label: "x0'",
+        },
+        &Raster {
+            x: (x.min, x.max, x.n),
+            y: (v.min, v.max, v.n),
+            colors: &colors,
+        },
+        &legend,
+        None,
+    )?;
+    for at in &r.attractors {
+        println!(
+            "attractor #{}: {} ({}), basin fraction {:.4}",
+            at.id,
+            at.descriptor.label,
+            if at.descriptor.healthy {
+                "healthy"
+            } else {
+                "unstable"
+            },
+            at.fraction
+        );
+    }
+    println!(
+        "{}x{} cells in {:.2} s ({:.0} cells/s), {} captured early; divergent {:.4}, failed {:.4}, boundary {:.4} -> {}",
+        x.n,
+        v.n,
+        elapsed,
+        (x.n * v.n) as f64 / elapsed,
+        r.captured_early,
+        r.diverged,
+        r.failed,
+        r.boundary_fraction,
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// Arguments of `geardyn continuation`.
+#[derive(Args, Debug)]
+pub struct ContinuationArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    #[command(flatten)]
+    ident: IdentArgs,
+    /// Parameter.
+    #[arg(long, default_value = "omega")]
+    param: String,
+    /// START:STOP:COUNT.
+    #[arg(long, default_value = "0.5:2:61")]
+    range: String,
+    /// Initial states per value.
+    #[arg(long, default_value_t = 32)]
+    ics: usize,
+    /// Seed of the initial states.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// x0 range of the initial states, MIN:MAX; default -2 D_s:2 D_s.
+    #[arg(long)]
+    x0_range: Option<String>,
+    /// v0 range, MIN:MAX.
+    #[arg(long, default_value = "-1.5:1.5")]
+    v0_range: String,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/continuation")]
+    out: PathBuf,
+}
+
+pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
+    let mut cfg = a.cfg.resolve()?;
+    a.sim.apply(&mut cfg)?;
+    let (lo, hi, n) = parse_range(&a.range)?;
+    if a.ics == 0 || a.ics > 100_000 {
+        bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
+    }
+    let base = cfg.effective_params()?;
+    let d = base.d_single;
+    let opts = ContinuationOptions {
+        param: a.param.clone(),
+        values: linspace(lo, hi, n),
+        ics: a.ics,
+        seed: a.seed,
+        x0_range: match &a.x0_range {
+            Some(s) => parse_pair(s, "--x0-range")?,
+            None => (-2.0 * d, 2.0 * d),
+        },
+        v0_range: parse_pair(&a.v0_range, "--v0-range")?,
+        identify: identify_options(&cfg, &a.ident)?,
+    };
+    let (cp, done) = checkpoint::<ValueAttractors>(&a.out, &cfg, "continuation", &opts)?;
+    let done: HashMap<usize, ValueAttractors> = done.into_iter().map(|v| (v.index, v)).collect();
+    let pb = progress(n as u64, done.len() as u64, "continuation");
+    let err = Mutex::new(None);
+    let r = continuation(&base, &opts, &done, |v| {
+        if let Err(e) = cp.append(v) {
+            err.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get_or_insert(e);
+        }
+        pb.inc(1);
+    })?;
+    pb.finish_and_clear();
+    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        return Err(e.into());
+    }
+    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    let num = |v: f64| format!("{v}");
+    write_csv(
+        &a.out.join("continuation.csv"),
+        &[
+            a.param.as_str(),
+            "branch",
+            "label",
+            "period",
+            "healthy",
+            "fraction",
+            "max_force",
+            "x",
+            "v",
+        ],
+        r.points.iter().map(|p| {
+            vec![
+                num(p.value),
+                p.branch.to_string(),
+                p.label.clone(),
+                p.period.to_string(),
+                p.healthy.to_string(),
+                num(p.fraction),
+                num(p.max_force),
+                num(p.x),
+                num(p.v),
+            ]
+        }),
+    )?;
+    write_json(&a.out.join("continuation.json"), &r)?;
+    // stacked fractions (healthy total, unstable total) and the branch tree
+    let values = &opts.values;
+    let frac = |healthy: bool| -> Vec<(f64, f64)> {
+        values
+            .iter()
+            .map(|&v| {
+                (
+                    v,
+                    r.points
+                        .iter()
+                        .filter(|p| p.value == v && p.healthy == healthy)
+                        .map(|p| p.fraction)
+                        .sum(),
+                )
+            })
+            .collect()
+    };
+    let (fh, fu) = (frac(true), frac(false));
+    let stacked: Vec<(f64, f64)> = fh.iter().zip(&fu).map(|(h, u)| (h.0, h.1 + u.1)).collect();
+    let nb = r.points.iter().map(|p| p.branch + 1).max().unwrap_or(0);
+    let branches: Vec<Vec<(f64, f64)>> = (0..nb)
+        .map(|b| {
+            r.points
+                .iter()
+                .filter(|p| p.branch == b)
+                .map(|p| (p.value, p.x))
+                .collect()
+        })
+        .collect();
+    let names: Vec<String> = (0..nb)
+        .map(|b| {
+            let l = r
+                .points
+                .iter()
+                .find(|p| p.branch == b)
+                .map_or(String::new(), |p| p.label.clone());
+            format!("branch {b} ({l})")
+        })
+        .collect();
+    let mut tree = Vec::new();
+    for (b, pts) in branches.iter().enumerate() {
+        let c = PALETTE[b % PALETTE.len()];
+        tree.push(Series {
+            label: if b < 8 { names[b].as_str() } else { "" },
+            points: pts,
+            mark: Mark::Line,
+            color: c,
+        });
+        tree.push(Series {
+            label: "",
+            points: pts,
+            mark: Mark::Dots(3),
+            color: c,
+        });
+    }
+    stacked_chart(
+        &a.out.join("continuation"),
+        &format!(
+            "Attractor continuation over {} ({} initial states per value)",
+            a.param, a.ics
+        ),
+        &a.param,
+        (lo, hi),
+        &[
+            Panel {
+                y_label: "basin fraction",
+                series: vec![
+                    Series {
+                        label: "healthy + unstable",
+                        points: &stacked,
+                        mark: Mark::Line,
+                        color: PALETTE[1],
+                    },
+                    Series {
+                        label: "healthy",
+                        points: &fh,
+                        mark: Mark::Line,
+                        color: PALETTE[0],
+                    },
+                ],
+            },
+            Panel {
+                y_label: "x on strobe (tree)",
+                series: tree,
+            },
+        ],
+    )?;
+    for iv in &r.intervals {
+        let fmt = |l: &Vec<(usize, String, f64, f64)>| {
+            l.iter()
+                .map(|e| format!("{} [{:.2}-{:.2}]", e.1, e.2, e.3))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        println!(
+            "{} in [{:.4}, {:.4}]: healthy {{{}}} unstable {{{}}}",
+            a.param,
+            iv.from,
+            iv.to,
+            fmt(&iv.healthy),
+            fmt(&iv.unstable)
+        );
+    }
+    for e in &r.events {
+        println!(
+            "between {:.4} and {:.4}: {} ({})",
+            e.from, e.to, e.text, e.kind
+        );
+    }
+    println!("-> {}", a.out.display());
+    Ok(())
+}
+
+/// Arguments of `geardyn map2d`.
+#[derive(Args, Debug)]
+pub struct MapArgs {
+    #[command(flatten)]
+    cfg: ConfigArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    /// x axis: NAME:START:STOP:COUNT.
+    #[arg(long, default_value = "xi:0.001:0.3:40")]
+    x: String,
+    /// y axis: NAME:START:STOP:COUNT.
+    #[arg(long, default_value = "F:0.001:0.2:40")]
+    y: String,
+    /// Metric of the heatmap: max_force, min_force, p_id, period, tle, healthy, class.
+    #[arg(long, default_value = "max_force")]
+    metric: String,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/map2d")]
+    out: PathBuf,
+}
+
+fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
+    let (name, rest) = s
+        .split_once(':')
+        .with_context(|| format!("bad {what} '{s}': expected NAME:START:STOP:COUNT"))?;
+    let (lo, hi, n) = parse_range(rest)?;
+    Ok((name.to_string(), linspace(lo, hi, n)))
+}
+
+pub fn map_cmd(a: MapArgs) -> Result<()> {
+    let mut cfg = a.cfg.resolve()?;
+    a.sim.apply(&mut cfg)?;
+    if !METRICS.contains(&a.metric.as_str()) {
+        bail!(
+            "unknown --metric '{}': allowed {}",
+            a.metric,
+            METRICS.join(", ")
+        );
+    }
+    let (xp, xv) = parse_param_axis(&a.x, "--x")?;
+    let (yp, yv) = parse_param_axis(&a.y, "--y")?;
+    let base = cfg.effective_params()?;
+    let opts = MapOptions {
+        x_param: xp.clone(),
+        x_values: xv.clone(),
+        y_param: yp.clone(),
+        y_values: yv.clone(),
+        sim: cfg.sim_options()?,
+        y0: [cfg.simulation.x0, cfg.simulation.v0],
+        lyapunov: a.metric == "tle",
+    };
+    let (cp, done) = checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts)?;
+    let done: HashMap<usize, MapCell> = done.into_iter().map(|c| (c.index, c)).collect();
+    let pb = progress((xv.len() * yv.len()) as u64, done.len() as u64, "map2d");
+    let err = Mutex::new(None);
+    let t = std::time::Instant::now();
+    let cells = map2d(&base, &opts, &done, |c| {
+        if let Err(e) = cp.append(c) {
+            err.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get_or_insert(e);
+        }
+        pb.inc(1);
+    })?;
+    pb.finish_and_clear();
+    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        return Err(e.into());
+    }
+    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    let num = |v: f64| format!("{v}");
+    write_csv(
+        &a.out.join("map.csv"),
+        &[
+            xp.as_str(),
+            yp.as_str(),
+            "label",
+            "period",
+            "healthy",
+            "max_force",
+            "min_force",
+            "p_id",
+            "impacts",
+            "tle",
+        ],
+        cells.iter().map(|c| {
+            vec![
+                num(c.x),
+                num(c.y),
+                c.label.clone(),
+                c.period.to_string(),
+                c.healthy.to_string(),
+                num(c.max_force),
+                num(c.min_force),
+                num(c.p_id),
+                c.impacts.to_string(),
+                c.tle.map(num).unwrap_or_default(),
+            ]
+        }),
+    )?;
+    let vals: Vec<f64> = cells
+        .iter()
+        .map(|c| c.metric(&a.metric).unwrap_or(f64::NAN))
+        .collect();
+    npy::write_f64(&a.out.join("map.npy"), &[yv.len(), xv.len()], &vals)?;
+    let lo = vals
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let hi = vals
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let colors: Vec<_> = vals
+        .iter()
+        .map(|v| {
+            if v.is_finite() {
+                colormap((v - lo) / span)
+            } else {
+                plotters::style::RGBColor(170, 170, 170)
+            }
+        })
+        .collect();
+    let cell = |v: &[f64]| {
+        if v.len() > 1 {
+            (v[1] - v[0]).abs()
+        } else {
+            1.0
+        }
+    };
+    let (dx, dy) = (cell(&xv), cell(&yv));
+    let title = format!("{} over ({}, {})", a.metric, xp, yp);
+    raster_chart(
+        &a.out.join("map"),
+        &Chart {
+            title: &title,
+            x_label: &xp,
+            y_label: &yp,
+        },
+        &Raster {
+            x: (xv[0] - dx / 2.0, xv[xv.len() - 1] + dx / 2.0, xv.len()),
+            y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
+            colors: &colors,
+        },
+        &[],
+        Some((
+            if lo.is_finite() { lo } else { 0.0 },
+            if hi.is_finite() { hi } else { 1.0 },
+        )),
+    )?;
+    println!(
+        "{}x{} cells in {:.2} s; {} in [{:.4}, {:.4}] -> {}",
+        xv.len(),
+        yv.len(),
+        t.elapsed().as_secs_f64(),
+        a.metric,
+        lo,
+        hi,
+        a.out.display()
+    );
+    Ok(())
+}
