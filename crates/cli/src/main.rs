@@ -4,6 +4,7 @@ mod bench;
 mod bifurcation;
 mod global;
 mod lyapunov;
+mod report;
 mod run_config;
 mod simulate;
 mod stiffness;
@@ -20,6 +21,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run the seed study of a preset and write an HTML report with figures, tables and claims.
+    Report(report::ReportArgs),
     /// List the built-in presets.
     Presets,
     /// Print the full resolved configuration as TOML (ready to edit and pass to --config).
@@ -48,6 +51,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Report(args) => report::run(args),
         Command::Presets => {
             for (name, what) in geardyn_model::presets::PRESETS {
                 println!("{name:<10} {what}");

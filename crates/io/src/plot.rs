@@ -4,6 +4,7 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+pub use plotters::style::RGBColor as PlotColor;
 use std::path::Path;
 use std::sync::Once;
 

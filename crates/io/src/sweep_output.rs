@@ -170,8 +170,10 @@ pub fn plot_bifurcation(
                 (0, String::new())
             };
             let g = groups.entry(key).or_default();
-            for &(sec, x, _) in &run.points {
-                g.entry(sec).or_default().push((r.value, x));
+            for &(sec, x, v) in &run.points {
+                // on a level section x is the level itself: the velocity is the information
+                let y = if sec == Section::Strobe { x } else { v };
+                g.entry(sec).or_default().push((r.value, y));
             }
         }
     }
@@ -198,7 +200,13 @@ pub fn plot_bifurcation(
     };
     let y_labels: Vec<String> = sections
         .iter()
-        .map(|s| format!("x on {}", s.name()))
+        .map(|s| {
+            if *s == Section::Strobe {
+                "x on strobe".to_string()
+            } else {
+                format!("x' on {}", s.name())
+            }
+        })
         .collect();
     let mut panels: Vec<Panel> = Vec::new();
     for (si, sec) in sections.iter().enumerate() {

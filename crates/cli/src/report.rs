@@ -1,0 +1,47 @@
+//! `geardyn report`.
+
+use anyhow::Result;
+use clap::Args;
+use geardyn_io::Config;
+use std::path::PathBuf;
+
+/// Arguments of `geardyn report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// Study plan and model: breakage (seed A), internal (seed B) or classic (case C1).
+    #[arg(long, default_value = "breakage", value_parser = ["breakage", "internal", "classic"])]
+    preset: String,
+    /// Override a parameter of the preset: NAME=VALUE (repeatable).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    sets: Vec<String>,
+    /// Coarse version of every figure (under two minutes).
+    #[arg(long)]
+    quick: bool,
+    /// Output directory (rerunning the same command there resumes).
+    #[arg(long, default_value = "out/report")]
+    out: PathBuf,
+}
+
+pub fn run(a: ReportArgs) -> Result<()> {
+    let mut cfg = Config::preset(&a.preset)?;
+    for s in &a.sets {
+        cfg.apply_set(s)?;
+    }
+    cfg.build_model()?;
+    let t = std::time::Instant::now();
+    let index = geardyn_report::run(
+        &cfg,
+        &geardyn_report::ReportOptions {
+            preset: a.preset.clone(),
+            quick: a.quick,
+            out: a.out.clone(),
+        },
+    )?;
+    println!(
+        "report for '{}' written in {:.1} s: {}",
+        a.preset,
+        t.elapsed().as_secs_f64(),
+        index.display()
+    );
+    Ok(())
+}

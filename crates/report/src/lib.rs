@@ -1,0 +1,142 @@
+//! `geardyn report`: runs the study plan of a preset (seed A `breakage`, seed B `internal`, or
+//! case C1 `classic`) and writes `DIR/index.html` — a self-contained page (figures beside it as
+//! PNG and SVG, no scripts, no external fonts) — plus every table as CSV.
+//!
+//! Every section states its parameters and method and gives readings generated from the data.
+//! The seeds' qualitative claims are checked against the measurements in a claims table.
+//! Studies are cached in `DIR/<study>/section.json` (keyed by the full settings) and sweeps
+//! inside them are checkpointed, so an interrupted report resumes.
+#![warn(missing_docs)]
+
+mod html;
+mod readings;
+mod studies;
+
+use anyhow::{Context, Result};
+use geardyn_io::Config;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A figure: PNG and SVG beside the page.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Figure {
+    /// PNG path relative to the page.
+    pub png: String,
+    /// SVG path relative to the page.
+    pub svg: String,
+    /// Caption.
+    pub caption: String,
+}
+
+/// A table shown on the page and written as CSV.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Table {
+    /// Title.
+    pub title: String,
+    /// CSV path relative to the page.
+    pub csv: String,
+    /// Header.
+    pub header: Vec<String>,
+    /// Rows.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// A claim of the seeds checked against the data.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Claim {
+    /// The claim.
+    pub claim: String,
+    /// Where it comes from.
+    pub source: String,
+    /// What was measured.
+    pub evidence: String,
+    /// `reproduced`, `not reproduced` or `inconclusive`.
+    pub verdict: String,
+}
+
+/// One section of the report.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Section {
+    /// Anchor id.
+    pub id: String,
+    /// Title.
+    pub title: String,
+    /// Parameters, in words.
+    pub parameters: String,
+    /// What was computed and how.
+    pub method: String,
+    /// Figures.
+    pub figures: Vec<Figure>,
+    /// Readings generated from the data.
+    pub readings: Vec<String>,
+    /// Tables.
+    pub tables: Vec<Table>,
+    /// Claims checked in this section.
+    pub claims: Vec<Claim>,
+    /// Wall time of the study (s).
+    pub seconds: f64,
+}
+
+/// Settings of a report.
+#[derive(Clone, Debug)]
+pub struct ReportOptions {
+    /// Preset name.
+    pub preset: String,
+    /// Coarse version of every figure (under two minutes).
+    pub quick: bool,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+/// Runs the study plan and writes the page; returns the path of `index.html`.
+pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create {}", opts.out.display()))?;
+    let t = std::time::Instant::now();
+    let ctx = studies::Ctx {
+        cfg: cfg.clone(),
+        quick: opts.quick,
+        dir: opts.out.clone(),
+    };
+    let sections = match opts.preset.as_str() {
+        "breakage" => studies::breakage_plan(&ctx)?,
+        "internal" => studies::internal_plan(&ctx)?,
+        "classic" => studies::classic_plan(&ctx)?,
+        other => {
+            anyhow::bail!("no study plan for preset '{other}': allowed breakage, internal, classic")
+        }
+    };
+    geardyn_io::output::write_text(&opts.out.join("config.toml"), &cfg.to_toml())?;
+    let page = html::page(
+        &opts.preset,
+        cfg,
+        &sections,
+        opts.quick,
+        t.elapsed().as_secs_f64(),
+    );
+    let index = opts.out.join("index.html");
+    geardyn_io::output::write_text(&index, &page)?;
+    // every claim in one CSV as well
+    let claims: Vec<&Claim> = sections.iter().flat_map(|s| s.claims.iter()).collect();
+    geardyn_io::output::write_csv(
+        &opts.out.join("claims.csv"),
+        &["claim", "source", "evidence", "verdict"],
+        claims.iter().map(|c| {
+            vec![
+                c.claim.clone(),
+                c.source.clone(),
+                c.evidence.clone(),
+                c.verdict.clone(),
+            ]
+        }),
+    )?;
+    Ok(index)
+}
+
+/// Relative path of a file in the report directory.
+pub(crate) fn rel(dir: &Path, p: &Path) -> String {
+    p.strip_prefix(dir)
+        .unwrap_or(p)
+        .to_string_lossy()
+        .replace('\\', "/")
+}
