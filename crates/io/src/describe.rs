@@ -68,6 +68,30 @@ pub fn describe(cfg: &Config) -> Result<String, ConfigError> {
             "# operating point of omega = {}, F = {}, xi = {}, D = {}: pinion {:.2} rpm, torque {:.4} N m, E_a = {:.4} um, half backlash b = {:.4} um",
             p.omega, p.load, p.xi, p.d_single, op.speed_rpm, op.torque_nm, op.error_amplitude_um, op.half_backlash_um
         );
+        if let Some((dd, ds)) = pm.backlash {
+            let _ = writeln!(
+                s,
+                "# physical half backlash at the operating point: D_d = {:.5}, D_s = {:.5} (static + load deformation - thermal growth - oil film; these replace [model] D_d, D_s)",
+                dd, ds
+            );
+        }
+        if pm.spec.lubrication.is_some() {
+            let mu = pm.rows.iter().map(|r| r.mu1);
+            let (mlo, mhi) = mu.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+            let (llo, lhi) = pm
+                .rows
+                .iter()
+                .map(|r| r.lambda1)
+                .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+            let count = |c: i8| {
+                pm.rows.iter().filter(|r| r.regime1 == c).count() as f64 / pm.rows.len() as f64
+            };
+            let _ = writeln!(
+                s,
+                "# lubrication: mu {:.4} .. {:.4}, film parameter Lambda {:.3} .. {:.3}; EHL {:.0}%, mixed {:.0}%, boundary {:.0}% of the path",
+                mlo, mhi, llo, lhi, 100.0 * count(0), 100.0 * count(1), 100.0 * count(2)
+            );
+        }
         let per = pm.to_physical(&Dimensionless {
             omega: 1.0,
             load: 1.0,

@@ -13,6 +13,7 @@
 pub mod breakage;
 pub mod error;
 pub mod geometry;
+pub mod lubrication;
 pub mod mesh_stiffness;
 pub mod pair;
 pub mod presets;

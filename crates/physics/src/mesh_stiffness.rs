@@ -47,13 +47,17 @@ pub struct StiffnessModel {
     pub r_int2: f64,
     /// Hertz model.
     pub hertz: HertzModel,
-    /// Static transmitted normal force (N), for the nonlinear Hertz model.
+    /// Static transmitted normal force (N), for the nonlinear Hertz and thermal models.
     pub static_load: f64,
+    /// Thermal stiffness (seed B eq. 10-11): `(expansion coefficient 1/K, temperature rise K)`.
+    pub thermal: Option<(f64, f64)>,
 }
 
 /// Compliances of one pair at a contact position (m/N).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairCompliance {
+    /// Thermal compliance of both teeth (0 without a temperature rise).
+    pub thermal: f64,
     /// Hertz.
     pub hertz: f64,
     /// Pinion tooth.
@@ -65,7 +69,7 @@ pub struct PairCompliance {
 impl PairCompliance {
     /// Total compliance.
     pub fn total(&self) -> f64 {
-        self.hertz + self.pinion.total() + self.gear.total()
+        self.thermal + self.hertz + self.pinion.total() + self.gear.total()
     }
 }
 
@@ -104,11 +108,46 @@ impl StiffnessModel {
                 hertz_compliance_nonlinear(&self.mat, self.static_load * share.max(1e-3))
             }
         };
+        let thermal = match self.thermal {
+            Some((a, dt)) if dt != 0.0 => {
+                let fnormal = (self.static_load * share.max(1e-3)).max(1e-9);
+                (self.thermal_deformation(s, a, dt, true)
+                    + self.thermal_deformation(s, a, dt, false))
+                    / fnormal
+            }
+            _ => 0.0,
+        };
         PairCompliance {
+            thermal,
             hertz,
             pinion: tooth_compliance(&p, &self.mat, self.geom.roll_pinion(s)),
             gear: tooth_compliance(&q, &self.mat, self.geom.roll_gear(s)),
         }
+    }
+
+    /// Thermal deformation at the contact point of one tooth (seed B eq. 11):
+    /// `theta = a dT (r_k sin(alpha_k) + (s_k/2) cos(alpha_k))`, radial growth and tooth-thickness
+    /// growth projected on the line of action (`r_k` contact radius, `alpha_k` its pressure angle,
+    /// `s_k` the tooth's arc thickness there).
+    pub fn thermal_deformation(&self, s: f64, a: f64, dt: f64, pinion: bool) -> f64 {
+        let g = &self.geom;
+        let (u, rb) = if pinion {
+            (g.roll_pinion(s), g.rb1)
+        } else {
+            (g.roll_gear(s), g.rb2)
+        };
+        let r_k = rb * (1.0 + u * u).sqrt();
+        let alpha_k = u.atan();
+        let inv_k = u - alpha_k;
+        let half = if pinion {
+            g.half_base_angle1 - inv_k
+        } else {
+            match g.kind {
+                PairKind::External => g.half_base_angle2 - inv_k,
+                PairKind::Internal => g.half_base_angle2 + inv_k,
+            }
+        };
+        a * dt * (r_k * alpha_k.sin() + r_k * half * alpha_k.cos())
     }
 
     /// Stiffness of one pair at `s` (N/m), carrying `share` of the load.

@@ -8,6 +8,7 @@
 use crate::breakage::{broken_contact, Chip};
 use crate::error::PhysicsError;
 use crate::geometry::{PairGeometry, PairGeometryInput, PairKind};
+use crate::lubrication::{friction, ContactConditions, LubricationSpec, Regime};
 use crate::mesh_stiffness::{load_shares, HertzModel, LoadSharing, StiffnessModel};
 use crate::tooth::Material;
 use geardyn_model::{Breakage, ModelParams, StiffnessForm, ZonePiece};
@@ -60,6 +61,21 @@ pub struct OperatingPoint {
     pub error_amplitude_um: f64,
     /// Static half backlash `b` (µm).
     pub half_backlash_um: f64,
+}
+
+/// Thermal state of the teeth (seed B): uniform temperature rise of the tooth bulk.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThermalSpec {
+    /// Temperature rise above assembly temperature (K).
+    pub temperature_rise_k: f64,
+    /// Linear expansion coefficient (1/K).
+    #[serde(default = "steel_expansion")]
+    pub expansion_per_k: f64,
+}
+
+fn steel_expansion() -> f64 {
+    11.5e-6
 }
 
 /// A dimensional spur pair.
@@ -122,6 +138,13 @@ pub struct PairSpec {
     /// Chipped pinion tooth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub breakage: Option<BreakageSpec>,
+    /// Lubrication: friction from the multi-state model instead of the constant `mu`
+    /// (needs `operating`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<LubricationSpec>,
+    /// Thermal stiffness and thermal backlash reduction (needs `operating.torque_nm`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thermal: Option<ThermalSpec>,
     /// Table samples per mesh cycle.
     #[serde(default = "samples")]
     pub samples_per_cycle: u32,
@@ -160,6 +183,16 @@ pub struct StiffnessRow {
     pub h_back: f64,
     /// Single-tooth zone.
     pub single: bool,
+    /// Friction coefficient of the entering pair.
+    pub mu1: f64,
+    /// Friction coefficient of the leaving pair (0 if not in contact).
+    pub mu2: f64,
+    /// Minimum film thickness at the entering pair (m; 0 without lubrication model).
+    pub film1: f64,
+    /// Film parameter at the entering pair.
+    pub lambda1: f64,
+    /// Regime at the entering pair (0 EHL, 1 mixed, 2 boundary, -1 constant mu).
+    pub regime1: i8,
 }
 
 /// Everything derived from a [`PairSpec`].
@@ -187,6 +220,9 @@ pub struct PairModel {
     pub rows: Vec<StiffnessRow>,
     /// Zone pieces for the mesh model (dimensionless).
     pub pieces: Vec<ZonePiece>,
+    /// Physical half backlash `(D_d, D_s)` (dimensionless) at the operating point: static
+    /// backlash + load deformation - thermal growth - oil film (see [`PairSpec::build`]).
+    pub backlash: Option<(f64, f64)>,
     /// The spec it came from.
     pub spec: PairSpec,
 }
@@ -232,6 +268,35 @@ impl PairSpec {
                 self.samples_per_cycle as f64,
                 "64 ..= 65536",
             ));
+        }
+        if let Some(l) = &self.lubrication {
+            l.validate()?;
+            if self.operating.is_none() {
+                return Err(bad(
+                    "lubrication",
+                    0.0,
+                    "a lubrication model needs pair.operating (speed and torque set the film)",
+                ));
+            }
+        }
+        if let Some(t) = &self.thermal {
+            if !(t.temperature_rise_k >= 0.0 && t.temperature_rise_k < 500.0) {
+                return Err(bad(
+                    "thermal.temperature_rise_k",
+                    t.temperature_rise_k,
+                    "[0, 500) K",
+                ));
+            }
+            if !(t.expansion_per_k > 0.0 && t.expansion_per_k < 1e-3) {
+                return Err(bad(
+                    "thermal.expansion_per_k",
+                    t.expansion_per_k,
+                    "(0, 1e-3) 1/K",
+                ));
+            }
+            if t.temperature_rise_k > 0.0 && self.operating.map_or(true, |o| o.torque_nm <= 0.0) {
+                return Err(bad("thermal", t.temperature_rise_k, "a temperature rise needs pair.operating.torque_nm > 0 (thermal stiffness = load / thermal deformation)"));
+            }
         }
         if let Some(k) = self.mean_stiffness_n_per_m {
             pos("mean_stiffness_n_per_m", k, "(0, inf) N/m")?;
@@ -340,7 +405,8 @@ impl PairSpec {
         });
         let m_e = i_p * i_g / (geom.rb1 * geom.rb1 * i_g + geom.rb2 * geom.rb2 * i_p);
         let static_load = match (self.hertz, &self.operating) {
-            (HertzModel::Linear, _) => 0.0,
+            (HertzModel::Linear, Some(op)) => op.torque_nm / geom.rb1,
+            (HertzModel::Linear, None) => 0.0,
             (HertzModel::Nonlinear, Some(op)) if op.torque_nm > 0.0 => op.torque_nm / geom.rb1,
             (HertzModel::Nonlinear, _) => {
                 return Err(bad("hertz", 0.0, "\"linear\", or \"nonlinear\" together with pair.operating.torque_nm > 0 (the Hertz stiffness depends on the load)"));
@@ -353,6 +419,30 @@ impl PairSpec {
             r_int2,
             hertz: self.hertz,
             static_load,
+            thermal: self
+                .thermal
+                .map(|t| (t.expansion_per_k, t.temperature_rise_k)),
+        };
+        let e_red = mat.e / (1.0 - mat.nu * mat.nu);
+        let omega1 = self
+            .operating
+            .map_or(0.0, |o| o.speed_rpm * 2.0 * PI / 60.0);
+        let omega2 = omega1 * self.z1 as f64 / self.z2 as f64;
+        let lub_at = |s: f64, share: f64| -> Option<crate::lubrication::FrictionState> {
+            let lub = self.lubrication.as_ref()?;
+            let (r1, r2) = geom.friction_arms(s);
+            let r = match geom.kind {
+                PairKind::External => r1 * r2 / (r1 + r2),
+                PairKind::Internal => r1 * r2 / (r2 - r1),
+            };
+            let c = ContactConditions {
+                u1: omega1 * r1,
+                u2: omega2 * r2,
+                r,
+                w: static_load * share.max(1e-3) / b,
+                e_red,
+            };
+            Some(friction(&c, lub))
         };
         let (eps_b, s_d1, broken_cycle) = match &self.breakage {
             None => (None, geom.s_d, None),
@@ -420,7 +510,8 @@ impl PairSpec {
                         if in1 { sm.pair_stiffness(s1, 0.5) } else { 0.0 },
                     ];
                     let mut l = load_shares(self.load_sharing, k, contact, frac, 0);
-                    if self.hertz == HertzModel::Nonlinear {
+                    if self.hertz == HertzModel::Nonlinear || sm.thermal.is_some_and(|t| t.1 != 0.0)
+                    {
                         // one fixed-point pass: Hertz stiffness at the pair's own load share
                         k = [
                             sm.pair_stiffness(s0, l[0]),
@@ -432,9 +523,13 @@ impl PairSpec {
                         ];
                         l = load_shares(self.load_sharing, k, contact, frac, 0);
                     }
-                    let mut fr = mu * geom.sliding_direction(s0) * arms(s0) * l[0];
+                    let st0 = lub_at(s0, l[0]);
+                    let st1 = if in1 { lub_at(s1, l[1]) } else { None };
+                    let mu0 = st0.map_or(mu, |st| st.mu);
+                    let mu1 = if in1 { st1.map_or(mu, |st| st.mu) } else { 0.0 };
+                    let mut fr = mu0 * geom.sliding_direction(s0) * arms(s0) * l[0];
                     if in1 {
-                        fr += mu * geom.sliding_direction(s1) * arms(s1) * l[1];
+                        fr += mu1 * geom.sliding_direction(s1) * arms(s1) * l[1];
                     }
                     rows.push(StiffnessRow {
                         position: phi,
@@ -446,6 +541,15 @@ impl PairSpec {
                         h_drive: 1.0 + fr,
                         h_back: 1.0 - fr,
                         single,
+                        mu1: mu0,
+                        mu2: mu1,
+                        film1: st0.map_or(0.0, |st| st.film),
+                        lambda1: st0.map_or(0.0, |st| st.lambda),
+                        regime1: st0.map_or(-1, |st| match st.regime {
+                            Regime::Ehl => 0,
+                            Regime::Mixed => 1,
+                            Regime::Boundary => 2,
+                        }),
                     });
                 }
                 out.push((a, bnd, single, zone_ii, rows));
@@ -496,11 +600,53 @@ impl PairSpec {
                 });
                 rows_all.extend(rows.iter().map(|r| StiffnessRow {
                     position: c as f64 + r.position,
+                    k_pair1: r.k_pair1 * scale,
+                    k_pair2: r.k_pair2 * scale,
+                    k_mesh: r.k_mesh * scale,
                     ..*r
                 }));
             }
         }
         let b_c = self.characteristic_length_um * 1e-6;
+        // physical half backlash per zone at the operating point (needs a torque):
+        // static half backlash + half the difference of the zone's static deflection from the
+        // mean one (a softer zone deflects the loaded flanks further and opens the back side) -
+        // half the thermal growth of both teeth along the LoA - the oil film on the back flank
+        let backlash = match &self.operating {
+            Some(op) if op.torque_nm > 0.0 => {
+                let w = op.torque_nm / geom.rb1;
+                let zone_mean = |single: bool, what: &dyn Fn(&StiffnessRow) -> f64| {
+                    let v: Vec<f64> = healthy
+                        .iter()
+                        .filter(|z| z.2 == single)
+                        .flat_map(|z| z.4.iter().map(what))
+                        .collect();
+                    v.iter().sum::<f64>() / v.len().max(1) as f64
+                };
+                let thermal = self.thermal.map_or(0.0, |t| {
+                    t.expansion_per_k * t.temperature_rise_k * PI * m * geom.alpha_w.cos() / 2.0
+                });
+                let mut d = [0.0; 2];
+                for (i, single) in [false, true].into_iter().enumerate() {
+                    let k_zone = zone_mean(single, &|r| r.k_mesh) * scale;
+                    let film = zone_mean(single, &|r| r.film1);
+                    d[i] = op.half_backlash_um * 1e-6 + 0.5 * w * (1.0 / k_zone - 1.0 / k_av)
+                        - thermal
+                        - film;
+                    if d[i] <= 0.0 {
+                        return Err(PhysicsError::Geometry(format!(
+                            "the backlash closes in the {} zone at this operating point (static {} um, thermal growth {:.3} um, film {:.3} um)",
+                            if single { "single-tooth" } else { "double-tooth" },
+                            op.half_backlash_um,
+                            thermal * 1e6,
+                            film * 1e6
+                        )));
+                    }
+                }
+                Some((d[0] / b_c, d[1] / b_c))
+            }
+            _ => None,
+        };
         Ok(PairModel {
             geom,
             eps_b,
@@ -513,6 +659,7 @@ impl PairSpec {
             cycles,
             rows: rows_all,
             pieces,
+            backlash,
             spec: self.clone(),
         })
     }
@@ -570,8 +717,7 @@ impl PairModel {
             p.omega = d.omega;
             p.load = d.load;
             p.xi = d.xi;
-            p.d_double = d.d;
-            p.d_single = d.d;
+            (p.d_double, p.d_single) = self.backlash.unwrap_or((d.d, d.d));
         }
         if let Some(z) = self.spec.damping_ratio {
             p.c = 2.0 * z;

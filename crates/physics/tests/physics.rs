@@ -28,6 +28,8 @@ fn spec_40_40() -> PairSpec {
         load_sharing: LoadSharing::Stiffness,
         mu: 0.15,
         breakage: None,
+        lubrication: None,
+        thermal: None,
         samples_per_cycle: 512,
         characteristic_length_um: 10.0,
         mean_stiffness_n_per_m: None,
@@ -343,4 +345,91 @@ fn friction_factor_magnitude_matches_hand_value() {
             r.h_drive
         );
     }
+}
+
+#[test]
+fn prescribed_mean_stiffness_scales_the_tables() {
+    let mut s = spec_40_40();
+    s.mean_stiffness_n_per_m = Some(4e8);
+    let m = s.build().unwrap();
+    assert!((m.k_av - 4e8).abs() < 1.0);
+    let n = m.rows.len() as f64;
+    // rows of one healthy cycle, trapezoid-free mean close to k_av
+    let mean = m.rows.iter().map(|r| r.k_mesh).sum::<f64>() / n;
+    assert!((mean / 4e8 - 1.0).abs() < 0.02, "{mean}");
+}
+
+fn internal_spec() -> PairSpec {
+    let mut s = geardyn_physics::presets::internal();
+    s.mean_stiffness_n_per_m = None;
+    s
+}
+
+#[test]
+fn thermal_and_nonlinear_hertz_lower_the_stiffness_and_vanish_in_the_limit() {
+    // seed B: both terms lower the mesh stiffness; with no temperature rise and the linear Hertz
+    // law the elastic potential-energy stiffness is recovered exactly
+    let full = internal_spec().build().unwrap();
+    let mut elastic = internal_spec();
+    elastic.hertz = HertzModel::Linear;
+    elastic.thermal = None;
+    let e = elastic.build().unwrap();
+    let mut zero_dt = internal_spec();
+    zero_dt.hertz = HertzModel::Linear;
+    zero_dt.thermal.as_mut().unwrap().temperature_rise_k = 0.0;
+    let z = zero_dt.build().unwrap();
+    for (a, b) in e.rows.iter().zip(&z.rows) {
+        assert_eq!(a.k_mesh, b.k_mesh);
+    }
+    let mut only_hertz = internal_spec();
+    only_hertz.thermal = None;
+    let h = only_hertz.build().unwrap();
+    assert!(
+        h.k_av < e.k_av && full.k_av < h.k_av,
+        "elastic {} > nonlinear Hertz {} > + thermal {}",
+        e.k_av,
+        h.k_av,
+        full.k_av
+    );
+}
+
+#[test]
+fn lubrication_gives_a_friction_coefficient_per_pair_and_backlash_grows_in_the_single_zone() {
+    let m = internal_spec().build().unwrap();
+    for r in &m.rows {
+        assert!(r.mu1 >= 0.0 && r.mu1 <= 0.1 + 1e-12, "{}", r.mu1);
+        assert!(r.film1 > 0.0 && r.lambda1 > 0.0);
+    }
+    // near the pitch point sliding vanishes: the EHL coefficient drops there
+    let g = m.geom;
+    let near = m
+        .rows
+        .iter()
+        .flat_map(|r| {
+            let s0 = g.s_a + r.position * g.pb;
+            [(s0, r.mu1), (s0 + g.pb, r.mu2)]
+        })
+        .filter(|(s, _)| (s - g.s_p).abs() < 0.01 * g.pb)
+        .map(|(_, mu)| mu)
+        .fold(f64::INFINITY, f64::min);
+    let far = m.rows.iter().map(|r| r.mu1).fold(0.0, f64::max);
+    assert!(near < 0.3 * far, "{near} vs {far}");
+    // D_s > D_d comes out of the load-deformation term (the single zone is softer)
+    let (dd, ds) = m.backlash.unwrap();
+    assert!(ds > dd, "{ds} vs {dd}");
+    // more temperature: less backlash
+    let mut hot = internal_spec();
+    hot.thermal.as_mut().unwrap().temperature_rise_k = 60.0;
+    assert!(hot.build().unwrap().backlash.unwrap().0 < dd);
+    // bad input is named
+    let mut bad = internal_spec();
+    bad.lubrication.as_mut().unwrap().viscosity_mpas = -2.0;
+    assert!(bad
+        .build()
+        .unwrap_err()
+        .to_string()
+        .contains("viscosity_mpas"));
+    let mut bad = internal_spec();
+    bad.operating = None;
+    assert!(bad.build().unwrap_err().to_string().contains("operating"));
 }

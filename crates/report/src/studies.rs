@@ -353,6 +353,7 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
         .map(|r| (r.position, r.k_mesh / 1e6))
         .collect();
     let mut figs = Vec::new();
+    let mut readings_extra: Vec<String> = Vec::new();
     let stem = dir.join("mesh_stiffness");
     let mut series = vec![Series {
         label: "healthy",
@@ -417,6 +418,15 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
         .map(|r| (r.position, if r.single { ds } else { dd }))
         .collect());
     let (hkw, bkw) = (win(hk.clone()), win(bk.clone()));
+    let lubricated = pm.rows.iter().any(|r| r.regime1 >= 0);
+    let mu1 = win(pm.rows.iter().map(|r| (r.position, r.mu1)).collect());
+    let mu2 = win(pm
+        .rows
+        .iter()
+        .filter(|r| r.k_pair2 > 0.0)
+        .map(|r| (r.position, r.mu2))
+        .collect());
+    let lam = win(pm.rows.iter().map(|r| (r.position, r.lambda1)).collect());
     let stem = dir.join("pairs_sharing_friction");
     stacked_chart(
         &stem,
@@ -498,7 +508,62 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
             },
         ],
     )?;
+    if lubricated {
+        let stem_l = dir.join("lubrication");
+        stacked_chart(
+            &stem_l,
+            "Lubrication along the cycle: friction coefficients and film parameter",
+            "position (mesh cycles)",
+            (lo, hi),
+            &[
+                Panel {
+                    y_label: "friction coefficient",
+                    series: vec![
+                        Series {
+                            label: "entering pair",
+                            points: &mu1,
+                            mark: Mark::Dots(1),
+                            color: PALETTE[2],
+                        },
+                        Series {
+                            label: "leaving pair",
+                            points: &mu2,
+                            mark: Mark::Dots(1),
+                            color: PALETTE[3],
+                        },
+                    ],
+                },
+                Panel {
+                    y_label: "Lambda (entering pair)",
+                    series: vec![Series {
+                        label: "",
+                        points: &lam,
+                        mark: Mark::Dots(1),
+                        color: PALETTE[0],
+                    }],
+                },
+            ],
+        )?;
+    }
     figs.push(ctx.fig(&stem, "Around the broken cycle: stiffness of each pair and of the mesh, load shares, friction factors h (drive and back side) and the dimensionless half backlash."));
+    if lubricated {
+        figs.push(ctx.fig(&dir.join("lubrication"), "Multi-state lubrication: friction coefficient of each pair (Xu–Kahraman EHL, mixed, boundary) and the film parameter Lambda = h_min/sigma (Dowson–Higginson film)."));
+        let count =
+            |c: i8| pm.rows.iter().filter(|r| r.regime1 == c).count() as f64 / pm.rows.len() as f64;
+        readings_extra.push(format!(
+            "Lubrication: friction coefficient {}–{}, Lambda {}–{}; EHL on {:.0}% of the cycle, mixed on {:.0}%, boundary on {:.0}%.",
+            f(pm.rows.iter().map(|r| r.mu1).fold(f64::INFINITY, f64::min)),
+            f(pm.rows.iter().map(|r| r.mu1).fold(0.0, f64::max)),
+            f(pm.rows.iter().map(|r| r.lambda1).fold(f64::INFINITY, f64::min)),
+            f(pm.rows.iter().map(|r| r.lambda1).fold(0.0, f64::max)),
+            100.0 * count(0),
+            100.0 * count(1),
+            100.0 * count(2)
+        ));
+    }
+    if let Some((bd, bs)) = pm.backlash {
+        readings_extra.push(format!("Half backlash from the physics at the operating point: D_d = {}, D_s = {} (D_s > D_d: {}).", f(bd), f(bs), bd < bs));
+    }
     let mut readings = vec![format!(
         "Contact ratio eps = {}, mean mesh stiffness k_av = {} N/m over a healthy cycle (double-zone maximum {} N/m, single-zone minimum {} N/m); m_e = {} kg, omega_n = {} rad/s.",
         f(pm.geom.eps),
@@ -533,6 +598,7 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
         .iter()
         .map(|r| (r.h_drive - 1.0).abs())
         .fold(0.0, f64::max);
+    readings.extend(readings_extra);
     readings.push(format!("Friction changes the mesh force by at most {:.2}% (|h - 1| <= {}); h flips from below to above 1 at the pitch point in the single-tooth zone.", 100.0 * fmax, f(fmax)));
     let table = ctx.table(
         &dir.join("stiffness.csv"),
