@@ -29,12 +29,44 @@ pub enum ContactLaw {
         restitution: f64,
     },
     /// Lankarani & Nikravesh (1990): `g = delta^n`, hysteresis `k*delta^n * 3(1-e^2)/(4 v_in) * x'`.
+    /// With `n` from [`johnson_exponent`] and `e = 0.8` this is seed B's Johnson-based law (eq. 1).
     LankaraniNikravesh {
         /// Exponent `n >= 1`.
         exponent: f64,
         /// Restitution coefficient `e` in `[0, 1]`.
         restitution: f64,
     },
+    /// Seed B's impact-damping law (eq. 12): `c_m = 3(1-psi)/(2 psi) k_m/x'(-) delta^n`, i.e.
+    /// hysteresis `k*delta^n * 3(1-psi)/(2 psi v_in) * x'` (Flores et al., Nonlinear Dyn. 2011).
+    ImpactDamping {
+        /// Exponent `n >= 1` (1 for spur gears in seed B).
+        exponent: f64,
+        /// Restitution coefficient `psi` in `(0, 1]` (0.7 in seed B).
+        restitution: f64,
+    },
+}
+
+/// Exponent `n` of seed B's Johnson-based contact law as a function of the backlash size
+/// `delta_r` (mm), from its Table 2.1: `n = Y delta_r^-0.005` for `0.05 < delta_r <= 10` mm.
+///
+/// The seed's `Y` has two branches, `1.51 [ln(1000 delta_r)]^-0.151` (small) and
+/// `0.151 delta_r + 1.15` (large), with garbled, non-matching borders (0.34954 / 0.3954) that
+/// make `n` jump. geardyn switches at the branches' crossing, `delta_r = 0.18085` mm, so `n` is
+/// continuous. Above 10 mm the table gives `n = 1.094`.
+pub fn johnson_exponent(delta_r_mm: f64) -> Option<f64> {
+    const CROSS: f64 = 0.180_847_088_518_234_6;
+    if !(delta_r_mm > 0.05) {
+        return None;
+    }
+    if delta_r_mm >= 10.0 {
+        return Some(1.094);
+    }
+    let y = if delta_r_mm <= CROSS {
+        1.51 * (1000.0 * delta_r_mm).ln().powf(-0.151)
+    } else {
+        0.151 * delta_r_mm + 1.15
+    };
+    Some(y * delta_r_mm.powf(-0.005))
 }
 
 impl ContactLaw {
@@ -52,7 +84,8 @@ impl ContactLaw {
             ContactLaw::Linear => delta,
             ContactLaw::Power { exponent }
             | ContactLaw::HuntCrossley { exponent, .. }
-            | ContactLaw::LankaraniNikravesh { exponent, .. } => {
+            | ContactLaw::LankaraniNikravesh { exponent, .. }
+            | ContactLaw::ImpactDamping { exponent, .. } => {
                 if exponent == 1.0 {
                     delta
                 } else {
@@ -69,7 +102,8 @@ impl ContactLaw {
             ContactLaw::Linear => 1.0,
             ContactLaw::Power { exponent }
             | ContactLaw::HuntCrossley { exponent, .. }
-            | ContactLaw::LankaraniNikravesh { exponent, .. } => {
+            | ContactLaw::LankaraniNikravesh { exponent, .. }
+            | ContactLaw::ImpactDamping { exponent, .. } => {
                 if exponent == 1.0 {
                     1.0
                 } else {
@@ -90,6 +124,9 @@ impl ContactLaw {
             ContactLaw::LankaraniNikravesh { restitution, .. } => {
                 0.75 * (1.0 - restitution * restitution) / v
             }
+            ContactLaw::ImpactDamping { restitution, .. } => {
+                1.5 * (1.0 - restitution) / (restitution.max(1e-6) * v)
+            }
         }
     }
 
@@ -97,7 +134,9 @@ impl ContactLaw {
     pub fn is_dissipative(&self) -> bool {
         matches!(
             self,
-            ContactLaw::HuntCrossley { .. } | ContactLaw::LankaraniNikravesh { .. }
+            ContactLaw::HuntCrossley { .. }
+                | ContactLaw::LankaraniNikravesh { .. }
+                | ContactLaw::ImpactDamping { .. }
         )
     }
 
@@ -117,6 +156,16 @@ impl ContactLaw {
                 check_exp(exponent)?;
                 if !(0.0..=1.0).contains(&restitution) {
                     return Err(("contact.restitution", restitution, "[0, 1]"));
+                }
+                Ok(())
+            }
+            ContactLaw::ImpactDamping {
+                exponent,
+                restitution,
+            } => {
+                check_exp(exponent)?;
+                if !(restitution > 0.0 && restitution <= 1.0) {
+                    return Err(("contact.restitution", restitution, "(0, 1]"));
                 }
                 Ok(())
             }
@@ -213,6 +262,46 @@ mod tests {
                 assert!((law.elastic_slope(d) - fd).abs() < 1e-6, "{law:?} at {d}");
             }
         }
+    }
+
+    #[test]
+    fn impact_damping_law_dissipates_like_its_restitution() {
+        // c = 3(1-e)/(2e) k/v: over-damps relative to Hunt-Crossley (factor 1/e), so the
+        // effective restitution lies below Hunt-Crossley's and, for e >= 0.7, within 0.1 of e
+        for e in [0.9, 0.8, 0.7] {
+            let law = ContactLaw::ImpactDamping {
+                exponent: 1.0,
+                restitution: e,
+            };
+            let hc = ContactLaw::HuntCrossley {
+                exponent: 1.0,
+                restitution: e,
+            };
+            let (got, got_hc) = (restitution_of(law, 0.5), restitution_of(hc, 0.5));
+            assert!(
+                got < got_hc && (got - e).abs() < 0.1,
+                "e = {e}: {got} (HC {got_hc})"
+            );
+        }
+    }
+
+    #[test]
+    fn johnson_exponent_is_continuous_and_in_range() {
+        let mut last = johnson_exponent(0.051).unwrap();
+        let mut x = 0.051;
+        while x < 9.99 {
+            x *= 1.001;
+            let n = johnson_exponent(x).unwrap();
+            assert!((n - last).abs() < 2e-3, "jump at {x}: {last} -> {n}");
+            assert!(n > 1.0 && n < 2.7);
+            last = n;
+        }
+        // the seed's two branches meet at the switching point
+        let c: f64 = 0.180_847_088_518_234_6;
+        let a = 1.51 * (1000.0 * c).ln().powf(-0.151);
+        let b = 0.151 * c + 1.15;
+        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        assert!(johnson_exponent(0.01).is_none());
     }
 
     #[test]

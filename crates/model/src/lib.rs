@@ -21,7 +21,7 @@ pub mod phase;
 pub mod presets;
 pub mod reference;
 
-pub use contact_law::ContactLaw;
+pub use contact_law::{johnson_exponent, ContactLaw};
 pub use error::ModelError;
 pub use impact::ImpactLaw;
 pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone};

@@ -259,6 +259,10 @@ impl ModelParams {
                 | ContactLaw::LankaraniNikravesh {
                     exponent,
                     restitution,
+                }
+                | ContactLaw::ImpactDamping {
+                    exponent,
+                    restitution,
                 } => {
                     if name == "exponent" {
                         exponent

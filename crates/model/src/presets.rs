@@ -91,9 +91,13 @@ pub fn breakage() -> ModelParams {
     }
 }
 
-/// Seed B stand-in: 30/70 internal pair (contact ratio ~1.8), damping ratio 0.07 (`c = 0.14`),
-/// `D_d = 0.95 < D_s = 1.05` (backlash grows where one pair carries the load), continuous back-side
-/// contact, `mu = 0.05`, at the multi-initial study point `omega = 1.4, F = 0.07, xi = 0.23`.
+/// Seed B: 30/70 internal pair (the physical `[pair]` of `geardyn-physics` replaces the stiffness,
+/// zones, friction and backlash of this dimensionless stand-in), damping ratio 0.07 (`c = 0.14`),
+/// `D_d = 0.95 < D_s = 1.05`, continuous back-side contact with seed B's Johnson-based contact
+/// law (eq. 1): Lankarani–Nikravesh hysteresis with `c_e = 0.8` and the exponent of its Table 2.1
+/// for a backlash of 0.2 mm ([`crate::johnson_exponent`]); `mu = 0.05`; at the multi-initial study
+/// point `omega = 1.4, F = 0.07, xi = 0.23`. Seed B's impact-damping law (eq. 12) is selectable as
+/// `contact.law = "impact_damping"`.
 pub fn internal() -> ModelParams {
     let eps: f64 = 1.8;
     let k_single = 1.0 / (1.5 * (eps - 1.0) + (2.0 - eps));
@@ -109,7 +113,10 @@ pub fn internal() -> ModelParams {
             k_double: 1.5 * k_single,
             k_single,
         },
-        contact: ContactLaw::Linear,
+        contact: ContactLaw::LankaraniNikravesh {
+            exponent: crate::contact_law::johnson_exponent(0.2).expect("0.2 mm is in the table"),
+            restitution: 0.8,
+        },
         back_side: BackSide::Contact,
         friction: Friction {
             mu: 0.05,

@@ -294,7 +294,7 @@ impl PairSpec {
                     "(0, 1e-3) 1/K",
                 ));
             }
-            if t.temperature_rise_k > 0.0 && self.operating.map_or(true, |o| o.torque_nm <= 0.0) {
+            if t.temperature_rise_k > 0.0 && self.operating.is_none_or(|o| o.torque_nm <= 0.0) {
                 return Err(bad("thermal", t.temperature_rise_k, "a temperature rise needs pair.operating.torque_nm > 0 (thermal stiffness = load / thermal deformation)"));
             }
         }
