@@ -50,6 +50,11 @@ pub fn run(a: StiffnessArgs) -> Result<()> {
                 "h_back",
                 "half_backlash",
                 "zone",
+                "mu1",
+                "mu2",
+                "film1_um",
+                "lambda1",
+                "regime1",
             ],
             pm.rows.iter().map(|r| {
                 vec![
@@ -63,6 +68,17 @@ pub fn run(a: StiffnessArgs) -> Result<()> {
                     num(r.h_back),
                     num(if r.single { ds } else { dd }),
                     (if r.single { "single" } else { "double" }).to_string(),
+                    num(r.mu1),
+                    num(r.mu2),
+                    num(r.film1 * 1e6),
+                    num(r.lambda1),
+                    (match r.regime1 {
+                        0 => "ehl",
+                        1 => "mixed",
+                        2 => "boundary",
+                        _ => "constant_mu",
+                    })
+                    .to_string(),
                 ]
             }),
         )?;
