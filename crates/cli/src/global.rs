@@ -12,10 +12,9 @@ use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::output::{write_csv, write_json, write_text};
 use geardyn_io::plot::{
-    attractor_color, colormap, raster_chart, stacked_chart, Chart, Mark, Panel, Raster, Series,
-    PALETTE,
+    colormap, raster_chart, stacked_chart, Chart, Mark, Panel, Raster, Series, PALETTE,
 };
-use geardyn_io::{npy, Config};
+use geardyn_io::{npy, sweep_output, Config};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -197,79 +196,8 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     )?;
     npy::write_i64(&a.out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
     write_json(&a.out.join("attractors.json"), &r)?;
-    // colours: healthy and unstable families, in id order within each
-    let (mut kh, mut ku) = (0, 0);
-    let colors_by_id: Vec<_> = r
-        .attractors
-        .iter()
-        .map(|at| {
-            let k = if at.descriptor.healthy {
-                &mut kh
-            } else {
-                &mut ku
-            };
-            *k += 1;
-            attractor_color(at.descriptor.healthy, *k - 1)
-        })
-        .collect();
-    let colors: Vec<_> = r
-        .cells
-        .iter()
-        .map(|&c| match c {
-            -1 => plotters::style::RGBColor(0, 0, 0),
-            -2 => plotters::style::RGBColor(170, 170, 170),
-            i => colors_by_id[i as usize],
-        })
-        .collect();
-    let mut legend: Vec<(String, _)> = r
-        .attractors
-        .iter()
-        .zip(&colors_by_id)
-        .map(|(at, c)| {
-            (
-                format!(
-                    "#{} {} {} ({:.1}%)",
-                    at.id,
-                    at.descriptor.label,
-                    if at.descriptor.healthy {
-                        "healthy"
-                    } else {
-                        "unstable"
-                    },
-                    100.0 * at.fraction
-                ),
-                *c,
-            )
-        })
-        .collect();
-    if r.diverged > 0.0 {
-        legend.push((
-            format!("divergent ({:.1}%)", 100.0 * r.diverged),
-            plotters::style::RGBColor(0, 0, 0),
-        ));
-    }
-    if r.failed > 0.0 {
-        legend.push((
-            format!("failed ({:.1}%)", 100.0 * r.failed),
-            plotters::style::RGBColor(170, 170, 170),
-        ));
-    }
     let title = format!("Basins of attraction at phase {}", a.phase);
-    raster_chart(
-        &a.out.join("basins"),
-        &Chart {
-            title: &title,
-            x_label: "x0",
-            y_label: "x0'",
-        },
-        &Raster {
-            x: (x.min, x.max, x.n),
-            y: (v.min, v.max, v.n),
-            colors: &colors,
-        },
-        &legend,
-        None,
-    )?;
+    sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
     for at in &r.attractors {
         println!(
             "attractor #{}: {} ({}), basin fraction {:.4}",

@@ -265,7 +265,7 @@ fn stiffness_command_and_physical_show() {
     let csv = std::fs::read_to_string(d.join("stiffness.csv")).unwrap();
     assert!(csv.starts_with("position_cycles,k_pair1_N_per_m"));
     assert!(csv.lines().count() > 40 * 1024);
-    assert!(d.join("stiffness.png").exists() && d.join("stiffness_detail.svg").exists());
+    assert!(d.join("mesh_stiffness.png").exists() && d.join("pairs_sharing_friction.svg").exists());
     let (code, out, _) = geardyn(&["show", "--preset", "internal"]);
     assert_eq!(code, 0);
     assert!(

@@ -7,6 +7,7 @@ pub mod config;
 pub mod describe;
 pub mod npy;
 pub mod output;
+pub mod pair_plots;
 pub mod plot;
 pub mod sweep_output;
 

@@ -1,7 +1,9 @@
 //! Tables and figures of parameter sweeps: bifurcation diagrams and frequency responses.
 
 use crate::output::{write_csv, OutputError};
+use crate::plot::{attractor_color, raster_chart, Chart, Raster};
 use crate::plot::{stacked_chart, Mark, Panel, PlotError, Series, PALETTE};
+use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -376,4 +378,77 @@ pub fn plot_response(
         },
     ];
     stacked_chart(stem, title, param, (lo, hi), &panels)
+}
+
+/// Basin image: healthy attractors in a blue–green family, unstable ones in a red–orange family
+/// (each in id order), divergent cells black, unresolved grey; the legend names each attractor
+/// with its label and basin fraction.
+pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), PlotError> {
+    let (mut kh, mut ku) = (0, 0);
+    let colors_by_id: Vec<_> = r
+        .attractors
+        .iter()
+        .map(|at| {
+            let k = if at.descriptor.healthy {
+                &mut kh
+            } else {
+                &mut ku
+            };
+            *k += 1;
+            attractor_color(at.descriptor.healthy, *k - 1)
+        })
+        .collect();
+    let black = plotters::style::RGBColor(0, 0, 0);
+    let grey = plotters::style::RGBColor(170, 170, 170);
+    let colors: Vec<_> = r
+        .cells
+        .iter()
+        .map(|&c| match c {
+            -1 => black,
+            -2 => grey,
+            i => colors_by_id[i as usize],
+        })
+        .collect();
+    let mut legend: Vec<(String, _)> = r
+        .attractors
+        .iter()
+        .zip(&colors_by_id)
+        .map(|(at, c)| {
+            (
+                format!(
+                    "#{} {} {} ({:.1}%)",
+                    at.id,
+                    at.descriptor.label,
+                    if at.descriptor.healthy {
+                        "healthy"
+                    } else {
+                        "unstable"
+                    },
+                    100.0 * at.fraction
+                ),
+                *c,
+            )
+        })
+        .collect();
+    if r.diverged > 0.0 {
+        legend.push((format!("divergent ({:.1}%)", 100.0 * r.diverged), black));
+    }
+    if r.failed > 0.0 {
+        legend.push((format!("unresolved ({:.1}%)", 100.0 * r.failed), grey));
+    }
+    raster_chart(
+        stem,
+        &Chart {
+            title,
+            x_label: "x0",
+            y_label: "x0'",
+        },
+        &Raster {
+            x: (r.x.min, r.x.max, r.x.n),
+            y: (r.v.min, r.v.max, r.v.n),
+            colors: &colors,
+        },
+        &legend,
+        None,
+    )
 }

@@ -17,8 +17,7 @@ use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimRes
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::output::write_csv;
 use geardyn_io::plot::{
-    attractor_color, colormap, raster_chart, stacked_chart, xy_chart, Chart, Mark, Panel, Raster,
-    Series, PALETTE,
+    colormap, raster_chart, stacked_chart, xy_chart, Chart, Mark, Panel, Raster, Series, PALETTE,
 };
 use geardyn_io::sweep_output;
 use geardyn_io::Config;
@@ -338,216 +337,14 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
     let healthy = healthy_spec.build()?;
     let params = ctx.base()?;
     let (dd, ds) = (params.d_double, params.d_single);
-    let cycles = pm.cycles as f64;
-    let hk: Vec<(f64, f64)> = (0..pm.cycles)
-        .flat_map(|c| {
-            healthy
-                .rows
-                .iter()
-                .map(move |r| (c as f64 + r.position, r.k_mesh / 1e6))
-        })
-        .collect();
-    let bk: Vec<(f64, f64)> = pm
-        .rows
-        .iter()
-        .map(|r| (r.position, r.k_mesh / 1e6))
-        .collect();
-    let mut figs = Vec::new();
     let mut readings_extra: Vec<String> = Vec::new();
-    let stem = dir.join("mesh_stiffness");
-    let mut series = vec![Series {
-        label: "healthy",
-        points: &hk,
-        mark: Mark::Line,
-        color: PALETTE[0],
-    }];
-    if pm.eps_b.is_some() {
-        series.push(Series {
-            label: "broken",
-            points: &bk,
-            mark: Mark::Line,
-            color: PALETTE[1],
-        });
-    }
-    stacked_chart(
-        &stem,
-        "Mesh stiffness over the excitation period",
-        "position (mesh cycles)",
-        (0.0, cycles),
-        &[Panel {
-            y_label: "k_m (N/um)",
-            series,
-        }],
-    )?;
-    figs.push(ctx.fig(
-        &stem,
-        "Mesh stiffness k_m over the excitation period (N/µm), healthy and broken pair.",
-    ));
-    let nb = pm.spec.breakage.map_or(0, |b| b.broken_cycle) as f64;
-    let (lo, hi) = if pm.cycles > 3 {
-        ((nb - 1.0).max(0.0), (nb + 2.0).min(cycles))
-    } else {
-        (0.0, cycles.min(2.0))
-    };
-    let win = |v: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
-        v.into_iter().filter(|p| p.0 >= lo && p.0 <= hi).collect()
-    };
-    let k1 = win(pm
-        .rows
+    let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds)?
         .iter()
-        .map(|r| (r.position, r.k_pair1 / 1e6))
-        .collect());
-    let k2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.k_pair2 / 1e6))
-        .collect());
-    let l1 = win(pm.rows.iter().map(|r| (r.position, r.share1)).collect());
-    let l2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.share2))
-        .collect());
-    let hd = win(pm.rows.iter().map(|r| (r.position, r.h_drive)).collect());
-    let hb = win(pm.rows.iter().map(|r| (r.position, r.h_back)).collect());
-    let dl = win(pm
-        .rows
-        .iter()
-        .map(|r| (r.position, if r.single { ds } else { dd }))
-        .collect());
-    let (hkw, bkw) = (win(hk.clone()), win(bk.clone()));
+        .map(|(stem, caption)| ctx.fig(stem, caption))
+        .collect();
     let lubricated = pm.rows.iter().any(|r| r.regime1 >= 0);
-    let mu1 = win(pm.rows.iter().map(|r| (r.position, r.mu1)).collect());
-    let mu2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.mu2))
-        .collect());
-    let lam = win(pm.rows.iter().map(|r| (r.position, r.lambda1)).collect());
-    let stem = dir.join("pairs_sharing_friction");
-    stacked_chart(
-        &stem,
-        "Pair stiffness, load sharing, friction factors and half backlash",
-        "position (mesh cycles)",
-        (lo, hi),
-        &[
-            Panel {
-                y_label: "stiffness (N/um)",
-                series: vec![
-                    Series {
-                        label: "healthy mesh",
-                        points: &hkw,
-                        mark: Mark::Line,
-                        color: PALETTE[0],
-                    },
-                    Series {
-                        label: "mesh",
-                        points: &bkw,
-                        mark: Mark::Line,
-                        color: PALETTE[1],
-                    },
-                    Series {
-                        label: "entering pair",
-                        points: &k1,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[2],
-                    },
-                    Series {
-                        label: "leaving pair",
-                        points: &k2,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[3],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "load share",
-                series: vec![
-                    Series {
-                        label: "entering pair",
-                        points: &l1,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[2],
-                    },
-                    Series {
-                        label: "leaving pair",
-                        points: &l2,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[3],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "friction factor h",
-                series: vec![
-                    Series {
-                        label: "drive side",
-                        points: &hd,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[0],
-                    },
-                    Series {
-                        label: "back side",
-                        points: &hb,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[1],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "half backlash D",
-                series: vec![Series {
-                    label: "",
-                    points: &dl,
-                    mark: Mark::Line,
-                    color: PALETTE[6],
-                }],
-            },
-        ],
-    )?;
+    let nb = pm.spec.breakage.map_or(0, |b| b.broken_cycle) as f64;
     if lubricated {
-        let stem_l = dir.join("lubrication");
-        stacked_chart(
-            &stem_l,
-            "Lubrication along the cycle: friction coefficients and film parameter",
-            "position (mesh cycles)",
-            (lo, hi),
-            &[
-                Panel {
-                    y_label: "friction coefficient",
-                    series: vec![
-                        Series {
-                            label: "entering pair",
-                            points: &mu1,
-                            mark: Mark::Dots(1),
-                            color: PALETTE[2],
-                        },
-                        Series {
-                            label: "leaving pair",
-                            points: &mu2,
-                            mark: Mark::Dots(1),
-                            color: PALETTE[3],
-                        },
-                    ],
-                },
-                Panel {
-                    y_label: "Lambda (entering pair)",
-                    series: vec![Series {
-                        label: "",
-                        points: &lam,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[0],
-                    }],
-                },
-            ],
-        )?;
-    }
-    figs.push(ctx.fig(&stem, "Around the broken cycle: stiffness of each pair and of the mesh, load shares, friction factors h (drive and back side) and the dimensionless half backlash."));
-    if lubricated {
-        figs.push(ctx.fig(&dir.join("lubrication"), "Multi-state lubrication: friction coefficient of each pair (Xu–Kahraman EHL, mixed, boundary) and the film parameter Lambda = h_min/sigma (Dowson–Higginson film)."));
         let count =
             |c: i8| pm.rows.iter().filter(|r| r.regime1 == c).count() as f64 / pm.rows.len() as f64;
         readings_extra.push(format!(
@@ -923,68 +720,8 @@ fn basin_section(
         },
     };
     let r = ctx.basins(dir, name, model, &opts)?;
-    let (mut kh, mut ku) = (0, 0);
-    let colors_by_id: Vec<_> = r
-        .attractors
-        .iter()
-        .map(|a| {
-            let k = if a.descriptor.healthy {
-                &mut kh
-            } else {
-                &mut ku
-            };
-            *k += 1;
-            attractor_color(a.descriptor.healthy, *k - 1)
-        })
-        .collect();
-    let colors: Vec<_> = r
-        .cells
-        .iter()
-        .map(|&c| {
-            if c >= 0 {
-                colors_by_id[c as usize]
-            } else {
-                plotters_grey()
-            }
-        })
-        .collect();
-    let legend: Vec<(String, _)> = r
-        .attractors
-        .iter()
-        .zip(&colors_by_id)
-        .map(|(a, c)| {
-            (
-                format!(
-                    "#{} {} {} ({:.1}%)",
-                    a.id,
-                    a.descriptor.label,
-                    if a.descriptor.healthy {
-                        "healthy"
-                    } else {
-                        "unstable"
-                    },
-                    100.0 * a.fraction
-                ),
-                *c,
-            )
-        })
-        .collect();
     let stem = dir.join(name);
-    raster_chart(
-        &stem,
-        &Chart {
-            title,
-            x_label: "x0",
-            y_label: "x0'",
-        },
-        &Raster {
-            x: (opts.x.min, opts.x.max, n),
-            y: (opts.v.min, opts.v.max, n),
-            colors: &colors,
-        },
-        &legend,
-        None,
-    )?;
+    sweep_output::plot_basins(&stem, title, &r)?;
     let readings = vec![format!(
         "{}: {} attractor(s): {}; divergent {:.3}, unresolved {:.3}; {:.1}% of cells on a basin boundary.",
         title,
@@ -999,10 +736,6 @@ fn basin_section(
         100.0 * r.boundary_fraction
     )];
     Ok((ctx.fig(&stem, title), readings, r))
-}
-
-fn plotters_grey() -> geardyn_io::plot::PlotColor {
-    geardyn_io::plot::PlotColor(170, 170, 170)
 }
 
 fn continuation_table(ctx: &Ctx, dir: &Path, param: &str, r: &ContinuationResult) -> Result<Table> {
