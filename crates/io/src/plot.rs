@@ -112,6 +112,22 @@ fn draw<DB: DrawingBackend>(
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| e.to_string())?;
+    draw_series_list(&mut ctx, series, 14)?;
+    root.present().map_err(|e| e.to_string())
+}
+
+type XyChart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Draws the series (lines or dots) and, if any is labelled, the legend.
+fn draw_series_list<'a, DB: DrawingBackend + 'a>(
+    ctx: &mut XyChart<'a, DB>,
+    series: &[Series],
+    legend_font: u32,
+) -> Result<(), String> {
     let mut any_label = false;
     for s in series {
         let color = s.color;
@@ -135,14 +151,14 @@ fn draw<DB: DrawingBackend>(
     }
     if any_label {
         ctx.configure_series_labels()
-            .label_font(("sans-serif", 14))
+            .label_font(("sans-serif", legend_font))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| e.to_string())?;
     }
-    root.present().map_err(|e| e.to_string())
+    Ok(())
 }
 
 /// Writes `stem.png` (1000x600) and `stem.svg`.
@@ -207,36 +223,7 @@ fn draw_panels<DB: DrawingBackend>(
             mesh.x_desc(x_label);
         }
         mesh.draw().map_err(|e| e.to_string())?;
-        let mut any_label = false;
-        for s in &panel.series {
-            let color = s.color;
-            let anno = match s.mark {
-                Mark::Line => ctx
-                    .draw_series(LineSeries::new(
-                        s.points.iter().copied(),
-                        color.stroke_width(1),
-                    ))
-                    .map_err(|e| e.to_string())?,
-                Mark::Dots(r) => ctx
-                    .draw_series(s.points.iter().map(|&p| Circle::new(p, r, color.filled())))
-                    .map_err(|e| e.to_string())?,
-            };
-            if !s.label.is_empty() {
-                any_label = true;
-                anno.label(s.label).legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 4), (x + 14, y + 4)], color.filled())
-                });
-            }
-        }
-        if any_label {
-            ctx.configure_series_labels()
-                .label_font(("sans-serif", 12))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(|e| e.to_string())?;
-        }
+        draw_series_list(&mut ctx, &panel.series, 12)?;
     }
     root.present().map_err(|e| e.to_string())
 }
