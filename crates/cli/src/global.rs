@@ -11,9 +11,7 @@ use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAtt
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::plot::{
-    colormap, raster_chart, stacked_chart, Chart, Mark, Panel, Raster, Series, PALETTE,
-};
+use geardyn_io::plot::{colormap, raster_chart, Chart, Raster};
 use geardyn_io::{npy, sweep_output, Config};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashMap;
@@ -325,92 +323,15 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         }),
     )?;
     write_json(&a.out.join("continuation.json"), &r)?;
-    // stacked fractions (healthy total, unstable total) and the branch tree
-    let values = &opts.values;
-    let frac = |healthy: bool| -> Vec<(f64, f64)> {
-        values
-            .iter()
-            .map(|&v| {
-                (
-                    v,
-                    r.points
-                        .iter()
-                        .filter(|p| p.value == v && p.healthy == healthy)
-                        .map(|p| p.fraction)
-                        .sum(),
-                )
-            })
-            .collect()
-    };
-    let (fh, fu) = (frac(true), frac(false));
-    let stacked: Vec<(f64, f64)> = fh.iter().zip(&fu).map(|(h, u)| (h.0, h.1 + u.1)).collect();
-    let nb = r.points.iter().map(|p| p.branch + 1).max().unwrap_or(0);
-    let branches: Vec<Vec<(f64, f64)>> = (0..nb)
-        .map(|b| {
-            r.points
-                .iter()
-                .filter(|p| p.branch == b)
-                .map(|p| (p.value, p.x))
-                .collect()
-        })
-        .collect();
-    let names: Vec<String> = (0..nb)
-        .map(|b| {
-            let l = r
-                .points
-                .iter()
-                .find(|p| p.branch == b)
-                .map_or(String::new(), |p| p.label.clone());
-            format!("branch {b} ({l})")
-        })
-        .collect();
-    let mut tree = Vec::new();
-    for (b, pts) in branches.iter().enumerate() {
-        let c = PALETTE[b % PALETTE.len()];
-        tree.push(Series {
-            label: if b < 8 { names[b].as_str() } else { "" },
-            points: pts,
-            mark: Mark::Line,
-            color: c,
-        });
-        tree.push(Series {
-            label: "",
-            points: pts,
-            mark: Mark::Dots(3),
-            color: c,
-        });
-    }
-    stacked_chart(
+    sweep_output::plot_continuation(
         &a.out.join("continuation"),
         &format!(
             "Attractor continuation over {} ({} initial states per value)",
             a.param, a.ics
         ),
         &a.param,
-        (lo, hi),
-        &[
-            Panel {
-                y_label: "basin fraction",
-                series: vec![
-                    Series {
-                        label: "healthy + unstable",
-                        points: &stacked,
-                        mark: Mark::Line,
-                        color: PALETTE[1],
-                    },
-                    Series {
-                        label: "healthy",
-                        points: &fh,
-                        mark: Mark::Line,
-                        color: PALETTE[0],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "x on strobe (tree)",
-                series: tree,
-            },
-        ],
+        &opts.values,
+        &r,
     )?;
     for iv in &r.intervals {
         let fmt = |l: &Vec<(usize, String, f64, f64)>| {

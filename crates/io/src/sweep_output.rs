@@ -452,3 +452,99 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Plot
         None,
     )
 }
+
+/// Continuation figure: basin fractions (healthy, and healthy + unstable) and the branch tree
+/// (first stroboscopic point of each attractor) over the parameter.
+pub fn plot_continuation(
+    stem: &Path,
+    title: &str,
+    param: &str,
+    values: &[f64],
+    r: &geardyn_analysis::continuation::ContinuationResult,
+) -> Result<(), PlotError> {
+    let lo = values.first().copied().unwrap_or(0.0);
+    let hi = values.last().copied().unwrap_or(1.0);
+
+    let frac = |healthy: bool| -> Vec<(f64, f64)> {
+        values
+            .iter()
+            .map(|&v| {
+                (
+                    v,
+                    r.points
+                        .iter()
+                        .filter(|p| p.value == v && p.healthy == healthy)
+                        .map(|p| p.fraction)
+                        .sum(),
+                )
+            })
+            .collect()
+    };
+    let (fh, fu) = (frac(true), frac(false));
+    let stacked: Vec<(f64, f64)> = fh.iter().zip(&fu).map(|(h, u)| (h.0, h.1 + u.1)).collect();
+    let nb = r.points.iter().map(|p| p.branch + 1).max().unwrap_or(0);
+    let branches: Vec<Vec<(f64, f64)>> = (0..nb)
+        .map(|b| {
+            r.points
+                .iter()
+                .filter(|p| p.branch == b)
+                .map(|p| (p.value, p.x))
+                .collect()
+        })
+        .collect();
+    let names: Vec<String> = (0..nb)
+        .map(|b| {
+            let l = r
+                .points
+                .iter()
+                .find(|p| p.branch == b)
+                .map_or(String::new(), |p| p.label.clone());
+            format!("branch {b} ({l})")
+        })
+        .collect();
+    let mut tree = Vec::new();
+    for (b, pts) in branches.iter().enumerate() {
+        let c = PALETTE[b % PALETTE.len()];
+        tree.push(Series {
+            label: if b < 8 { names[b].as_str() } else { "" },
+            points: pts,
+            mark: Mark::Line,
+            color: c,
+        });
+        tree.push(Series {
+            label: "",
+            points: pts,
+            mark: Mark::Dots(3),
+            color: c,
+        });
+    }
+    stacked_chart(
+        stem,
+        title,
+        param,
+        (lo, hi),
+        &[
+            Panel {
+                y_label: "basin fraction",
+                series: vec![
+                    Series {
+                        label: "healthy + unstable",
+                        points: &stacked,
+                        mark: Mark::Line,
+                        color: PALETTE[1],
+                    },
+                    Series {
+                        label: "healthy",
+                        points: &fh,
+                        mark: Mark::Line,
+                        color: PALETTE[0],
+                    },
+                ],
+            },
+            Panel {
+                y_label: "x on strobe (tree)",
+                series: tree,
+            },
+        ],
+    )
+}

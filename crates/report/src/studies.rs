@@ -16,9 +16,7 @@ use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::output::write_csv;
-use geardyn_io::plot::{
-    colormap, raster_chart, stacked_chart, xy_chart, Chart, Mark, Panel, Raster, Series, PALETTE,
-};
+use geardyn_io::plot::{colormap, raster_chart, xy_chart, Chart, Mark, Raster, Series, PALETTE};
 use geardyn_io::sweep_output;
 use geardyn_io::Config;
 use geardyn_model::{MeshModel, ModelParams};
@@ -761,82 +759,7 @@ fn continuation_figure(
     r: &ContinuationResult,
     title: &str,
 ) -> Result<Figure> {
-    let frac = |healthy: bool| -> Vec<(f64, f64)> {
-        values
-            .iter()
-            .map(|&v| {
-                (
-                    v,
-                    r.points
-                        .iter()
-                        .filter(|p| p.value == v && p.healthy == healthy)
-                        .map(|p| p.fraction)
-                        .sum(),
-                )
-            })
-            .collect()
-    };
-    let fh = frac(true);
-    let nb = r.points.iter().map(|p| p.branch + 1).max().unwrap_or(0);
-    let branches: Vec<Vec<(f64, f64)>> = (0..nb)
-        .map(|b| {
-            r.points
-                .iter()
-                .filter(|p| p.branch == b)
-                .map(|p| (p.value, p.x))
-                .collect()
-        })
-        .collect();
-    let names: Vec<String> = (0..nb)
-        .map(|b| {
-            format!(
-                "branch {b} ({})",
-                r.points
-                    .iter()
-                    .find(|p| p.branch == b)
-                    .map_or("", |p| p.label.as_str())
-            )
-        })
-        .collect();
-    let mut tree = Vec::new();
-    for (b, pts) in branches.iter().enumerate() {
-        let c = PALETTE[b % PALETTE.len()];
-        tree.push(Series {
-            label: if b < 6 { names[b].as_str() } else { "" },
-            points: pts,
-            mark: Mark::Line,
-            color: c,
-        });
-        tree.push(Series {
-            label: "",
-            points: pts,
-            mark: Mark::Dots(3),
-            color: c,
-        });
-    }
-    let lo = values.first().copied().unwrap_or(0.0);
-    let hi = values.last().copied().unwrap_or(1.0);
-    stacked_chart(
-        stem,
-        title,
-        param,
-        (lo, hi),
-        &[
-            Panel {
-                y_label: "healthy basin fraction",
-                series: vec![Series {
-                    label: "",
-                    points: &fh,
-                    mark: Mark::Line,
-                    color: PALETTE[0],
-                }],
-            },
-            Panel {
-                y_label: "x on strobe (branches)",
-                series: tree,
-            },
-        ],
-    )?;
+    sweep_output::plot_continuation(stem, title, param, values, r)?;
     Ok(ctx.fig(stem, title))
 }
 
