@@ -255,7 +255,8 @@ pub struct Summary {
 #[inline]
 fn parabola_peak(a: f64, b: f64, c: f64) -> Option<f64> {
     let curv = a - 2.0 * b + c;
-    if curv != 0.0 && ((b >= a && b >= c) || (b <= a && b <= c)) {
+    // strictly extreme middle sample only: a flat (clamped) run must not be extrapolated
+    if curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
         Some(b - (c - a) * (c - a) / (8.0 * curv))
     } else {
         None

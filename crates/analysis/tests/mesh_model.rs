@@ -389,3 +389,32 @@ fn forced_linear_response_amplitudes_match_closed_form() {
         assert_eq!((s.period, s.p_id), (1, 0.0));
     }
 }
+
+#[test]
+fn unilateral_option_forbids_tensile_mesh_force() {
+    // drive-side contact only (large static load), damping c = 0.4: leaving the contact with
+    // x' < 0 makes k(x - D) + c x' negative just before x = D unless the force is unilateral
+    let mut p = presets::classic();
+    p.load = 0.3;
+    p.xi = 0.5;
+    p.c = 0.4;
+    p.omega = 0.9;
+    let opts = SimOptions {
+        transient_periods: 200,
+        record_periods: 20,
+        ..Default::default()
+    };
+    let m = MeshModel::new(&p).unwrap();
+    let bilateral = summarize(&m, &simulate(&m, [1.3, 0.0], &opts).unwrap(), &opts);
+    p.unilateral = true;
+    let m = MeshModel::new(&p).unwrap();
+    let r = simulate(&m, [1.3, 0.0], &opts).unwrap();
+    let unilateral = summarize(&m, &r, &opts);
+    assert!(
+        bilateral.min_force < -1e-3,
+        "setup must produce a tensile force: {}",
+        bilateral.min_force
+    );
+    assert!(unilateral.min_force >= 0.0, "{}", unilateral.min_force);
+    assert_eq!(r.impacts, 0);
+}

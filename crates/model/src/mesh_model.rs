@@ -146,6 +146,7 @@ pub struct MeshModel {
     table_k: Vec<f64>,
     uniform: Vec<f64>,
     law: ContactLaw,
+    unilateral: bool,
     impact: Option<ImpactLaw>,
     impact_peak_factor: f64,
 }
@@ -343,6 +344,7 @@ impl MeshModel {
             table_k: Vec::new(),
             uniform: Vec::new(),
             law: p.contact,
+            unilateral: p.unilateral,
             impact,
             impact_peak_factor: impact.map_or(1.0, |l| l.peak_factor()),
         };
@@ -679,12 +681,22 @@ impl MeshModel {
             ContactState::Drive => {
                 let k = self.k_of(seg, t, cos_wt, mode.period);
                 let g = self.law.elastic(y[0] - seg.d);
-                k * g * (1.0 + mode.chi * y[1]) + self.c * y[1]
+                let f = k * g * (1.0 + mode.chi * y[1]) + self.c * y[1];
+                if self.unilateral {
+                    f.max(0.0)
+                } else {
+                    f
+                }
             }
             ContactState::Back => {
                 let k = self.k_of(seg, t, cos_wt, mode.period);
                 let g = self.law.elastic(-y[0] - seg.d);
-                -k * g * (1.0 - mode.chi * y[1]) + self.c * y[1]
+                let f = -k * g * (1.0 - mode.chi * y[1]) + self.c * y[1];
+                if self.unilateral {
+                    f.min(0.0)
+                } else {
+                    f
+                }
             }
             ContactState::Separated | ContactState::Stuck => 0.0,
         }
@@ -782,16 +794,12 @@ impl HybridSystem<2> for MeshModel {
         // one match on the contact state (force_in would match again)
         let acc = match mode.contact {
             ContactState::Drive => {
-                let k = self.k_of(seg, t, *cos_wt, mode.period);
-                let g = self.law.elastic(y[0] - seg.d);
                 let h = self.h_of(seg, t, mode.period).0;
-                exc - h * (k * g * (1.0 + mode.chi * y[1]) + self.c * y[1])
+                exc - h * self.force_in(seg, t, *cos_wt, y, mode)
             }
             ContactState::Back => {
-                let k = self.k_of(seg, t, *cos_wt, mode.period);
-                let g = self.law.elastic(-y[0] - seg.d);
                 let h = self.h_of(seg, t, mode.period).1;
-                exc - h * (-k * g * (1.0 - mode.chi * y[1]) + self.c * y[1])
+                exc - h * self.force_in(seg, t, *cos_wt, y, mode)
             }
             ContactState::Separated => exc,
             ContactState::Stuck => {
@@ -931,7 +939,16 @@ impl Variational<2> for MeshModel {
                 return;
             }
         };
-        *jac = [[0.0, 1.0], [dax, dav]];
+        // a clamped (unilateral, would-be tensile) force does not depend on the state
+        let clamped = self.unilateral && {
+            let f = self.force_in(seg, t, *cos_wt, y, mode);
+            f == 0.0 && matches!(mode.contact, ContactState::Drive | ContactState::Back)
+        };
+        *jac = if clamped {
+            [[0.0, 1.0], [0.0, 0.0]]
+        } else {
+            [[0.0, 1.0], [dax, dav]]
+        };
     }
 
     fn guard_gradient(

@@ -151,6 +151,11 @@ pub struct ModelParams {
     /// Optional localized tooth breakage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub breakage: Option<Breakage>,
+    /// Unilateral contact: the mesh force cannot pull (`F_m >= 0` on the drive side, `<= 0` on
+    /// the back side). Off by default: as in both seeds, a damped contact may carry a tensile
+    /// force until `x` returns to `D` (MODEL.md §3).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub unilateral: bool,
 }
 
 /// Parameter names accepted by [`ModelParams::set`] (and by `--set`, sweeps, maps).

@@ -48,6 +48,7 @@ pub fn classic() -> ModelParams {
         back_side: BackSide::Contact,
         friction: Friction::default(),
         breakage: None,
+        unilateral: false,
     }
 }
 
@@ -88,6 +89,7 @@ pub fn breakage() -> ModelParams {
             eps_b: 1.45,
             k_zone2: k_single,
         }),
+        unilateral: false,
     }
 }
 
@@ -124,6 +126,7 @@ pub fn internal() -> ModelParams {
             pitch: 0.9,
         },
         breakage: None,
+        unilateral: false,
     }
 }
 
