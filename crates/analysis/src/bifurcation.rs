@@ -180,14 +180,14 @@ pub struct TaskResult {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SweepError {
     /// A parameter value makes an invalid model.
-    #[error("{param} = {value}: {source}")]
+    #[error("{param} = {value}: {reason}")]
     Model {
         /// Parameter.
         param: String,
         /// Value.
         value: f64,
-        /// Cause.
-        source: ModelError,
+        /// Cause (not chained as an error source, so it is printed once).
+        reason: ModelError,
     },
     /// No values.
     #[error("empty parameter range")]
@@ -229,10 +229,10 @@ pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) ->
 
 fn model_at(base: &ModelParams, param: &str, value: f64) -> Result<MeshModel, SweepError> {
     let mut p = base.clone();
-    let err = |source| SweepError::Model {
+    let err = |reason| SweepError::Model {
         param: param.to_string(),
         value,
-        source,
+        reason,
     };
     p.set(param, value).map_err(err)?;
     MeshModel::new(&p).map_err(err)
