@@ -193,7 +193,9 @@ impl ModelParams {
         self.clone().field_mut(name).map(|f| *f)
     }
 
-    /// Sets a named parameter. `D` sets both `D_d` and `D_s`. Values are not range-checked here:
+    /// Sets a named parameter. `D` is the static half backlash: it sets `D_s` and shifts `D_d` by
+    /// the same amount, keeping their difference (equal to `D` when they were equal), so a
+    /// backlash sweep keeps a time-varying backlash time-varying. Values are not range-checked here:
     /// [`crate::MeshModel::new`] validates the whole set.
     ///
     /// ```
@@ -204,7 +206,7 @@ impl ModelParams {
     /// ```
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ModelError> {
         if name == "D" {
-            self.d_double = value;
+            self.d_double = value - (self.d_single - self.d_double);
             self.d_single = value;
             return Ok(());
         }
