@@ -21,6 +21,9 @@ pub struct BenchArgs {
     /// Repetitions (the best is reported).
     #[arg(long, default_value_t = 5)]
     repeat: u32,
+    /// Interior guard samples per step (grazing detection); default: the integrator's choice.
+    #[arg(long)]
+    grazing: Option<usize>,
     /// Also time the C1 bifurcation diagram (200 values of omega in [0.5, 2], 300 + 100 periods).
     #[arg(long)]
     bifurcation: bool,
@@ -43,7 +46,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let mut best = f64::INFINITY;
         let mut stats = Default::default();
         for _ in 0..a.repeat {
-            let mut it = Integrator::new(model.clone(), scheme, 0.0, [0.0, 0.0])?;
+            let mut it = Integrator::new(model.clone(), scheme, 0.0, [0.0, 0.0])?.with_options(
+                geardyn_solvers::Options {
+                    grazing_samples: a.grazing,
+                    ..Default::default()
+                },
+            );
             let t = std::time::Instant::now();
             run_periods(&mut it, ts, a.periods, &mut Discard)?;
             let el = t.elapsed().as_secs_f64();

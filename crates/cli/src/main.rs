@@ -49,6 +49,13 @@ enum Command {
 }
 
 fn main() {
+    // Piping into `head` closes stdout early: end quietly like other Unix tools instead of
+    // panicking on a failed print.
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Report(args) => report::run(args),
