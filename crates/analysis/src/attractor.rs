@@ -106,6 +106,9 @@ impl<S: HybridSystem<2>> HybridSystem<2> for StrobeOnly<S> {
     fn max_step(&self) -> f64 {
         self.sys.max_step()
     }
+    fn guard_lipschitz(&self, m: &S::Mode) -> Option<f64> {
+        self.sys.guard_lipschitz(m)
+    }
 }
 
 struct Collect(Vec<[f64; 2]>);

@@ -117,6 +117,10 @@ macro_rules! tangent_impl {
             fn max_step(&self) -> f64 {
                 self.sys.max_step()
             }
+            // the guards read the trajectory part only: the bound over all components is safe
+            fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64> {
+                self.sys.guard_lipschitz(mode)
+            }
         }
     };
 }

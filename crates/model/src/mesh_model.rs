@@ -900,6 +900,16 @@ impl HybridSystem<2> for MeshModel {
     fn max_step(&self) -> f64 {
         self.cycle_time / 16.0
     }
+
+    /// Contact guards are `x -+ D` with `D` constant within a segment (unit Lipschitz constant);
+    /// the release guard of a tooth resting on the stop depends on time.
+    #[inline(always)]
+    fn guard_lipschitz(&self, mode: &MeshMode) -> Option<f64> {
+        match mode.contact {
+            ContactState::Stuck => None,
+            _ => Some(1.0),
+        }
+    }
 }
 
 impl Variational<2> for MeshModel {

@@ -187,6 +187,14 @@ pub trait HybridSystem<const N: usize> {
     fn max_step(&self) -> f64 {
         f64::INFINITY
     }
+
+    /// If every guard armed in `mode` depends on the state only (not on time) with
+    /// `|g(y) - g(y')| <= L max_i |y_i - y'_i|`, return `Some(L)`. The integrator then skips the
+    /// interior guard samples of a step whose interpolant provably stays farther from every
+    /// surface than the guards can move — most steps. Default `None`: always sample.
+    fn guard_lipschitz(&self, _mode: &Self::Mode) -> Option<f64> {
+        None
+    }
 }
 
 /// A shared reference to a system is a system: many integrators (one per basin cell, say) can
@@ -225,5 +233,9 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
     #[inline(always)]
     fn max_step(&self) -> f64 {
         (**self).max_step()
+    }
+    #[inline(always)]
+    fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64> {
+        (**self).guard_lipschitz(mode)
     }
 }

@@ -697,6 +697,23 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             if m == 0 {
                 return None;
             }
+            // rigorous skip: the interpolant deviates from its chord by at most
+            // max_i 0.25 (|r2| + |r3| + |r4|); guards affine in the state move by at most L times it
+            if let Some(l) = self.sys.guard_lipschitz(&self.mode) {
+                let r = &trial.step.r;
+                let mut dev = 0.0f64;
+                for i in 0..N {
+                    dev = dev.max(r[2][i].abs() + r[3][i].abs() + r[4][i].abs());
+                }
+                let margin = 0.25 * l * dev;
+                let clear = (0..n).all(|i| {
+                    let (p, b) = (g0.value[i], g1.value[i]);
+                    (p > 0.0) == (b > 0.0) && p.abs().min(b.abs()) > margin
+                });
+                if clear {
+                    return None;
+                }
+            }
             let mut gm = Guards::EMPTY;
             let tm = 0.5 * (t0 + t1);
             guards_into(
