@@ -267,6 +267,8 @@ struct Recorder<'a> {
     model: &'a MeshModel,
     res: SimResult,
     keep_traj: bool,
+    /// Mesh force at the end of the previous step (time, value, mode), reused at the next start.
+    last_end: Option<(f64, f64, MeshMode)>,
     sample_dt: f64,
     next_sample: u64,
     sample_origin: f64,
@@ -289,6 +291,7 @@ impl<'a> Recorder<'a> {
                 ..Default::default()
             },
             keep_traj,
+            last_end: None,
             sample_dt: model.mesh_cycle_time() / samples_per_cycle.max(1) as f64,
             next_sample: 0,
             sample_origin: t_start,
@@ -363,9 +366,18 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
             let y = if th == 1.0 { y1 } else { step.at_theta(th) };
             xs[k] = y[0];
             if contact {
-                fs[k] = self.model.mesh_force(t0 + th * dt, &y, before);
+                // the start of a step continues the end of the previous one (same mode, no reset)
+                fs[k] = match self.last_end {
+                    Some((t, f, m)) if k == 0 && t == t0 && m == *before => f,
+                    _ => self.model.mesh_force(t0 + th * dt, &y, before),
+                };
             }
         }
+        self.last_end = if stop == Stop::Step {
+            Some((t1, fs[ths.len() - 1], *before))
+        } else {
+            None
+        };
         let n = ths.len();
         for k in 0..n {
             self.res.x_range = (self.res.x_range.0.min(xs[k]), self.res.x_range.1.max(xs[k]));

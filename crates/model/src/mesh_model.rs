@@ -670,6 +670,9 @@ impl MeshModel {
 
     /// Dynamic mesh force `F_m` in the given mode (0 when separated or stuck).
     pub fn mesh_force(&self, t: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
+        if matches!(mode.contact, ContactState::Separated | ContactState::Stuck) {
+            return 0.0;
+        }
         let seg = &self.segs[mode.seg as usize];
         let cos_wt = cos_cycles(self.omega * t / (2.0 * PI));
         self.force_in(seg, t, cos_wt, y, mode)
