@@ -169,7 +169,11 @@ impl MeshModel {
         let omega = finite("omega", p.omega)?;
         // below 1e-3 one excitation period spans > 6000 natural periods: runs would take hours
         if !(1e-3..=1e3).contains(&omega) {
-            return Err(inv("omega", omega, "[0.001, 1000] (dimensionless mesh frequency omega_h/omega_n)"));
+            return Err(inv(
+                "omega",
+                omega,
+                "[0.001, 1000] (dimensionless mesh frequency omega_h/omega_n)",
+            ));
         }
         if finite("F", p.load)? < 0.0 {
             return Err(inv("F", p.load, "[0, inf)"));
