@@ -62,6 +62,9 @@ pub struct SimOptions {
     pub trajectory: bool,
     /// Trajectory samples per mesh cycle.
     pub samples_per_cycle: u32,
+    /// Keep the trajectory of the last this many recorded excitation periods only (all of them
+    /// by default; the strobe, events and statistics always cover every recorded period).
+    pub trajectory_periods: u64,
     /// Start time `tau_0` (the stroboscopic phase).
     pub tau0: f64,
     /// Largest period searched by period detection.
@@ -76,6 +79,7 @@ impl Default for SimOptions {
             record_periods: 100,
             trajectory: false,
             samples_per_cycle: 128,
+            trajectory_periods: u64::MAX,
             tau0: 0.0,
             max_period: 32,
         }
@@ -267,6 +271,9 @@ struct Recorder<'a> {
     model: &'a MeshModel,
     res: SimResult,
     keep_traj: bool,
+    /// Recorded periods completed, and the first one whose trajectory is kept.
+    period: u64,
+    traj_from: u64,
     /// Mesh force at the end of the previous step (time, value, mode), reused at the next start.
     last_end: Option<(f64, f64, MeshMode)>,
     sample_dt: f64,
@@ -279,7 +286,13 @@ struct Recorder<'a> {
 }
 
 impl<'a> Recorder<'a> {
-    fn new(model: &'a MeshModel, keep_traj: bool, samples_per_cycle: u32, t_start: f64) -> Self {
+    fn new(
+        model: &'a MeshModel,
+        keep_traj: bool,
+        samples_per_cycle: u32,
+        t_start: f64,
+        traj_from: u64,
+    ) -> Self {
         let (dd, ds) = model.backlash_levels();
         let distinct = dd != ds;
         Recorder {
@@ -291,6 +304,8 @@ impl<'a> Recorder<'a> {
                 ..Default::default()
             },
             keep_traj,
+            period: 0,
+            traj_from,
             last_end: None,
             sample_dt: model.mesh_cycle_time() / samples_per_cycle.max(1) as f64,
             next_sample: 0,
@@ -309,8 +324,13 @@ impl<'a> Recorder<'a> {
         f
     }
 
+    #[inline]
+    fn traj_on(&self) -> bool {
+        self.keep_traj && self.period >= self.traj_from
+    }
+
     fn push_traj(&mut self, tau: f64, y: &[f64; 2], f: f64, mode: &MeshMode) {
-        if self.keep_traj {
+        if self.traj_on() {
             self.res.trajectory.push(TrajectoryPoint {
                 tau,
                 x: y[0],
@@ -399,7 +419,7 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
                 }
             }
         }
-        if self.keep_traj {
+        if self.traj_on() {
             // uniform samples from the dense output, times computed from an integer index
             loop {
                 let ts = self.sample_origin + self.next_sample as f64 * self.sample_dt;
@@ -483,6 +503,12 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
         self.counts = [0; 4];
         self.res.impact_force_per_period.push(self.impact_max);
         self.impact_max = 0.0;
+        self.period += 1;
+        if self.period == self.traj_from {
+            // the kept window starts here: uniform samples from this instant
+            self.sample_origin = t;
+            self.next_sample = 0;
+        }
     }
 }
 
@@ -508,7 +534,14 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
     let mut integ = Integrator::new(model, opts.method.scheme(model), opts.tau0, y0)?;
     let period = model.excitation_period();
     run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
-    let mut rec = Recorder::new(model, opts.trajectory, opts.samples_per_cycle, integ.t());
+    let traj_from = opts.record_periods.saturating_sub(opts.trajectory_periods);
+    let mut rec = Recorder::new(
+        model,
+        opts.trajectory,
+        opts.samples_per_cycle,
+        integ.t(),
+        traj_from,
+    );
     run_periods(&mut integ, period, opts.record_periods, &mut rec)?;
     let mut res = rec.res;
     if res.max_force == f64::NEG_INFINITY {

@@ -418,3 +418,39 @@ fn unilateral_option_forbids_tensile_mesh_force() {
     assert!(unilateral.min_force >= 0.0, "{}", unilateral.min_force);
     assert_eq!(r.impacts, 0);
 }
+
+#[test]
+fn trajectory_window_keeps_the_last_periods_on_the_same_uniform_grid() {
+    let m = MeshModel::new(&presets::classic()).unwrap();
+    let full = SimOptions {
+        transient_periods: 50,
+        record_periods: 10,
+        trajectory: true,
+        ..Default::default()
+    };
+    let last = SimOptions {
+        trajectory_periods: 3,
+        ..full
+    };
+    let (a, b) = (
+        simulate(&m, [0.0, 0.0], &full).unwrap(),
+        simulate(&m, [0.0, 0.0], &last).unwrap(),
+    );
+    // everything but the trajectory is identical
+    assert_eq!(a.strobe, b.strobe);
+    assert_eq!(a.max_force, b.max_force);
+    let t_from = a.strobe[6][0];
+    let tail: Vec<_> = a
+        .trajectory
+        .iter()
+        .filter(|p| p.tau >= t_from - 1e-9)
+        .collect();
+    assert!(!b.trajectory.is_empty() && b.trajectory.iter().all(|p| p.tau >= t_from - 1e-9));
+    // same samples (times on the same uniform grid, up to round-off of its origin)
+    assert!(
+        (tail.len() as i64 - b.trajectory.len() as i64).abs() <= 2,
+        "{} vs {}",
+        tail.len(),
+        b.trajectory.len()
+    );
+}

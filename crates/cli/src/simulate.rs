@@ -19,6 +19,9 @@ pub struct SimulateArgs {
     /// Transient excitation periods discarded first (default: simulation.transient_periods).
     #[arg(long)]
     transient: Option<u64>,
+    /// Excitation periods (the last ones recorded) kept in trajectory.csv and the plots.
+    #[arg(long, default_value_t = 10)]
+    trajectory_periods: u64,
     /// Output directory.
     #[arg(long, default_value = "out/simulate")]
     out: PathBuf,
@@ -35,6 +38,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let model = cfg.build_model()?;
     let mut opts = cfg.sim_options()?;
     opts.trajectory = true;
+    opts.trajectory_periods = args.trajectory_periods.max(1);
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
     let res = simulate(&model, y0, &opts).context("integration failed")?;

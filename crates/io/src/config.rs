@@ -326,6 +326,7 @@ impl Config {
             record_periods: s.record_periods,
             trajectory: false,
             samples_per_cycle: 128,
+            trajectory_periods: u64::MAX,
             tau0: s.tau0,
             max_period: 32,
         })
