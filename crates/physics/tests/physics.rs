@@ -6,36 +6,11 @@ use geardyn_physics::pair::{BreakageSpec, OperatingPoint, PairSpec};
 use std::f64::consts::PI;
 
 fn spec_40_40() -> PairSpec {
-    PairSpec {
-        kind: PairKind::External,
-        z1: 40,
-        z2: 40,
-        module_mm: 3.0,
-        pressure_angle_deg: 20.0,
-        addendum: 1.0,
-        clearance: 0.25,
-        x1: 0.0,
-        x2: 0.0,
-        face_width_mm: 20.0,
-        youngs_modulus_gpa: 206.0,
-        poisson: 0.3,
-        density_kg_m3: 7850.0,
-        bore_radius_pinion_mm: None,
-        bore_radius_gear_mm: None,
-        inertia_pinion_kgm2: None,
-        inertia_gear_kgm2: None,
-        hertz: HertzModel::Linear,
-        load_sharing: LoadSharing::Stiffness,
-        mu: 0.15,
-        breakage: None,
-        lubrication: None,
-        thermal: None,
-        samples_per_cycle: 512,
-        characteristic_length_um: 10.0,
-        mean_stiffness_n_per_m: None,
-        damping_ratio: None,
-        operating: None,
-    }
+    // the seed A pair (40/40, m = 3, 20 deg, B = 20 mm, 206 GPa, mu = 0.15), healthy
+    let mut s = geardyn_physics::presets::breakage();
+    s.breakage = None;
+    s.samples_per_cycle = 512;
+    s
 }
 
 #[test]

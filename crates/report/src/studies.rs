@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use geardyn_analysis::attractor::IdentifyOptions;
 use geardyn_analysis::basins::{basins, Axis, BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{
-    detect_jumps, linspace, run_sweep, Section as Sec, SweepMode, SweepOptions, Task, TaskResult,
+    detect_jumps, linspace, run_sweep, Section as Sec, SweepMode, SweepOptions, TaskResult,
 };
 use geardyn_analysis::continuation::{
     continuation, ContinuationOptions, ContinuationResult, ValueAttractors,
@@ -103,6 +103,45 @@ impl Ctx {
         Ok(sec)
     }
 
+    /// Runs `run` with a checkpoint `dir/name.checkpoint.jsonl` (keyed by `key`) and a progress
+    /// bar: `run` receives the records finished earlier (by `key_of`) and a callback that saves
+    /// each new record. The first write error is returned after the run.
+    fn checkpointed<T, K, R>(
+        &self,
+        dir: &Path,
+        name: &str,
+        key: &serde_json::Value,
+        total: u64,
+        key_of: impl Fn(&T) -> K,
+        run: impl FnOnce(&HashMap<K, T>, &(dyn Fn(&T) + Sync)) -> Result<R>,
+    ) -> Result<R>
+    where
+        T: Serialize + serde::de::DeserializeOwned,
+        K: Eq + std::hash::Hash,
+    {
+        let key = serde_json::to_string(key)?;
+        let (cp, done) =
+            Checkpoint::open::<T>(&dir.join(format!("{name}.checkpoint.jsonl")), &key)?;
+        let done: HashMap<K, T> = done.into_iter().map(|t| (key_of(&t), t)).collect();
+        let pb = bar(total, name);
+        pb.set_position(done.len() as u64);
+        let err = std::sync::Mutex::new(None);
+        let record = |t: &T| {
+            if let Err(e) = cp.append(t) {
+                err.lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .get_or_insert(e);
+            }
+            pb.inc(1);
+        };
+        let r = run(&done, &record)?;
+        pb.finish_and_clear();
+        if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            return Err(e.into());
+        }
+        Ok(r)
+    }
+
     fn sweep(
         &self,
         dir: &Path,
@@ -110,19 +149,16 @@ impl Ctx {
         base: &ModelParams,
         opts: &SweepOptions,
     ) -> Result<Vec<TaskResult>> {
-        let key = serde_json::to_string(&serde_json::json!({ "base": base, "opts": opts }))?;
-        let (cp, done) =
-            Checkpoint::open::<TaskResult>(&dir.join(format!("{name}.checkpoint.jsonl")), &key)?;
-        let done: HashMap<Task, TaskResult> = done.into_iter().map(|r| (r.task, r)).collect();
         let total = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
-        let pb = bar(total, name);
-        pb.set_position(done.len() as u64);
-        let r = run_sweep(base, opts, &done, |r| {
-            let _ = cp.append(r);
-            pb.inc(1);
-        })?;
-        pb.finish_and_clear();
-        Ok(r)
+        let key = serde_json::json!({ "base": base, "opts": opts });
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            total,
+            |r: &TaskResult| r.task,
+            |done, record| Ok(run_sweep(base, opts, done, record)?),
+        )
     }
 
     fn continuation(
@@ -132,21 +168,15 @@ impl Ctx {
         base: &ModelParams,
         opts: &ContinuationOptions,
     ) -> Result<ContinuationResult> {
-        let key = serde_json::to_string(&serde_json::json!({ "base": base, "opts": opts }))?;
-        let (cp, done) = Checkpoint::open::<ValueAttractors>(
-            &dir.join(format!("{name}.checkpoint.jsonl")),
+        let key = serde_json::json!({ "base": base, "opts": opts });
+        self.checkpointed(
+            dir,
+            name,
             &key,
-        )?;
-        let done: HashMap<usize, ValueAttractors> =
-            done.into_iter().map(|v| (v.index, v)).collect();
-        let pb = bar(opts.values.len() as u64, name);
-        pb.set_position(done.len() as u64);
-        let r = continuation(base, opts, &done, |v| {
-            let _ = cp.append(v);
-            pb.inc(1);
-        })?;
-        pb.finish_and_clear();
-        Ok(r)
+            opts.values.len() as u64,
+            |v: &ValueAttractors| v.index,
+            |done, record| Ok(continuation(base, opts, done, record)?),
+        )
     }
 
     fn basins(
@@ -156,21 +186,20 @@ impl Ctx {
         model: &MeshModel,
         opts: &BasinOptions,
     ) -> Result<BasinResult> {
-        let key =
-            serde_json::to_string(&serde_json::json!({ "params": model.params(), "opts": opts }))?;
-        let (cp, done) = Checkpoint::open::<(usize, geardyn_analysis::attractor::Outcome)>(
-            &dir.join(format!("{name}.checkpoint.jsonl")),
+        let key = serde_json::json!({ "params": model.params(), "opts": opts });
+        let total = (opts.x.n * opts.v.n) as u64;
+        type Cell = (usize, geardyn_analysis::attractor::Outcome);
+        self.checkpointed(
+            dir,
+            name,
             &key,
-        )?;
-        let done: HashMap<usize, _> = done.into_iter().collect();
-        let pb = bar((opts.x.n * opts.v.n) as u64, name);
-        pb.set_position(done.len() as u64);
-        let r = basins(model, opts, &done, |c, o| {
-            let _ = cp.append(&(c, o));
-            pb.inc(1);
-        });
-        pb.finish_and_clear();
-        Ok(r)
+            total,
+            |c: &Cell| c.0,
+            |done, record| {
+                let done: HashMap<usize, _> = done.iter().map(|(k, v)| (*k, v.1.clone())).collect();
+                Ok(basins(model, opts, &done, |c, o| record(&(c, o.clone()))))
+            },
+        )
     }
 
     fn map(
@@ -180,18 +209,16 @@ impl Ctx {
         base: &ModelParams,
         opts: &MapOptions,
     ) -> Result<Vec<MapCell>> {
-        let key = serde_json::to_string(&serde_json::json!({ "base": base, "opts": opts }))?;
-        let (cp, done) =
-            Checkpoint::open::<MapCell>(&dir.join(format!("{name}.checkpoint.jsonl")), &key)?;
-        let done: HashMap<usize, MapCell> = done.into_iter().map(|c| (c.index, c)).collect();
-        let pb = bar((opts.x_values.len() * opts.y_values.len()) as u64, name);
-        pb.set_position(done.len() as u64);
-        let r = map2d(base, opts, &done, |c| {
-            let _ = cp.append(c);
-            pb.inc(1);
-        })?;
-        pb.finish_and_clear();
-        Ok(r)
+        let key = serde_json::json!({ "base": base, "opts": opts });
+        let total = (opts.x_values.len() * opts.y_values.len()) as u64;
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            total,
+            |c: &MapCell| c.index,
+            |done, record| Ok(map2d(base, opts, done, record)?),
+        )
     }
 
     fn fig(&self, stem: &Path, caption: &str) -> Figure {
