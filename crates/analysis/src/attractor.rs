@@ -1,4 +1,4 @@
-//! Automatic attractor identification on the stroboscopic section (MODEL.md §5).
+//! Automatic attractor identification on the stroboscopic section (docs/model.md §5).
 //!
 //! A trajectory is integrated period by period. After every period its stroboscopic point is
 //! compared with the known periodic attractors: when `2n` consecutive points (n = the attractor's

@@ -1,4 +1,4 @@
-//! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (MODEL.md §5).
+//! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (docs/model.md §5).
 //!
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
 //! (every 16th cell, every 4th, then all). Within a pass the table of known attractors is fixed,

@@ -1,5 +1,5 @@
 //! Bifurcation diagrams and frequency-response sweeps of the gear model over any parameter
-//! (MODEL.md §5): fixed initial state, continuation (forward and backward), or multi-initial with
+//! (docs/model.md §5): fixed initial state, continuation (forward and backward), or multi-initial with
 //! `K` seeded initial states per value, each run tagged with its attractor's label.
 //!
 //! Work is split into [`Task`]s (one parameter value on one branch). Fixed and multi-initial tasks

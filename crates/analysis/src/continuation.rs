@@ -1,4 +1,4 @@
-//! Attractor continuation along a parameter — the "bifurcation and safety tree" (MODEL.md §5).
+//! Attractor continuation along a parameter — the "bifurcation and safety tree" (docs/model.md §5).
 //!
 //! At every value, the same `K` seeded initial states are integrated and their attractors
 //! identified ([`crate::attractor`]); the values are independent and run in parallel. Attractors

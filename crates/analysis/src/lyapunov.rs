@@ -1,5 +1,5 @@
 //! Top Lyapunov exponent (TLE) of a non-smooth flow, per unit of the system's time (for the gear
-//! model: per unit dimensionless time `tau`). MODEL.md §5.
+//! model: per unit dimensionless time `tau`). docs/model.md §5.
 //!
 //! * [`tle_variational`]: the variational equation `dy' = J dy` integrated with the trajectory as
 //!   an augmented hybrid system ([`Tangent`]), the perturbation mapped by the saltation matrix at

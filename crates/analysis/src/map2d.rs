@@ -1,5 +1,5 @@
 //! Two-parameter maps of scalar responses (maximum mesh force, P_ID, period, label class, TLE)
-//! over a grid of two model parameters (MODEL.md §5), in parallel, deterministic and resumable.
+//! over a grid of two model parameters (docs/model.md §5), in parallel, deterministic and resumable.
 
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::{simulate, summarize, SimOptions};

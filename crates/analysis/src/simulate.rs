@@ -1,7 +1,7 @@
 //! Time-history simulation of the gear [`MeshModel`] with the observers the analyses need:
 //! stroboscopic points, level crossings (impact sections), contact-state durations, impacts with
 //! velocity and peak force, mesh-force extrema, and the motion summary (period, `n-p-q-r-s`
-//! label, healthy flag, P_ID) of MODEL.md §5.
+//! label, healthy flag, P_ID) of docs/model.md §5.
 
 use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period;
@@ -120,7 +120,7 @@ pub struct EventRecord {
     pub peak_force: f64,
 }
 
-/// Section levels of MODEL.md §5.
+/// Section levels of docs/model.md §5.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord, Hash)]
 #[serde(rename_all = "snake_case")]
 pub enum Level {
@@ -231,7 +231,7 @@ impl SimResult {
     }
 }
 
-/// Motion summary (MODEL.md §5).
+/// Motion summary (docs/model.md §5).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
     /// Minimal period in excitation periods (0 = chaotic or quasi-periodic).

@@ -1,4 +1,4 @@
-//! The gear mesh model against closed forms and limit cases (MODEL.md §2–4).
+//! The gear mesh model against closed forms and limit cases (docs/model.md §2–4).
 
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions};
 use geardyn_model::{

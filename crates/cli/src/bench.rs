@@ -1,4 +1,4 @@
-//! `geardyn bench`: integrator speed on case C1 (MODEL.md §6), printed as figures.
+//! `geardyn bench`: integrator speed on case C1 (docs/model.md §6), printed as figures.
 
 use anyhow::Result;
 use clap::Args;

@@ -51,7 +51,7 @@ impl Default for SimulationConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
-    /// Dimensionless model parameters (MODEL.md §1–3). With a `[pair]`, its stiffness, zones,
+    /// Dimensionless model parameters (docs/model.md §1–3). With a `[pair]`, its stiffness, zones,
     /// breakage and friction come from the pair; the study parameters stay these.
     pub model: ModelParams,
     /// Optional dimensional gear pair (mm, deg, GPa).

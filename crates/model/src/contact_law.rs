@@ -1,4 +1,4 @@
-//! Contact laws `g(delta)` of the mesh force and their optional hysteretic damping (MODEL.md §3).
+//! Contact laws `g(delta)` of the mesh force and their optional hysteretic damping (docs/model.md §3).
 //!
 //! Dimensionless: `delta` is the penetration in units of the characteristic length `b_c`, forces are
 //! in units of `k_av*b_c`. The mesh force in contact is `k(phi)*g(delta) + c*x' + d(delta, x')`,

@@ -1,4 +1,4 @@
-//! Back-side impact law (seed A, MODEL.md §3): rigid stop at `x = -D`, restitution `x'+ = -R x'-`,
+//! Back-side impact law (seed A, docs/model.md §3): rigid stop at `x = -D`, restitution `x'+ = -R x'-`,
 //! sticking below a velocity threshold, and the peak force of the impact.
 //!
 //! **Peak impact force.** Seed A quotes Hu et al. for the maximum impact force; the formula is

@@ -1,4 +1,4 @@
-//! The dimensionless multi-state spur-gear mesh model of geardyn (MODEL.md §2–4).
+//! The dimensionless multi-state spur-gear mesh model of geardyn (docs/model.md §2–4).
 //!
 //! * [`ModelParams`]: the dimensionless parameter set (config-file form, `--set` names).
 //! * [`MeshModel`]: the validated, tabulated model; implements

@@ -1,4 +1,4 @@
-//! The dimensionless multi-state gear mesh model (MODEL.md §2–3) as a [`HybridSystem`].
+//! The dimensionless multi-state gear mesh model (docs/model.md §2–3) as a [`HybridSystem`].
 //!
 //! State `y = [x, x']`: dimensionless relative displacement on the line of action and its
 //! velocity; time `tau`. Equation of motion

@@ -1,4 +1,4 @@
-//! Dimensionless parameters of the mesh model (MODEL.md §1–3), as they appear in a config file.
+//! Dimensionless parameters of the mesh model (docs/model.md §1–3), as they appear in a config file.
 //!
 //! All quantities are dimensionless: time `tau = omega_n*t`, displacement in units of `b_c`,
 //! stiffness in units of `k_av`, forces in units of `k_av*b_c`.
@@ -78,7 +78,7 @@ pub struct ZonePiece {
 pub struct Friction {
     /// Friction coefficient `mu >= 0`.
     pub mu: f64,
-    /// Dimensionless equivalent friction arm `g` (MODEL.md §3), `>= 0`.
+    /// Dimensionless equivalent friction arm `g` (docs/model.md §3), `>= 0`.
     pub arm: f64,
     /// Phase of the pitch point within the cycle, in `[eps-1, 1]`.
     pub pitch: f64,
@@ -104,7 +104,7 @@ pub enum BackSide {
     Impact(ImpactLaw),
 }
 
-/// Localized breakage of one pinion tooth (MODEL.md §2).
+/// Localized breakage of one pinion tooth (docs/model.md §2).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Breakage {
@@ -153,7 +153,7 @@ pub struct ModelParams {
     pub breakage: Option<Breakage>,
     /// Unilateral contact: the mesh force cannot pull (`F_m >= 0` on the drive side, `<= 0` on
     /// the back side). Off by default: as in both seeds, a damped contact may carry a tensile
-    /// force until `x` returns to `D` (MODEL.md §3).
+    /// force until `x` returns to `D` (docs/model.md §3).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub unilateral: bool,
 }

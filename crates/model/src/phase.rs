@@ -69,14 +69,14 @@ fn round_fast(s: f64) -> f64 {
     }
 }
 
-/// Mesh phase `phi = frac(omega*tau/(2*pi))` in `[0, 1)` (MODEL.md §2).
+/// Mesh phase `phi = frac(omega*tau/(2*pi))` in `[0, 1)` (docs/model.md §2).
 #[inline]
 pub fn mesh_phase(omega: f64, tau: f64) -> f64 {
     let s = omega * tau / (2.0 * PI);
     s - s.floor()
 }
 
-/// Mesh cycle index `n = floor(omega*tau/(2*pi))` (MODEL.md §2).
+/// Mesh cycle index `n = floor(omega*tau/(2*pi))` (docs/model.md §2).
 #[inline]
 pub fn mesh_cycle(omega: f64, tau: f64) -> i64 {
     (omega * tau / (2.0 * PI)).floor() as i64

@@ -1,4 +1,4 @@
-//! Built-in dimensionless parameter sets (MODEL.md §6).
+//! Built-in dimensionless parameter sets (docs/model.md §6).
 //!
 //! `classic` is case C1 exactly. `breakage` and `internal` are, for now, dimensionless stand-ins
 //! for the seeds' physical pairs (rectangular stiffness, constant friction arm); the gear-physics
@@ -33,7 +33,7 @@ pub fn by_name(name: &str) -> Result<ModelParams, ModelError> {
     }
 }
 
-/// Case C1 (MODEL.md §6), at `omega = 0.8` (period 1).
+/// Case C1 (docs/model.md §6), at `omega = 0.8` (period 1).
 pub fn classic() -> ModelParams {
     ModelParams {
         omega: 0.8,
@@ -56,7 +56,7 @@ pub fn classic() -> ModelParams {
 /// ratio 1.714; the chipped tooth leaves mesh early with `eps_b = 1.45` (a moderate chip). The
 /// rectangular stiffness has a double/single ratio of 1.5 and mean 1 over a healthy cycle; zone II
 /// carries the healthy single-pair stiffness. `mu = 0.15`, `D = 1`, `c = 0.01`, `xi = 0.05`,
-/// `R = 0.85` as in MODEL.md §6. The friction arm 0.1 is a placeholder until geometry provides it.
+/// `R = 0.85` as in docs/model.md §6. The friction arm 0.1 is a placeholder until geometry provides it.
 pub fn breakage() -> ModelParams {
     let eps: f64 = 1.714;
     let k_single = 1.0 / (1.5 * (eps - 1.0) + (2.0 - eps));

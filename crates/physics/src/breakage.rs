@@ -1,4 +1,4 @@
-//! Localized tooth breakage (MODEL.md §2): one pinion tooth with its tip chipped off leaves mesh
+//! Localized tooth breakage (docs/model.md §2): one pinion tooth with its tip chipped off leaves mesh
 //! early at `D1`, at the LoA position of its reduced tip radius `R_ab`.
 //! `eps_b = l_AD1 / p_b` with `l_AD1 = s_D1 - s_A` (seed A eq. 2, written from `N1`).
 

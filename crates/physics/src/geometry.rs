@@ -1,4 +1,4 @@
-//! Involute geometry of external and internal spur pairs (MODEL.md §1–2).
+//! Involute geometry of external and internal spur pairs (docs/model.md §1–2).
 //!
 //! SI units inside (metres, radians). Positions on the line of action (LoA) are distances `s`
 //! from the pinion's tangency point `N1`, increasing in the direction of approach → recess:
@@ -292,7 +292,7 @@ impl PairGeometry {
         })
     }
 
-    /// Requires `1 < eps < 2` (the two-zone mesh model of MODEL.md §2).
+    /// Requires `1 < eps < 2` (the two-zone mesh model of docs/model.md §2).
     pub fn check_two_zone(&self) -> Result<(), PhysicsError> {
         if !(self.eps > 1.0 && self.eps < 2.0) {
             return Err(PhysicsError::Geometry(format!(

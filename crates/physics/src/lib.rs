@@ -1,4 +1,4 @@
-//! Spur gear pair physics (MODEL.md §1–3): involute geometry of external and internal pairs,
+//! Spur gear pair physics (docs/model.md §1–3): involute geometry of external and internal pairs,
 //! time-varying mesh stiffness by the potential-energy method, localized tooth breakage, load
 //! sharing, friction arms and friction factors, and the normalisation that turns a dimensional
 //! pair into the dimensionless [`geardyn_model::MeshModel`] tables.

@@ -1,4 +1,4 @@
-//! Multi-state lubrication friction along the path of contact (seed B, MODEL.md §3).
+//! Multi-state lubrication friction along the path of contact (seed B, docs/model.md §3).
 //!
 //! * Kinematics at a contact point: rolling speeds `u_i = omega_i rho_i` (`rho_i` the involute
 //!   radii of curvature, the friction arms), mean entraining speed `u_m = (u1+u2)/2`, slide-to-roll

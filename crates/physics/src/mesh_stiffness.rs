@@ -2,7 +2,7 @@
 //! sharing and friction factors: the tables the dynamic model integrates.
 //!
 //! Pair stiffness: `1/k_pair(s) = 1/k_h + C_pinion(u1(s)) + C_gear(u2(s))` (series springs of the
-//! Hertz contact and both teeth's bending, shear, axial and foundation compliances; MODEL.md §1).
+//! Hertz contact and both teeth's bending, shear, axial and foundation compliances; docs/model.md §1).
 //! Mesh stiffness: sum over the pairs in contact. Load shares: `L_i = k_i / sum k_j` (equal
 //! deflection of the pairs in contact; default) or the seeds' linear formula (1/3 → 2/3 across a
 //! double zone).

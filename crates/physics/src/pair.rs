@@ -1,7 +1,7 @@
 //! A dimensional gear pair (`[pair]` of a config) turned into the dimensionless tables of the
 //! mesh model: geometry, mesh stiffness over the excitation period, load sharing, friction
 //! factors, and the normalisation `k_av`, `m_e`, `omega_n` with the operating-point mapping
-//! (MODEL.md §1–3).
+//! (docs/model.md §1–3).
 //!
 //! Config units: mm, degrees, GPa, kg/m³, rpm, N·m, µm (stated in every field name).
 

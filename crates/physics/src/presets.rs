@@ -1,4 +1,4 @@
-//! Physical pairs of the built-in presets (MODEL.md §6). The dimensionless study parameters
+//! Physical pairs of the built-in presets (docs/model.md §6). The dimensionless study parameters
 //! (`omega`, `F`, `xi`, `D`, `c`) stay those of `geardyn_model::presets`; these pairs supply the
 //! stiffness, zones, breakage and friction tables.
 

@@ -1018,7 +1018,7 @@ pub fn classic_plan(ctx: &Ctx) -> Result<Vec<Section>> {
             tables: vec![],
             claims: vec![Claim {
                 claim: "C1 shows period 1, period doubling near omega = 0.9 and chaos around 1.1–1.65".into(),
-                source: "MODEL.md §6".into(),
+                source: "docs/model.md §6".into(),
                 evidence: format!(
                     "first period-2 value {}; non-periodic values from {} to {} ({} values)",
                     first_p2.map_or("none".into(), f),

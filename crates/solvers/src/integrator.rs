@@ -40,7 +40,7 @@ pub enum Scheme {
 }
 
 impl Scheme {
-    /// Dormand–Prince with the project defaults `rtol = 1e-9`, `atol = 1e-12` (MODEL.md §4).
+    /// Dormand–Prince with the project defaults `rtol = 1e-9`, `atol = 1e-12` (docs/model.md §4).
     pub fn dopri_default() -> Self {
         Scheme::DormandPrince {
             rtol: 1e-9,
