@@ -10,7 +10,8 @@
 
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::{simulate, summarize, Amplitudes, Level, SimOptions};
-use geardyn_model::{MeshModel, ModelError, ModelParams};
+use geardyn_model::MeshModel;
+use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -187,7 +188,7 @@ pub enum SweepError {
         /// Value.
         value: f64,
         /// Cause (not chained as an error source, so it is printed once).
-        reason: ModelError,
+        reason: ScenarioError,
     },
     /// No values.
     #[error("empty parameter range")]
@@ -227,15 +228,16 @@ pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) ->
     }
 }
 
-fn model_at(base: &ModelParams, param: &str, value: f64) -> Result<MeshModel, SweepError> {
-    let mut p = base.clone();
-    let err = |reason| SweepError::Model {
-        param: param.to_string(),
-        value,
-        reason,
-    };
-    p.set(param, value).map_err(err)?;
-    MeshModel::new(&p).map_err(err)
+/// The model at one swept value, through the scenario's builder (`pair.*` parameters rebuild the
+/// pair's tables).
+fn model_at(base: &Scenario, param: &str, value: f64) -> Result<MeshModel, SweepError> {
+    base.with(param, value)
+        .map(|s| s.model().clone())
+        .map_err(|reason| SweepError::Model {
+            param: param.to_string(),
+            value,
+            reason,
+        })
 }
 
 /// Simulates one run and extracts what a sweep records.
@@ -328,7 +330,7 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
 /// The start time of every run is `sim.tau0`: continuation carries the state, not the time, so
 /// that each value sees the excitation at the same phase.
 pub fn run_sweep<F>(
-    base: &ModelParams,
+    base: &Scenario,
     opts: &SweepOptions,
     done: &HashMap<Task, TaskResult>,
     on_done: F,

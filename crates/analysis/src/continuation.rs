@@ -12,7 +12,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::attractor::{assign, identify, Descriptor, IdentifyOptions, Outcome};
-use geardyn_model::{MeshModel, ModelError, ModelParams};
+use geardyn_model::MeshModel;
+use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -168,22 +169,18 @@ pub fn attractors_at(
 /// Runs the continuation. `done` holds values finished by an interrupted run; `on_done` receives
 /// each newly finished value.
 pub fn continuation<F>(
-    base: &ModelParams,
+    base: &Scenario,
     opts: &ContinuationOptions,
     done: &HashMap<usize, ValueAttractors>,
     on_done: F,
-) -> Result<ContinuationResult, ModelError>
+) -> Result<ContinuationResult, ScenarioError>
 where
     F: Fn(&ValueAttractors) + Sync,
 {
     let models: Vec<MeshModel> = opts
         .values
         .iter()
-        .map(|&v| {
-            let mut p = base.clone();
-            p.set(&opts.param, v)?;
-            MeshModel::new(&p)
-        })
+        .map(|&v| base.with(&opts.param, v).map(|s| s.model().clone()))
         .collect::<Result<_, _>>()?;
     let per_value: Vec<ValueAttractors> = (0..opts.values.len())
         .into_par_iter()

@@ -3,7 +3,8 @@
 
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::{simulate, summarize, SimOptions};
-use geardyn_model::{MeshModel, ModelError, ModelParams};
+use geardyn_model::MeshModel;
+use geardyn_scenario::{Scenario, ScenarioError};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -94,35 +95,29 @@ pub const METRICS: &[&str] = &[
     "class",
 ];
 
-fn params_at(
-    base: &ModelParams,
-    o: &MapOptions,
-    x: f64,
-    y: f64,
-) -> Result<ModelParams, ModelError> {
-    let mut p = base.clone();
-    p.set(&o.x_param, x)?;
-    p.set(&o.y_param, y)?;
-    Ok(p)
+/// The model at one map point, through the scenario's builder.
+fn model_at(base: &Scenario, o: &MapOptions, x: f64, y: f64) -> Result<MeshModel, ScenarioError> {
+    base.with_all(&[(o.x_param.as_str(), x), (o.y_param.as_str(), y)])
+        .map(|s| s.model().clone())
 }
 
 /// Computes the map. Parameter values are validated along both axes before any work; `done`
 /// holds cells of an interrupted run, `on_done` receives each newly finished cell.
 pub fn map2d<F>(
-    base: &ModelParams,
+    base: &Scenario,
     o: &MapOptions,
     done: &HashMap<usize, MapCell>,
     on_done: F,
-) -> Result<Vec<MapCell>, ModelError>
+) -> Result<Vec<MapCell>, ScenarioError>
 where
     F: Fn(&MapCell) + Sync,
 {
     let (nx, ny) = (o.x_values.len(), o.y_values.len());
     for &x in &o.x_values {
-        MeshModel::new(&params_at(base, o, x, o.y_values[0])?)?;
+        model_at(base, o, x, o.y_values[0])?;
     }
     for &y in &o.y_values {
-        MeshModel::new(&params_at(base, o, o.x_values[0], y)?)?;
+        model_at(base, o, o.x_values[0], y)?;
     }
     let cells: Vec<MapCell> = (0..nx * ny)
         .into_par_iter()
@@ -144,7 +139,7 @@ where
                 impacts: 0,
                 tle: None,
             };
-            match params_at(base, o, x, y).and_then(|p| MeshModel::new(&p)) {
+            match model_at(base, o, x, y) {
                 Err(e) => cell.label = format!("invalid: {e}"),
                 Ok(m) => match simulate(&m, o.y0, &o.sim) {
                     Err(e) => cell.label = format!("failed: {e}"),

@@ -42,7 +42,7 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 
 #[test]
 fn identical_results_for_any_thread_count() {
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [SweepMode::Fixed, SweepMode::Sweep, multi(4)] {
         let o = opts(linspace(0.8, 1.4, 7), mode);
         let one = in_pool(1, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
@@ -56,7 +56,7 @@ fn identical_results_for_any_thread_count() {
 
 #[test]
 fn resumed_sweep_equals_uninterrupted_one() {
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [SweepMode::Sweep, multi(3)] {
         let o = opts(linspace(0.9, 1.3, 6), mode);
         let full = run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap();
@@ -89,7 +89,7 @@ fn resumed_sweep_equals_uninterrupted_one() {
 fn continuation_hysteresis_where_multi_initial_shows_coexistence() {
     // C1 for omega in [1.75, 1.85]: the sweep coming down from chaos and the sweep going up from
     // the resonance settle on different attractors at the same omega.
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     let values = linspace(1.4, 1.9, 11);
     let sweep = run_sweep(
         &base,
@@ -147,7 +147,7 @@ fn continuation_hysteresis_where_multi_initial_shows_coexistence() {
 
 #[test]
 fn invalid_values_are_rejected_before_work_starts() {
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     let mut o = opts(vec![0.5, -1.0], SweepMode::Fixed);
     let e = run_sweep(&base, &o, &HashMap::new(), |_| panic!("no work expected")).unwrap_err();
     assert!(e.to_string().contains("omega"), "{e}");

@@ -37,7 +37,7 @@ fn copts(values: Vec<f64>) -> ContinuationOptions {
 
 #[test]
 fn continuation_finds_both_attractors_of_the_hysteresis_window() {
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     // forward and backward sweeps over [1.4, 1.9] land on different attractors at omega = 1.8
     let so = SweepOptions {
         param: "omega".into(),
@@ -101,7 +101,7 @@ fn continuation_finds_both_attractors_of_the_hysteresis_window() {
 #[test]
 fn continuation_reports_period_doubling_of_c1() {
     // C1 doubles its period between omega = 0.85 and 0.9
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     let mut o = copts(vec![0.84, 0.92]);
     o.ics = 8;
     o.x0_range = (-0.5, 0.5);
@@ -117,7 +117,7 @@ fn continuation_reports_period_doubling_of_c1() {
 
 #[test]
 fn map_of_max_force_is_deterministic() {
-    let base = presets::classic();
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     let o = MapOptions {
         x_param: "xi".into(),
         x_values: linspace(0.05, 0.3, 4),

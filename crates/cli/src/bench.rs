@@ -96,7 +96,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 lyapunov: false,
             };
             let t = std::time::Instant::now();
-            let r = run_sweep(&p, &opts, &Default::default(), |_| {})?;
+            let r = run_sweep(
+                &geardyn_scenario::Scenario::dimensionless(p.clone())?,
+                &opts,
+                &Default::default(),
+                |_| {},
+            )?;
             let el = t.elapsed().as_secs_f64();
             println!(
                 "C1 bifurcation, 200 values x 400 periods, {:?}, {} threads: {:.3} s ({} runs)",

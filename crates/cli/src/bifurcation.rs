@@ -5,7 +5,7 @@ use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
 use anyhow::{bail, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
-use geardyn_io::{output, sweep_output};
+use geardyn_io::{output, run_record, sweep_output};
 use std::path::PathBuf;
 
 /// Arguments of `geardyn bifurcation`.
@@ -65,11 +65,13 @@ fn sections(s: &str) -> Result<Vec<Section>> {
 }
 
 pub fn run(a: BifurcationArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
+    let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let secs = sections(&a.sections)?;
-    let ds = cfg.model.d_single;
+    let ds = scenario.params().d_single;
     let mode = match a.mode.as_str() {
         "fixed" => SweepMode::Fixed,
         "sweep" => SweepMode::Sweep,
@@ -98,9 +100,17 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
         lyapunov: a.lyapunov,
     };
     let t = std::time::Instant::now();
-    let results = run_checkpointed(&cfg, &opts, &a.out, "bifurcation")?;
+    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "bifurcation", a.sim.force)?;
     let elapsed = t.elapsed().as_secs_f64();
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(
+        &a.out,
+        "bifurcation",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     sweep_output::write_bifurcation(&a.out.join("bifurcation.csv"), &a.param, &results)?;
     sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
     sweep_output::write_impact_force(&a.out.join("impact_force.csv"), &a.param, &results)?;
@@ -144,8 +154,10 @@ pub struct ResponseArgs {
 }
 
 pub fn response(a: ResponseArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
+    let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let opts = SweepOptions {
         param: a.param.clone(),
@@ -156,8 +168,16 @@ pub fn response(a: ResponseArgs) -> Result<()> {
         sections: vec![],
         lyapunov: false,
     };
-    let results = run_checkpointed(&cfg, &opts, &a.out, "response")?;
+    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.sim.force)?;
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(
+        &a.out,
+        "response",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     sweep_output::write_response(&a.out.join("response.csv"), &a.param, &results)?;
     let jumps = detect_jumps(&results);
     output::write_json(&a.out.join("jumps.json"), &jumps)?;

@@ -1,7 +1,7 @@
 //! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, SimArgs};
+use crate::sweep::{open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
@@ -9,48 +9,11 @@ use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::linspace;
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
-use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::output::{write_csv, write_json, write_text};
 use geardyn_io::plot::{colormap, raster_chart, Chart, Raster};
-use geardyn_io::{npy, sweep_output, Config};
-use indicatif::{ProgressBar, ProgressStyle};
+use geardyn_io::{npy, run_record, sweep_output, Config};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-
-fn progress(total: u64, done: u64, what: &str) -> ProgressBar {
-    let pb = ProgressBar::new(total);
-    pb.set_style(
-        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed} elapsed, ETA {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    pb.set_message(what.to_string());
-    pb.set_position(done);
-    pb.reset_eta();
-    pb
-}
-
-fn checkpoint<T: serde::Serialize + serde::de::DeserializeOwned>(
-    out: &Path,
-    cfg: &Config,
-    kind: &str,
-    settings: &impl serde::Serialize,
-) -> Result<(Checkpoint, Vec<T>)> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let key = serde_json::to_string(
-        &serde_json::json!({ "kind": kind, "config": cfg, "settings": settings }),
-    )?;
-    let (cp, done) = Checkpoint::open::<T>(&out.join("checkpoint.jsonl"), &key)?;
-    if !done.is_empty() {
-        eprintln!(
-            "resuming: {} items already computed in {}",
-            done.len(),
-            out.display()
-        );
-    }
-    Ok((cp, done))
-}
+use std::path::PathBuf;
 
 fn identify_options(cfg: &Config, a: &IdentArgs) -> Result<IdentifyOptions> {
     let mut sim = cfg.sim_options()?;
@@ -128,16 +91,18 @@ fn parse_axis(s: &str) -> Result<(char, Axis)> {
 }
 
 pub fn basins_cmd(a: BasinArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
-    let model = cfg.build_model()?;
+    let scenario = cfg.resolve()?;
+    let model = scenario.model();
     if !(0.0..1.0).contains(&a.phase) {
         bail!(
             "bad --phase {}: allowed [0, 1) (fraction of the excitation period)",
             a.phase
         );
     }
-    let d = cfg.effective_params()?.d_single;
+    let d = scenario.params().d_single;
     let mut x = Axis {
         min: -2.0 * d,
         max: 2.0 * d,
@@ -161,25 +126,23 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         v,
         identify: ident,
     };
-    let (cp, done) = checkpoint::<(usize, Outcome)>(&a.out, &cfg, "basins", &opts)?;
-    let done: HashMap<usize, Outcome> = done.into_iter().collect();
-    let pb = progress((x.n * v.n) as u64, done.len() as u64, "basins");
-    let err = Mutex::new(None);
+    let (cp, done) =
+        open_checkpoint::<(usize, Outcome)>(&a.out, &cfg, "basins", &opts, a.sim.force)?;
+    let done: HashMap<usize, Outcome> = done.into_iter().filter(|(c, _)| *c < x.n * v.n).collect();
+    let rec = Recorder::new(&cp, (x.n * v.n) as u64, done.len() as u64, "basins");
     let t = std::time::Instant::now();
-    let r = basins(&model, &opts, &done, |c, o| {
-        if let Err(e) = cp.append(&(c, o)) {
-            err.lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get_or_insert(e);
-        }
-        pb.inc(1);
-    });
-    pb.finish_and_clear();
-    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        return Err(e.into());
-    }
+    let r = basins(model, &opts, &done, |c, o| rec.record(&(c, o)));
+    rec.finish()?;
     let elapsed = t.elapsed().as_secs_f64();
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(
+        &a.out,
+        "basins",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     let num = |v: f64| format!("{v}");
     write_csv(
         &a.out.join("basins.csv"),
@@ -204,7 +167,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
             if at.descriptor.healthy {
                 "healthy"
             } else {
-                "unstable"
+                "non-healthy: back-side contact"
             },
             at.fraction
         );
@@ -257,14 +220,15 @@ pub struct ContinuationArgs {
 }
 
 pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
+    let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     if a.ics == 0 || a.ics > 100_000 {
         bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
     }
-    let base = cfg.effective_params()?;
-    let d = base.d_single;
+    let d = scenario.params().d_single;
     let opts = ContinuationOptions {
         param: a.param.clone(),
         values: linspace(lo, hi, n),
@@ -277,23 +241,25 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         v0_range: parse_pair(&a.v0_range, "--v0-range")?,
         identify: identify_options(&cfg, &a.ident)?,
     };
-    let (cp, done) = checkpoint::<ValueAttractors>(&a.out, &cfg, "continuation", &opts)?;
-    let done: HashMap<usize, ValueAttractors> = done.into_iter().map(|v| (v.index, v)).collect();
-    let pb = progress(n as u64, done.len() as u64, "continuation");
-    let err = Mutex::new(None);
-    let r = continuation(&base, &opts, &done, |v| {
-        if let Err(e) = cp.append(v) {
-            err.lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get_or_insert(e);
-        }
-        pb.inc(1);
-    })?;
-    pb.finish_and_clear();
-    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        return Err(e.into());
-    }
+    let (cp, done) =
+        open_checkpoint::<ValueAttractors>(&a.out, &cfg, "continuation", &opts, a.sim.force)?;
+    let done: HashMap<usize, ValueAttractors> = done
+        .into_iter()
+        .filter(|v| v.index < n)
+        .map(|v| (v.index, v))
+        .collect();
+    let rec = Recorder::new(&cp, n as u64, done.len() as u64, "continuation");
+    let r = continuation(&scenario, &opts, &done, |v| rec.record(v))?;
+    rec.finish()?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(
+        &a.out,
+        "continuation",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     let num = |v: f64| format!("{v}");
     write_csv(
         &a.out.join("continuation.csv"),
@@ -341,7 +307,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
                 .join(", ")
         };
         println!(
-            "{} in [{:.4}, {:.4}]: healthy {{{}}} unstable {{{}}}",
+            "{} in [{:.4}, {:.4}]: healthy {{{}}} non-healthy (back-side contact) {{{}}}",
             a.param,
             iv.from,
             iv.to,
@@ -389,8 +355,10 @@ fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
 }
 
 pub fn map_cmd(a: MapArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
+    let scenario = cfg.resolve()?;
     if !METRICS.contains(&a.metric.as_str()) {
         bail!(
             "unknown --metric '{}': allowed {}",
@@ -400,7 +368,6 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
     }
     let (xp, xv) = parse_param_axis(&a.x, "--x")?;
     let (yp, yv) = parse_param_axis(&a.y, "--y")?;
-    let base = cfg.effective_params()?;
     let opts = MapOptions {
         x_param: xp.clone(),
         x_values: xv.clone(),
@@ -410,24 +377,26 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         y0: [cfg.simulation.x0, cfg.simulation.v0],
         lyapunov: a.metric == "tle",
     };
-    let (cp, done) = checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts)?;
-    let done: HashMap<usize, MapCell> = done.into_iter().map(|c| (c.index, c)).collect();
-    let pb = progress((xv.len() * yv.len()) as u64, done.len() as u64, "map2d");
-    let err = Mutex::new(None);
+    let (cp, done) = open_checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts, a.sim.force)?;
+    let total = xv.len() * yv.len();
+    let done: HashMap<usize, MapCell> = done
+        .into_iter()
+        .filter(|c| c.index < total)
+        .map(|c| (c.index, c))
+        .collect();
+    let rec = Recorder::new(&cp, total as u64, done.len() as u64, "map2d");
     let t = std::time::Instant::now();
-    let cells = map2d(&base, &opts, &done, |c| {
-        if let Err(e) = cp.append(c) {
-            err.lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get_or_insert(e);
-        }
-        pb.inc(1);
-    })?;
-    pb.finish_and_clear();
-    if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        return Err(e.into());
-    }
+    let cells = map2d(&scenario, &opts, &done, |c| rec.record(c))?;
+    rec.finish()?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(
+        &a.out,
+        "map2d",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     let num = |v: f64| format!("{v}");
     write_csv(
         &a.out.join("map.csv"),

@@ -22,12 +22,18 @@ pub struct LyapunovArgs {
 }
 
 pub fn run(a: LyapunovArgs) -> Result<()> {
-    let mut cfg = a.cfg.resolve()?;
+    let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg)?;
+    let scenario = cfg.resolve()?;
     if !(a.d0 > 0.0 && a.d0 < 1e-2) {
         anyhow::bail!("bad --d0 {}: allowed (0, 0.01)", a.d0);
     }
-    let model = cfg.build_model()?;
+    let model = scenario.model().clone();
+    let p = scenario.params();
+    println!(
+        "integrated: omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}",
+        p.omega, p.load, p.xi, p.c, p.d_double, p.d_single
+    );
     let sim = cfg.sim_options()?;
     let opts = LyapunovOptions {
         period: model.excitation_period(),

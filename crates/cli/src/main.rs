@@ -65,9 +65,9 @@ fn main() {
             }
             Ok(())
         }
-        Command::Show(args) => args.resolve().and_then(|c| {
+        Command::Show(args) => args.resolve().and_then(|(c, s)| {
             print!("{}", c.to_toml());
-            print!("{}", geardyn_io::describe::describe(&c)?);
+            print!("{}", geardyn_io::describe::describe(&s)?);
             Ok(())
         }),
         Command::Stiffness(args) => stiffness::run(args),

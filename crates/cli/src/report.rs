@@ -17,7 +17,8 @@ pub struct ReportArgs {
     /// Coarse version of every figure (under two minutes).
     #[arg(long)]
     quick: bool,
-    /// Output directory (rerunning the same command there resumes).
+    /// Output directory: the page goes into OUT/<preset>/, and OUT/index.html links every
+    /// preset's page present (rerunning the same command resumes).
     #[arg(long, default_value = "out/report")]
     out: PathBuf,
 }
@@ -27,7 +28,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     for s in &a.sets {
         cfg.apply_set(s)?;
     }
-    cfg.build_model()?;
+    cfg.resolve()?;
     let t = std::time::Instant::now();
     let index = geardyn_report::run(
         &cfg,

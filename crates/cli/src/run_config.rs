@@ -1,8 +1,10 @@
-//! Arguments shared by every command that runs a model: preset or config file, and overrides.
+//! Arguments shared by every command that runs a model: preset or config file, and overrides,
+//! resolved through the one builder (`geardyn_scenario`).
 
 use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_io::Config;
+use geardyn_scenario::Scenario;
 use std::path::PathBuf;
 
 /// Where the configuration comes from.
@@ -14,14 +16,16 @@ pub struct ConfigArgs {
     /// TOML configuration file (as printed by `geardyn show`).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// Override a parameter: NAME=VALUE (repeatable), e.g. --set omega=1.3 --set F=0.05.
+    /// Override a parameter: NAME=VALUE (repeatable), e.g. --set omega=1.3 --set F=0.05, or a
+    /// field of the physical pair, e.g. --set pair.mu=0.1. On a pair with a physical operating
+    /// point, omega/F/xi/c/D set here take precedence and are recorded.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
 }
 
 impl ConfigArgs {
-    /// The configuration with all overrides applied and validated.
-    pub fn resolve(&self) -> Result<Config> {
+    /// The configuration with all overrides applied (not yet validated).
+    pub fn config(&self) -> Result<Config> {
         let mut c = match (&self.preset, &self.config) {
             (_, Some(path)) => Config::from_file(path)?,
             (Some(name), None) => Config::preset(name)?,
@@ -30,7 +34,13 @@ impl ConfigArgs {
         for s in &self.sets {
             c.apply_set(s)?;
         }
-        c.build_model().context("configuration rejected")?;
         Ok(c)
+    }
+
+    /// The configuration and the scenario it resolves to (validated).
+    pub fn resolve(&self) -> Result<(Config, Scenario)> {
+        let c = self.config()?;
+        let s = c.resolve().context("configuration rejected")?;
+        Ok((c, s))
     }
 }

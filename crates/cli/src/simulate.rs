@@ -4,8 +4,8 @@ use crate::run_config::ConfigArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_analysis::simulate::{simulate, summarize};
-use geardyn_io::output;
 use geardyn_io::plot::{decimate, xy_chart, Chart, Mark, Series, PALETTE};
+use geardyn_io::{output, run_record};
 use std::path::PathBuf;
 
 /// Arguments of `geardyn simulate`.
@@ -28,25 +28,27 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {
-    let mut cfg = args.cfg.resolve()?;
+    let started = run_record::now_unix_s();
+    let mut cfg = args.cfg.config()?;
     if let Some(p) = args.periods {
         cfg.set("record_periods", p as f64)?;
     }
     if let Some(t) = args.transient {
         cfg.set("transient_periods", t as f64)?;
     }
-    let model = cfg.build_model()?;
+    let scenario = cfg.resolve().context("configuration rejected")?;
+    let model = scenario.model();
     let mut opts = cfg.sim_options()?;
     opts.trajectory = true;
     opts.trajectory_periods = args.trajectory_periods.max(1);
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
-    let res = simulate(&model, y0, &opts).context("integration failed")?;
-    let elapsed = t.elapsed().as_secs_f64();
-    let summary = summarize(&model, &res, &opts);
-
     let out = &args.out;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    run_record::prepare_folder(out, "simulate", None, false)?;
+    let res = simulate(model, y0, &opts).context("integration failed")?;
+    let elapsed = t.elapsed().as_secs_f64();
+    let summary = summarize(model, &res, &opts);
+
     output::write_text(&out.join("config.toml"), &cfg.to_toml())?;
     output::write_trajectory(&out.join("trajectory.csv"), &res)?;
     output::write_strobe(&out.join("strobe.csv"), &res)?;
@@ -56,6 +58,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         &out.join("summary.json"),
         &summary,
         serde_json::json!({
+            "parameters": scenario.record(),
             "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
             "excitation_period": model.excitation_period(),
             "transient_periods": opts.transient_periods,
@@ -66,12 +69,20 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             "wall_time_s": elapsed,
         }),
     )?;
-    plots(out, &model, &res)?;
+    plots(out, model, &res)?;
+    run_record::write_run_record(
+        out,
+        "simulate",
+        &cfg,
+        &scenario,
+        started,
+        run_record::now_unix_s() - started,
+    )?;
     println!(
         "{}: label {} ({}), P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts; {} steps in {:.3} s -> {}",
         if summary.period > 0 { format!("period {}", summary.period) } else { "chaotic/quasi-periodic".into() },
         summary.label,
-        if summary.healthy { "healthy" } else { "unstable" },
+        if summary.healthy { "healthy" } else { "non-healthy: back-side contact" },
         summary.p_id,
         summary.min_force,
         summary.max_force,

@@ -1,10 +1,11 @@
 //! `geardyn stiffness`.
 
 use crate::run_config::ConfigArgs;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use geardyn_io::output::{write_csv, write_text};
 use geardyn_io::plot::{stacked_chart, Mark, Panel, Series, PALETTE};
+use geardyn_io::run_record;
 use std::path::PathBuf;
 
 /// Arguments of `geardyn stiffness`.
@@ -18,25 +19,23 @@ pub struct StiffnessArgs {
 }
 
 pub fn run(a: StiffnessArgs) -> Result<()> {
-    let cfg = a.cfg.resolve()?;
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let started = run_record::now_unix_s();
+    let (cfg, scenario) = a.cfg.resolve()?;
+    run_record::prepare_folder(&a.out, "stiffness", None, false)?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
+    run_record::write_run_record(&a.out, "stiffness", &cfg, &scenario, started, 0.0)?;
+    // time a fresh build of the pair's tables (the scenario already holds one)
     let t = std::time::Instant::now();
-    let pair = cfg.pair_model()?;
+    let pair = match cfg.pair.as_ref() {
+        Some(spec) => Some(spec.build()?),
+        None => None,
+    };
     let build_time = t.elapsed().as_secs_f64();
-    let model = cfg.build_model()?;
+    let model = scenario.model();
     let num = |v: f64| format!("{v}");
     if let Some(pm) = &pair {
         // physical table, every sample of every zone piece (zone borders appear twice: both sides)
-        let d = |single: bool| {
-            if single {
-                cfg.effective_params().map(|p| p.d_single)
-            } else {
-                cfg.effective_params().map(|p| p.d_double)
-            }
-        };
-        let (dd, ds) = (d(false)?, d(true)?);
+        let (dd, ds) = (scenario.params().d_double, scenario.params().d_single);
         write_csv(
             &a.out.join("stiffness.csv"),
             &[

@@ -5,7 +5,8 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{run_sweep, tasks, SweepOptions, Task, TaskResult};
 use geardyn_io::checkpoint::Checkpoint;
-use geardyn_io::Config;
+use geardyn_io::{run_record, Config};
+use geardyn_scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashMap;
 use std::path::Path;
@@ -26,6 +27,10 @@ pub struct SimArgs {
     /// RK4 steps per mesh cycle.
     #[arg(long)]
     pub steps_per_cycle: Option<u32>,
+    /// Discard a checkpoint in the output folder that was made with other settings, and start
+    /// over (without it such a folder is refused).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl SimArgs {
@@ -91,50 +96,94 @@ pub fn parse_pair(s: &str, what: &str) -> Result<(f64, f64)> {
     Ok((a, b))
 }
 
-/// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
-pub fn run_checkpointed(
-    cfg: &Config,
-    opts: &SweepOptions,
+/// The checkpoint of a resumable command in `out`: refuses a folder holding another command's
+/// results or a checkpoint of other settings (unless `force`), and returns the records already
+/// finished by an interrupted run of the same settings.
+pub fn open_checkpoint<T: serde::Serialize + serde::de::DeserializeOwned>(
     out: &Path,
+    cfg: &Config,
     kind: &str,
-) -> Result<Vec<TaskResult>> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let key =
-        serde_json::to_string(&serde_json::json!({ "kind": kind, "config": cfg, "sweep": opts }))?;
-    let (cp, done) = Checkpoint::open::<TaskResult>(&out.join("checkpoint.jsonl"), &key)?;
-    let done: HashMap<Task, TaskResult> = done.into_iter().map(|r| (r.task, r)).collect();
-    let total = tasks(opts).len() as u64;
-    let pb = ProgressBar::new(total);
-    pb.set_style(
-        ProgressStyle::with_template(
-            "{msg} [{bar:40}] {pos}/{len} values, {elapsed} elapsed, ETA {eta}",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    pb.set_message(kind.to_string());
+    settings: &impl serde::Serialize,
+    force: bool,
+) -> Result<(Checkpoint, Vec<T>)> {
+    let key = serde_json::to_string(
+        &serde_json::json!({ "kind": kind, "config": cfg, "settings": settings }),
+    )?;
+    run_record::prepare_folder(out, kind, Some(&key), force)?;
+    let (cp, done) = Checkpoint::open::<T>(&out.join("checkpoint.jsonl"), &key)?;
     if !done.is_empty() {
         eprintln!(
-            "resuming: {} of {total} values already computed in {}",
+            "resuming: {} items already computed in {}",
             done.len(),
             out.display()
         );
-        pb.set_position(done.len() as u64);
-        pb.reset_eta();
     }
-    let write_err = Mutex::new(None);
-    let results = run_sweep(&cfg.model, opts, &done, |r| {
-        if let Err(e) = cp.append(r) {
-            write_err
+    Ok((cp, done))
+}
+
+/// Progress bar plus checkpoint appends from any thread; the first write error is kept and
+/// returned by [`Recorder::finish`].
+pub struct Recorder<'a> {
+    cp: &'a Checkpoint,
+    pb: ProgressBar,
+    err: Mutex<Option<geardyn_io::output::OutputError>>,
+}
+
+impl<'a> Recorder<'a> {
+    /// A recorder of `total` items, `done` of them finished before.
+    pub fn new(cp: &'a Checkpoint, total: u64, done: u64, what: &str) -> Self {
+        let pb = ProgressBar::new(total);
+        pb.set_style(
+            ProgressStyle::with_template(
+                "{msg} [{bar:40}] {pos}/{len}, {elapsed} elapsed, ETA {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        pb.set_message(what.to_string());
+        pb.set_position(done);
+        pb.reset_eta();
+        Recorder {
+            cp,
+            pb,
+            err: Mutex::new(None),
+        }
+    }
+
+    /// Checkpoints one finished item.
+    pub fn record<T: serde::Serialize>(&self, item: &T) {
+        if let Err(e) = self.cp.append(item) {
+            self.err
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
                 .get_or_insert(e);
         }
-        pb.inc(1);
-    })?;
-    pb.finish_and_clear();
-    if let Some(e) = write_err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        return Err(e.into());
+        self.pb.inc(1);
     }
+
+    /// Ends the progress bar; the first checkpoint write error, if any.
+    pub fn finish(self) -> Result<()> {
+        self.pb.finish_and_clear();
+        match self.err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            Some(e) => Err(e.into()),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
+pub fn run_checkpointed(
+    cfg: &Config,
+    scenario: &Scenario,
+    opts: &SweepOptions,
+    out: &Path,
+    kind: &str,
+    force: bool,
+) -> Result<Vec<TaskResult>> {
+    let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
+    let done: HashMap<Task, TaskResult> = done.into_iter().map(|r| (r.task, r)).collect();
+    let rec = Recorder::new(&cp, tasks(opts).len() as u64, done.len() as u64, kind);
+    let results = run_sweep(scenario, opts, &done, |r| rec.record(r))?;
+    rec.finish()?;
     Ok(results)
 }

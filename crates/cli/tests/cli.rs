@@ -122,7 +122,11 @@ fn presets_and_show() {
         assert!(out.contains(p));
         let (code, toml, _) = geardyn(&["show", "--preset", p]);
         assert_eq!(code, 0);
-        assert!(toml.contains("[model]") && toml.contains("omega"));
+        assert!(toml.contains("[model"), "{toml}");
+        assert!(
+            toml.contains("# integrated (dimensionless): omega ="),
+            "{toml}"
+        );
     }
 }
 
@@ -186,7 +190,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
     let before = std::fs::read(a.join("bifurcation.csv")).unwrap();
     let (c3, _, e3) = geardyn_env(&aa, "2");
     assert_eq!(c3, 0);
-    assert!(e3.contains("resuming: 9 of 9"), "{e3}");
+    assert!(e3.contains("resuming: 9 items"), "{e3}");
     assert_eq!(before, std::fs::read(a.join("bifurcation.csv")).unwrap());
     // an interrupted run (checkpoint truncated to a few tasks, last line torn) completes the rest
     let cp = a.join("checkpoint.jsonl");
@@ -195,7 +199,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
     std::fs::write(&cp, format!("{}\n{{\"task\":", keep.join("\n"))).unwrap();
     let (c4, _, e4) = geardyn_env(&aa, "2");
     assert_eq!(c4, 0, "{e4}");
-    assert!(e4.contains("resuming: 3 of 9"), "{e4}");
+    assert!(e4.contains("resuming: 3 items"), "{e4}");
     assert_eq!(before, std::fs::read(a.join("bifurcation.csv")).unwrap());
 }
 

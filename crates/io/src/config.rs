@@ -2,9 +2,11 @@
 //! and `NAME=VALUE` overrides. The resolved configuration is echoed into every output folder.
 
 use geardyn_analysis::simulate::{Method, SimOptions};
-use geardyn_model::{presets, MeshModel, ModelError, ModelParams};
-use geardyn_physics::{PairModel, PairSpec, PhysicsError};
+use geardyn_model::{presets, ModelError, ModelParams};
+use geardyn_physics::{PairSpec, PhysicsError};
+use geardyn_scenario::{Scenario, ScenarioError, ScenarioSpec};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Integrator settings as written in a config file.
@@ -47,16 +49,24 @@ impl Default for SimulationConfig {
     }
 }
 
-/// A complete run configuration.
+/// A complete run configuration: the inputs of the one builder ([`geardyn_scenario`]) plus the
+/// simulation settings.
+///
+/// With a physical `[pair]`, the `[model]` table holds only what the pair does not compute
+/// (contact law, back side, and the operating point where the pair states none): the pair's
+/// quantities are never written twice (docs/configuration.md).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
-    /// Dimensionless model parameters (docs/model.md §1–3). With a `[pair]`, its stiffness, zones,
-    /// breakage and friction come from the pair; the study parameters stay these.
+    /// Dimensionless model parameters (docs/model.md §1–3).
     pub model: ModelParams,
     /// Optional dimensional gear pair (mm, deg, GPa).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pair: Option<PairSpec>,
+    /// Dimensionless operating-point values that take precedence over the pair's physical
+    /// operating point (`omega`, `F`, `xi`, `c`, `D_d`, `D_s`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub set: BTreeMap<String, f64>,
     /// Simulation settings.
     #[serde(default)]
     pub simulation: SimulationConfig,
@@ -72,6 +82,14 @@ pub enum ConfigError {
         path: String,
         /// Cause.
         source: std::io::Error,
+    },
+    /// A file larger than a configuration can be.
+    #[error("{path} is not a configuration file: larger than {limit} bytes")]
+    TooLarge {
+        /// Path.
+        path: String,
+        /// Limit in bytes.
+        limit: u64,
     },
     /// Malformed TOML or a wrong field.
     #[error("malformed config {path}: {msg}")]
@@ -100,6 +118,9 @@ pub enum ConfigError {
     /// A physical pair error.
     #[error(transparent)]
     Physics(#[from] PhysicsError),
+    /// A scenario (routing or resolution) error.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
 }
 
 /// Names accepted by [`Config::set`] besides the model parameters.
@@ -114,27 +135,54 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "record_periods",
 ];
 
+/// Largest configuration file read (bytes): a config is a few kilobytes.
+pub const MAX_CONFIG_BYTES: u64 = 1 << 20;
+
+/// `[model]` keys a physical pair computes (never written with a pair).
+const PAIR_MODEL_KEYS: &[&str] = &["eps", "stiffness", "breakage", "friction"];
+/// `[model]` keys a pair's physical operating point states.
+const OPERATING_MODEL_KEYS: &[&str] = &["omega", "F", "xi", "D_d", "D_s"];
+
+fn parse_err(msg: impl Into<String>) -> ConfigError {
+    ConfigError::Parse {
+        path: "<text>".into(),
+        msg: msg.into(),
+    }
+}
+
 impl Config {
     /// The configuration of a built-in preset with default simulation settings.
     pub fn preset(name: &str) -> Result<Self, ConfigError> {
-        let mut model = presets::by_name(name)?;
-        let pair = geardyn_physics::presets::by_name(name);
-        if pair.is_some() {
-            // friction comes from the pair's friction arms
-            model.friction = Default::default();
-        }
+        let spec = ScenarioSpec::preset(name)?;
         Ok(Config {
-            model,
-            pair,
+            model: spec.model,
+            pair: spec.pair,
+            set: spec.overrides,
             simulation: SimulationConfig::default(),
         })
     }
 
-    /// Reads a TOML file.
+    /// Reads a TOML file (at most [`MAX_CONFIG_BYTES`]).
     pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::Read {
+        use std::io::Read;
+        let read_err = |e| ConfigError::Read {
             path: path.display().to_string(),
             source: e,
+        };
+        let f = std::fs::File::open(path).map_err(read_err)?;
+        let mut bytes = Vec::new();
+        f.take(MAX_CONFIG_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(read_err)?;
+        if bytes.len() as u64 > MAX_CONFIG_BYTES {
+            return Err(ConfigError::TooLarge {
+                path: path.display().to_string(),
+                limit: MAX_CONFIG_BYTES,
+            });
+        }
+        let text = String::from_utf8(bytes).map_err(|_| ConfigError::Parse {
+            path: path.display().to_string(),
+            msg: "not UTF-8 text".into(),
         })?;
         Self::from_toml(&text).map_err(|e| match e {
             ConfigError::Parse { msg, .. } => ConfigError::Parse {
@@ -145,23 +193,117 @@ impl Config {
         })
     }
 
-    /// Parses TOML text.
+    /// Parses TOML text. With a `[pair]`, `[model]` must not state what the pair computes or
+    /// what its physical operating point states (the error names the key to use instead).
     pub fn from_toml(text: &str) -> Result<Self, ConfigError> {
-        toml::from_str(text).map_err(|e| ConfigError::Parse {
-            path: "<text>".into(),
-            msg: e.message().replace('\n', " ").to_string()
-                + &e.span()
-                    .map(|s| {
-                        let line = text[..s.start].lines().count().max(1);
-                        format!(" (line {line})")
-                    })
-                    .unwrap_or_default(),
-        })
+        let mut v: toml::Value = toml::from_str(text).map_err(|e| {
+            parse_err(
+                e.message().replace('\n', " ")
+                    + &e.span()
+                        .map(|s| {
+                            let line = text[..s.start].matches('\n').count() + 1;
+                            format!(" (line {line})")
+                        })
+                        .unwrap_or_default(),
+            )
+        })?;
+        Self::fill_pair_placeholders(&mut v)?;
+        v.try_into()
+            .map_err(|e: toml::de::Error| parse_err(e.message().replace('\n', " ")))
     }
 
-    /// The resolved configuration as TOML, ready to edit.
+    /// With a pair, the `[model]` keys the pair states are absent from a file: refuse them if
+    /// present, and fill in placeholders (never integrated: the pair replaces them).
+    fn fill_pair_placeholders(v: &mut toml::Value) -> Result<(), ConfigError> {
+        let Some(root) = v.as_table_mut() else {
+            return Ok(());
+        };
+        let Some(pair) = root.get("pair").and_then(|p| p.as_table()).cloned() else {
+            if root.contains_key("set") {
+                return Err(parse_err(
+                    "[set] overrides a physical operating point, but there is no [pair]: write the values under [model]",
+                ));
+            }
+            return Ok(());
+        };
+        let operating = pair.contains_key("operating");
+        let damping = pair.contains_key("damping_ratio");
+        let placeholder = toml::Value::try_from(presets::classic()).expect("serialises");
+        let model = root
+            .entry("model")
+            .or_insert_with(|| toml::Value::Table(Default::default()))
+            .as_table_mut()
+            .ok_or_else(|| parse_err("[model] must be a table"))?;
+        let mut stated: Vec<&str> = PAIR_MODEL_KEYS.to_vec();
+        if operating {
+            stated.extend(OPERATING_MODEL_KEYS);
+        }
+        if damping {
+            stated.push("c");
+        }
+        for key in stated {
+            if model.contains_key(key) {
+                let instead = match key {
+                    "omega" => "pair.operating.speed_rpm, or omega under [set] to override it",
+                    "F" => "pair.operating.torque_nm, or F under [set] to override it",
+                    "xi" => "pair.operating.error_amplitude_um, or xi under [set] to override it",
+                    "D_d" | "D_s" => {
+                        "pair.operating.half_backlash_um, or D_d/D_s under [set] to override them"
+                    }
+                    "c" => "pair.damping_ratio, or c under [set] to override it",
+                    "friction" => "pair.mu or pair.lubrication",
+                    "breakage" => "pair.breakage",
+                    _ => "the [pair] geometry and material",
+                };
+                return Err(parse_err(format!(
+                    "model.{key} is stated by the physical [pair] of this file; remove it from [model] and use {instead}"
+                )));
+            }
+            if key != "friction" && key != "breakage" {
+                model.insert(key.to_string(), placeholder[key].clone());
+            }
+        }
+        if let Some(set) = root.get("set").and_then(|s| s.as_table()) {
+            for k in set.keys() {
+                let ok = match k.as_str() {
+                    "c" => damping,
+                    "omega" | "F" | "xi" | "D_d" | "D_s" => operating,
+                    _ => false,
+                };
+                if !ok {
+                    return Err(parse_err(format!(
+                        "set.{k}: [set] holds only operating-point keys that the pair states physically (omega, F, xi, D_d, D_s with [pair.operating]; c with pair.damping_ratio); write {k} under [model]"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The resolved configuration as TOML, ready to edit (pair-stated keys are not repeated in
+    /// `[model]`).
     pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self).expect("config serialises")
+        toml::to_string_pretty(&self.to_value()).expect("config serialises")
+    }
+
+    /// The configuration as written by [`Config::to_toml`], as a TOML value.
+    pub fn to_value(&self) -> toml::Value {
+        let mut v = toml::Value::try_from(self).expect("config serialises");
+        if let Some(pair) = &self.pair {
+            let mut drop: Vec<&str> = PAIR_MODEL_KEYS.to_vec();
+            if pair.operating.is_some() {
+                drop.extend(OPERATING_MODEL_KEYS);
+            }
+            if pair.damping_ratio.is_some() {
+                drop.push("c");
+            }
+            if let Some(m) = v.get_mut("model").and_then(|m| m.as_table_mut()) {
+                for k in drop {
+                    m.remove(k);
+                }
+            }
+        }
+        v
     }
 
     /// Applies one `NAME=VALUE` override.
@@ -176,21 +318,35 @@ impl Config {
         self.set(name.trim(), value)
     }
 
-    /// Sets a model parameter or a simulation setting by name; `pair.FIELD` (and
-    /// `pair.operating.FIELD`, `pair.breakage.FIELD`) set fields of the physical pair.
-    pub fn set(&mut self, name: &str, value: f64) -> Result<(), ConfigError> {
-        if let Some(field) = name.strip_prefix("pair.") {
-            return self.set_pair(field, value);
+    /// The builder inputs of this configuration.
+    pub fn spec(&self) -> ScenarioSpec {
+        ScenarioSpec {
+            model: self.model.clone(),
+            pair: self.pair.clone(),
+            overrides: self.set.clone(),
         }
+    }
+
+    /// Validates everything and resolves the model that is integrated: the only way from a
+    /// configuration to a model.
+    pub fn resolve(&self) -> Result<Scenario, ConfigError> {
+        self.sim_options()?;
+        Ok(self.spec().resolve()?)
+    }
+
+    /// Sets a simulation setting, or a parameter through the scenario's routing
+    /// ([`ScenarioSpec::set`]): `pair.FIELD` sets a field of the pair, an operating-point key
+    /// the pair states becomes an override under `[set]`, a key the pair computes is refused.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), ConfigError> {
         let s = &mut self.simulation;
-        let as_count = |v: f64| -> Result<u64, ConfigError> {
-            if v >= 0.0 && v.fract() == 0.0 && v < 1e12 {
+        let as_count = |field: &'static str, v: f64, max: f64| -> Result<u64, ConfigError> {
+            if v >= 0.0 && v.fract() == 0.0 && v <= max {
                 Ok(v as u64)
             } else {
                 Err(ConfigError::Simulation {
-                    field: "count",
+                    field,
                     value: v.to_string(),
-                    allowed: "a non-negative integer",
+                    allowed: "a whole number in range (see the field's documentation)",
                 })
             }
         };
@@ -200,64 +356,28 @@ impl Config {
             "tau0" => s.tau0 = value,
             "rtol" => s.rtol = value,
             "atol" => s.atol = value,
-            "steps_per_cycle" => s.steps_per_cycle = as_count(value)? as u32,
-            "transient_periods" => s.transient_periods = as_count(value)?,
-            "record_periods" => s.record_periods = as_count(value)?,
-            _ => self.model.set(name, value).map_err(|e| match e {
-                ModelError::UnknownParameter { name, known } => ModelError::UnknownParameter {
-                    name,
-                    known: format!("{known}, {}", SIMULATION_NAMES.join(", ")),
-                }
-                .into(),
-                e => ConfigError::Model(e),
-            })?,
+            "steps_per_cycle" => {
+                s.steps_per_cycle = as_count("steps_per_cycle", value, 1e6)? as u32
+            }
+            "transient_periods" => s.transient_periods = as_count("transient_periods", value, 1e9)?,
+            "record_periods" => s.record_periods = as_count("record_periods", value, 1e9)?,
+            _ => {
+                let mut spec = self.spec();
+                spec.set(name, value).map_err(|e| match e {
+                    ScenarioError::Model(ModelError::UnknownParameter { name, known }) => {
+                        ConfigError::Model(ModelError::UnknownParameter {
+                            name,
+                            known: format!("{known}, {}, pair.FIELD", SIMULATION_NAMES.join(", ")),
+                        })
+                    }
+                    e => e.into(),
+                })?;
+                self.model = spec.model;
+                self.pair = spec.pair;
+                self.set = spec.overrides;
+            }
         }
         Ok(())
-    }
-
-    fn set_pair(&mut self, field: &str, value: f64) -> Result<(), ConfigError> {
-        let pair = self.pair.as_ref().ok_or_else(|| {
-            ConfigError::Model(ModelError::Inconsistent {
-                field: format!("pair.{field}"),
-                reason: "this configuration has no [pair] (use the breakage or internal preset, or add one)".into(),
-            })
-        })?;
-        let mut v = toml::Value::try_from(pair).expect("pair serialises");
-        let parts: Vec<&str> = field.split('.').collect();
-        if !set_path(&mut v, &parts, value) {
-            return Err(ConfigError::SetSyntax(format!("pair.{field}={value}")));
-        }
-        let spec: PairSpec = v
-            .try_into()
-            .map_err(|e: toml::de::Error| ConfigError::Parse {
-                path: "--set".into(),
-                msg: format!("pair.{field}: {}", e.message()),
-            })?;
-        self.pair = Some(spec);
-        Ok(())
-    }
-
-    /// The physical pair model, if the configuration has a `[pair]`.
-    pub fn pair_model(&self) -> Result<Option<PairModel>, ConfigError> {
-        Ok(match &self.pair {
-            Some(p) => Some(p.build()?),
-            None => None,
-        })
-    }
-
-    /// The dimensionless parameters the model is built from (tables filled from the pair).
-    pub fn effective_params(&self) -> Result<ModelParams, ConfigError> {
-        let mut p = self.model.clone();
-        if let Some(pm) = self.pair_model()? {
-            pm.apply(&mut p);
-        }
-        Ok(p)
-    }
-
-    /// Validates everything and builds the model.
-    pub fn build_model(&self) -> Result<MeshModel, ConfigError> {
-        self.sim_options()?;
-        Ok(MeshModel::new(&self.effective_params()?)?)
     }
 
     /// Simulation options (validated).
@@ -333,33 +453,6 @@ impl Config {
     }
 }
 
-/// Sets `value` at a dotted path of a TOML table, creating intermediate tables; integers stay
-/// integers when the value is whole.
-fn set_path(v: &mut toml::Value, parts: &[&str], value: f64) -> bool {
-    let Some(table) = v.as_table_mut() else {
-        return false;
-    };
-    match parts {
-        [] => false,
-        [last] => {
-            let new = match table.get(*last) {
-                Some(toml::Value::Integer(_)) if value.fract() == 0.0 => {
-                    toml::Value::Integer(value as i64)
-                }
-                _ => toml::Value::Float(value),
-            };
-            table.insert(last.to_string(), new);
-            true
-        }
-        [first, rest @ ..] => {
-            let child = table
-                .entry(first.to_string())
-                .or_insert_with(|| toml::Value::Table(Default::default()));
-            set_path(child, rest, value)
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -370,7 +463,7 @@ mod tests {
             let c = Config::preset(name).unwrap();
             let back = Config::from_toml(&c.to_toml()).unwrap();
             assert_eq!(c, back, "{name}");
-            back.build_model().unwrap();
+            back.resolve().unwrap();
         }
     }
 
@@ -382,7 +475,7 @@ mod tests {
         assert!(c.apply_set("omega").is_err());
         assert!(c.apply_set("omega=abc").is_err());
         c.apply_set("D=-1").unwrap();
-        let e = c.build_model().unwrap_err().to_string();
+        let e = c.resolve().unwrap_err().to_string();
         assert!(e.contains("D_d") && e.contains("(0, inf)"), "{e}");
         let e = Config::from_toml("[model]\nomega = \"fast\"")
             .unwrap_err()

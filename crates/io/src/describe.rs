@@ -1,15 +1,16 @@
 //! Human-readable derived quantities of a configuration (printed by `geardyn show` as TOML
 //! comments, so the output stays a valid config file).
 
-use crate::config::{Config, ConfigError};
+use crate::config::ConfigError;
 use geardyn_physics::pair::Dimensionless;
+use geardyn_scenario::Scenario;
 use std::fmt::Write;
 
 /// Derived quantities as `# ` comment lines.
-pub fn describe(cfg: &Config) -> Result<String, ConfigError> {
+pub fn describe(sc: &Scenario) -> Result<String, ConfigError> {
     let mut s = String::new();
-    let p = cfg.effective_params()?;
-    let model = cfg.build_model()?;
+    let p = sc.params();
+    let model = sc.model();
     let _ = writeln!(s, "# --- derived quantities (comments; not read back) ---");
     let _ = writeln!(
         s,
@@ -19,7 +20,26 @@ pub fn describe(cfg: &Config) -> Result<String, ConfigError> {
         model.cycles_per_period(),
         model.excitation_period()
     );
-    if let Some(pm) = cfg.pair_model()? {
+    let _ =
+        writeln!(
+        s,
+        "# integrated (dimensionless): omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}{}",
+        p.omega,
+        p.load,
+        p.xi,
+        p.c,
+        p.d_double,
+        p.d_single,
+        if sc.spec().overrides.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({} set explicitly over the pair's physical operating point)",
+                sc.spec().overrides.keys().cloned().collect::<Vec<_>>().join(", ")
+            )
+        }
+    );
+    if let Some(pm) = sc.pair_model() {
         let g = &pm.geom;
         let _ = writeln!(
             s,
@@ -71,7 +91,7 @@ pub fn describe(cfg: &Config) -> Result<String, ConfigError> {
         if let Some((dd, ds)) = pm.backlash {
             let _ = writeln!(
                 s,
-                "# physical half backlash at the operating point: D_d = {:.5}, D_s = {:.5} (static + load deformation - thermal growth - oil film; these replace [model] D_d, D_s)",
+                "# physical half backlash at the operating point: D_d = {:.5}, D_s = {:.5} (static + load deformation - thermal growth - oil film; used unless D_d/D_s are set explicitly)",
                 dd, ds
             );
         }

@@ -11,4 +11,5 @@ pub mod pair_plots;
 pub mod plot;
 pub mod sweep_output;
 
+pub mod run_record;
 pub use config::{Config, ConfigError};

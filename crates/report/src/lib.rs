@@ -88,15 +88,21 @@ pub struct ReportOptions {
     pub out: PathBuf,
 }
 
-/// Runs the study plan and writes the page; returns the path of `index.html`.
+/// Runs the study plan and writes the page into `OUT/<preset>/` (reports of different presets
+/// never share files), then `OUT/index.html` linking every preset's page present; returns the
+/// path of the preset's `index.html`.
 pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
-    std::fs::create_dir_all(&opts.out)
-        .with_context(|| format!("cannot create {}", opts.out.display()))?;
+    let root = &opts.out;
+    let dir = root.join(&opts.preset);
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let scenario = cfg.resolve()?;
     let t = std::time::Instant::now();
+    let started = geardyn_io::run_record::now_unix_s();
     let ctx = studies::Ctx {
         cfg: cfg.clone(),
+        scenario: scenario.clone(),
         quick: opts.quick,
-        dir: opts.out.clone(),
+        dir: dir.clone(),
     };
     let sections = match opts.preset.as_str() {
         "breakage" => studies::breakage_plan(&ctx)?,
@@ -106,10 +112,15 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
             anyhow::bail!("no study plan for preset '{other}': allowed breakage, internal, classic")
         }
     };
+    let opts = &ReportOptions {
+        out: dir.clone(),
+        ..opts.clone()
+    };
     geardyn_io::output::write_text(&opts.out.join("config.toml"), &cfg.to_toml())?;
     let page = html::page(
         &opts.preset,
         cfg,
+        &scenario,
         &sections,
         opts.quick,
         t.elapsed().as_secs_f64(),
@@ -130,7 +141,39 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
             ]
         }),
     )?;
+    geardyn_io::run_record::write_run_record(
+        &opts.out,
+        "report",
+        cfg,
+        &scenario,
+        started,
+        geardyn_io::run_record::now_unix_s() - started,
+    )?;
+    write_root_index(root)?;
     Ok(index)
+}
+
+/// `OUT/index.html`: links to the page of every preset reported in `OUT`.
+fn write_root_index(root: &Path) -> Result<()> {
+    let mut presets: Vec<String> = std::fs::read_dir(root)
+        .with_context(|| format!("cannot read {}", root.display()))?
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().join("index.html").is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    presets.sort();
+    let mut s = String::from(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>geardyn reports</title></head><body>\n<h1>geardyn reports</h1>\n<ul>\n",
+    );
+    for p in &presets {
+        let p = html::esc(p);
+        s.push_str(&format!(
+            "<li><a href=\"{p}/index.html\">preset <code>{p}</code></a></li>\n"
+        ));
+    }
+    s.push_str("</ul>\n</body></html>\n");
+    geardyn_io::output::write_text(&root.join("index.html"), &s)?;
+    Ok(())
 }
 
 /// Relative path of a file in the report directory.

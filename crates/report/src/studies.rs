@@ -19,8 +19,9 @@ use geardyn_io::output::write_csv;
 use geardyn_io::plot::{colormap, raster_chart, xy_chart, Chart, Mark, Raster, Series, PALETTE};
 use geardyn_io::sweep_output;
 use geardyn_io::Config;
-use geardyn_model::{MeshModel, ModelParams};
+use geardyn_model::MeshModel;
 use geardyn_physics::PairModel;
+use geardyn_scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -28,8 +29,10 @@ use std::path::{Path, PathBuf};
 
 /// Shared context of a report run.
 pub struct Ctx {
-    /// Resolved configuration of the preset.
+    /// Configuration of the preset.
     pub cfg: Config,
+    /// The scenario it resolves to (every study starts from it).
+    pub scenario: Scenario,
     /// Coarse mode.
     pub quick: bool,
     /// Report directory.
@@ -65,8 +68,8 @@ impl Ctx {
         }
     }
 
-    fn base(&self) -> Result<ModelParams> {
-        Ok(self.cfg.effective_params()?)
+    fn base(&self) -> Result<Scenario> {
+        Ok(self.scenario.clone())
     }
 
     /// A cached study: reuse `DIR/id/section.json` when its key matches.
@@ -146,11 +149,12 @@ impl Ctx {
         &self,
         dir: &Path,
         name: &str,
-        base: &ModelParams,
+        base: &Scenario,
         opts: &SweepOptions,
     ) -> Result<Vec<TaskResult>> {
         let total = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
-        let key = serde_json::json!({ "base": base, "opts": opts });
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
         self.checkpointed(
             dir,
             name,
@@ -165,10 +169,11 @@ impl Ctx {
         &self,
         dir: &Path,
         name: &str,
-        base: &ModelParams,
+        base: &Scenario,
         opts: &ContinuationOptions,
     ) -> Result<ContinuationResult> {
-        let key = serde_json::json!({ "base": base, "opts": opts });
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
         self.checkpointed(
             dir,
             name,
@@ -206,10 +211,11 @@ impl Ctx {
         &self,
         dir: &Path,
         name: &str,
-        base: &ModelParams,
+        base: &Scenario,
         opts: &MapOptions,
     ) -> Result<Vec<MapCell>> {
-        let key = serde_json::json!({ "base": base, "opts": opts });
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
         let total = (opts.x_values.len() * opts.y_values.len()) as u64;
         self.checkpointed(
             dir,
@@ -246,12 +252,8 @@ impl Ctx {
     }
 }
 
-fn with(base: &ModelParams, sets: &[(&str, f64)]) -> Result<ModelParams> {
-    let mut p = base.clone();
-    for (k, v) in sets {
-        p.set(k, *v)?;
-    }
-    Ok(p)
+fn with(base: &Scenario, sets: &[(&str, f64)]) -> Result<Scenario> {
+    Ok(base.with_all(sets)?)
 }
 
 fn sweep_opts(
@@ -361,7 +363,7 @@ fn stiffness_section(ctx: &Ctx, pm: &PairModel, dir: &Path) -> Result<Section> {
     healthy_spec.breakage = None;
     let healthy = healthy_spec.build()?;
     let params = ctx.base()?;
-    let (dd, ds) = (params.d_double, params.d_single);
+    let (dd, ds) = (params.params().d_double, params.params().d_single);
     let mut readings_extra: Vec<String> = Vec::new();
     let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds)?
         .iter()
@@ -525,22 +527,19 @@ fn bif_figure(
 pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let mut out = Vec::new();
     let pm = ctx
-        .cfg
-        .pair_model()?
+        .scenario
+        .pair_model()
+        .cloned()
         .context("the breakage plan needs the physical [pair]")?;
     out.push(ctx.study("stiffness", &(), |dir| stiffness_section(ctx, &pm, dir))?);
     let base = ctx.base()?;
-    let mut healthy_cfg = ctx.cfg.clone();
-    if let Some(p) = healthy_cfg.pair.as_mut() {
-        p.breakage = None;
-    }
-    let healthy_base = healthy_cfg.effective_params()?;
+    let healthy_base = base.healthy()?;
 
     // contact force over a pinion revolution, healthy versus broken
     out.push(ctx.study("revolution", &(), |dir| {
         let sim = SimOptions { trajectory: true, samples_per_cycle: 64, ..ctx.sim((60, 200), (1, 1)) };
-        let mb = MeshModel::new(&base)?;
-        let mh = MeshModel::new(&healthy_base)?;
+        let mb = base.model().clone();
+        let mh = healthy_base.model().clone();
         let rb = simulate(&mb, [0.0, 0.0], &sim)?;
         // the healthy model's excitation period is one mesh cycle: run the same time
         let sim_h = SimOptions { transient_periods: sim.transient_periods * mb.cycles_per_period() as u64, record_periods: mb.cycles_per_period() as u64, ..sim };
@@ -560,7 +559,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "revolution".into(),
             title: "Contact force over a pinion revolution: healthy versus broken".into(),
-            parameters: format!("omega = {}, F = {}, xi = {}, c = {}, R = {:?}", base.omega, base.load, base.xi, base.c, base.back_side),
+            parameters: format!("omega = {}, F = {}, xi = {}, c = {}, R = {:?}", base.params().omega, base.params().load, base.params().xi, base.params().c, base.params().back_side),
             method: format!("Dormand–Prince 5(4), rtol 1e-9; {} excitation periods of transient, then one pinion revolution ({} mesh cycles).", sim.transient_periods, mb.cycles_per_period()),
             figures: vec![ctx.fig(&stem, "Mesh force over one revolution of the pinion; the broken tooth's cycle starts at 0.")],
             readings: vec![
@@ -582,7 +581,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         let o = sweep_opts("F", fvals.clone(), SweepMode::Fixed, sim, secs.clone(), false);
         let rb = ctx.sweep(dir, "broken F sweep", &base, &o)?;
         // the healthy pair's excitation period is one mesh cycle: integrate the same time
-        let zp = MeshModel::new(&base)?.cycles_per_period() as u64;
+        let zp = base.model().clone().cycles_per_period() as u64;
         let oh = SweepOptions { sim: SimOptions { transient_periods: sim.transient_periods * zp, record_periods: sim.record_periods * zp, ..sim }, ..o.clone() };
         let rh = ctx.sweep(dir, "healthy F sweep", &healthy_base, &oh)?;
         let fig_b = bif_figure(ctx, &dir.join("bif_F_broken"), "F", &rb, &secs, "Broken pair: bifurcation over the load F (stroboscopic and impact sections)", true)?;
@@ -635,8 +634,8 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "load_sweep".into(),
             title: "Bifurcation over the load F: broken versus healthy".into(),
-            parameters: format!("F in [0.005, 0.15] ({} values), omega = {}, xi = {}; fixed initial state (0, 0)", nf, base.omega, base.xi),
-            method: format!("Dormand–Prince 5(4), rtol 1e-9; {} transient + {} recorded excitation periods (each {} mesh cycles) per value; stroboscopic section and back-side impacts (impact velocity).", sim.transient_periods, sim.record_periods, MeshModel::new(&base)?.cycles_per_period()),
+            parameters: format!("F in [0.005, 0.15] ({} values), omega = {}, xi = {}; fixed initial state (0, 0)", nf, base.params().omega, base.params().xi),
+            method: format!("Dormand–Prince 5(4), rtol 1e-9; {} transient + {} recorded excitation periods (each {} mesh cycles) per value; stroboscopic section and back-side impacts (impact velocity).", sim.transient_periods, sim.record_periods, base.model().clone().cycles_per_period()),
             figures: vec![fig_b, fig_bf, fig_h],
             readings: vec![
                 format!("Broken: {}.", describe_intervals("F", &ib)),
@@ -667,7 +666,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "frequency_sweep".into(),
             title: "Bifurcation over the mesh frequency omega".into(),
-            parameters: format!("omega in [0.1, 3] ({} values), F = {}, xi = {}", nw, base.load, base.xi),
+            parameters: format!("omega in [0.1, 3] ({} values), F = {}, xi = {}", nw, base.params().load, base.params().xi),
             method: format!("As the load sweep: {} + {} excitation periods per value, fixed initial state.", sim.transient_periods, sim.record_periods),
             figures: vec![fig, fig2],
             readings: vec![format!("{}.", describe_intervals("omega", &iv))],
@@ -687,7 +686,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         let mut figs = Vec::new();
         let mut readings = Vec::new();
         for (i, fv) in [0.02, 0.12].iter().enumerate() {
-            let m = MeshModel::new(&with(&base, &[("F", *fv)])?)?;
+            let m = with(&base, &[("F", *fv)])?.model().clone();
             let sim = SimOptions { trajectory: true, samples_per_cycle: 32, ..ctx.sim((40, 150), (4, 10)) };
             let r = simulate(&m, [0.0, 0.0], &sim)?;
             let s = summarize(&m, &r, &sim);
@@ -699,7 +698,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "portraits".into(),
             title: "Phase portraits and Poincaré sections at representative loads".into(),
-            parameters: format!("omega = {}, xi = {}; F = 0.02 and 0.12", base.omega, base.xi),
+            parameters: format!("omega = {}, xi = {}; F = 0.02 and 0.12", base.params().omega, base.params().xi),
             method: "Dormand–Prince 5(4); trajectories sampled 32 times per mesh cycle from the dense output.".into(),
             figures: figs,
             readings,
@@ -793,7 +792,7 @@ fn continuation_figure(
 /// Seed B: the internal pair.
 pub fn internal_plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let mut out = Vec::new();
-    if let Some(pm) = ctx.cfg.pair_model()? {
+    if let Some(pm) = ctx.scenario.pair_model().cloned() {
         out.push(ctx.study("stiffness", &(), |dir| stiffness_section(ctx, &pm, dir))?);
     }
     let base = ctx.base()?;
@@ -867,7 +866,7 @@ pub fn internal_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "map_xi_F".into(),
             title: "Maximum mesh force over the (xi, F) plane".into(),
-            parameters: format!("xi in [0.001, 0.3], F in [0.001, 0.2], {nm} x {nm} grid, omega = {}", base.omega),
+            parameters: format!("xi in [0.001, 0.3], F in [0.001, 0.2], {nm} x {nm} grid, omega = {}", base.params().omega),
             method: "One run per cell from (0, 0); Dormand–Prince 5(4).".into(),
             figures: vec![ctx.fig(&stem, "Maximum dynamic mesh force (colour bar in units of k_av b_c).")],
             readings: vec![format!(
@@ -903,7 +902,7 @@ pub fn internal_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         let (n, k) = (ctx.n(16, 48), ctx.n(8, 24));
         out.push(ctx.study(id, &(n, k), |dir| {
             let b = with(&base, &fixed)?;
-            let d = b.d_single;
+            let d = b.params().d_single;
             let o = sweep_opts(param, linspace(lo, hi, n), SweepMode::Multi { ics: ctx.n(6, 12), seed: 1, x0_range: (-1.5 * d, 1.5 * d), v0_range: (-1.0, 1.0) }, ctx.sim((150, 300), (24, 60)), vec![Sec::Strobe], false);
             let r = ctx.sweep(dir, &format!("{id} multi-initial"), &b, &o)?;
             let fig = bif_figure(ctx, &dir.join(format!("bif_{id}")), param, &r, &[Sec::Strobe], &format!("Multi-initial bifurcation over {param}, points coloured by attractor label"), false)?;
@@ -972,7 +971,7 @@ pub fn internal_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         let mut figs = Vec::new();
         let mut readings = Vec::new();
         for (i, sets) in [vec![("omega", 1.4), ("F", 0.07), ("xi", 0.23)], vec![("omega", 1.4), ("F", 0.05), ("xi", 0.09)]].iter().enumerate() {
-            let m = MeshModel::new(&with(&base, sets)?)?;
+            let m = with(&base, sets)?.model().clone();
             let txt: Vec<String> = sets.iter().map(|(k, v)| format!("{k} = {v}")).collect();
             let (fig, r, _) = basin_section(ctx, dir, &format!("basins_{i}"), &m, nb, &format!("Basins at {}", txt.join(", ")))?;
             figs.push(fig);
@@ -1011,7 +1010,7 @@ pub fn classic_plan(ctx: &Ctx) -> Result<Vec<Section>> {
         Ok(Section {
             id: "bifurcation".into(),
             title: "C1: bifurcation diagram and top Lyapunov exponent over omega".into(),
-            parameters: format!("omega in [0.5, 2] ({n} values), F = {}, xi = {}, c = {}", base.load, base.xi, base.c),
+            parameters: format!("omega in [0.5, 2] ({n} values), F = {}, xi = {}, c = {}", base.params().load, base.params().xi, base.params().c),
             method: format!("Dormand–Prince 5(4), {} + {} periods, fixed initial state (0, 0); TLE variational with saltation.", sim.transient_periods, sim.record_periods),
             figures: vec![fig],
             readings,
@@ -1056,7 +1055,7 @@ pub fn classic_plan(ctx: &Ctx) -> Result<Vec<Section>> {
     })?);
     let nb = ctx.n(40, 160);
     out.push(ctx.study("basins", &(nb,), |dir| {
-        let m = MeshModel::new(&with(&base, &[("omega", 1.8)])?)?;
+        let m = with(&base, &[("omega", 1.8)])?.model().clone();
         let (fig, readings, _) =
             basin_section(ctx, dir, "basins_1_8", &m, nb, "C1 basins at omega = 1.8")?;
         Ok(Section {

@@ -1,0 +1,246 @@
+//! "What I set is what ran": every command resolves its model through the one builder, records
+//! the integrated parameters in `run.json`, and output folders never mix.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn geardyn(args: &[String]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("geardyn-scn-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn strs(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+fn resolved(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("run.json")).expect("run.json written");
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["resolved"].clone()
+}
+
+const PRESETS: [&str; 3] = ["classic", "breakage", "internal"];
+
+/// Short, cheap arguments of every command that writes a folder.
+fn command_args(cmd: &str) -> Vec<&'static str> {
+    let short = ["--periods", "2", "--transient", "2"];
+    let mut a: Vec<&'static str> = match cmd {
+        "simulate" => vec![],
+        "bifurcation" => vec!["--range", "0.9:1.1:2"],
+        "response" => vec!["--range", "0.9:1.1:2"],
+        "basins" => vec!["--grid", "x:-1:1:3", "--grid", "v:-1:1:3"],
+        "continuation" => vec!["--range", "0.9:1.1:2", "--ics", "2"],
+        "map2d" => vec!["--x", "xi:0.1:0.2:2", "--y", "F:0.05:0.1:2"],
+        "stiffness" => return vec![],
+        _ => unreachable!(),
+    };
+    a.extend(short);
+    a
+}
+
+#[test]
+fn every_command_integrates_the_operating_point_that_was_set() {
+    for preset in PRESETS {
+        for cmd in [
+            "simulate",
+            "bifurcation",
+            "response",
+            "basins",
+            "continuation",
+            "map2d",
+            "stiffness",
+        ] {
+            let dir = tmp(&format!("{cmd}-{preset}"));
+            let mut args = strs(&[cmd, "--preset", preset]);
+            for s in ["omega=1.23", "F=0.0456", "xi=0.0789", "c=0.0321", "D=1.11"] {
+                args.extend(strs(&["--set", s]));
+            }
+            args.extend(strs(&command_args(cmd)));
+            args.extend(strs(&["--out", dir.to_str().unwrap()]));
+            let (code, _, err) = geardyn(&args);
+            assert_eq!(code, 0, "{cmd} {preset}: {err}");
+            let r = resolved(&dir);
+            // a swept parameter's base value is the one set; the sweep itself varies it
+            if !["bifurcation", "response", "continuation"].contains(&cmd) {
+                assert_eq!(r["omega"], 1.23, "{cmd} {preset}: {r}");
+            }
+            if cmd != "map2d" {
+                assert_eq!(r["F"], 0.0456, "{cmd} {preset}: {r}");
+                assert_eq!(r["xi"], 0.0789, "{cmd} {preset}: {r}");
+            }
+            assert_eq!(r["c"], 0.0321, "{cmd} {preset}: {r}");
+            assert_eq!(r["D_s"], 1.11, "{cmd} {preset}: {r}");
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
+}
+
+#[test]
+fn a_set_operating_point_changes_the_result_on_every_preset() {
+    for preset in PRESETS {
+        let mut summaries = Vec::new();
+        for omega in ["0.7", "2"] {
+            let dir = tmp(&format!("omega-{preset}-{omega}"));
+            let (code, _, err) = geardyn(&strs(&[
+                "simulate",
+                "--preset",
+                preset,
+                "--set",
+                &format!("omega={omega}"),
+                "--periods",
+                "3",
+                "--transient",
+                "5",
+                "--out",
+                dir.to_str().unwrap(),
+            ]));
+            assert_eq!(code, 0, "{err}");
+            summaries.push(std::fs::read_to_string(dir.join("strobe.csv")).unwrap());
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+        assert_ne!(summaries[0], summaries[1], "{preset}: omega had no effect");
+        // lyapunov prints what it integrated
+        let (code, out, err) = geardyn(&strs(&[
+            "lyapunov",
+            "--preset",
+            preset,
+            "--set",
+            "omega=1.7",
+            "--periods",
+            "2",
+            "--transient",
+            "2",
+            "--method",
+            "variational",
+        ]));
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains("omega = 1.7"), "{preset}: {out}");
+    }
+}
+
+fn csv_rows(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn a_one_value_bifurcation_equals_simulate_on_every_preset() {
+    for preset in PRESETS {
+        for (param, value) in [("omega", "1.2"), ("F", "0.08")] {
+            let s = tmp(&format!("eq-sim-{preset}-{param}"));
+            let b = tmp(&format!("eq-bif-{preset}-{param}"));
+            let common = ["--periods", "4", "--transient", "20"];
+            let mut sa = strs(&["simulate", "--preset", preset, "--set"]);
+            sa.push(format!("{param}={value}"));
+            sa.extend(strs(&common));
+            sa.extend(strs(&["--out", s.to_str().unwrap()]));
+            let mut ba = strs(&["bifurcation", "--preset", preset, "--param", param]);
+            ba.extend(strs(&["--range", &format!("{value}:{value}:1")]));
+            ba.extend(strs(&common));
+            ba.extend(strs(&["--out", b.to_str().unwrap()]));
+            assert_eq!(geardyn(&sa).0, 0);
+            assert_eq!(geardyn(&ba).0, 0);
+            let strobe = csv_rows(&s.join("strobe.csv"));
+            let points = csv_rows(&b.join("bifurcation.csv"));
+            assert_eq!(strobe.len(), points.len(), "{preset} {param}");
+            for (a, p) in strobe.iter().zip(&points) {
+                for (i, j) in [(1, 4), (2, 5)] {
+                    let (x, y): (f64, f64) = (a[i].parse().unwrap(), p[j].parse().unwrap());
+                    assert!((x - y).abs() <= 1e-9, "{preset} {param}: {x} vs {y}");
+                }
+            }
+            let _ = std::fs::remove_dir_all(&s);
+            let _ = std::fs::remove_dir_all(&b);
+        }
+    }
+}
+
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((p.clone(), std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn reports_of_two_presets_never_touch_each_others_files() {
+    let out = tmp("reports");
+    let o = out.to_str().unwrap();
+    let run = |preset: &str| {
+        let (code, _, err) = geardyn(&strs(&[
+            "report", "--preset", preset, "--quick", "--out", o,
+        ]));
+        assert_eq!(code, 0, "{err}");
+    };
+    run("classic");
+    let before = snapshot(&out.join("classic"));
+    run("internal");
+    assert_eq!(before, snapshot(&out.join("classic")));
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(index.contains("classic/index.html") && index.contains("internal/index.html"));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn folders_of_other_commands_or_settings_are_refused() {
+    let d = tmp("refuse");
+    let o = d.to_str().unwrap();
+    let bif = |omega_range: &str, force: bool| {
+        let mut a = strs(&[
+            "bifurcation",
+            "--range",
+            omega_range,
+            "--periods",
+            "2",
+            "--transient",
+            "2",
+            "--out",
+            o,
+        ]);
+        if force {
+            a.push("--force".into());
+        }
+        geardyn(&a)
+    };
+    assert_eq!(bif("0.8:0.9:2", false).0, 0);
+    let (code, _, err) = bif("0.8:1.0:2", false);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--force") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert_eq!(bif("0.8:1.0:2", true).0, 0);
+    let before = std::fs::read(d.join("config.toml")).unwrap();
+    let (code, _, err) = geardyn(&strs(&["simulate", "--periods", "2", "--out", o]));
+    assert_ne!(code, 0);
+    assert!(err.contains("geardyn bifurcation"), "{err}");
+    assert_eq!(before, std::fs::read(d.join("config.toml")).unwrap());
+    let _ = std::fs::remove_dir_all(&d);
+}
