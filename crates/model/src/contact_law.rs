@@ -1,13 +1,46 @@
 //! Contact laws `g(delta)` of the mesh force and their optional hysteretic damping (docs/model.md §3).
 //!
 //! Dimensionless: `delta` is the penetration in units of the characteristic length `b_c`, forces are
-//! in units of `k_av*b_c`. The mesh force in contact is `k(phi)*g(delta) + c*x' + d(delta, x')`,
-//! where `d` is the hysteresis term of the dissipative laws (zero for the elastic ones).
+//! in units of `k_av*b_c`, speeds in `b_c*omega_n`. The mesh force in contact is
+//! `k(phi)*g(delta)*(1 + chi*x') + c*x'`, where `chi*k*g*x'` is the hysteresis term of the
+//! dissipative laws (`chi = 0` for the elastic ones) and `c*x'` the viscous damping of the model.
+//!
+//! # The hysteresis factor belongs to one impact (no memory beyond it)
+//!
+//! The dissipative laws (Hunt–Crossley, Lankarani–Nikravesh, seed B's impact damping) are derived
+//! for a *free impact*: the compression is driven by the approach kinetic energy `v_in^2/2`, and
+//! `chi = a/v_in` (the law's [`ContactLaw::hysteresis_coefficient`] `a` over the entry speed) makes
+//! the restitution of that impact equal to the law's coefficient. geardyn applies the factor only
+//! to the impact it was derived for:
+//!
+//! 1. **Per entry.** `chi` is set when a contact is entered through its surface (`x` crossing
+//!    `+-D` into contact), from *that* entry's approach speed `v_in`
+//!    ([`ContactLaw::entry_hysteresis`]). Nothing is carried over from earlier contacts.
+//! 2. **The impact ends at the first velocity reversal in contact that resumes compression.**
+//!    An isolated impact compresses (`x'` into the contact), restitutes (`x'` out of it) and
+//!    separates. If instead the velocity turns back into the contact before the teeth separate,
+//!    the impact is over and the contact is a persistent mesh: `chi = 0` from then on, so only the
+//!    viscous `c*x'` damps it. The switch happens where `x' = 0`, where the hysteresis force
+//!    `chi*k*g*x'` is zero: the mesh force stays continuous.
+//! 3. **Entries that are not impacts get `chi = 0`:** an initial state already in contact, and a
+//!    contact started by a backlash jump at a zone border (finite penetration, no approach).
+//! 4. **Quasi-static (grazing) entries fade to the viscous law.** A contact that carries the static
+//!    load `F` stores the elastic energy `E_s = F*delta_s/(n+1)` at its static penetration
+//!    `g(delta_s) = F` (mean stiffness 1). An entry whose kinetic energy is below that,
+//!    `v_in < v_q = sqrt(2*E_s)` ([`ContactLaw::quasi_static_speed`]), is an engagement driven by
+//!    the load, not a free impact, and `a/v_in` would grow without bound as `v_in -> 0`. The
+//!    factor is therefore faded smoothly: `chi = a/v_in * r^4/(1 + r^4)`, `r = v_in/v_q`
+//!    (`v_q` at least [`V_IN_FLOOR`]): the law's own factor within 1.3% for `v_in >= 3 v_q`,
+//!    vanishing (viscous `c` only) for `v_in << v_q`, continuous in `v_in` in between.
+//!
+//! So the damping depends only on the current state and the current impact: a periodic motion in
+//! persistent contact is one attractor, whatever the initial state.
 
 use serde::{Deserialize, Serialize};
 
-/// Smallest entry speed used in the hysteresis coefficient `~ 1/v_in` (keeps a contact that starts
-/// at rest, e.g. permanent mesh from the initial state, from getting an unbounded damping).
+/// Smallest entry speed used in the hysteresis coefficient `~ 1/v_in` by
+/// [`ContactLaw::hysteresis`], and the smallest fade speed of [`ContactLaw::entry_hysteresis`]
+/// (dimensionless, units of `b_c*omega_n`).
 pub const V_IN_FLOOR: f64 = 1e-3;
 
 /// Contact law of the tooth pair.
@@ -114,20 +147,85 @@ impl ContactLaw {
     }
 
     /// Hysteresis factor `chi` such that the damping force is `k * g(delta) * chi * x'`, for an
-    /// entry speed `v_in` (floored at [`V_IN_FLOOR`]). Zero for elastic laws.
+    /// entry speed `v_in` (floored at [`V_IN_FLOOR`]): the law's free-impact factor
+    /// `a / v_in`. Zero for elastic laws. The mesh model uses [`ContactLaw::entry_hysteresis`].
     #[inline]
     pub fn hysteresis(&self, v_in: f64) -> f64 {
-        let v = v_in.abs().max(V_IN_FLOOR);
+        self.hysteresis_coefficient() / v_in.abs().max(V_IN_FLOOR)
+    }
+
+    /// Coefficient `a` of the free-impact hysteresis factor `chi = a / v_in` (dimensionless):
+    /// `3(1-e)/2` (Hunt–Crossley), `3(1-e^2)/4` (Lankarani–Nikravesh), `3(1-psi)/(2 psi)`
+    /// (impact damping); 0 for the elastic laws.
+    #[inline]
+    pub fn hysteresis_coefficient(&self) -> f64 {
         match *self {
             ContactLaw::Linear | ContactLaw::Power { .. } => 0.0,
-            ContactLaw::HuntCrossley { restitution, .. } => 1.5 * (1.0 - restitution) / v,
+            ContactLaw::HuntCrossley { restitution, .. } => 1.5 * (1.0 - restitution),
             ContactLaw::LankaraniNikravesh { restitution, .. } => {
-                0.75 * (1.0 - restitution * restitution) / v
+                0.75 * (1.0 - restitution * restitution)
             }
             ContactLaw::ImpactDamping { restitution, .. } => {
-                1.5 * (1.0 - restitution) / (restitution.max(1e-6) * v)
+                1.5 * (1.0 - restitution) / restitution.max(1e-6)
             }
         }
+    }
+
+    /// Exponent `n` of the elastic part (1 for the linear law).
+    pub fn exponent(&self) -> f64 {
+        match *self {
+            ContactLaw::Linear => 1.0,
+            ContactLaw::Power { exponent }
+            | ContactLaw::HuntCrossley { exponent, .. }
+            | ContactLaw::LankaraniNikravesh { exponent, .. }
+            | ContactLaw::ImpactDamping { exponent, .. } => exponent,
+        }
+    }
+
+    /// Speed `v_q = sqrt(2 E_s)` whose kinetic energy equals the elastic energy
+    /// `E_s = F delta_s/(n+1)` a contact of unit (mean) stiffness stores under the static load
+    /// `F` (`delta_s = F^(1/n)`), at least [`V_IN_FLOOR`]. Entries slower than this are
+    /// quasi-static (see the module doc).
+    ///
+    /// ```
+    /// use geardyn_model::ContactLaw;
+    /// // linear contact: v_q = F
+    /// assert!((ContactLaw::Linear.quasi_static_speed(0.16) - 0.16).abs() < 1e-15);
+    /// assert_eq!(ContactLaw::Linear.quasi_static_speed(0.0), geardyn_model::contact_law::V_IN_FLOOR);
+    /// ```
+    pub fn quasi_static_speed(&self, load: f64) -> f64 {
+        let n = self.exponent();
+        let f = load.max(0.0);
+        let e_s = f * f.powf(1.0 / n) / (n + 1.0);
+        (2.0 * e_s).sqrt().max(V_IN_FLOOR)
+    }
+
+    /// Hysteresis factor of a contact entered through its surface at the approach speed `v_in`,
+    /// with the quasi-static speed `v_q` (see the module doc):
+    /// `chi = a/|v_in| * r^4/(1 + r^4)`, `r = |v_in|/v_q`. Bounded by `0.57 a/v_q`, zero at
+    /// `v_in = 0`, within 1.3% of the free-impact factor for `|v_in| >= 3 v_q`.
+    ///
+    /// ```
+    /// use geardyn_model::ContactLaw;
+    /// let ln = ContactLaw::LankaraniNikravesh { exponent: 1.5, restitution: 0.8 };
+    /// assert_eq!(ln.entry_hysteresis(0.0, 0.1), 0.0);
+    /// let free = ln.hysteresis(0.5);
+    /// assert!((ln.entry_hysteresis(0.5, 0.1) - free).abs() < 2e-3 * free);
+    /// assert_eq!(ContactLaw::Linear.entry_hysteresis(0.5, 0.1), 0.0);
+    /// ```
+    #[inline]
+    pub fn entry_hysteresis(&self, v_in: f64, v_q: f64) -> f64 {
+        let a = self.hysteresis_coefficient();
+        let v = v_in.abs();
+        if a == 0.0 || !(v > 0.0) {
+            return 0.0;
+        }
+        let r2 = (v / v_q) * (v / v_q);
+        let r4 = r2 * r2;
+        if !r4.is_finite() {
+            return a / v;
+        }
+        a / v * (r4 / (1.0 + r4))
     }
 
     /// Whether the law carries hysteresis damping.

@@ -9,6 +9,19 @@
 //! is tabulated once into [`Segment`]s (one per zone piece, adjacent identical pieces merged), and
 //! each segment border is a time breakpoint. The mode carries the segment index, so the zone is
 //! never recomputed from a rounded time.
+//!
+//! **Hysteresis damping** of the dissipative contact laws is set per impact and ends with it (see
+//! [`crate::contact_law`]): from the entry speed at a contact entry, cleared ([`EventKind::Settle`])
+//! when the velocity turns back into the contact before the teeth separate, zero for an initial
+//! state in contact and for a contact started by a backlash jump.
+//!
+//! **Invariants.** Every located contact event lies on its surface `x = +-D` to within
+//! [`SURFACE_TOL`]` * max(D, 1)`, and with the back-side impact model the state never lies beyond
+//! the stop (`x >= -D`). A run whose motion outgrows the time resolution of the integrator (the
+//! teeth cross the backlash in less than a rounding step of `tau`) breaks the first one; the event
+//! handler then sets the state to NaN, which the integrator reports as
+//! [`geardyn_solvers::SolverError::NonFinite`] (divergent motion) instead of continuing through the
+//! stop.
 
 use crate::contact_law::ContactLaw;
 use crate::error::ModelError;
@@ -66,7 +79,8 @@ pub struct MeshMode {
     pub seg: u32,
     /// Contact state.
     pub contact: ContactState,
-    /// Hysteresis factor of a dissipative contact law, fixed at contact entry.
+    /// Hysteresis factor of a dissipative contact law for the current impact: set at a contact
+    /// entry from its approach speed, 0 outside an impact (see [`crate::contact_law`]).
     pub chi: f64,
 }
 
@@ -88,7 +102,18 @@ pub enum EventKind {
     Stick,
     /// The tooth leaves the back stop (the free acceleration changed sign).
     Release,
+    /// The impact phase of a dissipative contact ends without separation: the velocity turned
+    /// back into the contact, the hysteresis factor is cleared (persistent mesh, viscous damping).
+    Settle,
 }
+
+/// Largest excitation-period index a mode represents (`2^62`, well inside `i64`).
+const MAX_PERIOD_INDEX: f64 = 4_611_686_018_427_387_904.0;
+
+/// Largest distance of a located contact event from its surface `x = +-D`, in units of
+/// `max(D, 1)` (dimensionless). Event location is accurate to ~1e-12 in time; a larger distance
+/// means the motion outgrew the integrator's time resolution, and the run is stopped.
+pub const SURFACE_TOL: f64 = 1e-6;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum KForm {
@@ -149,6 +174,8 @@ pub struct MeshModel {
     unilateral: bool,
     impact: Option<ImpactLaw>,
     impact_peak_factor: f64,
+    /// Quasi-static entry speed of the contact law (fade speed of the hysteresis factor).
+    v_q: f64,
 }
 
 fn inv(field: &str, value: f64, allowed: &str) -> ModelError {
@@ -352,6 +379,7 @@ impl MeshModel {
             unilateral: p.unilateral,
             impact,
             impact_peak_factor: impact.map_or(1.0, |l| l.peak_factor()),
+            v_q: p.contact.quasi_static_speed(p.load),
         };
         m.tabulate(eps, friction_on);
         if let Some(bad) = m.uniform_h_min() {
@@ -605,7 +633,14 @@ impl MeshModel {
     /// Position in the excitation period (mesh cycles) of time `t` in `period`.
     #[inline(always)]
     fn position(&self, t: f64, period: i64) -> f64 {
-        self.omega * t * (0.5 / PI) - (period * self.cycles as i64) as f64
+        self.omega * t * (0.5 / PI) - self.period_start(period)
+    }
+
+    /// Start of excitation period `period`, in mesh cycles. Computed in `f64`: exact below 2^53
+    /// cycles, and no integer product that could wrap beyond.
+    #[inline(always)]
+    fn period_start(&self, period: i64) -> f64 {
+        period as f64 * self.cycles as f64
     }
 
     #[inline(always)]
@@ -710,10 +745,17 @@ impl MeshModel {
         }
     }
 
-    /// Peak back-side impact force for an impact at speed `v` (see [`crate::impact`]).
+    /// Peak back-side impact force for an impact at speed `v` (see [`crate::impact`]); finite
+    /// for any finite `v`.
     pub fn impact_peak_force(&self, v: f64) -> f64 {
-        self.impact
-            .map_or(0.0, |l| l.hertz_peak(v.abs()) * self.impact_peak_factor)
+        self.impact.map_or(0.0, |l| {
+            (l.hertz_peak(v.abs()) * self.impact_peak_factor).min(f64::MAX)
+        })
+    }
+
+    /// Quasi-static entry speed `v_q` of the contact law at this load (see [`crate::contact_law`]).
+    pub fn quasi_static_speed(&self) -> f64 {
+        self.v_q
     }
 
     /// What the event of guard `index`, located in mode `before`, was.
@@ -725,6 +767,7 @@ impl MeshModel {
                 (Some(_), ContactState::Stuck) => EventKind::Stick,
                 (Some(_), _) => EventKind::Impact,
             },
+            (ContactState::Drive | ContactState::Back, 1) => EventKind::Settle,
             (ContactState::Drive, _) => EventKind::DriveExit,
             (ContactState::Back, _) => EventKind::BackExit,
             (ContactState::Stuck, _) => EventKind::Release,
@@ -772,8 +815,12 @@ impl HybridSystem<2> for MeshModel {
 
     fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> MeshMode {
         let s = self.omega * t / (2.0 * PI);
-        let period = (s / self.cycles as f64).floor() as i64;
-        let u = s - (period * self.cycles as i64) as f64;
+        // the period start is computed in f64 (no wrapping product); a time whose period index
+        // does not fit the mode (beyond 2^62 periods, far past the resolution of tau) is an error
+        // state, reported by the integrator as a non-finite state
+        let pf = (s / self.cycles as f64).floor();
+        let period = pf as i64;
+        let u = s - self.period_start(period);
         let seg = self.segment_index(u);
         let d = self.segs[seg].d;
         let contact = match self.impact {
@@ -782,11 +829,15 @@ impl HybridSystem<2> for MeshModel {
                 .unwrap_or_else(|| self.contact_of(y, d)),
             None => self.contact_of(y, d),
         };
+        if !(pf.abs() < MAX_PERIOD_INDEX) {
+            *y = [f64::NAN; 2];
+        }
+        // an initial state in contact is not an impact: no hysteresis (no memory of the start)
         MeshMode {
             period,
             seg: seg as u32,
             contact,
-            chi: self.law.hysteresis(y[1]),
+            chi: 0.0,
         }
     }
 
@@ -826,30 +877,55 @@ impl HybridSystem<2> for MeshModel {
                 g.push(y[0] - d, Direction::Rising);
                 g.push(y[0] + d, Direction::Falling);
             }
-            ContactState::Drive => g.push(y[0] - d, Direction::Falling),
-            ContactState::Back => g.push(y[0] + d, Direction::Rising),
+            ContactState::Drive => {
+                g.push(y[0] - d, Direction::Falling);
+                if mode.chi != 0.0 {
+                    // end of the impact: the velocity turns back into the contact
+                    g.push(y[1], Direction::Rising);
+                }
+            }
+            ContactState::Back => {
+                g.push(y[0] + d, Direction::Rising);
+                if mode.chi != 0.0 {
+                    g.push(y[1], Direction::Falling);
+                }
+            }
             ContactState::Stuck => g.push(self.excitation(t), Direction::Rising),
         }
     }
 
     fn on_event(&self, t: f64, y: &mut [f64; 2], mode: &mut MeshMode, index: usize) -> EventAction {
         let d = self.segs[mode.seg as usize].d;
+        // invariant: a contact event lies on its surface (else the run lost its time resolution
+        // and may have jumped through the backlash or the stop): stop with an error state
+        let surface = match (mode.contact, index) {
+            (ContactState::Separated, 0) | (ContactState::Drive, 0) => Some(y[0] - d),
+            (ContactState::Separated, _) | (ContactState::Back, 0) => Some(y[0] + d),
+            _ => None,
+        };
+        if let Some(g) = surface {
+            if !(g.abs() <= SURFACE_TOL * d.max(1.0)) {
+                *y = [f64::NAN; 2];
+                return EventAction::Terminate;
+            }
+        }
         match (mode.contact, index) {
             (ContactState::Separated, 0) => {
                 mode.contact = ContactState::Drive;
-                mode.chi = self.law.hysteresis(y[1]);
+                mode.chi = self.law.entry_hysteresis(y[1], self.v_q);
             }
             (ContactState::Separated, _) => match self.impact {
                 None => {
                     mode.contact = ContactState::Back;
-                    mode.chi = self.law.hysteresis(y[1]);
+                    mode.chi = self.law.entry_hysteresis(y[1], self.v_q);
                 }
                 Some(law) => {
+                    // the impact path: onto the stop, moving away from it (or resting on it)
                     y[0] = -d;
                     if y[1].abs() < law.v_stick && self.excitation(t) <= 0.0 {
                         y[1] = 0.0;
                         mode.contact = ContactState::Stuck;
-                    } else {
+                    } else if y[1] < 0.0 {
                         y[1] *= -law.restitution;
                     }
                 }
@@ -858,8 +934,13 @@ impl HybridSystem<2> for MeshModel {
                 y[1] = 0.0;
                 mode.contact = ContactState::Separated;
             }
+            (ContactState::Drive, 1) | (ContactState::Back, 1) => {
+                // the impact is over; the contact persists with viscous damping only
+                mode.chi = 0.0;
+            }
             (ContactState::Drive, _) | (ContactState::Back, _) => {
                 mode.contact = ContactState::Separated;
+                mode.chi = 0.0;
             }
         }
         EventAction::Continue
@@ -871,7 +952,7 @@ impl HybridSystem<2> for MeshModel {
             return f64::INFINITY;
         }
         let end = self.segs[mode.seg as usize].end;
-        ((mode.period * self.cycles as i64) as f64 + end) * self.cycle_time
+        (self.period_start(mode.period) + end) * self.cycle_time
     }
 
     fn on_breakpoint(&self, t: f64, y: &mut [f64; 2], mode: &mut MeshMode) {
@@ -879,10 +960,18 @@ impl HybridSystem<2> for MeshModel {
         mode.seg += 1;
         if mode.seg as usize == self.segs.len() {
             mode.seg = 0;
-            mode.period += 1;
+            mode.period = mode.period.saturating_add(1);
         }
         let d = self.segs[mode.seg as usize].d;
         let before = mode.contact;
+        // invariant of the impact model: never beyond the stop (it was at -d_old until now)
+        if self.impact.is_some()
+            && before != ContactState::Stuck
+            && !(y[0] >= -d_old - SURFACE_TOL * d_old.max(1.0))
+        {
+            *y = [f64::NAN; 2];
+            return;
+        }
         let contact = match self.impact {
             // The stop moves with the backlash: if it recedes the tooth is free; if it advances
             // the tooth is carried with it (projection, with the impact law if moving into it).
@@ -900,7 +989,8 @@ impl HybridSystem<2> for MeshModel {
             None => self.contact_of(y, d),
         };
         if contact != before {
-            mode.chi = self.law.hysteresis(y[1]);
+            // a contact started (or ended) by a backlash jump is not an impact
+            mode.chi = 0.0;
         }
         mode.contact = contact;
     }
@@ -909,8 +999,9 @@ impl HybridSystem<2> for MeshModel {
         self.cycle_time / 16.0
     }
 
-    /// Contact guards are `x -+ D` with `D` constant within a segment (unit Lipschitz constant);
-    /// the release guard of a tooth resting on the stop depends on time.
+    /// Contact guards are `x -+ D` with `D` constant within a segment, the end-of-impact guard is
+    /// `x'` (unit Lipschitz constant); the release guard of a tooth resting on the stop depends on
+    /// time.
     #[inline(always)]
     fn guard_lipschitz(&self, mode: &MeshMode) -> Option<f64> {
         match mode.contact {
@@ -974,14 +1065,16 @@ impl Variational<2> for MeshModel {
         t: f64,
         _y: &[f64; 2],
         mode: &MeshMode,
-        _index: usize,
+        index: usize,
     ) -> ([f64; 2], f64) {
-        match mode.contact {
+        match (mode.contact, index) {
             // g = xi w^2 cos(w t) + F: only time-dependent
-            ContactState::Stuck => {
+            (ContactState::Stuck, _) => {
                 let w = self.omega;
                 ([0.0, 0.0], -self.xi_w2 * w * (w * t).sin())
             }
+            // end of an impact: g = x'
+            (ContactState::Drive | ContactState::Back, 1) => ([0.0, 1.0], 0.0),
             // g = x -+ D with D constant within a segment
             _ => ([1.0, 0.0], 0.0),
         }
