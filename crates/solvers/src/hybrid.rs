@@ -195,6 +195,38 @@ pub trait HybridSystem<const N: usize> {
     fn guard_lipschitz(&self, _mode: &Self::Mode) -> Option<f64> {
         None
     }
+
+    /// Ends an accumulation of events (a Zeno sequence), or declines to.
+    ///
+    /// The integrator calls this when more than [`Options::max_events_without_progress`]
+    /// consecutive state events each followed the previous one within a vanishing time (see
+    /// [`Options::zeno_interval`]): an impact with restitution `R < 1` against a stop the motion is
+    /// pushed into, chattering on round-off once the bounces fall below the float resolution of
+    /// the guard. It is called right after [`HybridSystem::on_event`] for the last event of the
+    /// run (guard `index` as armed in the mode *before* that event), with the reset state and the
+    /// new mode.
+    ///
+    /// Return `true` after switching to a mode in which the accumulation cannot continue — the
+    /// accumulation point of the sequence, typically resting on the stop: put the state on the
+    /// surface with zero relative velocity and select the sticking mode (whose own guard releases
+    /// it). The event is then reported as usual ([`Stop::Event`]) with the new mode. Return
+    /// `false` (the default) and the integration fails with [`SolverError::Zeno`]. If the fallback
+    /// does not end the accumulation (another one is detected before any ordinary step), the
+    /// integration fails with [`SolverError::Zeno`] as well.
+    ///
+    /// [`Options::max_events_without_progress`]: crate::Options::max_events_without_progress
+    /// [`Options::zeno_interval`]: crate::Options::zeno_interval
+    /// [`Stop::Event`]: crate::Stop::Event
+    /// [`SolverError::Zeno`]: crate::SolverError::Zeno
+    fn zeno_fallback(
+        &self,
+        _t: f64,
+        _y: &mut [f64; N],
+        _mode: &mut Self::Mode,
+        _index: usize,
+    ) -> bool {
+        false
+    }
 }
 
 /// A shared reference to a system is a system: many integrators (one per basin cell, say) can
@@ -237,5 +269,9 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
     #[inline(always)]
     fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64> {
         (**self).guard_lipschitz(mode)
+    }
+    #[inline(always)]
+    fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool {
+        (**self).zeno_fallback(t, y, mode, index)
     }
 }

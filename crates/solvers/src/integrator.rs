@@ -15,12 +15,39 @@
 //!    event costs no order of accuracy. The state is nudged to the new side of the surface, so the
 //!    mode chosen by [`HybridSystem::on_event`] is consistent with it and the event cannot fire twice.
 //! 4. After an event or a breakpoint the first-same-as-last derivative is recomputed in the new mode.
+//!
+//! Every integration terminates:
+//! * an adaptive step is never shorter than [`min_step`]`(t)` (`16 eps max(|t|, 1)`, a step that
+//!   still moves `t`); when the error control asks for less, [`SolverError::StepSizeTooSmall`];
+//! * a fixed RK4 grid step or a system's [`HybridSystem::max_step`] that time cannot resolve at `t`
+//!   is [`SolverError::TimeResolution`];
+//! * an accumulation of events (Zeno: more than [`Options::max_events_without_progress`]
+//!   consecutive events, each within [`Options::zeno_interval`] of the step-size scale after the
+//!   previous) ends in the sticking mode the system offers through
+//!   [`HybridSystem::zeno_fallback`], or in [`SolverError::Zeno`]; the criterion is relative to the
+//!   step-size scale, not to the absolute time;
+//! * the steps spent approaching one `tstop` are capped ([`Options::max_steps`]):
+//!   [`SolverError::StepBudget`].
 
 use crate::dense::Step;
 use crate::hybrid::{Direction, EventAction, Guards, HybridSystem};
 
 /// Most interior guard samples per step.
 pub const MAX_GRAZING_SAMPLES: usize = 4;
+
+/// Fixed part of the default step budget per `tstop` ([`Options::max_steps`]).
+pub const BASE_STEP_BUDGET: u64 = 10_000_000;
+
+/// Smallest step resolved at time `t`: `16 eps max(|t|, 1)`. A step at least this long changes
+/// `t` by several ulps, so the integration advances.
+#[inline]
+pub fn min_step(t: f64) -> f64 {
+    16.0 * f64::EPSILON * t.abs().max(1.0)
+}
+
+/// A fixed grid step must be at least this many times the merge tolerance of stop times
+/// (`64 eps |t|`): a shorter one cannot be laid out at `t` (grid points would merge or round).
+const RK4_RESOLUTION: f64 = 4.0;
 
 /// Integration scheme and its settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,11 +100,44 @@ pub enum Stop {
 /// Integration failures.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolverError {
-    /// The adaptive step size fell below round-off level.
-    #[error("step size underflow at t = {t} (stiff or singular vector field)")]
+    /// The adaptive step size fell below the smallest step resolved at `t` ([`min_step`]).
+    #[error(
+        "step size underflow at t = {t}: the error control asks for a step below {min:e}, the \
+         shortest one resolved at this time (stiff or singular vector field, or a start time far \
+         from 0)",
+        min = min_step(*.t)
+    )]
     StepSizeTooSmall {
         /// Time of failure.
         t: f64,
+    },
+    /// A fixed grid step (RK4) or the system's largest step is too short to be represented at `t`.
+    #[error(
+        "time step {h:e} is not resolved at t = {t:e} (it must be at least {min:e} there): start \
+         the run nearer t = 0 or use a longer step"
+    )]
+    TimeResolution {
+        /// Time of failure.
+        t: f64,
+        /// The step that cannot be represented.
+        h: f64,
+        /// The shortest step usable at `t`.
+        min: f64,
+    },
+    /// The steps spent approaching one `tstop` exceeded the budget ([`Options::max_steps`]).
+    #[error(
+        "step budget exhausted: {steps} steps from t = {t0} did not reach t = {tstop} (stopped at \
+         t = {t}); the motion makes no progress, or needs a larger Options::max_steps"
+    )]
+    StepBudget {
+        /// Time at which the request started.
+        t0: f64,
+        /// Time of failure.
+        t: f64,
+        /// The requested stop time.
+        tstop: f64,
+        /// The budget.
+        steps: u64,
     },
     /// The state became NaN or infinite.
     #[error("state became non-finite at t = {t} (divergent motion or invalid parameters)")]
@@ -85,15 +145,20 @@ pub enum SolverError {
         /// Time of failure.
         t: f64,
     },
-    /// Too many events at one instant: the system does not advance.
+    /// An accumulation of events (Zeno behaviour) the system does not resolve: more than
+    /// [`Options::max_events_without_progress`] consecutive events, each close to the previous,
+    /// and [`HybridSystem::zeno_fallback`] declined (or did not end the accumulation).
     #[error(
-        "{count} events at t = {t} without progress (Zeno behaviour the model does not resolve)"
+        "Zeno behaviour at t = {t}: {count} events within {span:e} time units accumulate, and the \
+         system offers no sticking mode to end them (HybridSystem::zeno_fallback)"
     )]
     Zeno {
         /// Time of failure.
         t: f64,
-        /// Number of events without progress.
+        /// Number of consecutive accumulating events.
         count: usize,
+        /// Time spanned by them.
+        span: f64,
     },
     /// Invalid settings.
     #[error("invalid integrator setting: {0}")]
@@ -121,8 +186,23 @@ pub struct Options {
     /// Interior interpolant samples per step at which guards are checked (grazing detection);
     /// `None`: 1 for RK4 (short fixed steps), 2 for Dormand–Prince.
     pub grazing_samples: Option<usize>,
-    /// Most events allowed at one instant before [`SolverError::Zeno`].
+    /// Most consecutive accumulating events (each within [`Options::zeno_interval`] of the
+    /// previous, or at the same instant) before the accumulation is ended by
+    /// [`HybridSystem::zeno_fallback`] or [`SolverError::Zeno`].
     pub max_events_without_progress: usize,
+    /// An event that follows the previous one within this fraction of the step-size scale (the
+    /// step the error control would take next, at most [`HybridSystem::max_step`], for
+    /// Dormand–Prince; the grid step for RK4) counts as accumulating. Relative to the dynamics'
+    /// own time scale, not to the absolute time. Default `1e-3`: a sequence of such events cannot
+    /// be resolved motion (the error control would have shortened the steps).
+    pub zeno_interval: f64,
+    /// Most trial steps (rejected and event steps included) spent approaching one `tstop`
+    /// (consecutive [`Integrator::step`] calls with the same `tstop`; checked at the start of
+    /// each call, so the rejections of one call may exceed it slightly) before
+    /// [`SolverError::StepBudget`]. `None`: derived from the request,
+    /// [`BASE_STEP_BUDGET`]` + 64 * (tstop - t) / h_char` with `h_char` the RK4 step or the
+    /// system's [`HybridSystem::max_step`] (no second term when that is unlimited).
+    pub max_steps: Option<u64>,
 }
 
 impl Default for Options {
@@ -130,6 +210,8 @@ impl Default for Options {
         Options {
             grazing_samples: None,
             max_events_without_progress: 64,
+            zeno_interval: 1e-3,
+            max_steps: None,
         }
     }
 }
@@ -228,8 +310,18 @@ pub struct Integrator<S: HybridSystem<N>, const N: usize> {
     next_bp: f64,
     last: Step<N>,
     stats: Stats,
+    /// Consecutive accumulating events, the time of the event before the first of them, and
+    /// whether a Zeno fallback was applied without an ordinary step since.
     events_without_progress: usize,
     last_event_t: f64,
+    zeno_run_start: f64,
+    zeno_fallback_pending: bool,
+    /// Step budget of the current request (`tstop`): its start time, size, and the value of
+    /// [`Integrator::work`] at which it is spent.
+    budget_tstop: f64,
+    budget_t0: f64,
+    budget_total: u64,
+    budget_end: u64,
 }
 
 impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
@@ -248,6 +340,9 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             Scheme::Rk4 { h } => {
                 if !(h > 0.0 && h.is_finite()) {
                     return Err(SolverError::Setting("RK4 step h must be > 0 and finite"));
+                }
+                if t0.is_finite() {
+                    Self::check_grid(h, t0)?;
                 }
             }
         }
@@ -279,6 +374,12 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             stats: Stats::default(),
             events_without_progress: 0,
             last_event_t: f64::NAN,
+            zeno_run_start: f64::NAN,
+            zeno_fallback_pending: false,
+            budget_tstop: f64::NAN,
+            budget_t0: f64::NAN,
+            budget_total: 0,
+            budget_end: 0,
         };
         it.reset(t0, y)?;
         Ok(it)
@@ -305,6 +406,9 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         self.last.r[0] = y;
         self.events_without_progress = 0;
         self.last_event_t = f64::NAN;
+        self.zeno_run_start = f64::NAN;
+        self.zeno_fallback_pending = false;
+        self.budget_tstop = f64::NAN;
         Ok(())
     }
 
@@ -365,6 +469,65 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         64.0 * f64::EPSILON * t.abs().max(1.0)
     }
 
+    /// A fixed grid step `h` must be resolvable at `t`.
+    fn check_grid(h: f64, t: f64) -> Result<(), SolverError> {
+        let min = RK4_RESOLUTION * Self::snap(t);
+        if h < min {
+            return Err(SolverError::TimeResolution { t, h, min });
+        }
+        Ok(())
+    }
+
+    /// Default step budget of a request from the current time to `tstop`.
+    fn step_budget(&self, tstop: f64) -> u64 {
+        if let Some(n) = self.opts.max_steps {
+            return n;
+        }
+        let span = tstop - self.t;
+        let h_char = match self.scheme {
+            Scheme::Rk4 { h } => h,
+            Scheme::DormandPrince { .. } => self.sys.max_step(),
+        };
+        let steps = if span > 0.0 && h_char > 0.0 && h_char.is_finite() {
+            span / h_char
+        } else {
+            0.0
+        };
+        // float-to-int casts saturate
+        (BASE_STEP_BUDGET as f64 + 64.0 * steps) as u64
+    }
+
+    /// Starts a request to `tstop` (a `tstop` other than the last one, or the first after a
+    /// reset): its step budget, and a check that an RK4 grid is resolved all the way there.
+    #[cold]
+    fn new_request(&mut self, tstop: f64) -> Result<(), SolverError> {
+        if let Scheme::Rk4 { h } = self.scheme {
+            Self::check_grid(h, self.t.abs().max(tstop.abs()))?;
+        }
+        self.budget_tstop = tstop;
+        self.budget_t0 = self.t;
+        self.budget_total = self.step_budget(tstop);
+        self.budget_end = self.work().saturating_add(self.budget_total);
+        Ok(())
+    }
+
+    /// Trial steps taken so far (accepted, event and rejected ones).
+    #[inline(always)]
+    fn work(&self) -> u64 {
+        self.stats.steps + self.stats.rejected
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn budget_error(&self) -> SolverError {
+        SolverError::StepBudget {
+            t0: self.budget_t0,
+            t: self.t,
+            tstop: self.budget_tstop,
+            steps: self.budget_total,
+        }
+    }
+
     #[inline(always)]
     fn ensure_start(&mut self) {
         if !(self.f0_valid && self.g0_valid && self.h_next > 0.0) {
@@ -415,7 +578,14 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                 } else {
                     0.01 * d0 / d1
                 };
-                h.min(self.sys.max_step()).min(1.0)
+                let h = h.min(self.sys.max_step()).min(1.0);
+                // a state or field too large for the tolerance-weighted norm gives 0 or NaN: start
+                // from the shortest resolved step (the step loop raises it to that anyway)
+                if h > 0.0 {
+                    h
+                } else {
+                    min_step(self.t)
+                }
             }
         }
     }
@@ -547,6 +717,14 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         if self.t >= tstop - Self::snap(tstop) {
             return Ok(Stop::Tstop);
         }
+        if tstop != self.budget_tstop {
+            self.new_request(tstop)?;
+        }
+        // (checked once per call: the rejections within one call are bounded by the step-size
+        // floor, and every call that returns Ok takes a step)
+        if self.work() >= self.budget_end {
+            return Err(self.budget_error());
+        }
         self.ensure_start();
         loop {
             // --- choose the end of the trial step
@@ -565,7 +743,17 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                     on_grid = true;
                 }
                 Scheme::DormandPrince { .. } => {
-                    let h = self.h_next.min(self.sys.max_step());
+                    let h_min = min_step(t);
+                    let h_max = self.sys.max_step();
+                    if h_max < h_min {
+                        return Err(SolverError::TimeResolution {
+                            t,
+                            h: h_max,
+                            min: h_min,
+                        });
+                    }
+                    // never a step that does not move t (h_next may be 0 after a huge field)
+                    let h = self.h_next.min(h_max).max(h_min);
                     t_end = t + h;
                 }
             }
@@ -597,7 +785,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                         0.1
                     };
                     self.h_next = h * fac;
-                    if self.h_next < 4.0 * f64::EPSILON * t.abs().max(1.0) {
+                    if self.h_next < min_step(t) {
                         return Err(SolverError::StepSizeTooSmall { t });
                     }
                     continue;
@@ -642,6 +830,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             self.tt0 = trial.tt1;
             self.gcur = next;
             self.last = trial.step;
+            self.zeno_fallback_pending = false;
             if on_grid {
                 self.grid_index += 1;
             }
@@ -975,19 +1164,42 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         self.t = t0 + h;
         self.y = tr.y1;
         self.last = tr.step;
-        if self.t - self.last_event_t <= Self::snap(self.t) {
-            self.events_without_progress += 1;
-            if self.events_without_progress > self.opts.max_events_without_progress {
-                return Err(SolverError::Zeno {
-                    t: self.t,
-                    count: self.events_without_progress,
-                });
+        // --- accumulation of events (Zeno): closer than a fraction of the step-size scale
+        let scale = match self.scheme {
+            Scheme::Rk4 { h } => h,
+            Scheme::DormandPrince { .. } => h_max.max(self.h_next.min(self.sys.max_step())),
+        };
+        let quick = Self::snap(self.t).max(self.opts.zeno_interval * scale);
+        // (NaN before the first event: not accumulating)
+        if self.t - self.last_event_t <= quick {
+            if self.events_without_progress == 0 {
+                self.zeno_run_start = self.last_event_t;
             }
+            self.events_without_progress += 1;
         } else {
             self.events_without_progress = 0;
         }
         self.last_event_t = self.t;
         let action = self.sys.on_event(self.t, &mut self.y, &mut self.mode, idx);
+        if self.events_without_progress > self.opts.max_events_without_progress
+            && action == EventAction::Continue
+        {
+            let count = self.events_without_progress;
+            let span = self.t - self.zeno_run_start;
+            if self.zeno_fallback_pending
+                || !self
+                    .sys
+                    .zeno_fallback(self.t, &mut self.y, &mut self.mode, idx)
+            {
+                return Err(SolverError::Zeno {
+                    t: self.t,
+                    count,
+                    span,
+                });
+            }
+            self.zeno_fallback_pending = true;
+            self.events_without_progress = 0;
+        }
         self.f0_valid = false;
         self.g0_valid = false;
         self.next_bp = self.sys.next_breakpoint(self.t, &self.mode);

@@ -19,5 +19,7 @@ pub mod variational;
 
 pub use dense::Step;
 pub use hybrid::{Direction, EventAction, Guards, HybridSystem, MAX_GUARDS};
-pub use integrator::{Integrator, Options, Scheme, SolverError, Stats, Stop};
+pub use integrator::{
+    min_step, Integrator, Options, Scheme, SolverError, Stats, Stop, BASE_STEP_BUDGET,
+};
 pub use variational::Variational;
