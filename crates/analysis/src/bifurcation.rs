@@ -8,8 +8,9 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
+use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{simulate, summarize, Amplitudes, Level, SimOptions};
+use crate::simulate::{Amplitudes, Level, SimOptions};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -164,6 +165,12 @@ pub struct Run {
     pub tle: Option<f64>,
     /// Final state (continuation carries it on).
     pub final_state: [f64; 2],
+    /// Decided class of the motion.
+    #[serde(default)]
+    pub motion: Motion,
+    /// Transient actually used (the requested one, extended while undecided).
+    #[serde(default)]
+    pub transient_used: u64,
 }
 
 /// The result of one task.
@@ -242,8 +249,12 @@ fn model_at(base: &Scenario, param: &str, value: f64) -> Result<MeshModel, Sweep
 
 /// Simulates one run and extracts what a sweep records.
 pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions) -> Run {
-    match simulate(model, y0, &opts.sim) {
+    match simulate_decided(model, y0, &opts.sim, Decide::default()) {
         Err(e) => Run {
+            motion: Motion::Failed {
+                reason: e.to_string(),
+            },
+            transient_used: opts.sim.transient_periods,
             ic,
             y0,
             label: format!("failed: {e}"),
@@ -261,8 +272,7 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
             tle: None,
             final_state: y0,
         },
-        Ok(res) => {
-            let s = summarize(model, &res, &opts.sim);
+        Ok((res, s, used)) => {
             let mut points = Vec::new();
             for sec in &opts.sections {
                 match sec {
@@ -318,6 +328,8 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
                 points,
                 tle,
                 final_state: y_end,
+                motion: s.motion,
+                transient_used: used.transient_periods,
             }
         }
     }
@@ -418,8 +430,9 @@ where
 }
 
 /// A jump in a frequency-response branch: between `from` and `to` the RMS of `x` changes by more
-/// than five times the branch's median step change and by at least 10% of its range, and at least
-/// one side is periodic (chaotic windows fluctuate from value to value without "jumping").
+/// than five times the branch's median step change and by at least 10% of its range, and both
+/// sides are decided periodic motions (chaotic windows fluctuate from value to value without
+/// "jumping").
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Jump {
     /// Branch (`up` or `down`).
@@ -463,7 +476,8 @@ pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
         d.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
         let median = d[d.len() / 2];
         for (i, &s) in steps.iter().enumerate() {
-            let periodic = pts[i].2 > 0 || pts[i + 1].2 > 0;
+            // a jump connects two decided periodic branches; chaotic windows fluctuate
+            let periodic = pts[i].2 > 0 && pts[i + 1].2 > 0;
             if s > 5.0 * median && s > 0.1 * range && periodic {
                 jumps.push(Jump {
                     branch: if branch == 1 { "up" } else { "down" },

@@ -7,6 +7,7 @@
 pub mod attractor;
 pub mod basins;
 pub mod bifurcation;
+pub mod classify;
 pub mod continuation;
 pub mod driver;
 pub mod generic;
@@ -14,6 +15,8 @@ pub mod lyapunov;
 pub mod map2d;
 pub mod period;
 pub mod simulate;
+pub mod tle_convergence;
 
+pub use classify::{simulate_decided, Decide, Motion};
 pub use driver::{run_periods, Discard, Observer};
 pub use simulate::{simulate, summarize, Method, SimOptions, SimResult, Summary};

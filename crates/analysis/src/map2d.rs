@@ -1,8 +1,9 @@
 //! Two-parameter maps of scalar responses (maximum mesh force, P_ID, period, label class, TLE)
 //! over a grid of two model parameters (docs/model.md §5), in parallel, deterministic and resumable.
 
+use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{simulate, summarize, SimOptions};
+use crate::simulate::SimOptions;
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rayon::prelude::*;
@@ -53,11 +54,15 @@ pub struct MapCell {
     pub impacts: u64,
     /// TLE, if computed.
     pub tle: Option<f64>,
+    /// Decided class of the motion.
+    #[serde(default)]
+    pub motion: Motion,
 }
 
 impl MapCell {
     /// Value of a metric by name: `max_force`, `min_force`, `p_id`, `period`, `tle`,
-    /// `healthy` (1/0), `class` (0 healthy periodic, 1 unstable periodic, 2 chaotic, 3 failed).
+    /// `healthy` (1/0), `class` (0 healthy periodic, 1 non-healthy periodic, 2 chaotic,
+    /// 3 failed, 4 quasi-periodic, 5 unsettled).
     pub fn metric(&self, name: &str) -> Option<f64> {
         let failed = self.label.starts_with("failed") || self.label.starts_with("invalid");
         Some(match name {
@@ -68,17 +73,15 @@ impl MapCell {
             "period" => self.period as f64,
             "tle" => self.tle.unwrap_or(f64::NAN),
             "healthy" => f64::from(u8::from(self.healthy)),
-            "class" => {
-                if failed {
-                    3.0
-                } else if self.period == 0 {
-                    2.0
-                } else if self.healthy {
-                    0.0
-                } else {
-                    1.0
-                }
-            }
+            "class" => match &self.motion {
+                _ if failed => 3.0,
+                Motion::Periodic { .. } if self.healthy => 0.0,
+                Motion::Periodic { .. } => 1.0,
+                Motion::Chaotic { .. } => 2.0,
+                Motion::Failed { .. } => 3.0,
+                Motion::QuasiPeriodic { .. } => 4.0,
+                Motion::Unsettled { .. } => 5.0,
+            },
             _ => return None,
         })
     }
@@ -138,14 +141,20 @@ where
                 p_id: 0.0,
                 impacts: 0,
                 tle: None,
+                motion: Motion::default(),
             };
             match model_at(base, o, x, y) {
                 Err(e) => cell.label = format!("invalid: {e}"),
-                Ok(m) => match simulate(&m, o.y0, &o.sim) {
-                    Err(e) => cell.label = format!("failed: {e}"),
-                    Ok(r) => {
-                        let s = summarize(&m, &r, &o.sim);
+                Ok(m) => match simulate_decided(&m, o.y0, &o.sim, Decide::default()) {
+                    Err(e) => {
+                        cell.label = format!("failed: {e}");
+                        cell.motion = Motion::Failed {
+                            reason: e.to_string(),
+                        };
+                    }
+                    Ok((r, s, _)) => {
                         cell.label = s.label;
+                        cell.motion = s.motion;
                         cell.period = s.period;
                         cell.healthy = s.healthy;
                         cell.max_force = s.max_force;

@@ -3,6 +3,7 @@
 //! velocity and peak force, mesh-force extrema, and the motion summary (period, `n-p-q-r-s`
 //! label, healthy flag, P_ID) of docs/model.md §5.
 
+use crate::classify::Motion;
 use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period;
 use geardyn_model::{ContactState, EventKind, MeshMode, MeshModel};
@@ -234,10 +235,13 @@ impl SimResult {
 /// Motion summary (docs/model.md §5).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
-    /// Minimal period in excitation periods (0 = chaotic or quasi-periodic).
+    /// Minimal period in excitation periods (0 = not periodic).
     pub period: usize,
-    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`); for `n = 0` the counts are mean crossings per
-    /// excitation period with two decimals (e.g. `0-0.84-0.31`).
+    /// The decided class of the motion ([`crate::classify`]); [`summarize`] alone decides only
+    /// "periodic" and otherwise says `unsettled`.
+    pub motion: Motion,
+    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`) of a periodic motion; otherwise the class and
+    /// the mean crossings per excitation period as rates, e.g. `chaotic (0.84-0.31 per period)`.
     pub label: String,
     /// Counts `p, q, r, s` over one motion period (per excitation period, rounded, if `n = 0`).
     pub counts: [u32; 4],
@@ -253,6 +257,38 @@ pub struct Summary {
     pub impacts: u64,
     /// Largest impact force over the recorded periods.
     pub max_impact_force: f64,
+}
+
+impl Summary {
+    /// Sets the decided motion class (a non-periodic one) and rewrites the label's class word.
+    pub fn set_motion(&mut self, motion: Motion) {
+        if let Some(rates) = self
+            .label
+            .split_once(" (")
+            .map(|(_, r)| r.trim_end_matches(')').to_string())
+        {
+            self.label = format!("{} ({rates})", motion.word());
+        }
+        self.motion = motion;
+    }
+
+    /// `healthy`, or why not: `non-healthy (back-side contact)` / `non-healthy (not periodic)`.
+    /// The seeds' word for non-healthy motions is "unstable"; it does not mean dynamically
+    /// unstable (docs/analyses.md).
+    pub fn health_text(&self) -> &'static str {
+        health_text(self.healthy, self.period > 0)
+    }
+}
+
+/// See [`Summary::health_text`].
+pub fn health_text(healthy: bool, periodic: bool) -> &'static str {
+    if healthy {
+        "healthy"
+    } else if periodic {
+        "non-healthy (back-side contact)"
+    } else {
+        "non-healthy (not periodic)"
+    }
 }
 
 /// Extremum of the parabola through three equally spaced samples whose middle one is extreme.
@@ -590,13 +626,18 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
                 format!("{:.2}", tot as f64 / n)
             })
             .collect();
-        format!("0-{}", parts.join("-"))
+        format!("unsettled ({} per period)", parts.join("-"))
     };
     let [t_drive, t_sep, t_back] = res.durations;
     let total = t_drive + t_sep + t_back;
     let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
     Summary {
         period,
+        motion: if period > 0 {
+            Motion::Periodic { period }
+        } else {
+            Motion::default()
+        },
         label,
         counts,
         healthy: period > 0 && !any_back,

@@ -164,11 +164,10 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
             "attractor #{}: {} ({}), basin fraction {:.4}",
             at.id,
             at.descriptor.label,
-            if at.descriptor.healthy {
-                "healthy"
-            } else {
-                "non-healthy: back-side contact"
-            },
+            geardyn_analysis::simulate::health_text(
+                at.descriptor.healthy,
+                at.descriptor.period > 0
+            ),
             at.fraction
         );
     }

@@ -4,7 +4,24 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::SimArgs;
 use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
+use geardyn_analysis::lyapunov::{
+    tle_two_trajectory, tle_variational, LyapunovOptions, LyapunovResult,
+};
+use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+
+fn print_variational(r: &LyapunovResult, periods: u64) {
+    println!(
+        "TLE (variational, saltation): {:.6} +- {:.6} per unit tau over {} periods{}",
+        r.tle,
+        r.spread,
+        periods,
+        if r.annihilated > 0 {
+            format!(" ({} sticking intervals)", r.annihilated)
+        } else {
+            String::new()
+        }
+    );
+}
 
 /// Arguments of `geardyn lyapunov`.
 #[derive(Args, Debug)]
@@ -16,6 +33,9 @@ pub struct LyapunovArgs {
     /// variational (saltation matrices), two-trajectory, or both.
     #[arg(long, default_value = "both", value_parser = ["variational", "two-trajectory", "both"])]
     method: String,
+    /// Largest run length (excitation periods) while converging; `--periods N` runs exactly N.
+    #[arg(long, default_value_t = 25_600)]
+    max_periods: u64,
     /// Initial distance of the two-trajectory method.
     #[arg(long, default_value_t = 1e-6)]
     d0: f64,
@@ -35,7 +55,7 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         p.omega, p.load, p.xi, p.c, p.d_double, p.d_single
     );
     let sim = cfg.sim_options()?;
-    let opts = LyapunovOptions {
+    let mut opts = LyapunovOptions {
         period: model.excitation_period(),
         transient_periods: sim.transient_periods,
         periods: sim.record_periods,
@@ -44,19 +64,43 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let scheme = sim.method.scheme(&model);
     let t0 = sim.tau0;
-    if a.method != "two-trajectory" {
+    if a.sim.periods.is_none() {
+        // no explicit length: run until converged (the two-trajectory check uses the same length)
+        if !(a.max_periods >= 20 && a.max_periods <= 10_000_000) {
+            anyhow::bail!(
+                "bad --max-periods {}: allowed 20 ..= 10000000",
+                a.max_periods
+            );
+        }
+        let conv = Convergence {
+            max_periods: a.max_periods,
+            ..Default::default()
+        };
+        let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
+        for r in &c.rounds {
+            println!(
+                "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
+                r.periods, r.tle, r.half, r.stderr
+            );
+        }
+        opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
+        if c.converged {
+            println!(
+                "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
+                c.tol
+            );
+        } else {
+            println!(
+                "WARNING: not converged to {:.1e} within --max-periods {} (pass a larger cap, or --periods N for a fixed length)",
+                c.tol, a.max_periods
+            );
+        }
+        if a.method != "two-trajectory" {
+            print_variational(&c.result, opts.periods);
+        }
+    } else if a.method != "two-trajectory" {
         let r = tle_variational::<_, 2, 4>(model.clone(), scheme, t0, y0, &opts)?;
-        println!(
-            "TLE (variational, saltation): {:.6} +- {:.6} per unit tau over {} periods{}",
-            r.tle,
-            r.spread,
-            opts.periods,
-            if r.annihilated > 0 {
-                format!(" ({} sticking intervals)", r.annihilated)
-            } else {
-                String::new()
-            }
-        );
+        print_variational(&r, opts.periods);
     }
     if a.method != "variational" {
         let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;

@@ -3,7 +3,7 @@
 use crate::run_config::ConfigArgs;
 use anyhow::{Context, Result};
 use clap::Args;
-use geardyn_analysis::simulate::{simulate, summarize};
+use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_io::plot::{decimate, xy_chart, Chart, Mark, Series, PALETTE};
 use geardyn_io::{output, run_record};
 use std::path::PathBuf;
@@ -45,9 +45,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let t = std::time::Instant::now();
     let out = &args.out;
     run_record::prepare_folder(out, "simulate", None, false)?;
-    let res = simulate(model, y0, &opts).context("integration failed")?;
+    let (res, summary, used) =
+        simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
     let elapsed = t.elapsed().as_secs_f64();
-    let summary = summarize(model, &res, &opts);
 
     output::write_text(&out.join("config.toml"), &cfg.to_toml())?;
     output::write_trajectory(&out.join("trajectory.csv"), &res)?;
@@ -61,7 +61,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             "parameters": scenario.record(),
             "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
             "excitation_period": model.excitation_period(),
-            "transient_periods": opts.transient_periods,
+            "transient_periods": used.transient_periods,
+            "transient_requested": opts.transient_periods,
             "record_periods": opts.record_periods,
             "method": opts.method,
             "steps": res.steps,
@@ -79,14 +80,22 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         run_record::now_unix_s() - started,
     )?;
     println!(
-        "{}: label {} ({}), P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts; {} steps in {:.3} s -> {}",
-        if summary.period > 0 { format!("period {}", summary.period) } else { "chaotic/quasi-periodic".into() },
+        "{}: label {}, {}, P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts{}; {} steps in {:.3} s -> {}",
+        summary.motion.describe(),
         summary.label,
-        if summary.healthy { "healthy" } else { "non-healthy: back-side contact" },
+        summary.health_text(),
         summary.p_id,
         summary.min_force,
         summary.max_force,
         summary.impacts,
+        if used.transient_periods > opts.transient_periods {
+            format!(
+                "; transient extended to {} periods to decide",
+                used.transient_periods
+            )
+        } else {
+            String::new()
+        },
         res.steps,
         elapsed,
         out.display()

@@ -154,12 +154,14 @@ impl Config {
     /// The configuration of a built-in preset with default simulation settings.
     pub fn preset(name: &str) -> Result<Self, ConfigError> {
         let spec = ScenarioSpec::preset(name)?;
-        Ok(Config {
+        let c = Config {
             model: spec.model,
             pair: spec.pair,
             set: spec.overrides,
             simulation: SimulationConfig::default(),
-        })
+        };
+        // canonical form: what the pair states is held as the same placeholders a file gets
+        Self::from_toml(&c.to_toml())
     }
 
     /// Reads a TOML file (at most [`MAX_CONFIG_BYTES`]).

@@ -419,11 +419,10 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Plot
                     "#{} {} {} ({:.1}%)",
                     at.id,
                     at.descriptor.label,
-                    if at.descriptor.healthy {
-                        "healthy"
-                    } else {
-                        "unstable"
-                    },
+                    geardyn_analysis::simulate::health_text(
+                        at.descriptor.healthy,
+                        at.descriptor.period > 0
+                    ),
                     100.0 * at.fraction
                 ),
                 *c,
@@ -528,7 +527,7 @@ pub fn plot_continuation(
                 y_label: "basin fraction",
                 series: vec![
                     Series {
-                        label: "healthy + unstable",
+                        label: "healthy + non-healthy",
                         points: &stacked,
                         mark: Mark::Line,
                         color: PALETTE[1],

@@ -20,12 +20,12 @@ pub fn label_intervals(results: &[TaskResult], branch: u8) -> Vec<(f64, f64, Str
     out
 }
 
-/// Label with chaotic rates collapsed to "chaotic / quasi-periodic".
+/// Label with the crossing rates of non-periodic motions dropped: `chaotic`, `quasi-periodic`,
+/// `unsettled`, or the periodic label itself.
 pub fn class(label: &str) -> String {
-    if label.starts_with("0-") || label == "0" {
-        "chaotic / quasi-periodic".to_string()
-    } else {
-        label.to_string()
+    match label.split_once(" (") {
+        Some((word, _)) => word.to_string(),
+        None => label.to_string(),
     }
 }
 

@@ -284,7 +284,7 @@ fn verdict(ok: Option<bool>) -> String {
 }
 
 fn chaotic(label: &str) -> bool {
-    label.starts_with("0-")
+    label.starts_with("chaotic")
 }
 
 fn tle_reading(results: &[TaskResult], param: &str) -> Option<String> {
@@ -564,7 +564,7 @@ pub fn breakage_plan(ctx: &Ctx) -> Result<Vec<Section>> {
             figures: vec![ctx.fig(&stem, "Mesh force over one revolution of the pinion; the broken tooth's cycle starts at 0.")],
             readings: vec![
                 format!("Maximum mesh force: healthy {} , broken {} ({:+.1}%); the broken pair's peak lies in mesh cycle {:.0}.", f(rh.max_force), f(rb.max_force), 100.0 * (rb.max_force / rh.max_force - 1.0), peak_cycle.floor()),
-                format!("Motion: healthy {} ({}), broken {} ({}).", sh.label, if sh.healthy { "healthy" } else { "unstable" }, sb.label, if sb.healthy { "healthy" } else { "unstable" }),
+                format!("Motion: healthy pair {} ({}), broken pair {} ({}).", sh.label, sh.health_text(), sb.label, sb.health_text()),
             ],
             tables: vec![],
             claims: vec![],
@@ -752,7 +752,7 @@ fn basin_section(
         r.attractors.len(),
         r.attractors
             .iter()
-            .map(|a| format!("{} ({}, P_ID {}, fraction {:.3})", a.descriptor.label, if a.descriptor.healthy { "healthy" } else { "unstable" }, f(a.descriptor.p_id), a.fraction))
+            .map(|a| format!("{} ({}, P_ID {}, fraction {:.3})", a.descriptor.label, geardyn_analysis::simulate::health_text(a.descriptor.healthy, a.descriptor.period > 0), f(a.descriptor.p_id), a.fraction))
             .collect::<Vec<_>>()
             .join(", "),
         r.diverged,
@@ -771,8 +771,8 @@ fn continuation_table(ctx: &Ctx, dir: &Path, param: &str, r: &ContinuationResult
     };
     ctx.table(
         &dir.join(format!("attractors_{param}.csv")),
-        &format!("Attractor evolution over {param}: intervals, healthy and unstable attractors with basin fractions"),
-        &[&format!("{param} from"), &format!("{param} to"), "healthy attractors", "unstable attractors"],
+        &format!("Attractor evolution over {param}: intervals, healthy and non-healthy attractors with basin fractions"),
+        &[&format!("{param} from"), &format!("{param} to"), "healthy attractors", "non-healthy attractors"],
         r.intervals.iter().map(|iv| vec![f(iv.from), f(iv.to), fmt(&iv.healthy), fmt(&iv.unstable)]).collect(),
     )
 }

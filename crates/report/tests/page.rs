@@ -22,6 +22,8 @@ fn quick_classic_report_is_complete_and_self_contained() {
         out: out.clone(),
     };
     let index = run(&cfg, &opts).unwrap();
+    assert_eq!(index, out.join("classic").join("index.html"));
+    let page_dir = out.join("classic");
     let html = std::fs::read_to_string(&index).unwrap();
     let imgs = refs(&html, "src");
     assert!(imgs.len() >= 3, "{imgs:?}");
@@ -31,7 +33,7 @@ fn quick_classic_report_is_complete_and_self_contained() {
     {
         assert!(!r.starts_with("http"), "external reference {r}");
         assert!(
-            out.join(r).metadata().map(|m| m.len() > 0).unwrap_or(false),
+            page_dir.join(r).metadata().map(|m| m.len() > 0).unwrap_or(false),
             "missing {r}"
         );
     }

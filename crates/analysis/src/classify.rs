@@ -1,0 +1,212 @@
+//! Decided classification of a motion (docs/analyses.md, "Classification rules").
+//!
+//! A run is called periodic only when the stroboscopic period test passes, chaotic only when the
+//! top Lyapunov exponent is significantly positive, quasi-periodic only when it is zero within
+//! its error and no period appears after the transient has been extended. Anything else first
+//! gets a longer transient (doubling, [`MAX_EXTENSIONS`] times: at most
+//! `2^MAX_EXTENSIONS` times the requested transient, at least [`MIN_EXTENSION`] periods per
+//! round) and, if still undecided, is reported as `unsettled` with its numbers — never as chaos.
+//!
+//! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
+//! record but a negative exponent; calling it chaotic is the error a researcher notices first.
+
+use crate::lyapunov::{tle_variational, LyapunovOptions};
+use crate::simulate::{simulate, summarize, SimError, SimOptions, SimResult, Summary};
+use geardyn_model::MeshModel;
+use serde::{Deserialize, Serialize};
+
+/// Doublings of the transient tried before a non-periodic, non-chaotic run is called
+/// `unsettled`.
+pub const MAX_EXTENSIONS: u32 = 4;
+/// Smallest transient extension of a round (excitation periods).
+pub const MIN_EXTENSION: u64 = 100;
+/// Excitation periods of the Lyapunov estimate that decides chaos (at least; the record length
+/// when longer).
+pub const TLE_PERIODS: u64 = 100;
+/// A TLE (per unit dimensionless time) is significantly positive when it exceeds both this and
+/// three standard errors.
+pub const TLE_POSITIVE: f64 = 1e-3;
+
+/// What a motion is, decided from the evidence.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "class", rename_all = "snake_case")]
+pub enum Motion {
+    /// The stroboscopic points repeat with this minimal period (excitation periods).
+    Periodic {
+        /// Period in excitation periods.
+        period: usize,
+    },
+    /// The top Lyapunov exponent is significantly positive.
+    Chaotic {
+        /// TLE per unit dimensionless time.
+        tle: f64,
+        /// Its standard error.
+        stderr: f64,
+    },
+    /// No period after the extended transient, and a TLE of zero within its error.
+    QuasiPeriodic {
+        /// TLE per unit dimensionless time.
+        tle: f64,
+        /// Its standard error.
+        stderr: f64,
+    },
+    /// Not decided: no period within the extended transient, TLE not significantly positive.
+    Unsettled {
+        /// TLE, when it was computed.
+        tle: Option<f64>,
+        /// Its standard error.
+        stderr: Option<f64>,
+    },
+    /// The integration failed (the message says why).
+    Failed {
+        /// The error.
+        reason: String,
+    },
+}
+
+impl Default for Motion {
+    fn default() -> Self {
+        Motion::Unsettled {
+            tle: None,
+            stderr: None,
+        }
+    }
+}
+
+impl Motion {
+    /// One word: `periodic`, `chaotic`, `quasi-periodic`, `unsettled`, `failed`.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Motion::Periodic { .. } => "periodic",
+            Motion::Chaotic { .. } => "chaotic",
+            Motion::QuasiPeriodic { .. } => "quasi-periodic",
+            Motion::Unsettled { .. } => "unsettled",
+            Motion::Failed { .. } => "failed",
+        }
+    }
+
+    /// Periodic?
+    pub fn is_periodic(&self) -> bool {
+        matches!(self, Motion::Periodic { .. })
+    }
+
+    /// Chaotic?
+    pub fn is_chaotic(&self) -> bool {
+        matches!(self, Motion::Chaotic { .. })
+    }
+
+    /// A description for people: `period 2`, `chaotic (TLE 0.0512 ± 0.0011)`, ...
+    pub fn describe(&self) -> String {
+        match self {
+            Motion::Periodic { period } => format!("period {period}"),
+            Motion::Chaotic { tle, stderr } => format!("chaotic (TLE {tle:.4} ± {stderr:.4})"),
+            Motion::QuasiPeriodic { tle, stderr } => {
+                format!("quasi-periodic (TLE {tle:.4} ± {stderr:.4}, no period)")
+            }
+            Motion::Unsettled { tle, stderr } => match (tle, stderr) {
+                (Some(t), Some(s)) => format!(
+                    "unsettled: no period within the extended transient, TLE {t:.4} ± {s:.4} not significantly positive"
+                ),
+                _ => "unsettled: no period detected (not classified further)".into(),
+            },
+            Motion::Failed { reason } => format!("failed: {reason}"),
+        }
+    }
+}
+
+/// Classification effort.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Decide {
+    /// Extend the transient of non-periodic, non-chaotic runs.
+    pub extend: bool,
+    /// Compute the TLE of non-periodic runs to tell chaos from unsettled.
+    pub lyapunov: bool,
+}
+
+impl Default for Decide {
+    fn default() -> Self {
+        Decide {
+            extend: true,
+            lyapunov: true,
+        }
+    }
+}
+
+/// TLE of the motion continuing from `(t, y)`, or `None` if it cannot be computed.
+fn tle_from(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
+    let lo = LyapunovOptions {
+        period: model.excitation_period(),
+        transient_periods: 0,
+        periods: opts.record_periods.max(TLE_PERIODS),
+        d0: 1e-6,
+    };
+    let r = tle_variational::<_, 2, 4>(model.clone(), opts.method.scheme(model), t, y, &lo).ok()?;
+    (r.tle.is_finite() && r.spread.is_finite()).then_some((r.tle, r.spread))
+}
+
+fn significantly_positive(tle: f64, se: f64) -> bool {
+    tle > TLE_POSITIVE && tle > 3.0 * se
+}
+
+/// Simulates and classifies: the periodic test first, then the TLE (chaos), then longer
+/// transients; the summary's `motion` and `label` state the decision and `transient_periods`
+/// in the returned options is the transient actually used.
+pub fn simulate_decided(
+    model: &MeshModel,
+    y0: [f64; 2],
+    opts: &SimOptions,
+    how: Decide,
+) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    let mut used = *opts;
+    let mut res = simulate(model, y0, opts)?;
+    let mut s = summarize(model, &res, opts);
+    if s.motion.is_periodic() {
+        return Ok((res, s, used));
+    }
+    let mut tle = None;
+    if how.lyapunov {
+        let (t, y) = res.final_state;
+        tle = tle_from(model, opts, t, y);
+        if let Some((l, se)) = tle {
+            if significantly_positive(l, se) {
+                s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                return Ok((res, s, used));
+            }
+        }
+    }
+    if how.extend {
+        for k in 0..MAX_EXTENSIONS {
+            let extra = (opts.transient_periods.max(MIN_EXTENSION)) << k;
+            let (t, y) = res.final_state;
+            // continue in time: the stroboscopic phase stays that of tau0
+            let more = SimOptions {
+                tau0: t,
+                transient_periods: extra,
+                ..*opts
+            };
+            res = simulate(model, y, &more)?;
+            used.transient_periods += opts.record_periods + extra;
+            s = summarize(model, &res, &more);
+            if s.motion.is_periodic() {
+                return Ok((res, s, used));
+            }
+        }
+        if how.lyapunov {
+            let (t, y) = res.final_state;
+            tle = tle_from(model, opts, t, y);
+        }
+    }
+    let motion = match tle {
+        Some((l, se)) if significantly_positive(l, se) => Motion::Chaotic { tle: l, stderr: se },
+        Some((l, se)) if how.extend && l.abs() <= (3.0 * se).max(TLE_POSITIVE) => {
+            Motion::QuasiPeriodic { tle: l, stderr: se }
+        }
+        Some((l, se)) => Motion::Unsettled {
+            tle: Some(l),
+            stderr: Some(se),
+        },
+        None => Motion::default(),
+    };
+    s.set_motion(motion);
+    Ok((res, s, used))
+}

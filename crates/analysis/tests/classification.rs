@@ -1,0 +1,126 @@
+//! Decided classification: a slow periodic transient is not chaos, chaos is not given a period,
+//! and the default Lyapunov run converges to the Floquet value of a periodic orbit.
+
+use geardyn_analysis::classify::{simulate_decided, Decide, Motion};
+use geardyn_analysis::lyapunov::LyapunovOptions;
+use geardyn_analysis::simulate::SimOptions;
+use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_model::{presets, MeshModel};
+use geardyn_solvers::{Integrator, Stop};
+
+fn c1(sets: &[(&str, f64)]) -> MeshModel {
+    let mut p = presets::classic();
+    for (k, v) in sets {
+        p.set(k, *v).unwrap();
+    }
+    MeshModel::new(&p).unwrap()
+}
+
+#[test]
+fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
+    // C1 at omega = 1.3, F = 0.05: a period-6 orbit that needs ~1000 periods to settle; a
+    // 300-period transient and 50 recorded periods show no period yet
+    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
+    let opts = SimOptions {
+        record_periods: 50,
+        ..Default::default()
+    };
+    let (_, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert_eq!(s.motion, Motion::Periodic { period: 6 }, "{}", s.label);
+    assert!(s.label.starts_with("6-"), "{}", s.label);
+    assert!(used.transient_periods > opts.transient_periods);
+}
+
+#[test]
+fn a_chaotic_motion_is_not_given_a_period() {
+    let m = c1(&[("omega", 1.3)]);
+    let (_, s, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    assert!(s.motion.is_chaotic(), "{:?}", s.motion);
+    assert_eq!(s.period, 0);
+    assert!(s.label.starts_with("chaotic ("), "{}", s.label);
+}
+
+#[test]
+fn undecided_without_evidence_is_unsettled_not_chaotic() {
+    // with neither extension nor TLE a non-periodic record stays undecided
+    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
+    let opts = SimOptions {
+        record_periods: 50,
+        ..Default::default()
+    };
+    let none = Decide {
+        extend: false,
+        lyapunov: false,
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, none).unwrap();
+    assert!(
+        matches!(s.motion, Motion::Unsettled { .. }),
+        "{:?}",
+        s.motion
+    );
+    assert!(s.label.starts_with("unsettled ("), "{}", s.label);
+}
+
+/// Largest Floquet exponent of the period-1 orbit through `(t0, y)`, from the monodromy matrix
+/// of the stroboscopic map by central differences (an independent second method).
+fn floquet_exponent(m: &MeshModel, t0: f64, y: [f64; 2]) -> f64 {
+    let period = m.excitation_period();
+    let map = |y0: [f64; 2]| -> [f64; 2] {
+        let scheme = geardyn_solvers::Scheme::DormandPrince {
+            rtol: 1e-12,
+            atol: 1e-14,
+        };
+        let mut it = Integrator::new(m, scheme, t0, y0).unwrap();
+        loop {
+            if let Stop::Tstop = it.step(t0 + period).unwrap() {
+                return *it.y();
+            }
+        }
+    };
+    let h = 1e-6;
+    let mut jac = [[0.0; 2]; 2];
+    for j in 0..2 {
+        let (mut a, mut b) = (y, y);
+        a[j] += h;
+        b[j] -= h;
+        let (fa, fb) = (map(a), map(b));
+        for i in 0..2 {
+            jac[i][j] = (fa[i] - fb[i]) / (2.0 * h);
+        }
+    }
+    let tr = jac[0][0] + jac[1][1];
+    let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+    let disc = tr * tr / 4.0 - det;
+    let mu = if disc >= 0.0 {
+        (tr / 2.0).abs() + disc.sqrt()
+    } else {
+        det.sqrt() // complex pair: |mu|^2 = det
+    };
+    mu.ln() / period
+}
+
+#[test]
+fn default_lyapunov_run_matches_the_floquet_exponent_of_c1_at_omega_0_7() {
+    let m = c1(&[("omega", 0.7)]);
+    let sim = SimOptions::default();
+    // settle on the orbit
+    let res = geardyn_analysis::simulate(&m, [0.0, 0.0], &sim).unwrap();
+    let (t, y) = res.final_state;
+    let exact = floquet_exponent(&m, t, y);
+    let opts = LyapunovOptions {
+        period: m.excitation_period(),
+        transient_periods: sim.transient_periods,
+        periods: 0,
+        d0: 1e-6,
+    };
+    let scheme = sim.method.scheme(&m);
+    let c = tle_converged(&m, scheme, 0.0, [0.0, 0.0], &opts, &Convergence::default()).unwrap();
+    assert!(c.converged);
+    assert!(
+        (c.result.tle - exact).abs() < 5e-4,
+        "TLE {} vs Floquet {}",
+        c.result.tle,
+        exact
+    );
+}
