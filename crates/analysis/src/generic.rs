@@ -49,7 +49,8 @@ fn one<F: Family<N>, const N: usize>(
     let run = || -> Result<([f64; N], Vec<[f64; N]>), SolverError> {
         let mut it = Integrator::new(fam.at(p), scheme, 0.0, y0)?;
         run_periods(&mut it, period, transient, &mut Discard)?;
-        let mut c = Collect(Vec::with_capacity(record as usize));
+        // (a user-given count: reserve a bounded amount, the points grow as they are computed)
+        let mut c = Collect(Vec::with_capacity(record.min(4096) as usize));
         run_periods(&mut it, period, record, &mut c)?;
         Ok((*it.y(), c.0))
     };
@@ -119,5 +120,48 @@ pub fn strobe_bifurcation<F: Family<N>, const N: usize>(
             .par_iter()
             .map(|&p| one(fam, p, scheme, y0, transient, record).0)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geardyn_solvers::HybridSystem;
+
+    /// Uniform motion that blows up half a time unit into the run.
+    struct Doomed;
+    impl HybridSystem<1> for Doomed {
+        type Mode = ();
+        type TimeTerms = ();
+        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
+        fn time_terms(&self, _t: f64) {}
+        fn rhs(&self, t: f64, _tt: &(), _y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
+            dy[0] = if t < 0.5 { 1.0 } else { f64::NAN };
+        }
+    }
+    struct Fam;
+    impl Family<1> for Fam {
+        type System = Doomed;
+        fn at(&self, _p: f64) -> Doomed {
+            Doomed
+        }
+        fn period(&self, _p: f64) -> f64 {
+            1.0
+        }
+    }
+
+    #[test]
+    fn a_huge_record_count_reserves_nothing_up_front() {
+        // u64::MAX points would be a capacity overflow if reserved ahead
+        let d = strobe_bifurcation(
+            &Fam,
+            &[0.0],
+            Scheme::Rk4 { h: 0.01 },
+            [0.0],
+            0,
+            u64::MAX,
+            true,
+        );
+        assert!(matches!(d[0].error, Some(SolverError::NonFinite { .. })));
     }
 }

@@ -121,6 +121,20 @@ macro_rules! tangent_impl {
             fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64> {
                 self.sys.guard_lipschitz(mode)
             }
+            // an accumulation of impacts ends in the system's sticking mode; the tangent was
+            // already mapped by the reset of every impact of the sequence and is kept
+            fn zeno_fallback(
+                &self,
+                t: f64,
+                y: &mut [f64; $m],
+                mode: &mut S::Mode,
+                index: usize,
+            ) -> bool {
+                let mut ys = head::<$n, $m>(y);
+                let ended = self.sys.zeno_fallback(t, &mut ys, mode, index);
+                y[..$n].copy_from_slice(&ys);
+                ended
+            }
         }
     };
 }
@@ -166,37 +180,79 @@ pub struct LyapunovResult {
     pub annihilated: u64,
 }
 
-fn finish(logs: &[f64], period: f64, annihilated: u64) -> LyapunovResult {
-    let n = logs.len();
-    let mut history = Vec::with_capacity(n);
-    let mut sum = 0.0;
-    for (j, l) in logs.iter().enumerate() {
-        sum += l;
-        history.push(sum / ((j + 1) as f64 * period));
+/// Most entries reserved ahead for the history: the period count comes from the user (a count of
+/// 10^12 must not reserve terabytes before the first step); the history grows as it is computed.
+const RESERVE: u64 = 4096;
+
+/// Number of blocks of the standard error.
+const BLOCKS: u64 = 10;
+
+/// Running TLE estimate over an announced number of intervals: the running history and the sums
+/// of ten blocks of equal length (the remainder `n mod 10` in no block), without keeping the
+/// per-interval logarithms.
+struct Accumulator {
+    period: f64,
+    blocks: u64,
+    per: u64,
+    n: u64,
+    sum: f64,
+    block_sums: [f64; BLOCKS as usize],
+    history: Vec<f64>,
+}
+
+impl Accumulator {
+    fn new(period: f64, intervals: u64) -> Self {
+        let blocks = BLOCKS.min(intervals.max(1));
+        Accumulator {
+            period,
+            blocks,
+            per: intervals / blocks,
+            n: 0,
+            sum: 0.0,
+            block_sums: [0.0; BLOCKS as usize],
+            history: Vec::with_capacity(intervals.min(RESERVE) as usize),
+        }
     }
-    let tle = if n > 0 {
-        sum / (n as f64 * period)
-    } else {
-        f64::NAN
-    };
-    let blocks = 10.min(n.max(1));
-    let per = n / blocks;
-    let spread = if per == 0 || blocks < 2 {
-        f64::NAN
-    } else {
-        let means: Vec<f64> = (0..blocks)
-            .map(|b| logs[b * per..(b + 1) * per].iter().sum::<f64>() / (per as f64 * period))
-            .collect();
-        let m = means.iter().sum::<f64>() / blocks as f64;
-        let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (blocks - 1) as f64;
-        (var / blocks as f64).sqrt()
-    };
-    LyapunovResult {
-        tle,
-        spread,
-        history,
-        time: n as f64 * period,
-        annihilated,
+
+    /// The log growth of one interval.
+    fn push(&mut self, l: f64) {
+        if let Some(b) = self.n.checked_div(self.per) {
+            if b < self.blocks {
+                self.block_sums[b as usize] += l;
+            }
+        }
+        self.n += 1;
+        self.sum += l;
+        self.history.push(self.sum / (self.n as f64 * self.period));
+    }
+
+    fn finish(self, annihilated: u64) -> LyapunovResult {
+        let (n, period, blocks, per) = (self.n, self.period, self.blocks, self.per);
+        let tle = if n > 0 {
+            self.sum / (n as f64 * period)
+        } else {
+            f64::NAN
+        };
+        let spread = if per == 0 || blocks < 2 {
+            f64::NAN
+        } else {
+            let means = &self.block_sums[..blocks as usize];
+            let scale = per as f64 * period;
+            let m = means.iter().map(|s| s / scale).sum::<f64>() / blocks as f64;
+            let var = means
+                .iter()
+                .map(|s| (s / scale - m) * (s / scale - m))
+                .sum::<f64>()
+                / (blocks - 1) as f64;
+            (var / blocks as f64).sqrt()
+        };
+        LyapunovResult {
+            tle,
+            spread,
+            history: self.history,
+            time: n as f64 * period,
+            annihilated,
+        }
     }
 }
 
@@ -262,7 +318,7 @@ where
     };
     let t_start = base.t();
     let mut it = Integrator::new(tan, scheme, t_start, z)?;
-    let mut logs = Vec::with_capacity(opts.periods as usize);
+    let mut acc = Accumulator::new(opts.period, opts.periods);
     let mut annihilated = 0;
     for j in 1..=opts.periods {
         let t_stop = t_start + j as f64 * opts.period;
@@ -275,20 +331,20 @@ where
         let mut z = *it.y();
         let norm = z[N..].iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm > TINY && norm.is_finite() {
-            logs.push(norm.ln());
+            acc.push(norm.ln());
             for v in z[N..].iter_mut() {
                 *v /= norm;
             }
         } else {
             annihilated += 1;
-            logs.push(TINY.ln());
+            acc.push(TINY.ln());
             for v in z[N..].iter_mut() {
                 *v = unit;
             }
         }
         it.set_state(z);
     }
-    Ok(finish(&logs, opts.period, annihilated))
+    Ok(acc.finish(annihilated))
 }
 
 /// TLE from a reference and a perturbed trajectory, renormalised to `d0` every period.
@@ -313,7 +369,7 @@ where
         *v += opts.d0 * unit;
     }
     let mut b = Integrator::new(sys, scheme, t_start, yb)?;
-    let mut logs = Vec::with_capacity(opts.periods as usize);
+    let mut acc = Accumulator::new(opts.period, opts.periods);
     for j in 1..=opts.periods {
         let t_stop = t_start + j as f64 * opts.period;
         for it in [&mut a, &mut b] {
@@ -333,17 +389,110 @@ where
             .sqrt();
         let mut y_new = ya;
         if d > 0.0 && d.is_finite() {
-            logs.push((d / opts.d0).ln());
+            acc.push((d / opts.d0).ln());
             for i in 0..N {
                 y_new[i] += opts.d0 * (yb[i] - ya[i]) / d;
             }
         } else {
-            logs.push((f64::EPSILON / opts.d0).ln());
+            acc.push((f64::EPSILON / opts.d0).ln());
             for v in y_new.iter_mut() {
                 *v += opts.d0 * unit;
             }
         }
         b.reset(a.t(), y_new)?;
     }
-    Ok(finish(&logs, opts.period, 0))
+    Ok(acc.finish(0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geardyn_solvers::SolverError;
+
+    /// Uniform motion that blows up half a time unit into the run.
+    #[derive(Clone)]
+    struct Doomed;
+
+    impl HybridSystem<1> for Doomed {
+        type Mode = ();
+        type TimeTerms = ();
+        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
+        fn time_terms(&self, _t: f64) {}
+        fn rhs(&self, t: f64, _tt: &(), _y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
+            dy[0] = if t < 0.5 { 1.0 } else { f64::NAN };
+        }
+    }
+
+    impl Variational<1> for Doomed {
+        fn jacobian(&self, _t: f64, _tt: &(), _y: &[f64; 1], _m: &(), jac: &mut [[f64; 1]; 1]) {
+            jac[0][0] = 0.0;
+        }
+        fn guard_gradient(&self, _t: f64, _y: &[f64; 1], _m: &(), _i: usize) -> ([f64; 1], f64) {
+            ([0.0], 0.0)
+        }
+    }
+
+    #[test]
+    fn a_huge_period_count_reserves_nothing_up_front() {
+        // 10^12 periods: 8 TB of logs if reserved ahead; the run fails in the first period
+        let opts = LyapunovOptions {
+            period: 1.0,
+            transient_periods: 0,
+            periods: 1_000_000_000_000,
+            d0: 1e-8,
+        };
+        let scheme = Scheme::Rk4 { h: 0.01 };
+        let r = tle_two_trajectory(Doomed, scheme, 0.0, [0.0], &opts);
+        assert!(matches!(r, Err(SolverError::NonFinite { .. })), "{r:?}");
+        let r = tle_variational::<_, 1, 2>(Doomed, scheme, 0.0, [0.0], &opts);
+        assert!(matches!(r, Err(SolverError::NonFinite { .. })), "{r:?}");
+    }
+
+    /// The statistics as they were computed from the stored logs.
+    fn reference(logs: &[f64], period: f64) -> (f64, f64, Vec<f64>) {
+        let n = logs.len();
+        let mut history = vec![];
+        let mut sum = 0.0;
+        for (j, l) in logs.iter().enumerate() {
+            sum += l;
+            history.push(sum / ((j + 1) as f64 * period));
+        }
+        let tle = if n > 0 {
+            sum / (n as f64 * period)
+        } else {
+            f64::NAN
+        };
+        let blocks = 10.min(n.max(1));
+        let per = n / blocks;
+        let spread = if per == 0 || blocks < 2 {
+            f64::NAN
+        } else {
+            let means: Vec<f64> = (0..blocks)
+                .map(|b| logs[b * per..(b + 1) * per].iter().sum::<f64>() / (per as f64 * period))
+                .collect();
+            let m = means.iter().sum::<f64>() / blocks as f64;
+            let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (blocks - 1) as f64;
+            (var / blocks as f64).sqrt()
+        };
+        (tle, spread, history)
+    }
+
+    #[test]
+    fn streamed_statistics_equal_the_stored_ones() {
+        for n in [0usize, 1, 5, 10, 11, 19, 20, 137, 5000] {
+            let logs: Vec<f64> = (0..n)
+                .map(|j| ((j as f64) * 0.7).sin() - 0.1 + 1e-3 * j as f64)
+                .collect();
+            let mut acc = Accumulator::new(2.5, n as u64);
+            for &l in &logs {
+                acc.push(l);
+            }
+            let r = acc.finish(3);
+            let (tle, spread, history) = reference(&logs, 2.5);
+            assert!(r.tle.to_bits() == tle.to_bits(), "n={n}");
+            assert!(r.spread.to_bits() == spread.to_bits(), "n={n}");
+            assert_eq!(r.history, history, "n={n}");
+            assert_eq!((r.time, r.annihilated), (n as f64 * 2.5, 3));
+        }
+    }
 }
