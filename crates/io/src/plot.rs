@@ -69,6 +69,35 @@ pub struct Chart<'a> {
     pub y_label: &'a str,
 }
 
+/// Largest magnitude of an axis end: wider data are drawn clipped. Keeps every axis width (and
+/// the tick spacing derived from it) finite: an axis from -1e308 to 1e308 is infinitely wide in
+/// `f64`, and the tick search never ends on it.
+pub const AXIS_LIMIT: f64 = 1e300;
+
+/// Most labelled ticks per axis.
+pub const MAX_TICKS: usize = 10;
+
+/// A finite, ordered axis range of non-zero width from the ends `lo`, `hi` (as given by a caller):
+/// NaN ends are dropped (both: `(0, 1)`), infinite or larger ends clamped to [`AXIS_LIMIT`], a
+/// width below `1e-12` of the magnitude widened about the centre.
+pub fn axis_range(lo: f64, hi: f64) -> (f64, f64) {
+    let clamp = |v: f64| (!v.is_nan()).then(|| v.clamp(-AXIS_LIMIT, AXIS_LIMIT));
+    let (lo, hi) = match (clamp(lo), clamp(hi)) {
+        (Some(a), Some(b)) => (a.min(b), a.max(b)),
+        (Some(a), None) | (None, Some(a)) => (a, a),
+        (None, None) => return (0.0, 1.0),
+    };
+    let min_w = 1e-12 * lo.abs().max(hi.abs()).max(1.0);
+    if hi - lo >= min_w {
+        (lo, hi)
+    } else {
+        let m = 0.5 * lo + 0.5 * hi;
+        (m - 0.5 * min_w, m + 0.5 * min_w)
+    }
+}
+
+/// Axis ranges covering the finite points of the series (non-finite ones are skipped), padded by
+/// 4 % and bounded by [`AXIS_LIMIT`].
 fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
     let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
     let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
@@ -84,10 +113,133 @@ fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
         if !r.0.is_finite() {
             return (0.0, 1.0);
         }
-        let w = (r.1 - r.0).max(1e-12 * r.0.abs().max(1.0));
-        (r.0 - 0.04 * w, r.1 + 0.04 * w)
+        let (lo, hi) = (
+            r.0.clamp(-AXIS_LIMIT, AXIS_LIMIT),
+            r.1.clamp(-AXIS_LIMIT, AXIS_LIMIT),
+        );
+        let w = (hi - lo).max(1e-12 * lo.abs().max(1.0));
+        (lo - 0.04 * w, hi + 0.04 * w)
     };
     (pad(xr), pad(yr))
+}
+
+/// The plot box extended by its own size on every side: data are clipped to it, so that no pixel
+/// coordinate is far outside the image (the rasteriser walks a line pixel by pixel, unclipped).
+#[derive(Clone, Copy, Debug)]
+struct ClipBox {
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+impl ClipBox {
+    fn around(x: (f64, f64), y: (f64, f64)) -> Self {
+        let (wx, wy) = (x.1 - x.0, y.1 - y.0);
+        ClipBox {
+            x: (x.0 - wx, x.1 + wx),
+            y: (y.0 - wy, y.1 + wy),
+        }
+    }
+
+    fn contains(&self, p: (f64, f64)) -> bool {
+        p.0 >= self.x.0 && p.0 <= self.x.1 && p.1 >= self.y.0 && p.1 <= self.y.1
+    }
+
+    /// The part of the segment `a`-`b` inside the box (Liang–Barsky). The ends of a segment
+    /// inside the box are returned exactly; a cut point lies exactly on the border it crosses,
+    /// its other coordinate interpolated from the nearer end and kept inside the box (far ends
+    /// cancel digits: the cut may then be off along the border, never outside it).
+    fn clip(&self, a: (f64, f64), b: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        if !(dx.is_finite() && dy.is_finite()) {
+            return None;
+        }
+        // entry and exit parameters along a -> b, and the border (0..4) that set each
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let (mut k0, mut k1) = (None, None);
+        for (k, (p, q)) in [
+            (-dx, a.0 - self.x.0),
+            (dx, self.x.1 - a.0),
+            (-dy, a.1 - self.y.0),
+            (dy, self.y.1 - a.1),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+            } else if p < 0.0 {
+                if q / p > t0 {
+                    t0 = q / p;
+                    k0 = Some(k);
+                }
+            } else if q / p < t1 {
+                t1 = q / p;
+                k1 = Some(k);
+            }
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let border = [self.x.0, self.x.1, self.y.0, self.y.1];
+        let cut = |t: f64, k: Option<usize>, end: (f64, f64)| match k {
+            None => end,
+            Some(k) => {
+                // interpolate from the nearer end
+                let (p, q, u) = if t <= 0.5 { (a, b, t) } else { (b, a, 1.0 - t) };
+                let v = (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1));
+                if k < 2 {
+                    (border[k], v.1.clamp(self.y.0, self.y.1))
+                } else {
+                    (v.0.clamp(self.x.0, self.x.1), border[k])
+                }
+            }
+        };
+        Some((cut(t0, k0, a), cut(t1, k1, b)))
+    }
+
+    /// The pieces of a polyline inside the box: a non-finite point breaks it, segments leaving
+    /// the box are cut at its border.
+    fn polyline(&self, points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+        let mut runs = vec![];
+        let mut cur: Vec<(f64, f64)> = vec![];
+        let mut prev: Option<(f64, f64)> = None;
+        let flush = |cur: &mut Vec<(f64, f64)>, runs: &mut Vec<Vec<(f64, f64)>>| {
+            if cur.len() > 1 {
+                runs.push(std::mem::take(cur));
+            } else {
+                cur.clear();
+            }
+        };
+        for &p in points {
+            if !(p.0.is_finite() && p.1.is_finite()) {
+                flush(&mut cur, &mut runs);
+                prev = None;
+                continue;
+            }
+            if let Some(a) = prev {
+                match self.clip(a, p) {
+                    None => flush(&mut cur, &mut runs),
+                    Some((c, d)) => {
+                        if cur.last() != Some(&c) {
+                            flush(&mut cur, &mut runs);
+                            cur.push(c);
+                        }
+                        cur.push(d);
+                        if d != p {
+                            flush(&mut cur, &mut runs);
+                        }
+                    }
+                }
+            } else if self.contains(p) {
+                cur.push(p);
+            }
+            prev = Some(p);
+        }
+        flush(&mut cur, &mut runs);
+        runs
+    }
 }
 
 fn draw<DB: DrawingBackend>(
@@ -97,6 +249,7 @@ fn draw<DB: DrawingBackend>(
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let ((x0, x1), (y0, y1)) = bounds(series);
+    let clip = ClipBox::around((x0, x1), (y0, y1));
     let mut ctx = ChartBuilder::on(&root)
         .caption(chart.title, ("sans-serif", 22))
         .margin(12)
@@ -105,6 +258,8 @@ fn draw<DB: DrawingBackend>(
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| e.to_string())?;
     ctx.configure_mesh()
+        .x_labels(MAX_TICKS)
+        .y_labels(MAX_TICKS)
         .x_desc(chart.x_label)
         .y_desc(chart.y_label)
         .label_style(("sans-serif", 14))
@@ -112,7 +267,7 @@ fn draw<DB: DrawingBackend>(
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| e.to_string())?;
-    draw_series_list(&mut ctx, series, 14)?;
+    draw_series_list(&mut ctx, series, 14, clip)?;
     root.present().map_err(|e| e.to_string())
 }
 
@@ -122,31 +277,42 @@ type XyChart<'a, DB> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// Draws the series (lines or dots) and, if any is labelled, the legend.
+/// Draws the series (lines or dots; non-finite points skipped, everything clipped to `clip`) and,
+/// if any is labelled, the legend.
 fn draw_series_list<'a, DB: DrawingBackend + 'a>(
     ctx: &mut XyChart<'a, DB>,
     series: &[Series],
     legend_font: u32,
+    clip: ClipBox,
 ) -> Result<(), String> {
     let mut any_label = false;
     for s in series {
         let color = s.color;
-        let anno = match s.mark {
-            Mark::Line => ctx
-                .draw_series(LineSeries::new(
-                    s.points.iter().copied(),
-                    color.stroke_width(1),
-                ))
-                .map_err(|e| e.to_string())?,
-            Mark::Dots(r) => ctx
-                .draw_series(s.points.iter().map(|&p| Circle::new(p, r, color.filled())))
-                .map_err(|e| e.to_string())?,
-        };
+        match s.mark {
+            Mark::Line => {
+                for run in clip.polyline(s.points) {
+                    ctx.draw_series(LineSeries::new(run, color.stroke_width(1)))
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+            Mark::Dots(r) => {
+                ctx.draw_series(
+                    s.points
+                        .iter()
+                        .filter(|&&p| clip.contains(p))
+                        .map(|&p| Circle::new(p, r, color.filled())),
+                )
+                .map_err(|e| e.to_string())?;
+            }
+        }
         if !s.label.is_empty() {
             any_label = true;
-            anno.label(s.label).legend(move |(x, y)| {
-                Rectangle::new([(x, y - 4), (x + 14, y + 4)], color.filled())
-            });
+            ctx.draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+                .map_err(|e| e.to_string())?
+                .label(s.label)
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 4), (x + 14, y + 4)], color.filled())
+                });
         }
     }
     if any_label {
@@ -205,8 +371,10 @@ fn draw_panels<DB: DrawingBackend>(
         .titled(title, ("sans-serif", 22))
         .map_err(|e| e.to_string())?;
     let areas = root.split_evenly((panels.len().max(1), 1));
+    let x_range = axis_range(x_range.0, x_range.1);
     for (k, (area, panel)) in areas.into_iter().zip(panels).enumerate() {
         let (_, (y0, y1)) = bounds(&panel.series);
+        let clip = ClipBox::around(x_range, (y0, y1));
         let last = k + 1 == panels.len();
         let mut ctx = ChartBuilder::on(&area)
             .margin(8)
@@ -215,7 +383,9 @@ fn draw_panels<DB: DrawingBackend>(
             .build_cartesian_2d(x_range.0..x_range.1, y0..y1)
             .map_err(|e| e.to_string())?;
         let mut mesh = ctx.configure_mesh();
-        mesh.y_desc(panel.y_label)
+        mesh.x_labels(MAX_TICKS)
+            .y_labels(MAX_TICKS)
+            .y_desc(panel.y_label)
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
             .light_line_style(RGBColor(240, 240, 240));
@@ -223,7 +393,7 @@ fn draw_panels<DB: DrawingBackend>(
             mesh.x_desc(x_label);
         }
         mesh.draw().map_err(|e| e.to_string())?;
-        draw_series_list(&mut ctx, &panel.series, 12)?;
+        draw_series_list(&mut ctx, &panel.series, 12, clip)?;
     }
     root.present().map_err(|e| e.to_string())
 }
@@ -284,14 +454,17 @@ fn draw_raster<DB: DrawingBackend>(
     let (w, _) = root.dim_in_pixel();
     let (main, side) =
         root.split_horizontally(w.saturating_sub(if colorbar.is_some() { 120 } else { 0 }));
+    let (xr, yr) = (axis_range(r.x.0, r.x.1), axis_range(r.y.0, r.y.1));
     let mut ctx = ChartBuilder::on(&main)
         .caption(chart.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(44)
         .y_label_area_size(64)
-        .build_cartesian_2d(r.x.0..r.x.1, r.y.0..r.y.1)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
         .map_err(|e| e.to_string())?;
     ctx.configure_mesh()
+        .x_labels(MAX_TICKS)
+        .y_labels(MAX_TICKS)
         .disable_mesh()
         .x_desc(chart.x_label)
         .y_desc(chart.y_label)
@@ -299,14 +472,13 @@ fn draw_raster<DB: DrawingBackend>(
         .axis_desc_style(("sans-serif", 16))
         .draw()
         .map_err(|e| e.to_string())?;
-    let (dx, dy) = (
-        (r.x.1 - r.x.0) / r.x.2 as f64,
-        (r.y.1 - r.y.0) / r.y.2 as f64,
-    );
-    ctx.draw_series((0..r.x.2 * r.y.2).map(|c| {
+    let (dx, dy) = ((xr.1 - xr.0) / r.x.2 as f64, (yr.1 - yr.0) / r.y.2 as f64);
+    // (no more cells than colours: a short colour slice is drawn partly, not a panic)
+    let cells = r.x.2.saturating_mul(r.y.2).min(r.colors.len());
+    ctx.draw_series((0..cells).map(|c| {
         let (ix, iy) = (c % r.x.2, c / r.x.2);
-        let x0 = r.x.0 + ix as f64 * dx;
-        let y0 = r.y.0 + iy as f64 * dy;
+        let x0 = xr.0 + ix as f64 * dx;
+        let y0 = yr.0 + iy as f64 * dy;
         Rectangle::new([(x0, y0), (x0 + dx, y0 + dy)], r.colors[c].filled())
     }))
     .map_err(|e| e.to_string())?;
@@ -327,14 +499,16 @@ fn draw_raster<DB: DrawingBackend>(
             .map_err(|e| e.to_string())?;
     }
     if let Some((lo, hi)) = colorbar {
+        let (lo, hi) = axis_range(lo, hi);
         let mut cb = ChartBuilder::on(&side)
             .margin_top(40)
             .margin_bottom(56)
             .margin_right(8)
             .y_label_area_size(64)
-            .build_cartesian_2d(0.0..1.0, lo..hi.max(lo + 1e-12))
+            .build_cartesian_2d(0.0..1.0, lo..hi)
             .map_err(|e| e.to_string())?;
         cb.configure_mesh()
+            .y_labels(MAX_TICKS)
             .disable_x_axis()
             .disable_mesh()
             .label_style(("sans-serif", 12))
@@ -489,6 +663,30 @@ mod tests {
         assert!(d.len() <= 502);
         assert!(d.iter().any(|p| p.1 == 9.0));
         assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+    }
+
+    #[test]
+    fn polylines_are_broken_at_non_finite_points_and_clipped() {
+        let b = ClipBox::around((0.0, 1.0), (0.0, 1.0)); // [-1, 2] x [-1, 2]
+        let nan = f64::NAN;
+        let runs = b.polyline(&[(0.0, 0.0), (0.5, 0.5), (nan, 0.0), (1.0, 1.0), (1.5, 0.0)]);
+        assert_eq!(
+            runs,
+            vec![vec![(0.0, 0.0), (0.5, 0.5)], vec![(1.0, 1.0), (1.5, 0.0)]]
+        );
+        // leaving and re-entering the box: cut at its border, inner points exact
+        let runs = b.polyline(&[(0.0, 0.0), (0.0, 1e300), (1.0, 1.0), (1.0, 1.5)]);
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[0], vec![(0.0, 0.0), (0.0, 2.0)]);
+        assert_eq!(runs[1].last(), Some(&(1.0, 1.5)));
+        assert!((runs[1][0].1 - 2.0).abs() < 1e-12);
+        // entirely outside
+        assert!(b.polyline(&[(5.0, 5.0), (6.0, 7.0)]).is_empty());
+        // crossing the box from far away on both sides
+        let runs = b.polyline(&[(-1e300, 0.5), (1e300, 0.5)]);
+        assert_eq!(runs, vec![vec![(-1.0, 0.5), (2.0, 0.5)]]);
+        // an overflowing difference is dropped, not drawn
+        assert!(b.polyline(&[(-f64::MAX, 0.0), (f64::MAX, 0.0)]).is_empty());
     }
 
     #[test]
