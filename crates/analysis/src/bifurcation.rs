@@ -168,6 +168,9 @@ pub struct Run {
     /// Decided class of the motion.
     #[serde(default)]
     pub motion: Motion,
+    /// Period in mesh cycles of the mesh-cycle strobe (when an excitation period spans several).
+    #[serde(default)]
+    pub mesh_period: Option<usize>,
     /// Transient actually used (the requested one, extended while undecided).
     #[serde(default)]
     pub transient_used: u64,
@@ -255,6 +258,7 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
                 reason: e.to_string(),
             },
             transient_used: opts.sim.transient_periods,
+            mesh_period: None,
             ic,
             y0,
             label: format!("failed: {e}"),
@@ -329,6 +333,7 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
                 tle,
                 final_state: y_end,
                 motion: s.motion,
+                mesh_period: s.mesh_period,
                 transient_used: used.transient_periods,
             }
         }

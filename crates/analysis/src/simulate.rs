@@ -173,6 +173,9 @@ pub struct SimResult {
     pub events: Vec<EventRecord>,
     /// Section crossings.
     pub crossings: Vec<Crossing>,
+    /// States `(x, v)` at the end of every mesh cycle of the record, when the excitation period
+    /// spans several mesh cycles (tooth breakage); empty otherwise.
+    pub mesh_strobe: Vec<[f64; 2]>,
     /// Crossing counts `[p, q, r, s]` per recorded excitation period.
     pub counts_per_period: Vec<[u32; 4]>,
     /// Largest impact force in each recorded excitation period (0 if none).
@@ -237,6 +240,9 @@ impl SimResult {
 pub struct Summary {
     /// Minimal period in excitation periods (0 = not periodic).
     pub period: usize,
+    /// Minimal period in mesh cycles of the mesh-cycle strobe, when the excitation period spans
+    /// several mesh cycles (tooth breakage: one excitation period is one pinion revolution).
+    pub mesh_period: Option<usize>,
     /// The decided class of the motion ([`crate::classify`]); [`summarize`] alone decides only
     /// "periodic" and otherwise says `unsettled`.
     pub motion: Motion,
@@ -319,6 +325,10 @@ struct Recorder<'a> {
     count_levels: [bool; 4],
     counts: [u32; 4],
     impact_max: f64,
+    /// Mesh-cycle strobe (only when an excitation period spans several mesh cycles).
+    mesh_on: bool,
+    mesh_dt: f64,
+    next_mesh: u64,
 }
 
 impl<'a> Recorder<'a> {
@@ -350,6 +360,9 @@ impl<'a> Recorder<'a> {
             count_levels: [true, true, distinct, distinct],
             counts: [0; 4],
             impact_max: 0.0,
+            mesh_on: model.cycles_per_period() > 1,
+            mesh_dt: model.mesh_cycle_time(),
+            next_mesh: 1,
         }
     }
 
@@ -470,6 +483,20 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
                 self.next_sample += 1;
             }
         }
+        if self.mesh_on {
+            // the state at every mesh cycle, from the dense output (times from an integer index)
+            loop {
+                let tm = self.sample_origin + self.next_mesh as f64 * self.mesh_dt;
+                if tm > t1 {
+                    break;
+                }
+                if tm >= t0 {
+                    let y = step.interpolate(tm);
+                    self.res.mesh_strobe.push([y[0], y[1]]);
+                }
+                self.next_mesh += 1;
+            }
+        }
         // level crossings on this step (x is continuous within it)
         let (x0, x1) = (step.y0()[0], y1[0]);
         for (i, &lv) in self.levels.iter().enumerate() {
@@ -528,6 +555,25 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
             let fa = self.force(t1, y_after, after);
             self.push_traj(t1, y_after, fa, after);
         } else if matches!(stop, Stop::Breakpoint) && before.contact != after.contact {
+            // A backlash jump (time-varying D) that closes the gap is a contact entry: relative
+            // to the moving contact surface, x crossed it. It counts as a crossing of the level
+            // it enters at (docs/analyses.md, "Counting rule").
+            let entry = match (before.contact, after.contact) {
+                (ContactState::Separated, ContactState::Drive) => Some(0),
+                (ContactState::Separated, ContactState::Back | ContactState::Stuck) => Some(1),
+                _ => None,
+            };
+            if let Some(side) = entry {
+                // only a decrease of the backlash (D_s -> D_d) closes a gap: the entry is at D_d
+                let i = if self.count_levels[2] { side + 2 } else { side };
+                self.counts[i] += 1;
+                self.res.crossings.push(Crossing {
+                    level: Level::ALL[i],
+                    tau: t1,
+                    x: y1[0],
+                    v: y1[1],
+                });
+            }
             let fa = self.force(t1, y_after, after);
             self.push_traj(t1, y_after, fa, after);
         }
@@ -631,8 +677,15 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
     let [t_drive, t_sep, t_back] = res.durations;
     let total = t_drive + t_sep + t_back;
     let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
+    let cycles = model.cycles_per_period() as usize;
+    let mesh_period = if cycles > 1 {
+        minimal_period(&res.mesh_strobe, opts.max_period * cycles)
+    } else {
+        None
+    };
     Summary {
         period,
+        mesh_period,
         motion: if period > 0 {
             Motion::Periodic { period }
         } else {

@@ -81,7 +81,17 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     )?;
     println!(
         "{}: label {}, {}, P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts{}; {} steps in {:.3} s -> {}",
-        summary.motion.describe(),
+        match (summary.mesh_period, model.cycles_per_period()) {
+            (_, 1) => summary.motion.describe(),
+            (Some(m), c) => format!(
+                "{} (excitation period = 1 revolution = {c} mesh cycles; mesh-cycle strobe: period {m} mesh cycles)",
+                summary.motion.describe()
+            ),
+            (None, c) => format!(
+                "{} (excitation period = 1 revolution = {c} mesh cycles; mesh-cycle strobe not periodic)",
+                summary.motion.describe()
+            ),
+        },
         summary.label,
         summary.health_text(),
         summary.p_id,
