@@ -554,7 +554,9 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
             self.push_traj(t1, &y1, fb, before);
             let fa = self.force(t1, y_after, after);
             self.push_traj(t1, y_after, fa, after);
-        } else if matches!(stop, Stop::Breakpoint) && before.contact != after.contact {
+        } else if before.contact != after.contact {
+            // a contact change without a state event is a breakpoint (it may coincide with the
+            // stroboscopic instant, reported as Tstop)
             // A backlash jump (time-varying D) that closes the gap is a contact entry: relative
             // to the moving contact surface, x crossed it. It counts as a crossing of the level
             // it enters at (docs/analyses.md, "Counting rule").

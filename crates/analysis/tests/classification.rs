@@ -124,3 +124,32 @@ fn default_lyapunov_run_matches_the_floquet_exponent_of_c1_at_omega_0_7() {
         exact
     );
 }
+
+#[test]
+fn a_contact_entered_by_a_backlash_jump_is_counted() {
+    // D_d < x < D_s: the teeth separate in every single-tooth zone (backlash D_s) and are put
+    // back into contact by the backlash jump to D_d; x never crosses D_d continuously. The
+    // motion is seed B's 1-0-0-1-0.
+    let mut p = presets::internal();
+    p.contact = geardyn_model::ContactLaw::Linear;
+    for (k, v) in [
+        ("omega", 1.4),
+        ("F", 0.05),
+        ("xi", 0.0),
+        ("c", 0.2),
+        ("D_d", 0.9),
+        ("D_s", 1.1),
+    ] {
+        p.set(k, v).unwrap();
+    }
+    let m = MeshModel::new(&p).unwrap();
+    let opts = SimOptions {
+        transient_periods: 200,
+        record_periods: 20,
+        ..Default::default()
+    };
+    let (res, s, _) = simulate_decided(&m, [0.95, 0.0], &opts, Decide::default()).unwrap();
+    let (lo, hi) = res.x_range;
+    assert!(lo > 0.9 && hi < 1.1, "x in [{lo}, {hi}]");
+    assert_eq!(s.label, "1-0-0-1-0");
+}
