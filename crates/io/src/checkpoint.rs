@@ -1,12 +1,21 @@
-//! Checkpoints of long sweeps: one JSON line per finished task, appended and flushed as it
-//! finishes, so an interrupted run loses at most the tasks in flight. The first line holds the
-//! run's key (the command and its full resolved settings); a checkpoint with another key is set
-//! aside, never mixed in.
+//! Checkpoints of long sweeps: one JSON line per finished task, so an interrupted run loses at
+//! most the tasks in flight. The first line holds the run's key (the command and its full resolved
+//! settings); a checkpoint with another key is set aside (`<file>.old`), never mixed in.
+//!
+//! **Crash safety.**
+//! * A record is appended as one complete line in a single write, then flushed and synced to disk
+//!   (`fsync`) before [`Checkpoint::append`] returns.
+//! * The file is never truncated in place: when it has to be rewritten (a new key, or damaged or
+//!   rejected lines to drop), the new content is written to a temporary file beside it, synced,
+//!   and renamed over it — a crash leaves either the old file or the new one, complete.
+//! * Reading keeps every good record: a line that is not UTF-8, not JSON of the record type, or
+//!   rejected by the caller's validation (see [`Checkpoint::open_validated`]) is dropped, and
+//!   reading goes on with the next line. A torn last line (a run killed mid-write) is one such line.
 
 use crate::output::OutputError;
 use serde::{de::DeserializeOwned, Serialize};
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -14,6 +23,7 @@ use std::sync::Mutex;
 pub struct Checkpoint {
     path: PathBuf,
     file: Mutex<File>,
+    dropped: usize,
 }
 
 fn io_err(path: &Path, source: std::io::Error) -> OutputError {
@@ -23,41 +33,154 @@ fn io_err(path: &Path, source: std::io::Error) -> OutputError {
     }
 }
 
+/// One record as a complete JSON line (with its newline).
+fn json_line<T: Serialize>(path: &Path, rec: &T) -> Result<Vec<u8>, OutputError> {
+    let mut line = serde_json::to_vec(rec).map_err(|e| io_err(path, std::io::Error::other(e)))?;
+    line.push(b'\n');
+    Ok(line)
+}
+
+/// `dir/name.tmp` beside `path` (same file system, so the rename is atomic).
+fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".tmp");
+    path.with_file_name(name)
+}
+
+/// Replaces `path` by `content` through a synced temporary file and a rename.
+fn replace_file(path: &Path, content: &[u8]) -> Result<(), OutputError> {
+    let tmp = temp_path(path);
+    let write = || -> std::io::Result<()> {
+        let mut f = File::create(&tmp)?;
+        f.write_all(content)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)?;
+        // make the rename itself durable (directories cannot be synced on every platform)
+        if let Some(dir) = path.parent() {
+            let dir = if dir.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                dir
+            };
+            if let Ok(d) = File::open(dir) {
+                let _ = d.sync_all();
+            }
+        }
+        Ok(())
+    };
+    write().map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_err(path, e)
+    })
+}
+
+/// What an existing checkpoint file holds.
+enum Existing<T> {
+    /// No file.
+    None,
+    /// A file of another run (or with an unreadable key line).
+    Foreign,
+    /// A file of this run: its good records, how many lines were dropped, and whether the file
+    /// is clean (nothing dropped, ends with a newline) so that it can be appended to as it is.
+    Ours {
+        records: Vec<T>,
+        dropped: usize,
+        clean: bool,
+    },
+}
+
+fn read_existing<T, V>(path: &Path, key: &str, validate: &mut V) -> Result<Existing<T>, OutputError>
+where
+    T: DeserializeOwned,
+    V: FnMut(&T) -> bool,
+{
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Existing::None),
+        Err(e) => return Err(io_err(path, e)),
+    };
+    let mut lines = bytes.split(|&b| b == b'\n');
+    let first = lines.next().unwrap_or_default();
+    let first = first.strip_suffix(b"\r").unwrap_or(first);
+    if first != key.as_bytes() {
+        return Ok(Existing::Foreign);
+    }
+    let mut records = Vec::new();
+    let mut dropped = 0;
+    for line in lines {
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.iter().all(u8::is_ascii_whitespace) {
+            // (the empty piece after the final newline; blank lines carry nothing)
+            continue;
+        }
+        let rec = std::str::from_utf8(line)
+            .ok()
+            .and_then(|s| serde_json::from_str::<T>(s).ok());
+        match rec {
+            Some(r) if validate(&r) => records.push(r),
+            _ => dropped += 1,
+        }
+    }
+    let clean = dropped == 0 && bytes.last() == Some(&b'\n');
+    Ok(Existing::Ours {
+        records,
+        dropped,
+        clean,
+    })
+}
+
 impl Checkpoint {
     /// Opens `path` for the run identified by `key`, returning the records already finished by
-    /// an earlier run with the same key (unreadable trailing lines of a killed run are dropped).
+    /// an earlier run with the same key. Lines that are not records of type `T` (a torn last line
+    /// of a killed run, a damaged line anywhere) are dropped; every other record is kept. Same as
+    /// [`Checkpoint::open_validated`] accepting every record.
     pub fn open<T: Serialize + DeserializeOwned>(
         path: &Path,
         key: &str,
     ) -> Result<(Self, Vec<T>), OutputError> {
-        let mut done: Vec<T> = Vec::new();
-        let mut reuse = false;
-        if let Ok(f) = File::open(path) {
-            let mut lines = BufReader::new(f).lines();
-            if let Some(Ok(first)) = lines.next() {
-                if first == key {
-                    reuse = true;
-                    for line in lines.map_while(Result::ok) {
-                        if let Ok(rec) = serde_json::from_str(&line) {
-                            done.push(rec);
-                        }
-                    }
-                }
+        Self::open_validated(path, key, |_: &T| true)
+    }
+
+    /// As [`Checkpoint::open`], keeping only the records for which `validate` returns `true`
+    /// (a record of a task that no longer exists, or with values out of range, say). Rejected
+    /// records are dropped from the file like damaged lines; [`Checkpoint::dropped`] counts both.
+    ///
+    /// A file of another key is renamed to `<file>.old`. The file is rewritten (temporary file,
+    /// sync, rename; never truncated in place) only when something was dropped or the last line
+    /// lacks its newline; otherwise it is opened for appending as it is.
+    pub fn open_validated<T, V>(
+        path: &Path,
+        key: &str,
+        mut validate: V,
+    ) -> Result<(Self, Vec<T>), OutputError>
+    where
+        T: Serialize + DeserializeOwned,
+        V: FnMut(&T) -> bool,
+    {
+        let (records, dropped, rewrite) = match read_existing(path, key, &mut validate)? {
+            Existing::None => (Vec::new(), 0, true),
+            Existing::Foreign => {
+                let mut aside = path.as_os_str().to_os_string();
+                aside.push(".old");
+                std::fs::rename(path, PathBuf::from(aside)).map_err(|e| io_err(path, e))?;
+                (Vec::new(), 0, true)
             }
-            if !reuse {
-                let aside = path.with_extension("jsonl.old");
-                std::fs::rename(path, &aside).map_err(|e| io_err(path, e))?;
+            Existing::Ours {
+                records,
+                dropped,
+                clean,
+            } => (records, dropped, !clean),
+        };
+        if rewrite {
+            let mut content = Vec::with_capacity(key.len() + 1);
+            content.extend_from_slice(key.as_bytes());
+            content.push(b'\n');
+            for r in &records {
+                content.extend_from_slice(&json_line(path, r)?);
             }
+            replace_file(path, &content)?;
         }
-        // (re)write the header and the kept records: drops a torn last line of a killed run
-        let mut f = File::create(path).map_err(|e| io_err(path, e))?;
-        writeln!(f, "{key}").map_err(|e| io_err(path, e))?;
-        for r in &done {
-            let line = serde_json::to_string(r).expect("serialisable");
-            writeln!(f, "{line}").map_err(|e| io_err(path, e))?;
-        }
-        f.flush().map_err(|e| io_err(path, e))?;
-        drop(f);
         let file = OpenOptions::new()
             .append(true)
             .open(path)
@@ -66,17 +189,46 @@ impl Checkpoint {
             Checkpoint {
                 path: path.to_path_buf(),
                 file: Mutex::new(file),
+                dropped,
             },
-            done,
+            records,
         ))
     }
 
-    /// Appends one record and flushes it to disk.
+    /// Appends one record as a single complete line, flushed and synced to disk.
     pub fn append<T: Serialize>(&self, rec: &T) -> Result<(), OutputError> {
-        let line = serde_json::to_string(rec).expect("serialisable");
+        let line = json_line(&self.path, rec)?;
         let mut f = self.file.lock().unwrap_or_else(|e| e.into_inner());
-        writeln!(f, "{line}")
+        f.write_all(&line)
             .and_then(|_| f.flush())
+            .and_then(|_| f.sync_data())
             .map_err(|e| io_err(&self.path, e))
+    }
+
+    /// Lines dropped when the checkpoint was opened (damaged, torn or rejected by validation).
+    pub fn dropped(&self) -> usize {
+        self.dropped
+    }
+
+    /// The checkpoint file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temp_file_is_beside_the_checkpoint() {
+        assert_eq!(
+            temp_path(Path::new("/a/b/checkpoint.jsonl")),
+            PathBuf::from("/a/b/checkpoint.jsonl.tmp")
+        );
+        assert_eq!(
+            temp_path(Path::new("c.jsonl")),
+            PathBuf::from("c.jsonl.tmp")
+        );
     }
 }
