@@ -19,7 +19,7 @@ pub struct BifurcationArgs {
     #[arg(long, default_value = "omega")]
     param: String,
     /// START:STOP:COUNT.
-    #[arg(long, default_value = "0.5:2:200")]
+    #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:200")]
     range: String,
     /// fixed (same initial state), sweep (continuation up and down) or multi (K initial states).
     #[arg(long, default_value = "fixed", value_parser = ["fixed", "sweep", "multi"])]
@@ -31,10 +31,10 @@ pub struct BifurcationArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// x0 range of the initial states (multi), MIN:MAX; default -1.5*D_s:1.5*D_s.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     x0_range: Option<String>,
     /// v0 range of the initial states (multi), MIN:MAX.
-    #[arg(long, default_value = "-1:1")]
+    #[arg(long, allow_hyphen_values = true, default_value = "-1:1")]
     v0_range: String,
     /// Sections: comma-separated from strobe, ds_up, ds_down, dd_up, dd_down, impact.
     #[arg(long, default_value = "strobe")]
@@ -146,7 +146,7 @@ pub struct ResponseArgs {
     #[arg(long, default_value = "omega")]
     param: String,
     /// START:STOP:COUNT.
-    #[arg(long, default_value = "0.5:2:150")]
+    #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:150")]
     range: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/response")]

@@ -61,7 +61,11 @@ pub struct BasinArgs {
     #[command(flatten)]
     ident: IdentArgs,
     /// Grid axes: `--grid x:MIN:MAX:N --grid v:MIN:MAX:N` (default 200 x 200 over ±2 D, ±1.5).
-    #[arg(long = "grid", value_name = "AXIS:MIN:MAX:N")]
+    #[arg(
+        long = "grid",
+        allow_hyphen_values = true,
+        value_name = "AXIS:MIN:MAX:N"
+    )]
     grid: Vec<String>,
     /// Phase of the initial states as a fraction of the excitation period, in [0, 1).
     #[arg(long, default_value_t = 0.0)]
@@ -199,7 +203,7 @@ pub struct ContinuationArgs {
     #[arg(long, default_value = "omega")]
     param: String,
     /// START:STOP:COUNT.
-    #[arg(long, default_value = "0.5:2:61")]
+    #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:61")]
     range: String,
     /// Initial states per value.
     #[arg(long, default_value_t = 32)]
@@ -208,10 +212,10 @@ pub struct ContinuationArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// x0 range of the initial states, MIN:MAX; default -2 D_s:2 D_s.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     x0_range: Option<String>,
     /// v0 range, MIN:MAX.
-    #[arg(long, default_value = "-1.5:1.5")]
+    #[arg(long, allow_hyphen_values = true, default_value = "-1.5:1.5")]
     v0_range: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/continuation")]
@@ -332,10 +336,10 @@ pub struct MapArgs {
     #[command(flatten)]
     sim: SimArgs,
     /// x axis: NAME:START:STOP:COUNT.
-    #[arg(long, default_value = "xi:0.001:0.3:40")]
+    #[arg(long, allow_hyphen_values = true, default_value = "xi:0.001:0.3:40")]
     x: String,
     /// y axis: NAME:START:STOP:COUNT.
-    #[arg(long, default_value = "F:0.001:0.2:40")]
+    #[arg(long, allow_hyphen_values = true, default_value = "F:0.001:0.2:40")]
     y: String,
     /// Metric of the heatmap: max_force, min_force, p_id, period, tle, healthy, class.
     #[arg(long, default_value = "max_force")]

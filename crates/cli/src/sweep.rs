@@ -180,8 +180,31 @@ pub fn run_checkpointed(
     kind: &str,
     force: bool,
 ) -> Result<Vec<TaskResult>> {
+    // the swept parameter is valid at both ends before anything is written
+    for v in [opts.values.first(), opts.values.last()]
+        .into_iter()
+        .flatten()
+    {
+        scenario
+            .with(&opts.param, *v)
+            .with_context(|| format!("--param {} = {v}", opts.param))?;
+    }
     let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
-    let done: HashMap<Task, TaskResult> = done.into_iter().map(|r| (r.task, r)).collect();
+    // a record is trusted only if it is one of this sweep's tasks, at its value, complete
+    let runs_per_task = match opts.mode {
+        geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),
+        _ => 1,
+    };
+    let all = tasks(opts);
+    let done: HashMap<Task, TaskResult> = done
+        .into_iter()
+        .filter(|r| {
+            all.contains(&r.task)
+                && opts.values.get(r.task.index) == Some(&r.value)
+                && r.runs.len() == runs_per_task
+        })
+        .map(|r| (r.task, r))
+        .collect();
     let rec = Recorder::new(&cp, tasks(opts).len() as u64, done.len() as u64, kind);
     let results = run_sweep(scenario, opts, &done, |r| rec.record(r))?;
     rec.finish()?;

@@ -76,12 +76,12 @@ pub struct Config {
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
     /// A file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}: {cause}")]
     Read {
         /// Path.
         path: String,
-        /// Cause.
-        source: std::io::Error,
+        /// Cause (not chained, so that it is printed once).
+        cause: std::io::Error,
     },
     /// A file larger than a configuration can be.
     #[error("{path} is not a configuration file: larger than {limit} bytes")]
@@ -169,7 +169,7 @@ impl Config {
         use std::io::Read;
         let read_err = |e| ConfigError::Read {
             path: path.display().to_string(),
-            source: e,
+            cause: e,
         };
         let f = std::fs::File::open(path).map_err(read_err)?;
         let mut bytes = Vec::new();
@@ -209,9 +209,36 @@ impl Config {
                         .unwrap_or_default(),
             )
         })?;
+        Self::check_unit_variants(&v)?;
         Self::fill_pair_placeholders(&mut v)?;
         v.try_into()
             .map_err(|e: toml::de::Error| parse_err(e.message().replace('\n', " ")))
+    }
+
+    /// Tables whose variant takes no parameters must not carry any: serde ignores unknown keys
+    /// beside a unit variant's tag, which would silently drop e.g. `R = 0.5` under
+    /// `model = "contact"`.
+    fn check_unit_variants(v: &toml::Value) -> Result<(), ConfigError> {
+        for (table, tag, unit) in [
+            ("back_side", "model", "contact"),
+            ("contact", "law", "linear"),
+        ] {
+            let Some(t) = v
+                .get("model")
+                .and_then(|m| m.get(table))
+                .and_then(|t| t.as_table())
+            else {
+                continue;
+            };
+            if t.get(tag).and_then(|x| x.as_str()) == Some(unit) {
+                if let Some(extra) = t.keys().find(|k| k.as_str() != tag) {
+                    return Err(parse_err(format!(
+                        "model.{table}.{extra}: {tag} = \"{unit}\" takes no parameters (remove {extra}, or choose another {tag})"
+                    )));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// With a pair, the `[model]` keys the pair states are absent from a file: refuse them if
@@ -333,7 +360,20 @@ impl Config {
     /// configuration to a model.
     pub fn resolve(&self) -> Result<Scenario, ConfigError> {
         self.sim_options()?;
-        Ok(self.spec().resolve()?)
+        let sc = self.spec().resolve()?;
+        // the initial state on the model's scale: beyond it a run only measures its own blow-up
+        let scale = sc.params().d_single.max(1.0);
+        let s = &self.simulation;
+        for (field, v, lim) in [("x0", s.x0, 1e3 * scale), ("v0", s.v0, 1e3 * scale)] {
+            if v.abs() > lim {
+                return Err(ConfigError::Simulation {
+                    field,
+                    value: geardyn_model::error::num(v),
+                    allowed: "|value| <= 1000 max(D_s, 1) (the model's length scale)",
+                });
+            }
+        }
+        Ok(sc)
     }
 
     /// Sets a simulation setting, or a parameter through the scenario's routing
@@ -347,8 +387,12 @@ impl Config {
             } else {
                 Err(ConfigError::Simulation {
                     field,
-                    value: v.to_string(),
-                    allowed: "a whole number in range (see the field's documentation)",
+                    value: geardyn_model::error::num(v),
+                    allowed: if max > 1e7 {
+                        "a whole number in [0, 1e9]"
+                    } else {
+                        "a whole number in [8, 1000000]"
+                    },
                 })
             }
         };
@@ -387,18 +431,18 @@ impl Config {
         let s = &self.simulation;
         let method = match s.method.as_str() {
             "dopri" => {
-                if !(s.rtol > 0.0 && s.rtol < 1.0) {
+                if !(s.rtol >= 1e-14 && s.rtol <= 1e-2) {
                     return Err(ConfigError::Simulation {
                         field: "rtol",
-                        value: s.rtol.to_string(),
-                        allowed: "(0, 1)",
+                        value: geardyn_model::error::num(s.rtol),
+                        allowed: "[1e-14, 1e-2]",
                     });
                 }
-                if !(s.atol > 0.0 && s.atol.is_finite()) {
+                if !(s.atol >= 1e-16 && s.atol <= 1e-2) {
                     return Err(ConfigError::Simulation {
                         field: "atol",
-                        value: s.atol.to_string(),
-                        allowed: "(0, inf)",
+                        value: geardyn_model::error::num(s.atol),
+                        allowed: "[1e-16, 1e-2]",
                     });
                 }
                 Method::Dopri {
@@ -434,6 +478,20 @@ impl Config {
                     allowed: "a finite number",
                 });
             }
+        }
+        if s.tau0.abs() > 1e9 {
+            return Err(ConfigError::Simulation {
+                field: "tau0",
+                value: geardyn_model::error::num(s.tau0),
+                allowed: "[-1e9, 1e9] (the time resolution of f64 must resolve a mesh cycle)",
+            });
+        }
+        if s.transient_periods > 1_000_000_000 || s.record_periods > 1_000_000_000 {
+            return Err(ConfigError::Simulation {
+                field: "transient_periods/record_periods",
+                value: format!("{}/{}", s.transient_periods, s.record_periods),
+                allowed: "<= 1e9 each",
+            });
         }
         if s.record_periods == 0 {
             return Err(ConfigError::Simulation {

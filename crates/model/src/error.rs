@@ -4,7 +4,7 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     /// A parameter value outside its range.
-    #[error("invalid {field} = {value}: allowed {allowed}")]
+    #[error("invalid {field} = {}: allowed {allowed}", crate::error::num(*.value))]
     Invalid {
         /// Dotted field name as in the config file (`back_side.R`, `D_d`, ...).
         field: String,
@@ -29,6 +29,16 @@ pub enum ModelError {
         /// Comma-separated list of known names.
         known: String,
     },
+}
+
+/// A number for an error message: plain for ordinary magnitudes, scientific for tiny or huge
+/// ones (so `1e-300` is not printed with 300 digits).
+pub fn num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 impl ModelError {

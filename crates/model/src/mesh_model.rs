@@ -208,8 +208,10 @@ impl MeshModel {
         if finite("xi", p.xi)? < 0.0 {
             return Err(inv("xi", p.xi, "[0, inf)"));
         }
-        if finite("c", p.c)? < 0.0 {
-            return Err(inv("c", p.c, "[0, inf)"));
+        // c = 2 zeta: beyond zeta = 10 the mesh is a rigid dashpot and the adaptive step
+        // collapses; no gear pair is damped like that
+        if !(0.0..=20.0).contains(&finite("c", p.c)?) {
+            return Err(inv("c", p.c, "[0, 20] (c = 2 zeta)"));
         }
         if finite("D_d", p.d_double)? <= 0.0 {
             return Err(inv(

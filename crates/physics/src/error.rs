@@ -5,7 +5,7 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PhysicsError {
     /// A parameter outside its range.
-    #[error("invalid pair.{field} = {value}: allowed {allowed}")]
+    #[error("invalid pair.{field} = {}: allowed {allowed}", geardyn_model::error::num(*.value))]
     Invalid {
         /// Field name as in the `[pair]` table.
         field: String,

@@ -262,6 +262,13 @@ impl PairSpec {
         if !(self.mu >= 0.0 && self.mu < 1.0) {
             return Err(bad("mu", self.mu, "[0, 1)"));
         }
+        // a pair beyond 1000 teeth is a rack in all but name, and its tables (z1 mesh cycles of
+        // samples with breakage) would take minutes to build
+        for (f, z) in [("z1", self.z1), ("z2", self.z2)] {
+            if !(3..=1000).contains(&z) {
+                return Err(bad(f, z as f64, "3 ..= 1000 teeth"));
+            }
+        }
         if !(64..=65536).contains(&self.samples_per_cycle) {
             return Err(bad(
                 "samples_per_cycle",
