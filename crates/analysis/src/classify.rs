@@ -20,6 +20,9 @@ use serde::{Deserialize, Serialize};
 pub const MAX_EXTENSIONS: u32 = 4;
 /// Smallest transient extension of a round (excitation periods).
 pub const MIN_EXTENSION: u64 = 100;
+/// A motion whose `|x|` exceeds this many length scales `max(D_s, 1)` has run away (teeth that
+/// never meet under a constant load, an unbounded resonance): it is reported as diverged.
+pub const DIVERGED_SCALES: f64 = 1e3;
 /// Excitation periods of the Lyapunov estimate that decides chaos (at least; the record length
 /// when longer).
 pub const TLE_PERIODS: u64 = 100;
@@ -57,6 +60,11 @@ pub enum Motion {
         /// Its standard error.
         stderr: Option<f64>,
     },
+    /// The motion ran away: `|x|` grew beyond [`DIVERGED_SCALES`] length scales.
+    Diverged {
+        /// Largest `|x|` reached.
+        x_max: f64,
+    },
     /// The integration failed (the message says why).
     Failed {
         /// The error.
@@ -81,6 +89,7 @@ impl Motion {
             Motion::Chaotic { .. } => "chaotic",
             Motion::QuasiPeriodic { .. } => "quasi-periodic",
             Motion::Unsettled { .. } => "unsettled",
+            Motion::Diverged { .. } => "diverged",
             Motion::Failed { .. } => "failed",
         }
     }
@@ -109,6 +118,10 @@ impl Motion {
                 ),
                 _ => "unsettled: no period detected (not classified further)".into(),
             },
+            Motion::Diverged { x_max } => format!(
+                "diverged: |x| reached {} (more than {DIVERGED_SCALES} length scales max(D_s, 1))",
+                geardyn_model::error::num(*x_max)
+            ),
             Motion::Failed { reason } => format!("failed: {reason}"),
         }
     }
@@ -158,8 +171,17 @@ pub fn simulate_decided(
     how: Decide,
 ) -> Result<(SimResult, Summary, SimOptions), SimError> {
     let mut used = *opts;
+    let scale = model.backlash_levels().1.max(1.0);
+    let runaway = |res: &SimResult| {
+        let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
+        (!(x_max <= DIVERGED_SCALES * scale)).then_some(Motion::Diverged { x_max })
+    };
     let mut res = simulate(model, y0, opts)?;
     let mut s = summarize(model, &res, opts);
+    if let Some(d) = runaway(&res) {
+        s.set_motion(d);
+        return Ok((res, s, used));
+    }
     if s.motion.is_periodic() {
         return Ok((res, s, used));
     }
@@ -187,6 +209,10 @@ pub fn simulate_decided(
             res = simulate(model, y, &more)?;
             used.transient_periods += opts.record_periods + extra;
             s = summarize(model, &res, &more);
+            if let Some(d) = runaway(&res) {
+                s.set_motion(d);
+                return Ok((res, s, used));
+            }
             if s.motion.is_periodic() {
                 return Ok((res, s, used));
             }

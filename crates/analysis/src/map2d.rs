@@ -62,7 +62,7 @@ pub struct MapCell {
 impl MapCell {
     /// Value of a metric by name: `max_force`, `min_force`, `p_id`, `period`, `tle`,
     /// `healthy` (1/0), `class` (0 healthy periodic, 1 non-healthy periodic, 2 chaotic,
-    /// 3 failed, 4 quasi-periodic, 5 unsettled).
+    /// 3 failed or diverged, 4 quasi-periodic, 5 unsettled).
     pub fn metric(&self, name: &str) -> Option<f64> {
         let failed = self.label.starts_with("failed") || self.label.starts_with("invalid");
         Some(match name {
@@ -78,7 +78,7 @@ impl MapCell {
                 Motion::Periodic { .. } if self.healthy => 0.0,
                 Motion::Periodic { .. } => 1.0,
                 Motion::Chaotic { .. } => 2.0,
-                Motion::Failed { .. } => 3.0,
+                Motion::Failed { .. } | Motion::Diverged { .. } => 3.0,
                 Motion::QuasiPeriodic { .. } => 4.0,
                 Motion::Unsettled { .. } => 5.0,
             },

@@ -79,6 +79,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         started,
         run_record::now_unix_s() - started,
     )?;
+    if let geardyn_analysis::Motion::Diverged { .. } = summary.motion {
+        anyhow::bail!(
+            "{} (outputs written to {})",
+            summary.motion.describe(),
+            out.display()
+        );
+    }
     println!(
         "{}: label {}, {}, P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts{}; {} steps in {:.3} s -> {}",
         match (summary.mesh_period, model.cycles_per_period()) {
