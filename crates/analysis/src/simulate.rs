@@ -28,11 +28,14 @@ pub enum Method {
     },
 }
 
+/// Default RK4 steps per mesh cycle.
+pub const DEFAULT_RK4_STEPS_PER_CYCLE: u32 = 512;
+
 impl Default for Method {
     fn default() -> Self {
         Method::Dopri {
-            rtol: 1e-9,
-            atol: 1e-12,
+            rtol: geardyn_solvers::integrator::DEFAULT_RTOL,
+            atol: geardyn_solvers::integrator::DEFAULT_ATOL,
         }
     }
 }

@@ -37,9 +37,9 @@ impl Default for SimulationConfig {
     fn default() -> Self {
         SimulationConfig {
             method: "dopri".into(),
-            rtol: 1e-9,
-            atol: 1e-12,
-            steps_per_cycle: 512,
+            rtol: geardyn_solvers::integrator::DEFAULT_RTOL,
+            atol: geardyn_solvers::integrator::DEFAULT_ATOL,
+            steps_per_cycle: geardyn_analysis::simulate::DEFAULT_RK4_STEPS_PER_CYCLE,
             transient_periods: 300,
             record_periods: 100,
             x0: 0.0,

@@ -66,12 +66,18 @@ pub enum Scheme {
     },
 }
 
+/// The project's default relative tolerance of Dormand–Prince (docs/model.md §4); every other
+/// default (config files, analyses) refers to this one.
+pub const DEFAULT_RTOL: f64 = 1e-9;
+/// The project's default absolute tolerance of Dormand–Prince (docs/model.md §4).
+pub const DEFAULT_ATOL: f64 = 1e-12;
+
 impl Scheme {
-    /// Dormand–Prince with the project defaults `rtol = 1e-9`, `atol = 1e-12` (docs/model.md §4).
+    /// Dormand–Prince with the project defaults [`DEFAULT_RTOL`], [`DEFAULT_ATOL`].
     pub fn dopri_default() -> Self {
         Scheme::DormandPrince {
-            rtol: 1e-9,
-            atol: 1e-12,
+            rtol: DEFAULT_RTOL,
+            atol: DEFAULT_ATOL,
         }
     }
 }
