@@ -12,7 +12,7 @@ use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::{Amplitudes, Level, SimOptions};
 use geardyn_model::MeshModel;
-use geardyn_scenario::{Scenario, ScenarioError};
+use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -185,6 +185,10 @@ pub struct TaskResult {
     pub value: f64,
     /// Runs (one, or `ics` for multi-initial).
     pub runs: Vec<Run>,
+    /// The dimensionless parameters integrated at this value (a swept `pair.*` field changes
+    /// what the pair computes).
+    #[serde(default)]
+    pub parameters: Option<ResolvedRecord>,
 }
 
 /// Sweep failure before any work starts.
@@ -239,10 +243,14 @@ pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) ->
 }
 
 /// The model at one swept value, through the scenario's builder (`pair.*` parameters rebuild the
-/// pair's tables).
-fn model_at(base: &Scenario, param: &str, value: f64) -> Result<MeshModel, SweepError> {
+/// pair's tables), with the parameters it integrates.
+fn model_at(
+    base: &Scenario,
+    param: &str,
+    value: f64,
+) -> Result<(MeshModel, ResolvedRecord), SweepError> {
     base.with(param, value)
-        .map(|s| s.model().clone())
+        .map(|s| (s.model().clone(), s.record()))
         .map_err(|reason| SweepError::Model {
             param: param.to_string(),
             value,
@@ -359,17 +367,20 @@ where
         return Err(SweepError::Empty);
     }
     // validate every value before spending any time
-    let models: Vec<MeshModel> = opts
+    let (models, records): (Vec<MeshModel>, Vec<ResolvedRecord>) = opts
         .values
         .iter()
         .map(|&v| model_at(base, &opts.param, v))
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
     let all = tasks(opts);
     let finish = |t: Task, runs: Vec<Run>| {
         let r = TaskResult {
             task: t,
             value: opts.values[t.index],
             runs,
+            parameters: Some(records[t.index].clone()),
         };
         on_done(&r);
         r
