@@ -129,8 +129,12 @@ where
         let fresh: Vec<(usize, Outcome)> = cells
             .par_iter()
             .map(|&c| {
-                if let Some(o) = done.get(&c) {
-                    return (c, o.clone());
+                // a saved outcome is reused only if it can belong to this pass (a capture by an
+                // attractor this pass knows); anything else is recomputed
+                match done.get(&c) {
+                    Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => {}
+                    Some(o) => return (c, o.clone()),
+                    None => {}
                 }
                 let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
                 let o = identify(model, y0, &snapshot, &opts.identify);

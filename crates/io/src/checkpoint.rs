@@ -33,11 +33,30 @@ fn io_err(path: &Path, source: std::io::Error) -> OutputError {
     }
 }
 
-/// One record as a complete JSON line (with its newline).
+/// FNV-1a (64 bit) of a record's JSON: a flipped digit in an otherwise valid record is caught
+/// and the record recomputed, not trusted. (A checksum, not a cryptographic hash: it guards
+/// against damage, not against forgery.)
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// One record as a complete line: its JSON, a tab (never inside serialised JSON) and the
+/// checksum of the JSON in hex, then the newline.
 fn json_line<T: Serialize>(path: &Path, rec: &T) -> Result<Vec<u8>, OutputError> {
     let mut line = serde_json::to_vec(rec).map_err(|e| io_err(path, std::io::Error::other(e)))?;
-    line.push(b'\n');
+    let sum = fnv1a(&line);
+    line.extend_from_slice(format!("\t{sum:016x}\n").as_bytes());
     Ok(line)
+}
+
+/// The JSON of a record line whose checksum matches.
+fn verified(line: &[u8]) -> Option<&[u8]> {
+    let tab = line.iter().rposition(|&b| b == b'\t')?;
+    let (json, sum) = (&line[..tab], &line[tab + 1..]);
+    let sum = u64::from_str_radix(std::str::from_utf8(sum).ok()?, 16).ok()?;
+    (fnv1a(json) == sum).then_some(json)
 }
 
 /// `dir/name.tmp` beside `path` (same file system, so the rename is atomic).
@@ -114,8 +133,8 @@ where
             // (the empty piece after the final newline; blank lines carry nothing)
             continue;
         }
-        let rec = std::str::from_utf8(line)
-            .ok()
+        let rec = verified(line)
+            .and_then(|j| std::str::from_utf8(j).ok())
             .and_then(|s| serde_json::from_str::<T>(s).ok());
         match rec {
             Some(r) if validate(&r) => records.push(r),
@@ -195,6 +214,12 @@ impl Checkpoint {
         ))
     }
 
+    /// The line `append` writes for a record (JSON, tab, checksum, newline).
+    pub fn line<T: Serialize>(rec: &T) -> String {
+        String::from_utf8(json_line(Path::new("<record>"), rec).unwrap_or_default())
+            .unwrap_or_default()
+    }
+
     /// Appends one record as a single complete line, flushed and synced to disk.
     pub fn append<T: Serialize>(&self, rec: &T) -> Result<(), OutputError> {
         let line = json_line(&self.path, rec)?;
@@ -219,6 +244,17 @@ impl Checkpoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_flipped_digit_is_caught_by_the_checksum() {
+        let line = json_line(Path::new("x"), &vec![1.25f64, 2.5]).unwrap();
+        let body = &line[..line.len() - 1];
+        assert_eq!(verified(body), Some(&b"[1.25,2.5]"[..]));
+        let mut bad = body.to_vec();
+        bad[3] = b'3';
+        assert_eq!(verified(&bad), None);
+        assert_eq!(verified(b"[1.25,2.5]"), None);
+    }
 
     #[test]
     fn temp_file_is_beside_the_checkpoint() {

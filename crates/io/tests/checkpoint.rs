@@ -19,7 +19,7 @@ fn rec(a: u32) -> Rec {
 }
 
 fn line(a: u32) -> String {
-    serde_json::to_string(&rec(a)).unwrap() + "\n"
+    Checkpoint::line(&rec(a))
 }
 
 const KEY: &str = r#"{"kind":"test","settings":{"n":3}}"#;
@@ -125,11 +125,13 @@ fn reading_goes_on_past_non_utf8_and_damaged_lines() {
     bytes.extend_from_slice(b"{\"a\": \"not a number\"}\n");
     bytes.extend_from_slice(b"\n");
     bytes.extend_from_slice(line(3).as_bytes());
-    bytes.extend_from_slice(b"{\"a\":4,\"s\":\"r4\"}\r\n");
+    bytes.extend_from_slice(format!("{}\r\n", line(4).trim_end()).as_bytes());
+    // valid JSON with a wrong checksum (a flipped digit) is not trusted
+    bytes.extend_from_slice(line(5).replace("r5", "r6").as_bytes());
     write(&p, &bytes);
     let (cp, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert_eq!(done, vec![rec(1), rec(2), rec(3), rec(4)]);
-    assert_eq!(cp.dropped(), 2);
+    assert_eq!(cp.dropped(), 3);
     drop(cp);
     // rewritten with the good records only
     assert_eq!(

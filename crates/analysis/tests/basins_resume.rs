@@ -1,0 +1,55 @@
+//! A damaged basin checkpoint never panics and never changes the result: records that cannot
+//! belong to the run (a capture by an attractor the pass does not know) are recomputed.
+
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome, StrobeOnly};
+use geardyn_analysis::basins::{basins, Axis, BasinOptions};
+use geardyn_analysis::simulate::SimOptions;
+use geardyn_model::reference::Duffing;
+use geardyn_solvers::Scheme;
+use std::collections::HashMap;
+
+#[test]
+fn an_out_of_range_attractor_id_is_recomputed_not_trusted() {
+    let sys = StrobeOnly {
+        sys: Duffing {
+            delta: 0.25,
+            alpha: -1.0,
+            beta: 1.0,
+            gamma: 0.0,
+            omega: 1.0,
+        },
+        period: 2.0,
+        scheme: Scheme::dopri_default(),
+    };
+    let axis = Axis {
+        min: -2.0,
+        max: 2.0,
+        n: 12,
+    };
+    let opts = BasinOptions {
+        x: axis,
+        v: axis,
+        identify: IdentifyOptions {
+            sim: SimOptions {
+                transient_periods: 60,
+                record_periods: 8,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    };
+    let clean = basins(&sys, &opts, &HashMap::new(), |_, _| {});
+    let mut done = HashMap::new();
+    for c in [0usize, 5, 77, 143] {
+        done.insert(
+            c,
+            Outcome::Captured {
+                id: 999,
+                periods: 3,
+            },
+        );
+    }
+    let damaged = basins(&sys, &opts, &done, |_, _| {});
+    assert_eq!(clean.cells, damaged.cells);
+    assert_eq!(clean.attractors.len(), damaged.attractors.len());
+}
