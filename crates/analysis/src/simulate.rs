@@ -683,8 +683,28 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
     let total = t_drive + t_sep + t_back;
     let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
     let cycles = model.cycles_per_period() as usize;
-    let mesh_period = if cycles > 1 {
-        minimal_period(&res.mesh_strobe, opts.max_period * cycles)
+    // The excitation strobe is exact (integrator stops); the mesh-cycle strobe is interpolated.
+    // The mesh period is the smallest divisor m of period*cycles at which the mesh strobe
+    // repeats to ten times the period tolerance (the interpolant's accuracy), so the two clocks
+    // never contradict each other.
+    let mesh_period = if cycles > 1 && period > 0 {
+        let whole = period * cycles;
+        let pts = &res.mesh_strobe;
+        let scale = 1.0
+            + pts
+                .iter()
+                .flat_map(|p| p.iter())
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+        let tol = 10.0 * crate::period::PERIOD_TOL * scale;
+        (1..=whole)
+            .filter(|m| whole % m == 0)
+            .find(|&m| {
+                pts.len() >= 2 * m
+                    && (m..pts.len()).all(|j| {
+                        (pts[j][0] - pts[j - m][0]).abs() + (pts[j][1] - pts[j - m][1]).abs() <= tol
+                    })
+            })
+            .or(Some(whole))
     } else {
         None
     };

@@ -213,15 +213,17 @@ impl MeshModel {
         if !(0.0..=20.0).contains(&finite("c", p.c)?) {
             return Err(inv("c", p.c, "[0, 20] (c = 2 zeta)"));
         }
-        if finite("D_d", p.d_double)? <= 0.0 {
+        // D is in units of b_c (of the order of the backlash itself): beyond 1e3 the teeth never
+        // meet and the run only measures a free fall
+        if !(finite("D_d", p.d_double)? > 0.0 && p.d_double <= 1e3) {
             return Err(inv(
                 "D_d",
                 p.d_double,
-                "(0, inf) (half backlash must be positive)",
+                "(0, 1000] (half backlash in units of b_c)",
             ));
         }
-        if finite("D_s", p.d_single)? < p.d_double {
-            return Err(inv("D_s", p.d_single, "[D_d, inf) (D_s >= D_d)"));
+        if !(finite("D_s", p.d_single)? >= p.d_double && p.d_single <= 1e3) {
+            return Err(inv("D_s", p.d_single, "[D_d, 1000] (D_s >= D_d)"));
         }
         let eps = finite("eps", p.eps)?;
         if !(eps > 1.0 && eps < 2.0) {
@@ -946,6 +948,23 @@ impl HybridSystem<2> for MeshModel {
             }
         }
         EventAction::Continue
+    }
+
+    /// An accumulation of back-side impacts (restitution near 0, sticking speed 0) ends on the
+    /// stop: the tooth rests there, as the sticking rule would put it, when the free
+    /// acceleration presses it onto the stop; otherwise the accumulation is a solver error.
+    fn zeno_fallback(&self, t: f64, y: &mut [f64; 2], mode: &mut MeshMode, _index: usize) -> bool {
+        if self.impact.is_some()
+            && mode.contact == ContactState::Separated
+            && self.excitation(t) <= 0.0
+        {
+            *y = [-self.segs[mode.seg as usize].d, 0.0];
+            mode.contact = ContactState::Stuck;
+            mode.chi = 0.0;
+            true
+        } else {
+            false
+        }
     }
 
     #[inline]
