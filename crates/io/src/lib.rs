@@ -5,6 +5,7 @@
 pub mod checkpoint;
 pub mod config;
 pub mod describe;
+pub mod figure;
 pub mod npy;
 pub mod output;
 pub mod pair_plots;

@@ -1,9 +1,26 @@
 //! Figures of a physical gear pair along the excitation period: mesh stiffness (healthy and
 //! broken), pair stiffness, load sharing, friction factors, half backlash and lubrication.
+//! Captions describe the pair shown (a broken pair, or a healthy one).
 
-use crate::plot::{stacked_chart, Mark, Panel, PlotError, Series, PALETTE};
+use crate::figure::{palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style};
 use geardyn_physics::PairModel;
 use std::path::{Path, PathBuf};
+
+fn line(points: Vec<(f64, f64)>, k: usize) -> Layer {
+    Layer {
+        points,
+        style: Style::Line(2),
+        color: palette(k),
+    }
+}
+
+/// Rows of a pair table as a polyline broken where a pair is out of mesh (value `None`).
+fn broken_line(rows: &[(f64, Option<f64>)], lo: f64, hi: f64) -> Vec<(f64, f64)> {
+    rows.iter()
+        .filter(|r| r.0 >= lo && r.0 <= hi)
+        .map(|&(x, v)| (x, v.unwrap_or(f64::NAN)))
+        .collect()
+}
 
 /// Writes the pair's figures into `dir`; returns `(stem, caption)` of each. `healthy` is the
 /// same pair without breakage; `(dd, ds)` the dimensionless half backlash of the two zones.
@@ -13,7 +30,8 @@ pub fn pair_figures(
     healthy: &PairModel,
     dd: f64,
     ds: f64,
-) -> Result<Vec<(PathBuf, String)>, PlotError> {
+) -> Result<Vec<(PathBuf, String)>, FigureError> {
+    let broken = pm.eps_b.is_some();
     let cycles = pm.cycles as f64;
     let hk: Vec<(f64, f64)> = (0..pm.cycles)
         .flat_map(|c| {
@@ -30,205 +48,176 @@ pub fn pair_figures(
         .collect();
     let mut figs: Vec<(PathBuf, String)> = Vec::new();
     let stem = dir.join("mesh_stiffness");
-    let mut series = vec![Series {
-        label: "healthy",
-        points: &hk,
-        mark: Mark::Line,
-        color: PALETTE[0],
-    }];
-    if pm.eps_b.is_some() {
-        series.push(Series {
-            label: "broken",
-            points: &bk,
-            mark: Mark::Line,
-            color: PALETTE[1],
-        });
+    let mut layers = vec![line(hk.clone(), 0)];
+    let mut legend = vec![LegendEntry::line(
+        if broken { "healthy pair" } else { "mesh" },
+        palette(0),
+    )];
+    if broken {
+        layers.push(line(bk.clone(), 1));
+        legend.push(LegendEntry::line("broken pair", palette(1)));
     }
-    stacked_chart(
+    write_figure(
         &stem,
-        "Mesh stiffness over the excitation period",
-        "position (mesh cycles)",
-        (0.0, cycles),
-        &[Panel {
-            y_label: "k_m (N/um)",
-            series,
-        }],
+        &Figure {
+            title: if broken {
+                "Mesh stiffness over one pinion revolution: healthy and broken pair".into()
+            } else {
+                "Mesh stiffness over the mesh cycle".into()
+            },
+            x_label: "position (mesh cycles)".into(),
+            x_range: Some((0.0, cycles)),
+            panels: vec![Panel {
+                y_label: "k_m (N/µm)".into(),
+                layers,
+                ..Default::default()
+            }],
+            legend,
+            ..Default::default()
+        },
     )?;
     figs.push((
         stem.clone(),
-        "Mesh stiffness k_m over the excitation period (N/µm), healthy and broken pair."
-            .to_string(),
+        if broken {
+            format!(
+                "Mesh stiffness k_m (N/µm) over the {} mesh cycles of a pinion revolution, healthy and broken pair; the chipped tooth's cycle is cycle {}.",
+                pm.cycles,
+                pm.spec.breakage.map_or(0, |b| b.broken_cycle)
+            )
+        } else {
+            "Mesh stiffness k_m (N/µm) over one mesh cycle: double-tooth zone, then single-tooth zone.".into()
+        },
     ));
     let nb = pm.spec.breakage.map_or(0, |b| b.broken_cycle) as f64;
-    let (lo, hi) = if pm.cycles > 3 {
+    let (lo, hi) = if broken && pm.cycles > 3 {
         ((nb - 1.0).max(0.0), (nb + 2.0).min(cycles))
     } else {
         (0.0, cycles.min(2.0))
     };
-    let win = |v: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
-        v.into_iter().filter(|p| p.0 >= lo && p.0 <= hi).collect()
+    // the healthy pair over two cycles when the model has one cycle
+    let two = |v: &dyn Fn(&geardyn_physics::pair::StiffnessRow) -> Option<f64>| {
+        let reps = if pm.cycles == 1 { 2 } else { 1 };
+        let rows: Vec<(f64, Option<f64>)> = (0..reps)
+            .flat_map(|c| pm.rows.iter().map(move |r| (c as f64 + r.position, v(r))))
+            .collect();
+        broken_line(&rows, lo, hi)
     };
-    let k1 = win(pm
-        .rows
-        .iter()
-        .map(|r| (r.position, r.k_pair1 / 1e6))
-        .collect());
-    let k2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.k_pair2 / 1e6))
-        .collect());
-    let l1 = win(pm.rows.iter().map(|r| (r.position, r.share1)).collect());
-    let l2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.share2))
-        .collect());
-    let hd = win(pm.rows.iter().map(|r| (r.position, r.h_drive)).collect());
-    let hb = win(pm.rows.iter().map(|r| (r.position, r.h_back)).collect());
-    let dl = win(pm
-        .rows
-        .iter()
-        .map(|r| (r.position, if r.single { ds } else { dd }))
-        .collect());
-    let (hkw, bkw) = (win(hk.clone()), win(bk.clone()));
-    let lubricated = pm.rows.iter().any(|r| r.regime1 >= 0);
-    let mu1 = win(pm.rows.iter().map(|r| (r.position, r.mu1)).collect());
-    let mu2 = win(pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| (r.position, r.mu2))
-        .collect());
-    let lam = win(pm.rows.iter().map(|r| (r.position, r.lambda1)).collect());
+    let k1 = two(&|r| Some(r.k_pair1 / 1e6));
+    let k2 = two(&|r| (r.k_pair2 > 0.0).then_some(r.k_pair2 / 1e6));
+    let km = two(&|r| Some(r.k_mesh / 1e6));
+    let l1 = two(&|r| Some(r.share1));
+    let l2 = two(&|r| (r.k_pair2 > 0.0).then_some(r.share2));
+    let hd = two(&|r| Some(r.h_drive));
+    let hb = two(&|r| Some(r.h_back));
+    let dl = two(&|r| Some(if r.single { ds } else { dd }));
+    let mut stiff_layers = vec![line(km, 0), line(k1, 2), line(k2, 3)];
+    let mut legend = vec![
+        LegendEntry::line(
+            if broken { "mesh (broken pair)" } else { "mesh" },
+            palette(0),
+        ),
+        LegendEntry::line("entering pair", palette(2)),
+        LegendEntry::line("leaving pair", palette(3)),
+        LegendEntry::line("h, drive side", palette(4)),
+        LegendEntry::line("h, back side", palette(5)),
+    ];
+    if broken {
+        let hkw: Vec<(f64, f64)> = hk
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= lo && p.0 <= hi)
+            .collect();
+        stiff_layers.insert(0, line(hkw, 1));
+        legend.insert(1, LegendEntry::line("mesh (healthy pair)", palette(1)));
+    }
     let stem = dir.join("pairs_sharing_friction");
-    stacked_chart(
+    write_figure(
         &stem,
-        "Pair stiffness, load sharing, friction factors and half backlash",
-        "position (mesh cycles)",
-        (lo, hi),
-        &[
-            Panel {
-                y_label: "stiffness (N/um)",
-                series: vec![
-                    Series {
-                        label: "healthy mesh",
-                        points: &hkw,
-                        mark: Mark::Line,
-                        color: PALETTE[0],
-                    },
-                    Series {
-                        label: "mesh",
-                        points: &bkw,
-                        mark: Mark::Line,
-                        color: PALETTE[1],
-                    },
-                    Series {
-                        label: "entering pair",
-                        points: &k1,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[2],
-                    },
-                    Series {
-                        label: "leaving pair",
-                        points: &k2,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[3],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "load share",
-                series: vec![
-                    Series {
-                        label: "entering pair",
-                        points: &l1,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[2],
-                    },
-                    Series {
-                        label: "leaving pair",
-                        points: &l2,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[3],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "friction factor h",
-                series: vec![
-                    Series {
-                        label: "drive side",
-                        points: &hd,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[0],
-                    },
-                    Series {
-                        label: "back side",
-                        points: &hb,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[1],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "half backlash D",
-                series: vec![Series {
-                    label: "",
-                    points: &dl,
-                    mark: Mark::Line,
-                    color: PALETTE[6],
-                }],
-            },
-        ],
-    )?;
-    if lubricated {
-        let stem_l = dir.join("lubrication");
-        stacked_chart(
-            &stem_l,
-            "Lubrication along the cycle: friction coefficients and film parameter",
-            "position (mesh cycles)",
-            (lo, hi),
-            &[
+        &Figure {
+            title: "Pair stiffness, load sharing, friction factors and half backlash".into(),
+            x_label: "position (mesh cycles)".into(),
+            x_range: Some((lo, hi)),
+            panels: vec![
                 Panel {
-                    y_label: "friction coefficient",
-                    series: vec![
-                        Series {
-                            label: "entering pair",
-                            points: &mu1,
-                            mark: Mark::Dots(1),
-                            color: PALETTE[2],
-                        },
-                        Series {
-                            label: "leaving pair",
-                            points: &mu2,
-                            mark: Mark::Dots(1),
-                            color: PALETTE[3],
-                        },
-                    ],
+                    y_label: "stiffness (N/µm)".into(),
+                    layers: stiff_layers,
+                    ..Default::default()
                 },
                 Panel {
-                    y_label: "Lambda (entering pair)",
-                    series: vec![Series {
-                        label: "",
-                        points: &lam,
-                        mark: Mark::Dots(1),
-                        color: PALETTE[0],
+                    y_label: "load share".into(),
+                    layers: vec![line(l1, 2), line(l2, 3)],
+                    y_range: Some((-0.05, 1.05)),
+                    weight: 0.8,
+                    ..Default::default()
+                },
+                Panel {
+                    y_label: "friction factor h".into(),
+                    layers: vec![line(hd, 4), line(hb, 5)],
+                    weight: 0.8,
+                    ..Default::default()
+                },
+                Panel {
+                    y_label: "half backlash D".into(),
+                    layers: vec![Layer {
+                        points: dl,
+                        style: Style::Line(2),
+                        color: crate::figure::CHAOTIC,
                     }],
+                    weight: 0.6,
+                    ..Default::default()
                 },
             ],
-        )?;
-    }
+            legend,
+            ..Default::default()
+        },
+    )?;
     figs.push((
-        stem.clone(),
-        "Around the broken cycle: stiffness of each pair and of the mesh, load shares, friction factors h (drive and back side) and the dimensionless half backlash.".to_string(),
+        stem,
+        if broken {
+            format!(
+                "Mesh cycles {}–{} around the broken cycle {}: stiffness of each pair and of the mesh (healthy and broken), load shares, friction factors h (drive and back side) and the dimensionless half backlash.",
+                lo, hi, nb
+            )
+        } else {
+            "Two mesh cycles: stiffness of each pair and of the mesh, load shares, friction factors h (drive and back side) and the dimensionless half backlash D_d (double-tooth zone) / D_s (single-tooth zone).".into()
+        },
     ));
-    if lubricated {
+    if pm.rows.iter().any(|r| r.regime1 >= 0) {
+        let mu1 = two(&|r| Some(r.mu1));
+        let mu2 = two(&|r| (r.k_pair2 > 0.0).then_some(r.mu2));
+        let lam = two(&|r| Some(r.lambda1));
+        let stem_l = dir.join("lubrication");
+        write_figure(
+            &stem_l,
+            &Figure {
+                title: "Lubrication along the cycle: friction coefficients and film parameter"
+                    .into(),
+                x_label: "position (mesh cycles)".into(),
+                x_range: Some((lo, hi)),
+                panels: vec![
+                    Panel {
+                        y_label: "friction coefficient".into(),
+                        layers: vec![line(mu1, 2), line(mu2, 3)],
+                        ..Default::default()
+                    },
+                    Panel {
+                        y_label: "Lambda (entering pair)".into(),
+                        layers: vec![line(lam, 0)],
+                        hlines: vec![1.0, 3.0],
+                        ..Default::default()
+                    },
+                ],
+                legend: vec![
+                    LegendEntry::line("entering pair", palette(2)),
+                    LegendEntry::line("leaving pair", palette(3)),
+                    LegendEntry::line("Lambda", palette(0)),
+                ],
+                ..Default::default()
+            },
+        )?;
         figs.push((
-            dir.join("lubrication"),
-            "Multi-state lubrication: friction coefficient of each pair (Xu–Kahraman EHL, mixed, boundary) and the film parameter Lambda = h_min/sigma (Dowson–Higginson film).".to_string(),
+            stem_l,
+            "Multi-state lubrication: friction coefficient of each pair (EHL for Lambda > 3, mixed for 1–3, boundary below 1; grey lines) and the film parameter Lambda = h_min/sigma of the entering pair.".into(),
         ));
     }
     Ok(figs)

@@ -1,8 +1,13 @@
-//! Tables and figures of parameter sweeps: bifurcation diagrams and frequency responses.
+//! Tables and figures of parameter sweeps: bifurcation diagrams, frequency responses, basins and
+//! continuations (figures through [`crate::figure`]: legends beside the data, scatter merged per
+//! pixel, many distinct colours).
 
+use crate::figure::{
+    self, palette, write_figure, write_raster, Figure, FigureError, Layer, LegendEntry,
+    RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
+};
 use crate::output::{write_csv, OutputError};
-use crate::plot::{attractor_color, raster_chart, Chart, Raster};
-use crate::plot::{stacked_chart, Mark, Panel, PlotError, Series, PALETTE};
+use crate::plot::PlotColor;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
 use std::collections::BTreeMap;
@@ -92,9 +97,6 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
     write_csv(path, &header, rows)
 }
 
-/// Diagram points `(parameter, x)` of one colour group, per section.
-type PointsBySection = BTreeMap<Section, Vec<(f64, f64)>>;
-
 /// `impact_force.csv`: the impact-force record of seed A — the largest back-side impact force in
 /// each recorded excitation period, per run (`param,branch,ic,period,impact_force`; 0 = no impact).
 pub fn write_impact_force(
@@ -122,136 +124,26 @@ pub fn write_impact_force(
     write_csv(path, &header, rows)
 }
 
-/// Label classes in order of first appearance (stable colours).
-fn label_order(results: &[TaskResult]) -> Vec<String> {
-    let mut seen = Vec::new();
-    for r in results {
-        for run in &r.runs {
-            if !seen.contains(&run.label) {
-                seen.push(run.label.clone());
-            }
-        }
+/// The name a run is drawn under: its label when periodic, else its decided class.
+fn run_name(run: &geardyn_analysis::bifurcation::Run) -> String {
+    if run.motion.is_periodic() {
+        run.label.clone()
+    } else {
+        run.motion.word().to_string()
     }
-    seen
 }
 
-/// Bifurcation figure: one panel per section (x against the parameter), the TLE below when
-/// computed. Continuation branches are coloured up/down; multi-initial points by attractor label
-/// (the eight most frequent labels get a legend entry, the rest share grey).
-pub fn plot_bifurcation(
-    stem: &Path,
-    param: &str,
-    results: &[TaskResult],
-    sections: &[Section],
-    title: &str,
-) -> Result<(), PlotError> {
-    let multi = results.iter().any(|r| r.runs.len() > 1);
-    let sweep = results.iter().any(|r| r.task.branch > 0);
-    // group key -> points per section
-    let mut groups: BTreeMap<(usize, String), PointsBySection> = BTreeMap::new();
-    let labels = label_order(results);
-    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
-    for r in results {
-        for run in &r.runs {
-            *counts.entry(run.label.clone()).or_default() += 1;
-        }
+fn fixed_color(name: &str) -> Option<PlotColor> {
+    match name {
+        "chaotic" => Some(CHAOTIC),
+        "quasi-periodic" => Some(QUASI),
+        "unsettled" => Some(UNSETTLED),
+        "failed" | "diverged" => Some(OTHER),
+        _ => None,
     }
-    let mut by_freq: Vec<&String> = labels.iter().collect();
-    by_freq.sort_by_key(|l| std::cmp::Reverse(counts[*l]));
-    let top: Vec<&String> = by_freq.into_iter().take(8).collect();
-    for r in results {
-        for run in &r.runs {
-            let key = if multi {
-                match top.iter().position(|l| **l == run.label) {
-                    Some(i) => (i, run.label.clone()),
-                    None => (99, "other".to_string()),
-                }
-            } else if sweep {
-                (r.task.branch as usize, r.task.branch_name().to_string())
-            } else {
-                (0, String::new())
-            };
-            let g = groups.entry(key).or_default();
-            for &(sec, x, v) in &run.points {
-                // on a level section x is the level itself: the velocity is the information
-                let y = if sec == Section::Strobe { x } else { v };
-                g.entry(sec).or_default().push((r.value, y));
-            }
-        }
-    }
-    let tle: Vec<(f64, f64)> = results
-        .iter()
-        .flat_map(|r| {
-            r.runs
-                .iter()
-                .filter_map(move |run| run.tle.map(|t| (r.value, t)))
-        })
-        .collect();
-    let zero: Vec<(f64, f64)> = if tle.is_empty() {
-        vec![]
-    } else {
-        let lo = results
-            .iter()
-            .map(|r| r.value)
-            .fold(f64::INFINITY, f64::min);
-        let hi = results
-            .iter()
-            .map(|r| r.value)
-            .fold(f64::NEG_INFINITY, f64::max);
-        vec![(lo, 0.0), (hi, 0.0)]
-    };
-    let y_labels: Vec<String> = sections
-        .iter()
-        .map(|s| {
-            if *s == Section::Strobe {
-                "x on strobe".to_string()
-            } else {
-                format!("x' on {}", s.name())
-            }
-        })
-        .collect();
-    let mut panels: Vec<Panel> = Vec::new();
-    for (si, sec) in sections.iter().enumerate() {
-        let mut series = Vec::new();
-        for ((idx, name), secs) in &groups {
-            if let Some(pts) = secs.get(sec) {
-                let color = if *idx == 99 {
-                    RGB_GREY
-                } else {
-                    PALETTE[*idx % PALETTE.len()]
-                };
-                series.push(Series {
-                    label: if si == 0 { name.as_str() } else { "" },
-                    points: pts,
-                    mark: Mark::Dots(1),
-                    color,
-                });
-            }
-        }
-        panels.push(Panel {
-            y_label: &y_labels[si],
-            series,
-        });
-    }
-    if !tle.is_empty() {
-        panels.push(Panel {
-            y_label: "TLE",
-            series: vec![
-                Series {
-                    label: "",
-                    points: &zero,
-                    mark: Mark::Line,
-                    color: RGB_GREY,
-                },
-                Series {
-                    label: "",
-                    points: &tle,
-                    mark: Mark::Dots(2),
-                    color: PALETTE[6],
-                },
-            ],
-        });
-    }
+}
+
+fn value_range(results: &[TaskResult]) -> (f64, f64) {
     let lo = results
         .iter()
         .map(|r| r.value)
@@ -260,11 +152,102 @@ pub fn plot_bifurcation(
         .iter()
         .map(|r| r.value)
         .fold(f64::NEG_INFINITY, f64::max);
-    let pad = 0.02 * (hi - lo).abs().max(1e-9);
-    stacked_chart(stem, title, param, (lo - pad, hi + pad), &panels)
+    let pad = 0.015 * (hi - lo).abs().max(1e-9);
+    (lo - pad, hi + pad)
 }
 
-const RGB_GREY: plotters::style::RGBColor = plotters::style::RGBColor(160, 160, 160);
+/// Bifurcation figure: one panel per section (x on the stroboscopic section, the velocity on
+/// level and impact sections) against the parameter, the TLE below when computed; the legend
+/// (its own column) names each motion. Continuation branches are coloured up/down; otherwise
+/// points are coloured by the decided motion (label of periodic runs; chaotic, quasi-periodic,
+/// unsettled), with up to [`figure::DISTINCT_COLORS`] distinct colours. Scatter points are
+/// merged per pixel, so the SVG stays small for any number of points.
+pub fn plot_bifurcation(
+    stem: &Path,
+    param: &str,
+    results: &[TaskResult],
+    sections: &[Section],
+    title: &str,
+) -> Result<(), FigureError> {
+    let sweep = results.iter().any(|r| r.task.branch > 0);
+    let mut groups: BTreeMap<String, BTreeMap<Section, Vec<(f64, f64)>>> = BTreeMap::new();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut tle: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    for r in results {
+        for run in &r.runs {
+            let key = if sweep {
+                format!("sweep {}", r.task.branch_name())
+            } else {
+                run_name(run)
+            };
+            *counts.entry(key.clone()).or_default() += 1;
+            let g = groups.entry(key.clone()).or_default();
+            for &(sec, x, v) in &run.points {
+                let y = if sec == Section::Strobe { x } else { v };
+                g.entry(sec).or_default().push((r.value, y));
+            }
+            if let Some(t) = run.tle {
+                tle.entry(key).or_default().push((r.value, t));
+            }
+        }
+    }
+    let mut order: Vec<String> = counts.keys().cloned().collect();
+    order.sort_by(|a, b| counts[b].cmp(&counts[a]).then(a.cmp(b)));
+    let flat: BTreeMap<String, Vec<(f64, f64)>> =
+        order.iter().map(|n| (n.clone(), vec![])).collect();
+    let colored = figure::categorical(flat, &order, &fixed_color);
+    let color_of = |n: &str| colored.iter().find(|c| c.0 == n).map_or(OTHER, |c| c.1);
+    let layers = |get: &dyn Fn(&str) -> Option<Vec<(f64, f64)>>| -> Vec<Layer> {
+        order
+            .iter()
+            .rev()
+            .filter_map(|n| {
+                get(n).map(|points| Layer {
+                    points,
+                    style: Style::Dots(1),
+                    color: color_of(n),
+                })
+            })
+            .collect()
+    };
+    let mut panels: Vec<figure::Panel> = sections
+        .iter()
+        .map(|sec| figure::Panel {
+            y_label: if *sec == Section::Strobe {
+                "x (stroboscopic)".to_string()
+            } else {
+                format!("x' on {}", sec.name())
+            },
+            layers: layers(&|n| groups.get(n).and_then(|m| m.get(sec)).cloned()),
+            ..Default::default()
+        })
+        .collect();
+    if !tle.is_empty() {
+        panels.push(figure::Panel {
+            y_label: "TLE".into(),
+            layers: layers(&|n| tle.get(n).cloned()),
+            hlines: vec![0.0],
+            weight: 0.7,
+            ..Default::default()
+        });
+    }
+    let legend = colored
+        .iter()
+        .map(|(n, c, _)| LegendEntry::dot(n.clone(), *c))
+        .collect();
+    write_figure(
+        stem,
+        &Figure {
+            title: title.into(),
+            x_label: param.into(),
+            x_range: Some(value_range(results)),
+            panels,
+            legend,
+            legend_title: if sweep { "branch" } else { "motion" }.into(),
+            ..Default::default()
+        },
+    )
+}
 
 /// `response.csv`: amplitudes of both continuation branches.
 pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Result<(), OutputError> {
@@ -302,13 +285,14 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
     write_csv(path, &header, rows)
 }
 
-/// Frequency-response figure: RMS of `x` and of `F_m`, up and down sweeps.
+/// Frequency-response figure: RMS of `x` and of `F_m`, up and down sweeps (legend beside the
+/// panels).
 pub fn plot_response(
     stem: &Path,
     param: &str,
     results: &[TaskResult],
     title: &str,
-) -> Result<(), PlotError> {
+) -> Result<(), FigureError> {
     let branch =
         |b: u8, f: &dyn Fn(&geardyn_analysis::simulate::Amplitudes) -> f64| -> Vec<(f64, f64)> {
             let mut v: Vec<(f64, f64)> = results
@@ -316,107 +300,74 @@ pub fn plot_response(
                 .filter(|r| r.task.branch == b)
                 .filter_map(|r| r.runs[0].amplitudes.map(|a| (r.value, f(&a))))
                 .collect();
-            v.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
             v
         };
+    let line = |points: Vec<(f64, f64)>, k: usize| Layer {
+        points,
+        style: Style::Line(2),
+        color: palette(k),
+    };
+    let dots = |points: Vec<(f64, f64)>, k: usize| Layer {
+        points,
+        style: Style::Dots(2),
+        color: palette(k),
+    };
     let (ux, dx) = (branch(1, &|a| a.rms_x), branch(2, &|a| a.rms_x));
     let (uf, df) = (branch(1, &|a| a.rms_force), branch(2, &|a| a.rms_force));
-    let lo = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::INFINITY, f64::min);
-    let hi = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let panels = vec![
-        Panel {
-            y_label: "RMS of x (AC)",
-            series: vec![
-                Series {
-                    label: "sweep up",
-                    points: &ux,
-                    mark: Mark::Line,
-                    color: PALETTE[0],
+    write_figure(
+        stem,
+        &Figure {
+            title: title.into(),
+            x_label: param.into(),
+            x_range: Some(value_range(results)),
+            panels: vec![
+                figure::Panel {
+                    y_label: "RMS of x (AC)".into(),
+                    layers: vec![
+                        line(ux.clone(), 0),
+                        dots(ux, 0),
+                        line(dx.clone(), 1),
+                        dots(dx, 1),
+                    ],
+                    ..Default::default()
                 },
-                Series {
-                    label: "",
-                    points: &ux,
-                    mark: Mark::Dots(2),
-                    color: PALETTE[0],
-                },
-                Series {
-                    label: "sweep down",
-                    points: &dx,
-                    mark: Mark::Line,
-                    color: PALETTE[1],
-                },
-                Series {
-                    label: "",
-                    points: &dx,
-                    mark: Mark::Dots(2),
-                    color: PALETTE[1],
+                figure::Panel {
+                    y_label: "RMS of F_m (AC)".into(),
+                    layers: vec![line(uf, 0), line(df, 1)],
+                    ..Default::default()
                 },
             ],
-        },
-        Panel {
-            y_label: "RMS of F_m (AC)",
-            series: vec![
-                Series {
-                    label: "",
-                    points: &uf,
-                    mark: Mark::Line,
-                    color: PALETTE[0],
-                },
-                Series {
-                    label: "",
-                    points: &df,
-                    mark: Mark::Line,
-                    color: PALETTE[1],
-                },
+            legend: vec![
+                LegendEntry::line("sweep up", palette(0)),
+                LegendEntry::line("sweep down", palette(1)),
             ],
+            ..Default::default()
         },
-    ];
-    stacked_chart(stem, title, param, (lo, hi), &panels)
+    )
 }
 
-/// Basin image: healthy attractors in a blue–green family, unstable ones in a red–orange family
-/// (each in id order), divergent cells black, unresolved grey; the legend names each attractor
-/// with its label and basin fraction.
-pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), PlotError> {
-    let (mut kh, mut ku) = (0, 0);
-    let colors_by_id: Vec<_> = r
-        .attractors
-        .iter()
-        .map(|at| {
-            let k = if at.descriptor.healthy {
-                &mut kh
-            } else {
-                &mut ku
-            };
-            *k += 1;
-            attractor_color(at.descriptor.healthy, *k - 1)
-        })
-        .collect();
-    let black = plotters::style::RGBColor(0, 0, 0);
-    let grey = plotters::style::RGBColor(170, 170, 170);
-    let colors: Vec<_> = r
+/// Basin image: one distinct colour per attractor (id order), divergent cells black, unresolved
+/// grey, crosses at the attractors' stroboscopic points; the legend (beside the image) names each
+/// attractor with its label, health and basin share. Equal-colour runs are merged.
+pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), FigureError> {
+    let black = PlotColor(0, 0, 0);
+    let colors: Vec<PlotColor> = r
         .cells
         .iter()
         .map(|&c| match c {
             -1 => black,
-            -2 => grey,
-            i => colors_by_id[i as usize],
+            i if i >= 0 => palette(i as usize),
+            _ => OTHER,
         })
         .collect();
-    let mut legend: Vec<(String, _)> = r
+    let mut legend: Vec<LegendEntry> = r
         .attractors
         .iter()
-        .zip(&colors_by_id)
-        .map(|(at, c)| {
-            (
+        .map(|at| {
+            LegendEntry::dot(
                 format!(
-                    "#{} {} {} ({:.1}%)",
+                    "#{} {} {} ({:.1} %)",
                     at.id,
                     at.descriptor.label,
                     geardyn_analysis::simulate::health_text(
@@ -425,46 +376,83 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Plot
                     ),
                     100.0 * at.fraction
                 ),
-                *c,
+                palette(at.id),
             )
         })
         .collect();
     if r.diverged > 0.0 {
-        legend.push((format!("divergent ({:.1}%)", 100.0 * r.diverged), black));
+        legend.push(LegendEntry::dot(
+            format!("divergent ({:.1} %)", 100.0 * r.diverged),
+            black,
+        ));
     }
     if r.failed > 0.0 {
-        legend.push((format!("unresolved ({:.1}%)", 100.0 * r.failed), grey));
+        legend.push(LegendEntry::dot(
+            format!("unresolved ({:.1} %)", 100.0 * r.failed),
+            OTHER,
+        ));
     }
-    raster_chart(
+    let (nx, nv) = (r.x.n.max(1), r.v.n.max(1));
+    let (dx, dv) = (
+        (r.x.max - r.x.min) / (nx - 1).max(1) as f64,
+        (r.v.max - r.v.min) / (nv - 1).max(1) as f64,
+    );
+    let marks = r
+        .attractors
+        .iter()
+        .flat_map(|a| a.descriptor.points.iter().take(24).map(|p| (p[0], p[1])))
+        .filter(|p| p.0 >= r.x.min && p.0 <= r.x.max && p.1 >= r.v.min && p.1 <= r.v.max)
+        .collect();
+    write_raster(
         stem,
-        &Chart {
-            title,
-            x_label: "x0",
-            y_label: "x0'",
+        &RasterFigure {
+            title: title.into(),
+            x_label: "x0".into(),
+            y_label: "x0'".into(),
+            x: (r.x.min - dx / 2.0, r.x.max + dx / 2.0, nx),
+            y: (r.v.min - dv / 2.0, r.v.max + dv / 2.0, nv),
+            colors,
+            legend,
+            legend_title: "attractor (basin share)".into(),
+            colorbar: None,
+            marks,
         },
-        &Raster {
-            x: (r.x.min, r.x.max, r.x.n),
-            y: (r.v.min, r.v.max, r.v.n),
-            colors: &colors,
-        },
-        &legend,
-        None,
     )
 }
 
-/// Continuation figure: basin fractions (healthy, and healthy + unstable) and the branch tree
-/// (first stroboscopic point of each attractor) over the parameter.
+/// Continuation figure: basin shares (healthy, non-healthy) and a stroboscopic point of every
+/// attractor over the parameter, coloured by label (non-periodic attractors in one grey group).
 pub fn plot_continuation(
     stem: &Path,
     title: &str,
     param: &str,
     values: &[f64],
     r: &geardyn_analysis::continuation::ContinuationResult,
-) -> Result<(), PlotError> {
-    let lo = values.first().copied().unwrap_or(0.0);
-    let hi = values.last().copied().unwrap_or(1.0);
-
-    let frac = |healthy: bool| -> Vec<(f64, f64)> {
+) -> Result<(), FigureError> {
+    let name = |p: &geardyn_analysis::continuation::BranchPoint| {
+        if p.period > 0 {
+            format!(
+                "{}, {}",
+                p.label,
+                if p.healthy { "healthy" } else { "back side" }
+            )
+        } else {
+            "not periodic".to_string()
+        }
+    };
+    let mut order: Vec<String> = Vec::new();
+    let mut tree: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    for p in &r.points {
+        let n = name(p);
+        if !order.contains(&n) {
+            order.push(n.clone());
+        }
+        tree.entry(n).or_default().push((p.value, p.x));
+    }
+    let colored = figure::categorical(tree, &order, &|n: &str| {
+        (n == "not periodic").then_some(UNSETTLED)
+    });
+    let share = |healthy: bool| -> Vec<(f64, f64)> {
         values
             .iter()
             .map(|&v| {
@@ -479,71 +467,58 @@ pub fn plot_continuation(
             })
             .collect()
     };
-    let (fh, fu) = (frac(true), frac(false));
-    let stacked: Vec<(f64, f64)> = fh.iter().zip(&fu).map(|(h, u)| (h.0, h.1 + u.1)).collect();
-    let nb = r.points.iter().map(|p| p.branch + 1).max().unwrap_or(0);
-    let branches: Vec<Vec<(f64, f64)>> = (0..nb)
-        .map(|b| {
-            r.points
-                .iter()
-                .filter(|p| p.branch == b)
-                .map(|p| (p.value, p.x))
-                .collect()
-        })
-        .collect();
-    let names: Vec<String> = (0..nb)
-        .map(|b| {
-            let l = r
-                .points
-                .iter()
-                .find(|p| p.branch == b)
-                .map_or(String::new(), |p| p.label.clone());
-            format!("branch {b} ({l})")
-        })
-        .collect();
-    let mut tree = Vec::new();
-    for (b, pts) in branches.iter().enumerate() {
-        let c = PALETTE[b % PALETTE.len()];
-        tree.push(Series {
-            label: if b < 8 { names[b].as_str() } else { "" },
-            points: pts,
-            mark: Mark::Line,
-            color: c,
-        });
-        tree.push(Series {
-            label: "",
-            points: pts,
-            mark: Mark::Dots(3),
-            color: c,
-        });
-    }
-    stacked_chart(
+    let mut legend = vec![
+        LegendEntry::line("basin share, healthy", palette(0)),
+        LegendEntry::line("basin share, non-healthy", palette(1)),
+    ];
+    legend.extend(
+        colored
+            .iter()
+            .map(|(n, c, _)| LegendEntry::dot(n.clone(), *c)),
+    );
+    let lo = values.first().copied().unwrap_or(0.0);
+    let hi = values.last().copied().unwrap_or(1.0);
+    write_figure(
         stem,
-        title,
-        param,
-        (lo, hi),
-        &[
-            Panel {
-                y_label: "basin fraction",
-                series: vec![
-                    Series {
-                        label: "healthy + non-healthy",
-                        points: &stacked,
-                        mark: Mark::Line,
-                        color: PALETTE[1],
-                    },
-                    Series {
-                        label: "healthy",
-                        points: &fh,
-                        mark: Mark::Line,
-                        color: PALETTE[0],
-                    },
-                ],
-            },
-            Panel {
-                y_label: "x on strobe (tree)",
-                series: tree,
-            },
-        ],
+        &Figure {
+            title: title.into(),
+            x_label: param.into(),
+            x_range: Some(figure::padded(lo, hi)),
+            panels: vec![
+                figure::Panel {
+                    y_label: "basin share".into(),
+                    layers: vec![
+                        Layer {
+                            points: share(true),
+                            style: Style::Line(2),
+                            color: palette(0),
+                        },
+                        Layer {
+                            points: share(false),
+                            style: Style::Line(2),
+                            color: palette(1),
+                        },
+                    ],
+                    y_range: Some((-0.03, 1.03)),
+                    weight: 0.8,
+                    ..Default::default()
+                },
+                figure::Panel {
+                    y_label: "x (a stroboscopic point)".into(),
+                    layers: colored
+                        .into_iter()
+                        .map(|(_, c, points)| Layer {
+                            points,
+                            style: Style::Dots(2),
+                            color: c,
+                        })
+                        .collect(),
+                    ..Default::default()
+                },
+            ],
+            legend,
+            legend_title: "attractor".into(),
+            ..Default::default()
+        },
     )
 }

@@ -1,6 +1,9 @@
-//! The HTML page: one self-contained file, figures beside it, no scripts, no external fonts.
+//! The HTML page: one self-contained file, figures and data beside it, no scripts, no external
+//! fonts.
 
-use crate::{Claim, Section};
+use crate::claims::{tally, Claim, Verdict};
+use crate::readings::f;
+use crate::Section;
 use geardyn_io::Config;
 
 pub(crate) fn esc(s: &str) -> String {
@@ -10,70 +13,100 @@ pub(crate) fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:1150px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}\
+const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}\
 h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}\
-figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:.9em;color:#555}\
-table{border-collapse:collapse;font-size:.85em;margin:.8em 0}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left}\
-th{background:#f3f3f3}.meta{font-size:.9em;color:#444;background:#f8f8f8;padding:.6em .8em;border-left:3px solid #0072b2}\
-.reproduced{color:#006d4f;font-weight:bold}.not-reproduced{color:#b00;font-weight:bold}.inconclusive{color:#a60;font-weight:bold}\
-nav li{margin:.15em 0}";
+figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:.9em;color:#444}\
+table{border-collapse:collapse;font-size:.85em;margin:.8em 0}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}\
+th{background:#f3f3f3}.meta{font-size:.9em;color:#333;background:#f8f8f8;padding:.6em .8em;border-left:3px solid #0072b2}\
+.reproduced{color:#006d4f;font-weight:bold}.partly{color:#8a6d00;font-weight:bold}.not-reproduced{color:#b00;font-weight:bold}\
+.seed-inconsistent{color:#6a3d9a;font-weight:bold}.small{font-size:.85em;color:#555}nav li{margin:.15em 0}";
+
+/// Rows of a table shown on the page; longer tables are cut (the CSV has all).
+const MAX_ROWS: usize = 40;
 
 fn claims_table(claims: &[&Claim]) -> String {
     let mut s = String::from(
-        "<table><tr><th>claim</th><th>source</th><th>measured evidence</th><th>verdict</th></tr>\n",
+        "<table><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th></tr>\n",
     );
     for c in claims {
         s.push_str(&format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td><td>{}</td></tr>\n",
             esc(&c.claim),
             esc(&c.source),
-            esc(&c.evidence),
-            c.verdict.replace(' ', "-"),
-            esc(&c.verdict)
+            esc(&c.seed_value),
+            esc(&c.measured_value),
+            c.verdict.word().replace(' ', "-"),
+            esc(c.verdict.word()),
+            esc(&c.evidence)
         ));
     }
     s.push_str("</table>\n");
     s
 }
 
+/// What the page shows.
+pub struct PageInfo<'a> {
+    /// Preset name.
+    pub preset: &'a str,
+    /// Its configuration.
+    pub cfg: &'a Config,
+    /// Its scenario.
+    pub scenario: &'a geardyn_scenario::Scenario,
+    /// Sections.
+    pub sections: &'a [Section],
+    /// Quick mode.
+    pub quick: bool,
+    /// Wall time (s).
+    pub seconds: f64,
+    /// Size of the folder (bytes).
+    pub size: u64,
+    /// Its budget (bytes).
+    pub budget: u64,
+}
+
+fn intro(preset: &str) -> &'static str {
+    match preset {
+        "breakage" => "Seed A: an external 40/40 spur pair, module 3 mm, with one chipped pinion tooth, friction and back-side impacts with restitution (files 000, 001, 002 of the seeds). Every figure and table of seed A that the model computes is recomputed below at the seed's parameters; where the seed does not give a parameter, the choice is stated in the section and its sensitivity is shown.",
+        "internal" => "Seed B: an internal 30/70 spur pair with time-varying backlash (D_s > D_d), multi-state lubrication friction and continuous back-side contact (files 003, 004 of the seeds). The seed's bifurcation, Lyapunov, map and basin studies use the piecewise-linear mesh force k f(x, D) + c x'; they are computed here with the linear contact law, and the preset's Johnson-type (Lankarani–Nikravesh) law is shown beside them as a comparison.",
+        _ => "Benchmark case C1 of docs/model.md: a single-degree-of-freedom gear model with harmonic stiffness and linear contact on both sides.",
+    }
+}
+
 /// Renders the page.
-pub fn page(
-    preset: &str,
-    cfg: &Config,
-    scenario: &geardyn_scenario::Scenario,
-    sections: &[Section],
-    quick: bool,
-    seconds: f64,
-) -> String {
+pub fn page(info: &PageInfo) -> String {
     let mut s = String::new();
     s.push_str("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n");
     s.push_str(&format!(
         "<title>geardyn report: {}</title>\n<style>{STYLE}</style></head><body>\n",
-        esc(preset)
+        esc(info.preset)
     ));
     s.push_str(&format!(
-        "<h1>geardyn report — preset <code>{}</code>{}</h1>\n",
-        esc(preset),
-        if quick { " (quick)" } else { "" }
+        "<h1>geardyn report — preset <code>{}</code>{}</h1>\n<p>{}</p>\n",
+        esc(info.preset),
+        if info.quick { " (quick)" } else { "" },
+        esc(intro(info.preset))
     ));
-    let p = scenario.params();
+    let p = info.scenario.params();
     s.push_str(&format!(
-        "<p class=\"meta\">Dimensionless model (docs/model.md): omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}; {}. \
-         Generated by geardyn {} in {:.1} s{}. The resolved configuration is <a href=\"config.toml\">config.toml</a>; \
-         all claims are in <a href=\"claims.csv\">claims.csv</a>.</p>\n",
-        p.omega,
-        p.load,
-        p.xi,
-        p.c,
-        p.d_double,
-        p.d_single,
-        if cfg.pair.is_some() { "stiffness, zones, breakage and friction from the physical [pair]" } else { "dimensionless stiffness form" },
+        "<p class=\"meta\">Preset operating point (dimensionless, docs/model.md): omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}; {}. \
+         Studies set their own parameters from this scenario and say so. Generated by geardyn {} in {:.0} s{}. \
+         The resolved configuration is <a href=\"config.toml\">config.toml</a>; every claim is in <a href=\"claims.csv\">claims.csv</a>; \
+         the data of every figure are in the CSV files linked under it. This folder: {:.1} MB (budget {:.0} MB).</p>\n",
+        f(p.omega),
+        f(p.load),
+        f(p.xi),
+        f(p.c),
+        f(p.d_double),
+        f(p.d_single),
+        if info.cfg.pair.is_some() { "stiffness, zones, backlash and friction from the physical [pair]" } else { "dimensionless stiffness form" },
         env!("CARGO_PKG_VERSION"),
-        seconds,
-        if quick { " with coarse grids (--quick)" } else { "" }
+        info.seconds,
+        if info.quick { " with coarse grids (--quick: the verdicts are indicative only)" } else { "" },
+        info.size as f64 / 1e6,
+        info.budget as f64 / 1e6,
     ));
     s.push_str("<nav><h2>Contents</h2><ol>\n<li><a href=\"#claims\">Claims of the seeds, checked by the data</a></li>\n");
-    for sec in sections {
+    for sec in info.sections {
         s.push_str(&format!(
             "<li><a href=\"#{}\">{}</a></li>\n",
             sec.id,
@@ -81,36 +114,67 @@ pub fn page(
         ));
     }
     s.push_str("</ol></nav>\n");
-    let claims: Vec<&Claim> = sections.iter().flat_map(|x| x.claims.iter()).collect();
+    let claims: Vec<&Claim> = info.sections.iter().flat_map(|x| x.claims.iter()).collect();
     s.push_str("<h2 id=\"claims\">Claims of the seeds, checked by the data</h2>\n");
     if claims.is_empty() {
         s.push_str("<p>No claim is checked in this plan.</p>\n");
     } else {
+        let n = tally(&claims);
+        s.push_str(&format!(
+            "<p><b>{} claims:</b> {}.</p>\n<p class=\"small\">One row per statement; where the seeds state a thing twice differently, each statement has its own row. \
+             <i>partly</i>: the main part holds, a detail differs; <i>seed inconsistent</i>: the statement contradicts another statement of the seeds and the data side with the other. \
+             Every verdict uses the decided classification of each run (periodic by the period test, chaotic only with a significantly positive TLE); a single value at a bifurcation point does not decide a verdict.</p>\n",
+            claims.len(),
+            Verdict::ALL
+                .iter()
+                .zip(n)
+                .map(|(v, k)| format!("{k} {}", v.word()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
         s.push_str(&claims_table(&claims));
     }
-    for sec in sections {
+    for sec in info.sections {
         s.push_str(&format!("<h2 id=\"{}\">{}</h2>\n", sec.id, esc(&sec.title)));
         s.push_str(&format!(
-            "<p class=\"meta\"><b>Parameters.</b> {}<br><b>Method.</b> {} <i>({:.1} s)</i></p>\n",
+            "<p class=\"meta\">{}<b>Parameters.</b> {}<br><b>Method.</b> {} <i>({:.1} s)</i></p>\n",
+            if sec.seed_ref.is_empty() {
+                String::new()
+            } else {
+                format!("<b>Seed.</b> {}<br>", esc(&sec.seed_ref))
+            },
             esc(&sec.parameters),
             esc(&sec.method),
             sec.seconds
         ));
-        for fig in &sec.figures {
-            s.push_str(&format!(
-                "<figure><img src=\"{}\" alt=\"{}\"><figcaption>{} (<a href=\"{}\">SVG</a>)</figcaption></figure>\n",
-                esc(&fig.png),
-                esc(&fig.caption),
-                esc(&fig.caption),
-                esc(&fig.svg)
-            ));
-        }
         if !sec.readings.is_empty() {
-            s.push_str("<p><b>Reading (generated from the data):</b></p><ul>\n");
+            s.push_str("<ul>\n");
             for r in &sec.readings {
                 s.push_str(&format!("<li>{}</li>\n", esc(r)));
             }
             s.push_str("</ul>\n");
+        }
+        for fig in &sec.figures {
+            let data = fig
+                .data
+                .iter()
+                .map(|d| {
+                    format!(
+                        "<a href=\"{}\">{}</a>",
+                        esc(d),
+                        esc(d.rsplit('/').next().unwrap_or(d))
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            s.push_str(&format!(
+                "<figure><img src=\"{}\" alt=\"{}\" loading=\"lazy\"><figcaption>{} (<a href=\"{}\">SVG</a>; data: {})</figcaption></figure>\n",
+                esc(&fig.png),
+                esc(&fig.caption),
+                esc(&fig.caption),
+                esc(&fig.svg),
+                data
+            ));
         }
         for t in &sec.tables {
             s.push_str(&format!(
@@ -122,7 +186,7 @@ pub fn page(
                 s.push_str(&format!("<th>{}</th>", esc(h)));
             }
             s.push_str("</tr>\n");
-            for row in &t.rows {
+            for row in t.rows.iter().take(MAX_ROWS) {
                 s.push_str("<tr>");
                 for c in row {
                     s.push_str(&format!("<td>{}</td>", esc(c)));
@@ -130,6 +194,12 @@ pub fn page(
                 s.push_str("</tr>\n");
             }
             s.push_str("</table>\n");
+            if t.rows.len() > MAX_ROWS {
+                s.push_str(&format!(
+                    "<p class=\"small\">First {MAX_ROWS} of {} rows; all in the CSV.</p>\n",
+                    t.rows.len()
+                ));
+            }
         }
         if !sec.claims.is_empty() {
             s.push_str("<p><b>Claims checked here:</b></p>\n");

@@ -1,23 +1,46 @@
 //! `geardyn report`: runs the study plan of a preset (seed A `breakage`, seed B `internal`, or
-//! case C1 `classic`) and writes `DIR/index.html` — a self-contained page (figures beside it as
-//! PNG and SVG, no scripts, no external fonts) — plus every table as CSV.
+//! case C1 `classic`) and writes `DIR/<preset>/index.html` — a self-contained page (figures
+//! beside it as PNG and SVG, the data of every figure as CSV next to it, no scripts, no external
+//! fonts) — plus `claims.csv`, the seeds' statements checked one by one against the data.
 //!
-//! Every section states its parameters and method and gives readings generated from the data.
-//! The seeds' qualitative claims are checked against the measurements in a claims table.
-//! Studies are cached in `DIR/<study>/section.json` (keyed by the full settings) and sweeps
-//! inside them are checkpointed, so an interrupted report resumes.
+//! Every section states its parameters (the seed's own where the seed gives them; where the seed
+//! is silent the choice is said on the page) and its method, and gives short readings generated
+//! from the data. Verdicts use the decided classification of every run
+//! ([`geardyn_analysis::classify::Motion`]) through [`classes`], which tolerates an isolated
+//! value at a bifurcation point.
+//!
+//! Studies are cached in `DIR/<preset>/<study>/section.json` (keyed by the full settings);
+//! sweeps inside a study are checkpointed while it runs (the checkpoint is removed when the
+//! study is complete), so an interrupted report resumes.
+//!
+//! The report folder has a size budget ([`SIZE_BUDGET_BYTES`], [`SIZE_BUDGET_QUICK_BYTES`]):
+//! scatter plots are merged per pixel, section points are capped per run, and numbers in CSV
+//! files carry six significant digits.
 #![warn(missing_docs)]
 
+mod claims;
+mod classes;
 mod html;
+mod plan_breakage;
+mod plan_classic;
+mod plan_internal;
 mod readings;
-mod studies;
+mod runner;
+mod shared;
+
+pub use claims::{Claim, Verdict};
 
 use anyhow::{Context, Result};
 use geardyn_io::Config;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// A figure: PNG and SVG beside the page.
+/// Largest size of one preset's full report folder (bytes): 30 MB.
+pub const SIZE_BUDGET_BYTES: u64 = 30_000_000;
+/// Largest size of one preset's quick report folder (bytes): 12 MB.
+pub const SIZE_BUDGET_QUICK_BYTES: u64 = 12_000_000;
+
+/// A figure: PNG and SVG beside the page, and the CSV files of its data.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Figure {
     /// PNG path relative to the page.
@@ -26,6 +49,8 @@ pub struct Figure {
     pub svg: String,
     /// Caption.
     pub caption: String,
+    /// CSV files with the data drawn (relative to the page).
+    pub data: Vec<String>,
 }
 
 /// A table shown on the page and written as CSV.
@@ -41,19 +66,6 @@ pub struct Table {
     pub rows: Vec<Vec<String>>,
 }
 
-/// A claim of the seeds checked against the data.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Claim {
-    /// The claim.
-    pub claim: String,
-    /// Where it comes from.
-    pub source: String,
-    /// What was measured.
-    pub evidence: String,
-    /// `reproduced`, `not reproduced` or `inconclusive`.
-    pub verdict: String,
-}
-
 /// One section of the report.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Section {
@@ -61,13 +73,15 @@ pub struct Section {
     pub id: String,
     /// Title.
     pub title: String,
+    /// Which seed figure or table this reproduces (empty: none).
+    pub seed_ref: String,
     /// Parameters, in words.
     pub parameters: String,
     /// What was computed and how.
     pub method: String,
     /// Figures.
     pub figures: Vec<Figure>,
-    /// Readings generated from the data.
+    /// Short readings generated from the data.
     pub readings: Vec<String>,
     /// Tables.
     pub tables: Vec<Table>,
@@ -82,10 +96,36 @@ pub struct Section {
 pub struct ReportOptions {
     /// Preset name.
     pub preset: String,
-    /// Coarse version of every figure (under two minutes).
+    /// Coarse version of every figure (seconds, for CI and previews).
     pub quick: bool,
     /// Output directory.
     pub out: PathBuf,
+}
+
+/// The size budget of a report folder.
+pub fn size_budget(quick: bool) -> u64 {
+    if quick {
+        SIZE_BUDGET_QUICK_BYTES
+    } else {
+        SIZE_BUDGET_BYTES
+    }
+}
+
+/// Total size of the files under `dir` (bytes).
+pub fn folder_size(dir: &Path) -> u64 {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    rd.filter_map(|e| e.ok())
+        .map(|e| {
+            let p = e.path();
+            if p.is_dir() {
+                folder_size(&p)
+            } else {
+                e.metadata().map_or(0, |m| m.len())
+            }
+        })
+        .sum()
 }
 
 /// Runs the study plan and writes the page into `OUT/<preset>/` (reports of different presets
@@ -98,57 +138,51 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
     let scenario = cfg.resolve()?;
     let t = std::time::Instant::now();
     let started = geardyn_io::run_record::now_unix_s();
-    let ctx = studies::Ctx {
+    let ctx = runner::Ctx {
         cfg: cfg.clone(),
         scenario: scenario.clone(),
         quick: opts.quick,
         dir: dir.clone(),
     };
     let sections = match opts.preset.as_str() {
-        "breakage" => studies::breakage_plan(&ctx)?,
-        "internal" => studies::internal_plan(&ctx)?,
-        "classic" => studies::classic_plan(&ctx)?,
+        "breakage" => plan_breakage::plan(&ctx)?,
+        "internal" => plan_internal::plan(&ctx)?,
+        "classic" => plan_classic::plan(&ctx)?,
         other => {
             anyhow::bail!("no study plan for preset '{other}': allowed breakage, internal, classic")
         }
     };
-    let opts = &ReportOptions {
-        out: dir.clone(),
-        ..opts.clone()
-    };
-    geardyn_io::output::write_text(&opts.out.join("config.toml"), &cfg.to_toml())?;
-    let page = html::page(
-        &opts.preset,
-        cfg,
-        &scenario,
-        &sections,
-        opts.quick,
-        t.elapsed().as_secs_f64(),
-    );
-    let index = opts.out.join("index.html");
-    geardyn_io::output::write_text(&index, &page)?;
-    // every claim in one CSV as well
+    geardyn_io::output::write_text(&dir.join("config.toml"), &cfg.to_toml())?;
     let claims: Vec<&Claim> = sections.iter().flat_map(|s| s.claims.iter()).collect();
-    geardyn_io::output::write_csv(
-        &opts.out.join("claims.csv"),
-        &["claim", "source", "evidence", "verdict"],
-        claims.iter().map(|c| {
-            vec![
-                c.claim.clone(),
-                c.source.clone(),
-                c.evidence.clone(),
-                c.verdict.clone(),
-            ]
-        }),
-    )?;
+    claims::write_csv(&dir.join("claims.csv"), &claims)?;
     geardyn_io::run_record::write_run_record(
-        &opts.out,
+        &dir,
         "report",
         cfg,
         &scenario,
         started,
         geardyn_io::run_record::now_unix_s() - started,
     )?;
+    // the page states the folder's size against the budget: measured before the page itself
+    // is written, plus an allowance for it
+    let page_of = |size: u64| {
+        html::page(&html::PageInfo {
+            preset: &opts.preset,
+            cfg,
+            scenario: &scenario,
+            sections: &sections,
+            quick: opts.quick,
+            seconds: t.elapsed().as_secs_f64(),
+            size,
+            budget: size_budget(opts.quick),
+        })
+    };
+    let index = dir.join("index.html");
+    let _ = std::fs::remove_file(&index);
+    let before = folder_size(&dir);
+    let draft = page_of(before);
+    let page = page_of(before + draft.len() as u64);
+    geardyn_io::output::write_text(&index, &page)?;
     write_root_index(root)?;
     Ok(index)
 }

@@ -1,68 +1,110 @@
-//! Readings generated from the data: label intervals, impact ranges, extremes.
+//! Numbers and short readings for people.
 
-use geardyn_analysis::bifurcation::TaskResult;
+use crate::classes::Interval;
 
-/// Runs of consecutive parameter values with the same label on one branch:
-/// `(first value, last value, label, any impact)`.
-pub fn label_intervals(results: &[TaskResult], branch: u8) -> Vec<(f64, f64, String, bool)> {
-    let mut rs: Vec<&TaskResult> = results.iter().filter(|r| r.task.branch == branch).collect();
-    rs.sort_by(|a, b| a.value.total_cmp(&b.value));
-    let mut out: Vec<(f64, f64, String, bool)> = Vec::new();
-    for r in rs {
-        let run = &r.runs[0];
-        let label = class(&run.label);
-        let impact = run.impacts > 0;
-        match out.last_mut() {
-            Some(last) if last.2 == label && last.3 == impact => last.1 = r.value,
-            _ => out.push((r.value, r.value, label, impact)),
+/// A number for people: at most four significant digits, trailing zeros dropped (`0.85`,
+/// `1.4`, `0.0794`, `1235`); very small or large values in scientific notation.
+pub fn f(v: f64) -> String {
+    if v.is_nan() {
+        return "–".into();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "∞".into() } else { "-∞".into() };
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if !(1e-4..1e6).contains(&a) {
+        let s = format!("{v:.3e}");
+        return s;
+    }
+    let decimals = (3 - a.log10().floor() as i32).clamp(0, 9) as usize;
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+/// A percentage (`49 %`).
+pub fn pct(v: f64) -> String {
+    format!("{:.0} %", 100.0 * v)
+}
+
+/// A range `a–b` (or the single value).
+pub fn range(a: f64, b: f64) -> String {
+    if a == b {
+        f(a)
+    } else {
+        format!("{}–{}", f(a), f(b))
+    }
+}
+
+/// `name = value` pairs for people: `omega = 1.4, F = 0.07`.
+pub fn sets(sets: &[(&str, f64)]) -> String {
+    sets.iter()
+        .map(|(k, v)| format!("{k} = {}", f(*v)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Rows of an interval table: `from, to, motion, back-side contact, values`.
+pub fn interval_rows(iv: &[Interval]) -> Vec<Vec<String>> {
+    iv.iter()
+        .map(|i| {
+            vec![
+                f(i.from),
+                f(i.to),
+                i.name.clone(),
+                (if i.back { "yes" } else { "no" }).into(),
+                i.count.to_string(),
+            ]
+        })
+        .collect()
+}
+
+/// Header of [`interval_rows`].
+pub fn interval_header(param: &str) -> Vec<String> {
+    vec![
+        format!("{param} from"),
+        format!("{param} to"),
+        "motion".into(),
+        "back-side contact".into(),
+        "values".into(),
+    ]
+}
+
+/// A compact sequence of interval names: `1-0-0-1-0 → 2-1-0-1-0 → chaotic → ...` (runs of
+/// fewer than `min` values are left out, repeated names merged).
+pub fn sequence(iv: &[Interval], min: usize) -> String {
+    let mut out: Vec<&str> = Vec::new();
+    for i in iv.iter().filter(|i| i.count >= min) {
+        if out.last() != Some(&i.name.as_str()) {
+            out.push(&i.name);
         }
     }
-    out
+    out.join(" → ")
 }
 
-/// Label with the crossing rates of non-periodic motions dropped: `chaotic`, `quasi-periodic`,
-/// `unsettled`, or the periodic label itself.
-pub fn class(label: &str) -> String {
-    match label.split_once(" (") {
-        Some((word, _)) => word.to_string(),
-        None => label.to_string(),
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Human-readable list of label intervals.
-pub fn describe_intervals(param: &str, iv: &[(f64, f64, String, bool)]) -> String {
-    iv.iter()
-        .map(|(a, b, l, imp)| {
-            let range = if a == b {
-                format!("{param} = {a:.4}")
-            } else {
-                format!("{param} in [{a:.4}, {b:.4}]")
-            };
-            format!(
-                "{range}: {l}{}",
-                if *imp { " with back-side impacts" } else { "" }
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
-}
-
-/// Values (of one branch) whose runs have back-side impacts.
-pub fn impact_values(results: &[TaskResult], branch: u8) -> Vec<f64> {
-    let mut v: Vec<f64> = results
-        .iter()
-        .filter(|r| r.task.branch == branch && r.runs.iter().any(|run| run.impacts > 0))
-        .map(|r| r.value)
-        .collect();
-    v.sort_by(f64::total_cmp);
-    v
-}
-
-/// Format a number compactly.
-pub fn f(v: f64) -> String {
-    if v == 0.0 || (v.abs() >= 1e-3 && v.abs() < 1e4) {
-        format!("{v:.4}")
-    } else {
-        format!("{v:.3e}")
+    #[test]
+    fn numbers_for_people() {
+        assert_eq!(f(0.85), "0.85");
+        assert_eq!(f(1.4000001933), "1.4");
+        assert_eq!(f(0.07939), "0.07939");
+        assert_eq!(f(1.0), "1");
+        assert_eq!(f(1234.567), "1235");
+        assert_eq!(f(-0.00001), "-1.000e-5");
+        assert_eq!(range(0.1, 0.1), "0.1");
     }
 }

@@ -1,0 +1,275 @@
+//! The decided classification of sweep runs, as every verdict of the report reads it.
+//!
+//! Each run carries its [`Motion`] (period test, then a significantly positive TLE, else
+//! `unsettled`); nothing here parses label text to decide a class. [`tolerant`] removes isolated
+//! values at bifurcation points: a single value whose class differs from both neighbours, which
+//! agree with each other, takes their class for verdicts (the figures and tables still show it).
+
+use geardyn_analysis::bifurcation::{Run, Section, TaskResult};
+use geardyn_analysis::classify::Motion;
+
+/// Class of a run.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Class {
+    /// Periodic with this period (excitation periods).
+    Periodic(usize),
+    /// Significantly positive TLE.
+    Chaotic,
+    /// TLE zero within its error, no period.
+    Quasi,
+    /// Not decided.
+    Unsettled,
+    /// Integration failed.
+    Failed,
+}
+
+impl Class {
+    /// The class of a run.
+    pub fn of(run: &Run) -> Class {
+        match &run.motion {
+            Motion::Periodic { period } => Class::Periodic(*period),
+            Motion::Chaotic { .. } => Class::Chaotic,
+            Motion::QuasiPeriodic { .. } => Class::Quasi,
+            Motion::Unsettled { .. } => Class::Unsettled,
+            // failed, diverged, or a class added later
+            _ => Class::Failed,
+        }
+    }
+
+    /// Periodic?
+    pub fn periodic(&self) -> bool {
+        matches!(self, Class::Periodic(_))
+    }
+
+    /// Period, if periodic.
+    pub fn period(&self) -> Option<usize> {
+        match self {
+            Class::Periodic(p) => Some(*p),
+            _ => None,
+        }
+    }
+}
+
+/// The name shown for a run: its `n-p-q-r-s` label when periodic, else the motion's word.
+pub fn name(run: &Run) -> String {
+    match &run.motion {
+        Motion::Periodic { .. } => run.label.clone(),
+        m => m.word().to_string(),
+    }
+}
+
+/// Does the run touch the back side (impact, back-side contact, or a back-side section crossing)?
+pub fn back_contact(run: &Run) -> bool {
+    run.impacts > 0
+        || (run.motion.is_periodic() && !run.healthy)
+        || run
+            .points
+            .iter()
+            .any(|p| matches!(p.0, Section::DsDown | Section::DdDown))
+}
+
+/// One run of a sweep, as the verdicts see it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pt {
+    /// Parameter value.
+    pub value: f64,
+    /// Decided class.
+    pub class: Class,
+    /// Displayed name (label or motion word).
+    pub name: String,
+    /// Back-side contact or impact.
+    pub back: bool,
+    /// Healthy (periodic, no back-side contact).
+    pub healthy: bool,
+    /// TLE, when computed.
+    pub tle: Option<f64>,
+    /// Period in mesh cycles (multi-cycle excitation).
+    pub mesh_period: Option<usize>,
+    /// Largest mesh force.
+    pub max_force: f64,
+    /// Smallest mesh force.
+    pub min_force: f64,
+}
+
+impl Pt {
+    fn of(value: f64, run: &Run) -> Pt {
+        Pt {
+            value,
+            class: Class::of(run),
+            name: name(run),
+            back: back_contact(run),
+            healthy: run.healthy && run.motion.is_periodic(),
+            tle: run.tle,
+            mesh_period: run.mesh_period,
+            max_force: run.max_force,
+            min_force: run.min_force,
+        }
+    }
+}
+
+/// The runs of one branch (all initial states), sorted by value.
+pub fn points(results: &[TaskResult], branch: u8) -> Vec<Pt> {
+    let mut v: Vec<Pt> = results
+        .iter()
+        .filter(|r| r.task.branch == branch)
+        .flat_map(|r| r.runs.iter().map(move |run| Pt::of(r.value, run)))
+        .collect();
+    v.sort_by(|a, b| a.value.total_cmp(&b.value));
+    v
+}
+
+/// The first run of each value of one branch (fixed initial state), sorted by value.
+pub fn first_points(results: &[TaskResult], branch: u8) -> Vec<Pt> {
+    let mut v: Vec<Pt> = results
+        .iter()
+        .filter(|r| r.task.branch == branch && !r.runs.is_empty())
+        .map(|r| Pt::of(r.value, &r.runs[0]))
+        .collect();
+    v.sort_by(|a, b| a.value.total_cmp(&b.value));
+    v
+}
+
+/// The runs of a fixed-initial-state sweep, sorted by value.
+pub fn fixed_points(results: &[TaskResult]) -> Vec<Pt> {
+    first_points(results, 0)
+}
+
+/// The same points with isolated classes replaced by their neighbours' (see the module doc).
+/// The name of a replaced point becomes the left neighbour's.
+pub fn tolerant(pts: &[Pt]) -> Vec<Pt> {
+    let mut out = pts.to_vec();
+    for i in 1..pts.len().saturating_sub(1) {
+        let (a, b, c) = (&pts[i - 1], &pts[i], &pts[i + 1]);
+        if a.class == c.class && b.class != a.class {
+            out[i].class = a.class.clone();
+            out[i].name = a.name.clone();
+            out[i].back = a.back && c.back;
+        }
+    }
+    out
+}
+
+/// A run of consecutive values with the same displayed name and back-side flag.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interval {
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Name.
+    pub name: String,
+    /// Class.
+    pub class: Class,
+    /// Back-side contact at any of its values.
+    pub back: bool,
+    /// Number of values.
+    pub count: usize,
+}
+
+/// Intervals of equal name along sorted points (one point per value).
+pub fn intervals(pts: &[Pt]) -> Vec<Interval> {
+    let mut out: Vec<Interval> = Vec::new();
+    for p in pts {
+        match out.last_mut() {
+            Some(l) if l.name == p.name => {
+                l.to = p.value;
+                l.back |= p.back;
+                l.count += 1;
+            }
+            _ => out.push(Interval {
+                from: p.value,
+                to: p.value,
+                name: p.name.clone(),
+                class: p.class.clone(),
+                back: p.back,
+                count: 1,
+            }),
+        }
+    }
+    out
+}
+
+/// Maximal ranges `(first, last, count)` of consecutive values whose class satisfies `pred`.
+pub fn ranges(pts: &[Pt], pred: impl Fn(&Pt) -> bool) -> Vec<(f64, f64, usize)> {
+    let mut out: Vec<(f64, f64, usize)> = Vec::new();
+    let mut open = false;
+    for p in pts {
+        if pred(p) {
+            if open {
+                if let Some(l) = out.last_mut() {
+                    l.1 = p.value;
+                    l.2 += 1;
+                }
+            } else {
+                out.push((p.value, p.value, 1));
+                open = true;
+            }
+        } else {
+            open = false;
+        }
+    }
+    out
+}
+
+/// Points with values in `[lo, hi]`.
+pub fn within(pts: &[Pt], lo: f64, hi: f64) -> Vec<&Pt> {
+    pts.iter()
+        .filter(|p| p.value >= lo - 1e-12 && p.value <= hi + 1e-12)
+        .collect()
+}
+
+/// Share of `pts` satisfying `pred` (0 when empty).
+pub fn share(pts: &[&Pt], pred: impl Fn(&Pt) -> bool) -> f64 {
+    if pts.is_empty() {
+        0.0
+    } else {
+        pts.iter().filter(|p| pred(p)).count() as f64 / pts.len() as f64
+    }
+}
+
+/// Distinct names among points, in order of first appearance.
+pub fn names(pts: &[&Pt]) -> Vec<String> {
+    let mut v: Vec<String> = Vec::new();
+    for p in pts {
+        if !v.contains(&p.name) {
+            v.push(p.name.clone());
+        }
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pt(v: f64, c: Class) -> Pt {
+        Pt {
+            value: v,
+            name: format!("{c:?}"),
+            class: c,
+            back: false,
+            healthy: false,
+            tle: None,
+            mesh_period: None,
+            max_force: 0.0,
+            min_force: 0.0,
+        }
+    }
+
+    #[test]
+    fn an_isolated_value_at_a_bifurcation_takes_its_neighbours_class() {
+        let p = vec![
+            pt(0.0, Class::Periodic(1)),
+            pt(0.1, Class::Chaotic),
+            pt(0.2, Class::Periodic(1)),
+            pt(0.3, Class::Chaotic),
+            pt(0.4, Class::Chaotic),
+        ];
+        let t = tolerant(&p);
+        assert_eq!(t[1].class, Class::Periodic(1));
+        assert_eq!(t[3].class, Class::Chaotic);
+        let ch = ranges(&t, |p| p.class == Class::Chaotic);
+        assert_eq!(ch, vec![(0.3, 0.4, 2)]);
+        assert_eq!(intervals(&t).len(), 2);
+    }
+}

@@ -1,0 +1,281 @@
+//! The machinery every study plan shares: the context (the scenario every study starts from),
+//! cached sections, checkpointed sweeps, continuations, basins and maps with progress bars.
+
+use crate::{rel, Figure, Section, Table};
+use anyhow::{Context, Result};
+use geardyn_analysis::basins::{basins, BasinOptions, BasinResult};
+use geardyn_analysis::bifurcation::{run_sweep, SweepOptions, TaskResult};
+use geardyn_analysis::continuation::{
+    continuation, ContinuationOptions, ContinuationResult, ValueAttractors,
+};
+use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
+use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_io::checkpoint::Checkpoint;
+use geardyn_io::Config;
+use geardyn_model::MeshModel;
+use geardyn_scenario::Scenario;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Shared context of a report run.
+pub struct Ctx {
+    /// Configuration of the preset.
+    pub cfg: Config,
+    /// The scenario it resolves to (every study starts from it).
+    pub scenario: Scenario,
+    /// Coarse mode.
+    pub quick: bool,
+    /// Report directory.
+    pub dir: PathBuf,
+}
+
+fn bar(len: u64, msg: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed} ETA {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(msg.to_string());
+    pb
+}
+
+impl Ctx {
+    /// `quick` or `full`, by mode.
+    pub fn n<T>(&self, quick: T, full: T) -> T {
+        if self.quick {
+            quick
+        } else {
+            full
+        }
+    }
+
+    /// Dormand–Prince settings with `(quick, full)` transient and recorded periods.
+    pub fn sim(&self, transient: (u64, u64), record: (u64, u64)) -> SimOptions {
+        SimOptions {
+            method: Method::default(),
+            transient_periods: self.n(transient.0, transient.1),
+            record_periods: self.n(record.0, record.1),
+            ..Default::default()
+        }
+    }
+
+    /// The preset's scenario (every study derives from it with `with`/`with_all`).
+    pub fn base(&self) -> Result<Scenario> {
+        Ok(self.scenario.clone())
+    }
+
+    /// A cached study: reuse `DIR/id/section.json` when its key matches. When the study is
+    /// complete its checkpoints are removed (the cached section and its files replace them).
+    pub fn study<K: Serialize>(
+        &self,
+        id: &str,
+        key: &K,
+        body: impl FnOnce(&Path) -> Result<Section>,
+    ) -> Result<Section> {
+        let dir = self.dir.join(id);
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        let key = serde_json::to_string(
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 2 }),
+        )?;
+        let cache = dir.join("section.json");
+        if let Ok(text) = std::fs::read_to_string(&cache) {
+            if let Some((k, body_json)) = text.split_once('\n') {
+                if k == key {
+                    if let Ok(sec) = serde_json::from_str::<Section>(body_json) {
+                        eprintln!("{id}: cached");
+                        return Ok(sec);
+                    }
+                }
+            }
+        }
+        let t = std::time::Instant::now();
+        let mut sec = body(&dir)?;
+        sec.seconds = t.elapsed().as_secs_f64();
+        geardyn_io::output::write_text(
+            &cache,
+            &format!("{key}\n{}", serde_json::to_string(&sec)?),
+        )?;
+        if let Ok(rd) = std::fs::read_dir(&dir) {
+            for e in rd.filter_map(|e| e.ok()) {
+                if e.file_name()
+                    .to_string_lossy()
+                    .ends_with(".checkpoint.jsonl")
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        eprintln!("{id}: {:.1} s", sec.seconds);
+        Ok(sec)
+    }
+
+    /// Runs `run` with a checkpoint `dir/name.checkpoint.jsonl` (keyed by `key`) and a progress
+    /// bar: `run` receives the records finished earlier (by `key_of`) and a callback that saves
+    /// each new record. The first write error is returned after the run.
+    fn checkpointed<T, K, R>(
+        &self,
+        dir: &Path,
+        name: &str,
+        key: &serde_json::Value,
+        total: u64,
+        key_of: impl Fn(&T) -> K,
+        run: impl FnOnce(&HashMap<K, T>, &(dyn Fn(&T) + Sync)) -> Result<R>,
+    ) -> Result<R>
+    where
+        T: Serialize + serde::de::DeserializeOwned,
+        K: Eq + std::hash::Hash,
+    {
+        let key = serde_json::to_string(key)?;
+        let file = name.replace([' ', '/', '.'], "_");
+        let (cp, done) =
+            Checkpoint::open::<T>(&dir.join(format!("{file}.checkpoint.jsonl")), &key)?;
+        let done: HashMap<K, T> = done.into_iter().map(|t| (key_of(&t), t)).collect();
+        let pb = bar(total, name);
+        pb.set_position(done.len() as u64);
+        let err = std::sync::Mutex::new(None);
+        let record = |t: &T| {
+            if let Err(e) = cp.append(t) {
+                err.lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .get_or_insert(e);
+            }
+            pb.inc(1);
+        };
+        let r = run(&done, &record)?;
+        pb.finish_and_clear();
+        if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            return Err(e.into());
+        }
+        Ok(r)
+    }
+
+    /// A checkpointed sweep.
+    pub fn sweep(
+        &self,
+        dir: &Path,
+        name: &str,
+        base: &Scenario,
+        opts: &SweepOptions,
+    ) -> Result<Vec<TaskResult>> {
+        let total = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            total,
+            |r: &TaskResult| r.task,
+            |done, record| Ok(run_sweep(base, opts, done, record)?),
+        )
+    }
+
+    /// A checkpointed attractor continuation.
+    pub fn continuation(
+        &self,
+        dir: &Path,
+        name: &str,
+        base: &Scenario,
+        opts: &ContinuationOptions,
+    ) -> Result<ContinuationResult> {
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            opts.values.len() as u64,
+            |v: &ValueAttractors| v.index,
+            |done, record| Ok(continuation(base, opts, done, record)?),
+        )
+    }
+
+    /// Checkpointed basins of attraction.
+    pub fn basins(
+        &self,
+        dir: &Path,
+        name: &str,
+        model: &MeshModel,
+        opts: &BasinOptions,
+    ) -> Result<BasinResult> {
+        let key = serde_json::json!({ "params": model.params(), "opts": opts });
+        let total = (opts.x.n * opts.v.n) as u64;
+        type Cell = (usize, geardyn_analysis::attractor::Outcome);
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            total,
+            |c: &Cell| c.0,
+            |done, record| {
+                let done: HashMap<usize, _> = done.iter().map(|(k, v)| (*k, v.1.clone())).collect();
+                Ok(basins(model, opts, &done, |c, o| record(&(c, o.clone()))))
+            },
+        )
+    }
+
+    /// A checkpointed two-parameter map.
+    pub fn map(
+        &self,
+        dir: &Path,
+        name: &str,
+        base: &Scenario,
+        opts: &MapOptions,
+    ) -> Result<Vec<MapCell>> {
+        let key =
+            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
+        let total = (opts.x_values.len() * opts.y_values.len()) as u64;
+        self.checkpointed(
+            dir,
+            name,
+            &key,
+            total,
+            |c: &MapCell| c.index,
+            |done, record| Ok(map2d(base, opts, done, record)?),
+        )
+    }
+
+    /// A figure entry for `stem.png`/`stem.svg` with its data files.
+    pub fn fig(&self, stem: &Path, caption: &str, data: &[PathBuf]) -> Figure {
+        Figure {
+            png: rel(&self.dir, &stem.with_extension("png")),
+            svg: rel(&self.dir, &stem.with_extension("svg")),
+            caption: caption.to_string(),
+            data: data.iter().map(|p| rel(&self.dir, p)).collect(),
+        }
+    }
+
+    /// A table shown on the page, written to `path` as CSV.
+    pub fn table(
+        &self,
+        path: &Path,
+        title: &str,
+        header: &[String],
+        rows: Vec<Vec<String>>,
+    ) -> Result<Table> {
+        let h: Vec<&str> = header.iter().map(|s| s.as_str()).collect();
+        geardyn_io::output::write_csv(path, &h, rows.iter().cloned())?;
+        Ok(Table {
+            title: title.to_string(),
+            csv: rel(&self.dir, path),
+            header: header.to_vec(),
+            rows,
+        })
+    }
+}
+
+/// The scenario with the linear contact law (seed B's dimensionless studies).
+pub fn with_linear_law(s: &Scenario) -> Result<Scenario> {
+    let mut spec = s.spec().clone();
+    spec.model.contact = geardyn_model::ContactLaw::Linear;
+    Ok(spec.resolve()?)
+}
+
+/// Header strings.
+pub fn hdr(h: &[&str]) -> Vec<String> {
+    h.iter().map(|s| s.to_string()).collect()
+}

@@ -1,0 +1,881 @@
+//! Figures with their data, shared by the plans: sweep diagrams (one panel per section, points
+//! coloured by attractor label, TLE / force / P_ID panels), basins, continuations, maps and
+//! line plots. Every figure writes the CSV of what it draws next to it.
+
+use crate::classes;
+use crate::readings::f;
+use crate::runner::{hdr, Ctx};
+use crate::{Figure, Table};
+use anyhow::Result;
+use geardyn_analysis::attractor::IdentifyOptions;
+use geardyn_analysis::basins::{Axis, BasinOptions, BasinResult};
+use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
+use geardyn_analysis::continuation::ContinuationResult;
+use geardyn_analysis::map2d::MapCell;
+use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_io::figure::{
+    categorical, palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel,
+    RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
+};
+use geardyn_io::output::write_csv;
+use geardyn_io::plot::PlotColor;
+use geardyn_model::MeshModel;
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+/// Most section points per run and section kept in figures and CSV files.
+pub const POINTS_PER_RUN: usize = 150;
+
+/// A number for CSV files: six significant digits.
+pub fn g(v: f64) -> String {
+    if !v.is_finite() {
+        return if v.is_nan() {
+            String::new()
+        } else {
+            format!("{v}")
+        };
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if !(1e-5..1e9).contains(&a) {
+        return format!("{v:.5e}");
+    }
+    let d = (5 - a.log10().floor() as i32).clamp(0, 12) as usize;
+    let s = format!("{v:.d$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A file stem without dots (`basins_omega_1.801` → `basins_omega_1_801`): `with_extension`
+/// would cut a stem at its last dot.
+pub fn safe(name: &str) -> String {
+    name.replace('.', "_")
+}
+
+/// Fixed colours of the non-periodic classes.
+pub fn fixed_color(name: &str) -> Option<PlotColor> {
+    match name {
+        "chaotic" => Some(CHAOTIC),
+        "quasi-periodic" => Some(QUASI),
+        "unsettled" => Some(UNSETTLED),
+        "failed" => Some(OTHER),
+        _ => None,
+    }
+}
+
+/// Y-axis name of a section panel.
+pub fn section_axis(s: Sec) -> &'static str {
+    match s {
+        Sec::Strobe => "x (stroboscopic)",
+        Sec::DsUp => "x' at x = D_s (up)",
+        Sec::DsDown => "x' at x = -D_s (down)",
+        Sec::DdUp => "x' at x = D_d (up)",
+        Sec::DdDown => "x' at x = -D_d (down)",
+        Sec::Impact => "x' before impact",
+    }
+}
+
+/// What a sweep figure shows besides the sections.
+#[derive(Clone, Debug, Default)]
+pub struct SweepPanels {
+    /// TLE panel (when computed).
+    pub tle: bool,
+    /// Maximum mesh force panel.
+    pub max_force: bool,
+    /// P_ID panel.
+    pub p_id: bool,
+    /// Impact-force record (largest impact force of every recorded excitation period).
+    pub impact_force: bool,
+}
+
+/// How a label is described in legends: health and, for multi-cycle excitation, the period
+/// in mesh cycles.
+fn legend_text(name: &str, healthy: bool, mesh_period: Option<usize>, periodic: bool) -> String {
+    if !periodic {
+        return name.to_string();
+    }
+    let mut s = name.to_string();
+    if let Some(m) = mesh_period {
+        s.push_str(&format!(" ({m} mesh cycles)"));
+    }
+    s.push_str(if healthy { ", healthy" } else { ", back side" });
+    s
+}
+
+/// The sweep diagram `dir/name.png|svg` with `name_points.csv` and `name_runs.csv` (and
+/// `name_impact_force.csv`).
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    param: &str,
+    results: &[TaskResult],
+    sections: &[Sec],
+    panels: &SweepPanels,
+    title: &str,
+    caption: &str,
+) -> Result<Figure> {
+    let name = &safe(name);
+    // groups by displayed name, over every run
+    let mut groups: BTreeMap<String, BTreeMap<Sec, Vec<(f64, f64)>>> = BTreeMap::new();
+    let mut counts: HashMap<String, usize> = HashMap::new();
+    let mut info: HashMap<String, (bool, Option<usize>, bool)> = HashMap::new();
+    let mut extra: BTreeMap<&str, BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    let mut point_rows: Vec<Vec<String>> = Vec::new();
+    let mut run_rows: Vec<Vec<String>> = Vec::new();
+    let mut impact_rows: Vec<Vec<String>> = Vec::new();
+    for r in results {
+        for run in &r.runs {
+            let nm = classes::name(run);
+            *counts.entry(nm.clone()).or_default() += 1;
+            info.entry(nm.clone()).or_insert((
+                run.healthy,
+                run.mesh_period,
+                run.motion.is_periodic(),
+            ));
+            let g_ = groups.entry(nm.clone()).or_default();
+            for &sec in sections {
+                let pts: Vec<&(Sec, f64, f64)> = run.points.iter().filter(|p| p.0 == sec).collect();
+                let keep = pts.len().min(POINTS_PER_RUN);
+                for &&(s, x, v) in pts.iter().skip(pts.len() - keep) {
+                    let y = if s == Sec::Strobe { x } else { v };
+                    g_.entry(sec).or_default().push((r.value, y));
+                    point_rows.push(vec![
+                        g(r.value),
+                        r.task.branch_name().into(),
+                        run.ic.to_string(),
+                        s.name().into(),
+                        g(x),
+                        g(v),
+                        nm.clone(),
+                    ]);
+                }
+            }
+            let mut put = |k: &'static str, y: f64| {
+                if y.is_finite() {
+                    extra
+                        .entry(k)
+                        .or_default()
+                        .entry(nm.clone())
+                        .or_default()
+                        .push((r.value, y));
+                }
+            };
+            if let Some(t) = run.tle {
+                put("tle", t);
+            }
+            put("max_force", run.max_force);
+            put("p_id", run.p_id);
+            if panels.impact_force {
+                for (j, &fi) in run.impact_force_per_period.iter().enumerate() {
+                    if fi > 0.0 {
+                        extra
+                            .entry("impact")
+                            .or_default()
+                            .entry(nm.clone())
+                            .or_default()
+                            .push((r.value, fi));
+                    }
+                    impact_rows.push(vec![
+                        g(r.value),
+                        r.task.branch_name().into(),
+                        run.ic.to_string(),
+                        j.to_string(),
+                        g(fi),
+                    ]);
+                }
+            }
+            run_rows.push(vec![
+                g(r.value),
+                r.task.branch_name().into(),
+                run.ic.to_string(),
+                g(run.y0[0]),
+                g(run.y0[1]),
+                run.motion.word().into(),
+                nm.clone(),
+                run.period.to_string(),
+                run.mesh_period.map_or(String::new(), |m| m.to_string()),
+                run.healthy.to_string(),
+                classes::back_contact(run).to_string(),
+                run.impacts.to_string(),
+                g(run.p_id),
+                g(run.max_force),
+                g(run.min_force),
+                g(run
+                    .impact_force_per_period
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max)),
+                run.tle.map_or(String::new(), g),
+                run.transient_used.to_string(),
+            ]);
+        }
+    }
+    // colour order: periodic labels by frequency, then the fixed classes
+    let mut order: Vec<String> = counts.keys().cloned().collect();
+    order.sort_by(|a, b| counts[b].cmp(&counts[a]).then(a.cmp(b)));
+    let flat: BTreeMap<String, Vec<(f64, f64)>> =
+        order.iter().map(|n| (n.clone(), vec![])).collect();
+    let colored = categorical(flat, &order, &fixed_color);
+    let color_of: HashMap<String, PlotColor> = {
+        let mut m: HashMap<String, PlotColor> =
+            colored.iter().map(|(n, c, _)| (n.clone(), *c)).collect();
+        for n in &order {
+            m.entry(n.clone()).or_insert(OTHER);
+        }
+        m
+    };
+    let legend: Vec<LegendEntry> = colored
+        .iter()
+        .map(|(n, c, _)| {
+            let (h, mp, per) = info.get(n).copied().unwrap_or((false, None, false));
+            LegendEntry::dot(legend_text(n, h, mp, per), *c)
+        })
+        .collect();
+    let layers_of = |by_name: &dyn Fn(&str) -> Option<Vec<(f64, f64)>>, r: u32| -> Vec<Layer> {
+        // draw the most frequent last so that it stays visible; sparse panels get larger dots
+        let total: usize = order
+            .iter()
+            .filter_map(|n| by_name(n))
+            .map(|p| p.len())
+            .sum();
+        let r = if total < 20_000 { r.max(2) } else { r };
+        order
+            .iter()
+            .rev()
+            .filter_map(|n| {
+                by_name(n).map(|pts| Layer {
+                    points: pts,
+                    style: Style::Dots(r),
+                    color: color_of[n],
+                })
+            })
+            .collect()
+    };
+    let mut fig_panels: Vec<Panel> = Vec::new();
+    for &sec in sections {
+        fig_panels.push(Panel {
+            y_label: section_axis(sec).into(),
+            layers: layers_of(&|n| groups.get(n).and_then(|m| m.get(&sec)).cloned(), 1),
+            ..Default::default()
+        });
+    }
+    let mut extra_panel = |k: &str, label: &str, zero: bool| {
+        if let Some(m) = extra.get(k) {
+            fig_panels.push(Panel {
+                y_label: label.into(),
+                layers: layers_of(&|n| m.get(n).cloned(), 2),
+                hlines: if zero { vec![0.0] } else { vec![] },
+                weight: 0.7,
+                ..Default::default()
+            });
+        }
+    };
+    if panels.impact_force {
+        extra_panel("impact", "impact force per period", false);
+    }
+    if panels.max_force {
+        extra_panel("max_force", "max mesh force", false);
+    }
+    if panels.p_id {
+        extra_panel("p_id", "P_ID", false);
+    }
+    if panels.tle {
+        extra_panel("tle", "TLE", true);
+    }
+    let lo = results
+        .iter()
+        .map(|r| r.value)
+        .fold(f64::INFINITY, f64::min);
+    let hi = results
+        .iter()
+        .map(|r| r.value)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let pad = 0.015 * (hi - lo).abs().max(1e-9);
+    let stem = dir.join(name);
+    write_figure(
+        &stem,
+        &Fig {
+            title: title.into(),
+            x_label: param.into(),
+            x_range: Some((lo - pad, hi + pad)),
+            panels: fig_panels,
+            legend,
+            legend_title: "motion".into(),
+            ..Default::default()
+        },
+    )?;
+    let pts_csv = dir.join(format!("{name}_points.csv"));
+    write_csv(
+        &pts_csv,
+        &[param, "branch", "ic", "section", "x", "v", "motion"],
+        point_rows,
+    )?;
+    let runs_csv = dir.join(format!("{name}_runs.csv"));
+    write_csv(
+        &runs_csv,
+        &[
+            param,
+            "branch",
+            "ic",
+            "x0",
+            "v0",
+            "class",
+            "motion",
+            "period",
+            "mesh_period",
+            "healthy",
+            "back_contact",
+            "impacts",
+            "p_id",
+            "max_force",
+            "min_force",
+            "max_impact_force",
+            "tle",
+            "transient_used",
+        ],
+        run_rows,
+    )?;
+    let mut data = vec![pts_csv, runs_csv];
+    if panels.impact_force {
+        let p = dir.join(format!("{name}_impact_force.csv"));
+        write_csv(
+            &p,
+            &[param, "branch", "ic", "period", "impact_force"],
+            impact_rows,
+        )?;
+        data.push(p);
+    }
+    Ok(ctx.fig(&stem, caption, &data))
+}
+
+/// Identification settings of basins and continuations: at most `transient` excitation periods
+/// before recording `record`.
+pub fn identify_options(transient: u64, record: u64) -> IdentifyOptions {
+    IdentifyOptions {
+        sim: SimOptions {
+            method: Method::Dopri {
+                rtol: 1e-7,
+                atol: 1e-10,
+            },
+            transient_periods: transient,
+            record_periods: record,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Attractor colours of a basin or continuation: by order, distinct.
+fn attractor_colors(n: usize) -> Vec<PlotColor> {
+    (0..n).map(palette).collect()
+}
+
+/// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv`; the box is
+/// `x0 in x`, `x0' in v`. Returns the figure, a table of the attractors and the result.
+#[allow(clippy::too_many_arguments)]
+pub fn basin_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    model: &MeshModel,
+    n: usize,
+    x: (f64, f64),
+    v: (f64, f64),
+    title: &str,
+    identify: IdentifyOptions,
+) -> Result<(Figure, Table, BasinResult)> {
+    let name = &safe(name);
+    let opts = BasinOptions {
+        x: Axis {
+            min: x.0,
+            max: x.1,
+            n,
+        },
+        v: Axis {
+            min: v.0,
+            max: v.1,
+            n,
+        },
+        identify,
+    };
+    let r = ctx.basins(dir, name, model, &opts)?;
+    let cols = attractor_colors(r.attractors.len());
+    let black = PlotColor(0, 0, 0);
+    let colors: Vec<PlotColor> = r
+        .cells
+        .iter()
+        .map(|&c| match c {
+            -1 => black,
+            i if i >= 0 => cols.get(i as usize).copied().unwrap_or(OTHER),
+            _ => OTHER,
+        })
+        .collect();
+    let mut legend: Vec<LegendEntry> = r
+        .attractors
+        .iter()
+        .zip(&cols)
+        .map(|(a, c)| {
+            LegendEntry::dot(
+                format!(
+                    "#{} {} {} — {:.1} %",
+                    a.id,
+                    a.descriptor.label,
+                    if a.descriptor.healthy {
+                        "healthy"
+                    } else {
+                        "back side"
+                    },
+                    100.0 * a.fraction
+                ),
+                *c,
+            )
+        })
+        .collect();
+    if r.diverged > 0.0 {
+        legend.push(LegendEntry::dot(
+            format!("divergent — {:.1} %", 100.0 * r.diverged),
+            black,
+        ));
+    }
+    if r.failed > 0.0 {
+        legend.push(LegendEntry::dot(
+            format!("unresolved — {:.1} %", 100.0 * r.failed),
+            OTHER,
+        ));
+    }
+    let marks: Vec<(f64, f64)> = r
+        .attractors
+        .iter()
+        .flat_map(|a| a.descriptor.points.iter().take(24).map(|p| (p[0], p[1])))
+        .filter(|p| p.0 >= x.0 && p.0 <= x.1 && p.1 >= v.0 && p.1 <= v.1)
+        .collect();
+    let (dx, dv) = (
+        (x.1 - x.0) / (n - 1).max(1) as f64,
+        (v.1 - v.0) / (n - 1).max(1) as f64,
+    );
+    let stem = dir.join(name);
+    write_raster(
+        &stem,
+        &RasterFigure {
+            title: title.into(),
+            x_label: "x0".into(),
+            y_label: "x0'".into(),
+            x: (x.0 - dx / 2.0, x.1 + dx / 2.0, n),
+            y: (v.0 - dv / 2.0, v.1 + dv / 2.0, n),
+            colors,
+            legend,
+            legend_title: "attractor (basin share)".into(),
+            colorbar: None,
+            marks,
+        },
+    )?;
+    let cells_csv = dir.join(format!("{name}_cells.csv"));
+    write_csv(
+        &cells_csv,
+        &["x0", "v0", "attractor"],
+        r.cells
+            .iter()
+            .enumerate()
+            .map(|(i, c)| vec![g(r.x.value(i % n)), g(r.v.value(i / n)), c.to_string()]),
+    )?;
+    let rows: Vec<Vec<String>> = r
+        .attractors
+        .iter()
+        .map(|a| {
+            vec![
+                a.id.to_string(),
+                a.descriptor.label.clone(),
+                (if a.descriptor.healthy {
+                    "healthy"
+                } else {
+                    "non-healthy"
+                })
+                .into(),
+                format!("{:.1} %", 100.0 * a.fraction),
+                f(a.descriptor.p_id),
+                f(a.descriptor.max_force),
+                a.descriptor
+                    .points
+                    .first()
+                    .map_or(String::new(), |p| format!("({}, {})", f(p[0]), f(p[1]))),
+            ]
+        })
+        .collect();
+    let att_csv = dir.join(format!("{name}_attractors.csv"));
+    let table = ctx.table(
+        &att_csv,
+        &format!("{title}: attractors"),
+        &hdr(&[
+            "id",
+            "label",
+            "health",
+            "basin share",
+            "P_ID",
+            "max mesh force",
+            "a stroboscopic point (x, x')",
+        ]),
+        rows,
+    )?;
+    let caption = format!(
+        "{title}. Initial states x0 in [{}, {}], x0' in [{}, {}] ({n} x {n}) at phase 0; colours by attractor, \
+         crosses at the attractors' stroboscopic points; {:.0} % of the cells lie on a basin boundary.",
+        f(x.0),
+        f(x.1),
+        f(v.0),
+        f(v.1),
+        100.0 * r.boundary_fraction
+    );
+    Ok((ctx.fig(&stem, &caption, &[cells_csv, att_csv]), table, r))
+}
+
+/// Continuation figure `dir/name.png|svg` (basin shares, branch tree) with `name_branches.csv`,
+/// and the interval table (`name_intervals.csv`).
+pub fn continuation_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    param: &str,
+    c: &ContinuationResult,
+    title: &str,
+) -> Result<(Figure, Table)> {
+    let name = &safe(name);
+    let mut values: Vec<f64> = c.points.iter().map(|p| p.value).collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    let stem = dir.join(name);
+    geardyn_io::sweep_output::plot_continuation(&stem, title, param, &values, c)?;
+    let br_csv = dir.join(format!("{name}_branches.csv"));
+    write_csv(
+        &br_csv,
+        &[
+            param,
+            "branch",
+            "label",
+            "period",
+            "healthy",
+            "basin_share",
+            "max_force",
+            "x",
+            "v",
+        ],
+        c.points.iter().map(|p| {
+            vec![
+                g(p.value),
+                p.branch.to_string(),
+                p.label.clone(),
+                p.period.to_string(),
+                p.healthy.to_string(),
+                g(p.fraction),
+                g(p.max_force),
+                g(p.x),
+                g(p.v),
+            ]
+        }),
+    )?;
+    let fmt = |l: &Vec<(usize, String, f64, f64)>| {
+        l.iter()
+            .map(|e| {
+                if (e.2 - e.3).abs() < 0.005 {
+                    format!("{} ({:.0} %)", e.1, 100.0 * e.2)
+                } else {
+                    format!("{} ({:.0}–{:.0} %)", e.1, 100.0 * e.2, 100.0 * e.3)
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let table = ctx.table(
+        &dir.join(format!("{name}_intervals.csv")),
+        &format!("Attractors over {param} (intervals of the continuation; basin shares of the sampled initial states)"),
+        &[
+            format!("{param} from"),
+            format!("{param} to"),
+            "healthy attractors".into(),
+            "non-healthy attractors".into(),
+        ],
+        c.intervals
+            .iter()
+            .map(|iv| vec![f(iv.from), f(iv.to), fmt(&iv.healthy), fmt(&iv.unstable)])
+            .collect(),
+    )?;
+    Ok((
+        ctx.fig(
+            &stem,
+            &format!("{title}: basin shares of healthy and non-healthy attractors (top) and a stroboscopic point of every attractor found, coloured by label (bottom)."),
+            &[br_csv],
+        ),
+        table,
+    ))
+}
+
+/// A two-parameter map `dir/name.png|svg` of one metric (colour bar), with `name.csv`.
+#[allow(clippy::too_many_arguments)]
+pub fn map_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    cells: &[MapCell],
+    xs: &[f64],
+    ys: &[f64],
+    axes: (&str, &str),
+    metric: &str,
+    title: &str,
+    caption: &str,
+) -> Result<Figure> {
+    let name = &safe(name);
+    let vals: Vec<f64> = cells
+        .iter()
+        .map(|c| c.metric(metric).unwrap_or(f64::NAN))
+        .collect();
+    let lo = vals
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let hi = vals
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let colors: Vec<PlotColor> = vals
+        .iter()
+        .map(|v| {
+            if v.is_finite() {
+                geardyn_io::plot::colormap((v - lo) / (hi - lo).max(1e-12))
+            } else {
+                OTHER
+            }
+        })
+        .collect();
+    let step = |v: &[f64]| {
+        if v.len() > 1 {
+            (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
+        } else {
+            1.0
+        }
+    };
+    let (dx, dy) = (step(xs), step(ys));
+    let stem = dir.join(name);
+    write_raster(
+        &stem,
+        &RasterFigure {
+            title: title.into(),
+            x_label: axes.0.into(),
+            y_label: axes.1.into(),
+            x: (xs[0] - dx / 2.0, xs[xs.len() - 1] + dx / 2.0, xs.len()),
+            y: (ys[0] - dy / 2.0, ys[ys.len() - 1] + dy / 2.0, ys.len()),
+            colors,
+            legend: vec![],
+            legend_title: String::new(),
+            colorbar: Some((lo, hi, metric.replace('_', " "))),
+            marks: vec![],
+        },
+    )?;
+    let csv = dir.join(format!("{name}.csv"));
+    write_map_csv(&csv, axes, cells)?;
+    Ok(ctx.fig(&stem, caption, &[csv]))
+}
+
+/// A map of the decided classes `dir/name.png|svg` (legend) with `name.csv`.
+pub fn class_map_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    cells: &[MapCell],
+    xs: &[f64],
+    ys: &[f64],
+    axes: (&str, &str),
+    title: &str,
+) -> Result<Figure> {
+    let name = &safe(name);
+    let classes_ = [
+        ("healthy periodic", palette(0)),
+        ("periodic with back-side contact", palette(1)),
+        ("chaotic", CHAOTIC),
+        ("failed", PlotColor(190, 0, 50)),
+        ("quasi-periodic", QUASI),
+        ("unsettled", UNSETTLED),
+    ];
+    let mut count = [0usize; 6];
+    let colors: Vec<PlotColor> = cells
+        .iter()
+        .map(|c| {
+            let k = c.metric("class").unwrap_or(3.0) as usize;
+            let k = k.min(5);
+            count[k] += 1;
+            classes_[k].1
+        })
+        .collect();
+    let legend = classes_
+        .iter()
+        .zip(count)
+        .filter(|(_, n)| *n > 0)
+        .map(|((t, c), n)| {
+            LegendEntry::dot(
+                format!("{t} — {:.0} %", 100.0 * n as f64 / cells.len() as f64),
+                *c,
+            )
+        })
+        .collect();
+    let step = |v: &[f64]| {
+        if v.len() > 1 {
+            (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
+        } else {
+            1.0
+        }
+    };
+    let (dx, dy) = (step(xs), step(ys));
+    let stem = dir.join(name);
+    write_raster(
+        &stem,
+        &RasterFigure {
+            title: title.into(),
+            x_label: axes.0.into(),
+            y_label: axes.1.into(),
+            x: (xs[0] - dx / 2.0, xs[xs.len() - 1] + dx / 2.0, xs.len()),
+            y: (ys[0] - dy / 2.0, ys[ys.len() - 1] + dy / 2.0, ys.len()),
+            colors,
+            legend,
+            legend_title: "decided class".into(),
+            colorbar: None,
+            marks: vec![],
+        },
+    )?;
+    let csv = dir.join(format!("{name}.csv"));
+    write_map_csv(&csv, axes, cells)?;
+    Ok(ctx.fig(
+        &stem,
+        &format!("{title}: the decided class of every cell (periodic by the period test, chaotic only with a significantly positive TLE)."),
+        &[csv],
+    ))
+}
+
+fn write_map_csv(path: &Path, axes: (&str, &str), cells: &[MapCell]) -> Result<()> {
+    write_csv(
+        path,
+        &[
+            axes.0,
+            axes.1,
+            "class",
+            "motion",
+            "healthy",
+            "max_force",
+            "min_force",
+            "p_id",
+            "impacts",
+        ],
+        cells.iter().map(|c| {
+            vec![
+                g(c.x),
+                g(c.y),
+                c.motion.word().into(),
+                if c.motion.is_periodic() {
+                    c.label.clone()
+                } else {
+                    c.motion.word().into()
+                },
+                c.healthy.to_string(),
+                g(c.max_force),
+                g(c.min_force),
+                g(c.p_id),
+                c.impacts.to_string(),
+            ]
+        }),
+    )?;
+    Ok(())
+}
+
+/// One series of a line figure.
+pub struct Line {
+    /// Legend text.
+    pub label: String,
+    /// Points.
+    pub points: Vec<(f64, f64)>,
+    /// Dots instead of a line.
+    pub dots: bool,
+}
+
+/// A figure of line series in stacked panels `(y label, series)`, with `name.csv` (long format:
+/// `panel, series, x, y`).
+#[allow(clippy::too_many_arguments)]
+pub fn line_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    title: &str,
+    x_label: &str,
+    panels: Vec<(String, Vec<Line>)>,
+    hlines: &[f64],
+    caption: &str,
+) -> Result<Figure> {
+    let name = &safe(name);
+    let mut labels: Vec<String> = Vec::new();
+    for (_, ls) in &panels {
+        for l in ls {
+            if !l.label.is_empty() && !labels.contains(&l.label) {
+                labels.push(l.label.clone());
+            }
+        }
+    }
+    let col = |l: &str| {
+        labels
+            .iter()
+            .position(|x| x == l)
+            .map_or(PlotColor(60, 60, 60), palette)
+    };
+    let legend = labels
+        .iter()
+        .map(|l| LegendEntry::line(l.clone(), col(l)))
+        .collect();
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let fig_panels = panels
+        .iter()
+        .map(|(yl, ls)| {
+            for l in ls {
+                rows.extend(
+                    l.points
+                        .iter()
+                        .map(|p| vec![yl.clone(), l.label.clone(), g(p.0), g(p.1)]),
+                );
+            }
+            Panel {
+                y_label: yl.clone(),
+                layers: ls
+                    .iter()
+                    .map(|l| Layer {
+                        points: l.points.clone(),
+                        style: if l.dots {
+                            Style::Dots(2)
+                        } else {
+                            Style::Line(2)
+                        },
+                        color: col(&l.label),
+                    })
+                    .collect(),
+                hlines: hlines.to_vec(),
+                ..Default::default()
+            }
+        })
+        .collect();
+    let stem = dir.join(name);
+    write_figure(
+        &stem,
+        &Fig {
+            title: title.into(),
+            x_label: x_label.into(),
+            panels: fig_panels,
+            legend,
+            ..Default::default()
+        },
+    )?;
+    let csv = dir.join(format!("{name}.csv"));
+    write_csv(&csv, &["panel", "series", "x", "y"], rows)?;
+    Ok(ctx.fig(&stem, caption, &[csv]))
+}
