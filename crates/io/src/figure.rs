@@ -699,13 +699,19 @@ pub fn write_raster(stem: &Path, fig: &RasterFigure) -> Result<(), FigureError> 
     Ok(())
 }
 
+/// A named, coloured group of points.
+pub type Group = (String, RGBColor, Vec<(f64, f64)>);
+
+/// Points of one name, or none.
+pub type PointsOf<'a> = &'a dyn Fn(&str) -> Option<Vec<(f64, f64)>>;
+
 /// Groups of a categorical layer: `(name, points)` in order of first appearance, with their
 /// colours; beyond [`DISTINCT_COLORS`] groups, the rarest are merged into one "other" group.
 pub fn categorical(
     groups: BTreeMap<String, Vec<(f64, f64)>>,
     order: &[String],
     fixed: &dyn Fn(&str) -> Option<RGBColor>,
-) -> Vec<(String, RGBColor, Vec<(f64, f64)>)> {
+) -> Vec<Group> {
     let mut named: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut groups = groups;
     for name in order {

@@ -197,7 +197,7 @@ pub fn plot_bifurcation(
         order.iter().map(|n| (n.clone(), vec![])).collect();
     let colored = figure::categorical(flat, &order, &fixed_color);
     let color_of = |n: &str| colored.iter().find(|c| c.0 == n).map_or(OTHER, |c| c.1);
-    let layers = |get: &dyn Fn(&str) -> Option<Vec<(f64, f64)>>| -> Vec<Layer> {
+    let layers = |get: figure::PointsOf| -> Vec<Layer> {
         order
             .iter()
             .rev()

@@ -610,7 +610,7 @@ fn backlash(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         .iter()
         .filter(|p| p.class.period().is_some_and(|k| k >= 5))
         .map(|p| (p.value, p.name.clone()))
-        .last();
+        .next_back();
     let (agree, with_tle, pos_chaos) = tle_agreement(&pts);
     let pid = |lo: f64, hi: f64| {
         let w = classes::within(&pts, lo, hi);
@@ -982,7 +982,8 @@ fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             || c.y <= 0.007
             || (0.055..=0.095).contains(&c.y)
     };
-    let bands: [(&str, Box<dyn Fn(&MapCell) -> bool>); 4] = [
+    type CellTest = Box<dyn Fn(&MapCell) -> bool>;
+    let bands: [(&str, CellTest); 4] = [
         (
             "xi 0.044–0.126",
             Box::new(|c: &MapCell| (0.044..=0.126).contains(&c.x)),
@@ -1158,13 +1159,16 @@ fn share_of(
         .sum()
 }
 
+/// A seed attractor of a basin: name, seed share, test.
+type BasinPart<'a> = (
+    &'a str,
+    f64,
+    &'a dyn Fn(&geardyn_analysis::attractor::Descriptor) -> bool,
+);
+
 fn basin_claim(
     r: &BasinResult,
-    parts: &[(
-        &str,
-        f64,
-        &dyn Fn(&geardyn_analysis::attractor::Descriptor) -> bool,
-    )],
+    parts: &[BasinPart],
     claim: &str,
     source: String,
     box_txt: &str,
@@ -1337,7 +1341,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     let only = |a: f64, bb: f64, test: fn(&Pt) -> bool| -> bool {
         pts.iter()
             .filter(|p| p.value >= a && p.value <= bb)
-            .all(|p| test(p))
+            .all(&test)
     };
     let t51 = format!("{B004} Table 5.1");
     let t5 = format!("{B003} Table 5");

@@ -126,7 +126,8 @@ pub fn sweep_figure(
     let mut groups: BTreeMap<String, BTreeMap<Sec, Vec<(f64, f64)>>> = BTreeMap::new();
     let mut counts: HashMap<String, usize> = HashMap::new();
     let mut info: HashMap<String, (bool, Option<usize>, bool)> = HashMap::new();
-    let mut extra: BTreeMap<&str, BTreeMap<String, Vec<(f64, f64)>>> = BTreeMap::new();
+    type ByName = BTreeMap<String, Vec<(f64, f64)>>;
+    let mut extra: BTreeMap<&str, ByName> = BTreeMap::new();
     let mut point_rows: Vec<Vec<String>> = Vec::new();
     let mut run_rows: Vec<Vec<String>> = Vec::new();
     let mut impact_rows: Vec<Vec<String>> = Vec::new();
@@ -238,7 +239,7 @@ pub fn sweep_figure(
             LegendEntry::dot(legend_text(n, h, mp, per), *c)
         })
         .collect();
-    let layers_of = |by_name: &dyn Fn(&str) -> Option<Vec<(f64, f64)>>, r: u32| -> Vec<Layer> {
+    let layers_of = |by_name: geardyn_io::figure::PointsOf, r: u32| -> Vec<Layer> {
         // draw the most frequent last so that it stays visible; sparse panels get larger dots
         let total: usize = order
             .iter()
@@ -684,6 +685,7 @@ pub fn map_figure(
 }
 
 /// A map of the decided classes `dir/name.png|svg` (legend) with `name.csv`.
+#[allow(clippy::too_many_arguments)]
 pub fn class_map_figure(
     ctx: &Ctx,
     dir: &Path,
