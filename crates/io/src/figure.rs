@@ -36,7 +36,7 @@ pub const UNSETTLED: RGBColor = RGBColor(175, 175, 175);
 /// Colour of failed runs and of a remainder group.
 pub const OTHER: RGBColor = RGBColor(205, 205, 205);
 
-const DISTINCT: [RGBColor; 25] = [
+const DISTINCT: [RGBColor; 24] = [
     // Okabe–Ito (without black)
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
@@ -45,25 +45,24 @@ const DISTINCT: [RGBColor; 25] = [
     RGBColor(230, 159, 0),
     RGBColor(86, 180, 233),
     RGBColor(240, 228, 66),
-    // Kelly's colours of maximum contrast (without white, black, grey)
+    // then colours chosen to differ from those and from each other (after Kelly's list)
     RGBColor(135, 86, 146),
     RGBColor(190, 0, 50),
-    RGBColor(0, 136, 86),
-    RGBColor(161, 202, 241),
+    RGBColor(128, 128, 0),
     RGBColor(194, 178, 128),
-    RGBColor(230, 143, 172),
-    RGBColor(0, 103, 165),
+    RGBColor(0, 0, 128),
+    RGBColor(0, 200, 200),
     RGBColor(249, 147, 121),
-    RGBColor(96, 78, 151),
-    RGBColor(246, 166, 0),
+    RGBColor(150, 220, 100),
+    RGBColor(255, 0, 255),
     RGBColor(179, 68, 108),
-    RGBColor(220, 211, 0),
+    RGBColor(70, 70, 200),
     RGBColor(136, 45, 23),
     RGBColor(141, 182, 0),
-    RGBColor(101, 69, 34),
-    RGBColor(226, 88, 34),
-    RGBColor(43, 61, 38),
-    RGBColor(243, 195, 0),
+    RGBColor(200, 160, 255),
+    RGBColor(0, 90, 50),
+    RGBColor(255, 200, 150),
+    RGBColor(160, 0, 200),
 ];
 
 /// Number of distinct colours of [`palette`] before it repeats.
@@ -757,9 +756,16 @@ mod tests {
 
     #[test]
     fn palette_is_distinct() {
+        let d = |a: RGBColor, b: RGBColor| {
+            let s = |x: u8, y: u8| (x as f64 - y as f64).powi(2);
+            (s(a.0, b.0) + s(a.1, b.1) + s(a.2, b.2)).sqrt()
+        };
         for i in 0..DISTINCT_COLORS {
             for j in 0..i {
-                assert_ne!(palette(i), palette(j), "{i} {j}");
+                assert!(d(palette(i), palette(j)) > 50.0, "{i} {j}");
+            }
+            for fixed in [CHAOTIC, QUASI, UNSETTLED] {
+                assert!(d(palette(i), fixed) > 50.0, "{i}");
             }
         }
     }

@@ -369,7 +369,11 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
                 format!(
                     "#{} {} {} ({:.1} %)",
                     at.id,
-                    at.descriptor.label,
+                    if at.descriptor.period > 0 {
+                        at.descriptor.label.as_str()
+                    } else {
+                        "not periodic"
+                    },
                     geardyn_analysis::simulate::health_text(
                         at.descriptor.healthy,
                         at.descriptor.period > 0

@@ -110,6 +110,30 @@ impl Claim {
     }
 }
 
+/// Statements of the seeds about the same thing that disagree with each other (`group`: their
+/// claim texts): when one of them is reproduced, each other one that is not becomes
+/// `seed inconsistent`, and its evidence names the statement the data side with.
+pub fn resolve_conflicts(claims: &mut [Claim], group: &[&str]) {
+    let Some(winner) = claims
+        .iter()
+        .find(|c| group.contains(&c.claim.as_str()) && c.verdict == Verdict::Reproduced)
+        .map(|c| format!("{} ({})", c.claim, c.source))
+    else {
+        return;
+    };
+    for c in claims.iter_mut() {
+        if group.contains(&c.claim.as_str())
+            && matches!(c.verdict, Verdict::Partly | Verdict::NotReproduced)
+        {
+            c.verdict = Verdict::SeedInconsistent;
+            c.evidence = format!(
+                "The seeds state this differently elsewhere; the data reproduce: {winner}. {}",
+                c.evidence
+            );
+        }
+    }
+}
+
 /// The columns of `claims.csv`.
 pub const COLUMNS: [&str; 6] = [
     "claim",

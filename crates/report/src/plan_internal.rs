@@ -6,7 +6,7 @@
 //! seed is silent (the load of the backlash sweep, the size of `D_s - D_d`, the frequency of the
 //! (xi, F) map, the box of initial states) the choice is stated and its effect shown.
 
-use crate::claims::{Claim, Verdict};
+use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence, sets};
 use crate::runner::{hdr, with_linear_law, Ctx};
@@ -175,11 +175,17 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
         .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
         .map_or(0, |(i, _)| i);
     let rises_falls = imax > path.len() / 10 && imax < path.len() * 9 / 10;
-    let jump = pm
+    // a jump: a sample-to-sample change far above the typical one
+    let mut steps: Vec<f64> = pm
         .rows
         .windows(2)
-        .map(|w| (w[1].k_mesh - w[0].k_mesh).abs() / pm.k_av)
-        .fold(0.0, f64::max);
+        .map(|w| (w[1].k_mesh - w[0].k_mesh).abs())
+        .collect();
+    let jump_max = steps.iter().copied().fold(0.0, f64::max);
+    steps.sort_by(f64::total_cmp);
+    let median_step = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    let jump = jump_max / pm.k_av;
+    let jumps = jump_max > 20.0 * median_step.max(1e-300);
     let (bd, bs) = pm.backlash.unwrap_or((dd, ds));
     let n = pm.rows.len() as f64;
     let reg = |c: i8| pm.rows.iter().filter(|r| r.regime1 == c).count() as f64 / n;
@@ -218,8 +224,8 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
             "Stiffness rises then falls along the line of action, with jumps at the single/double alternation",
             format!("{B004} §6(1)"),
             "rise, fall, jumps",
-            format!("one pair's stiffness peaks at {} of its path (eps = {}); largest jump of k_m between samples {} of k_av", pct(imax as f64 / path.len() as f64), f(eps), pct(jump)),
-            Verdict::of_parts(&[rises_falls, jump > 0.1]),
+            format!("one pair's stiffness peaks at {} of its path (eps = {}); largest jump of k_m between samples {} of k_av ({} times the median step)", pct(imax as f64 / path.len() as f64), f(eps), pct(jump), f(jump_max / median_step.max(1e-300))),
+            Verdict::of_parts(&[rises_falls, jumps]),
             "Pair stiffness from entering to leaving the mesh (stiffness.csv: k_pair1 then k_pair2).",
         ),
         Claim::new(
@@ -334,7 +340,7 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         let tensile_before = |tau: f64| {
             r.trajectory
                 .iter()
-                .filter(|p| p.tau < tau && p.tau > tau - 0.05 && p.state == 1)
+                .filter(|p| p.tau <= tau && p.tau > tau - 0.1 && p.state == 1)
                 .any(|p| p.mesh_force < 0.0)
         };
         let at = |lvl: f64| {
@@ -403,7 +409,11 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             "two jumps: at D_s and at D_d",
             format!("{ns} exits at D_s and {nd} at D_d after a tensile force"),
             if ok { Verdict::Reproduced } else if ns + nd > 0 { Verdict::Partly } else { Verdict::NotReproduced },
-            "With damping only in contact, F_m = k (x - D) + c x' < 0 before x falls to D; contact ends exactly at x = D(t).",
+            format!(
+                "With damping only in contact, F_m = k (x - D) + c x' < 0 before x falls to D; contact ends exactly at x = D(t). With the internal pair's contact ratio {} the single-tooth zone is {} of the mesh cycle, so exits at D_s are rare.",
+                f(m.params().eps),
+                pct((2.0 - m.params().eps).max(0.0))
+            ),
         )],
         seconds: 0.0,
     })
@@ -867,7 +877,7 @@ fn xi_sweep(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
 
 fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     // the frequency that gives the seed's F_max = 1.340 in the large-(xi, F) corner
-    let omegas = linspace(1.3, 1.8, ctx.n(6, 11));
+    let omegas = linspace(1.0, 2.0, ctx.n(6, 21));
     let corner = [
         (0.2, 0.175),
         (0.25, 0.175),
@@ -1037,7 +1047,7 @@ fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         id: "map_xi_F".into(),
         title: format!("Maximum mesh force over the (xi, F) plane (omega = {})", f(w_star)),
         seed_ref: "003 §3.5; 004 §4.5 (Fig. 4.8a), §6(3)".into(),
-        parameters: format!("xi in [0.001, 0.3] × F in [0.001, 0.2], {nm} × {nm} cells; omega = {} (the seed does not state it: chosen where the corner maximum is closest to F_max = 1.340, calibration over omega ∈ [1.3, 1.8]); D_d = 0.9, D_s = 1 as the xi sweep; linear contact law", f(w_star)),
+        parameters: format!("xi in [0.001, 0.3] × F in [0.001, 0.2], {nm} × {nm} cells; omega = {} (the seed does not state it: chosen where the corner maximum is closest to F_max = 1.340, calibration over omega ∈ [1, 2]); D_d = 0.9, D_s = 1 as the xi sweep; linear contact law", f(w_star)),
         method: "One run per cell from (0, 0), decided classification; Dormand–Prince 5(4).".into(),
         figures: vec![fig_cal, fig, fig_c],
         readings: vec![format!("Peak {} at xi = {}, F = {}; {} of {} cells chaotic.", f(pv), f(px), f(py), cells.iter().filter(|c| chaotic(c)).count(), cells.len())],
@@ -1053,7 +1063,10 @@ fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
 /// An attractor of the seed's tables, as a test on a run.
 struct Spec {
     name: &'static str,
+    /// The seed's attractor exactly (its label).
     test: fn(&Pt) -> bool,
+    /// The same kind of motion with another label (e.g. a healthy period 1).
+    loose: Option<fn(&Pt) -> bool>,
 }
 
 /// Share of the values in the interior of `[a, b]` (15 % trimmed at each end, at least the value
@@ -1127,13 +1140,22 @@ fn table_row(
     seed: String,
 ) -> Claim {
     let shares: Vec<f64> = specs.iter().map(|s| presence(pts, a, b, s.test)).collect();
-    let parts: Vec<bool> = shares.iter().map(|&s| s >= 0.5).collect();
-    let verdict = if parts.iter().all(|&p| p) {
+    let loose: Vec<f64> = specs
+        .iter()
+        .zip(&shares)
+        .map(|(s, &e)| s.loose.map_or(e, |l| e.max(presence(pts, a, b, l))))
+        .collect();
+    let verdict = if shares.iter().all(|&s| s >= 0.5) {
         Verdict::Reproduced
-    } else if shares.iter().any(|&s| s >= 0.25) {
+    } else if loose.iter().all(|&s| s >= 0.5) || loose.iter().any(|&s| s >= 0.25) {
         Verdict::Partly
     } else {
         Verdict::NotReproduced
+    };
+    let label_note = if shares.iter().zip(&loose).any(|(e, l)| l > e) {
+        " Where the exact label is missing, the same kind of motion (same period and health) with another crossing count is counted as partly."
+    } else {
+        ""
     };
     Claim::new(
         claim,
@@ -1142,8 +1164,17 @@ fn table_row(
         format!("found in [{}, {}]: {}", f(a), f(b), found_in(pts, a, b)),
         verdict,
         format!(
-            "Share of values (interval interior) where each listed attractor is reached from some initial state: {}.",
-            specs.iter().zip(&shares).map(|(s, v)| format!("{} {}", s.name, pct(*v))).collect::<Vec<_>>().join(", ")
+            "Share of values (interval interior) where each listed attractor is reached from some initial state: {}.{label_note}",
+            specs
+                .iter()
+                .zip(shares.iter().zip(&loose))
+                .map(|(s, (e, l))| if l > e {
+                    format!("{} {} (same kind {})", s.name, pct(*e), pct(*l))
+                } else {
+                    format!("{} {}", s.name, pct(*e))
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     )
 }
@@ -1338,6 +1369,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     let q2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
     let h1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
+    let u1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && !p.healthy;
     let only = |a: f64, bb: f64, test: fn(&Pt) -> bool| -> bool {
         pts.iter()
             .filter(|p| p.value >= a && p.value <= bb)
@@ -1345,55 +1377,72 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     };
     let t51 = format!("{B004} Table 5.1");
     let t5 = format!("{B003} Table 5");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec { name, test };
+    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
+        name,
+        test,
+        loose: None,
+    };
+    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
+        name,
+        test,
+        loose: Some(loose),
+    };
     let mut claims = Vec::new();
     let low_only = only(0.0, 0.36, p1);
+    let low_h1 = only(0.0, 0.36, h1);
     claims.push(Claim::new(
         "omega in (0.01, 0.42): only the healthy period-1 motion P1 = 1-0-0-1-0",
         format!("{t51}; {t5}; {B004} §5.3"),
         "P1 (1-0-0-1-0) only",
-        format!(
-            "found for omega ≤ 0.36: {}",
-            found_in(&pts, 0.0, 0.36 / 0.85)
-        ),
+        format!("found for omega ≤ 0.36: {}", found_in(&pts, 0.0, 0.36 / 0.85)),
         if low_only {
             Verdict::Reproduced
-        } else if presence(&pts, 0.01, 0.42, p1) >= 0.5 {
+        } else if low_h1 || presence(&pts, 0.01, 0.42, h1) >= 0.5 {
             Verdict::Partly
         } else {
             Verdict::NotReproduced
         },
-        format!("{ics} random initial states per value, omega from 0.01."),
+        format!("{ics} random initial states per value, omega from 0.01. With the pair's physical backlash (D_s - D_d = 0.002) the healthy period-1 motion stays in contact (label 1-0-0-0-0): the seed's crossing of D_d needs a larger backlash step (sensitivity table)."),
     ));
+    // G1: the first value where the back-side Q1 coexists with a healthy period 1
     let first_q1 = {
         let mut vals: Vec<f64> = pts.iter().map(|p| p.value).collect();
         vals.dedup();
         vals.into_iter().find(|&v| {
-            pts.iter().any(|p| p.value == v && q1(p)) && pts.iter().any(|p| p.value == v && p1(p))
+            pts.iter().any(|p| p.value == v && q1(p)) && pts.iter().any(|p| p.value == v && h1(p))
         })
     };
-    for (seed_w, src) in [
-        (0.364, format!("{B004} §5.3 (G1 at omega = 0.364)")),
-        (0.42, format!("{B003} §4.3 and Table 5; {t51}")),
+    for (seed_w, other_w, src) in [
+        (0.364, 0.42, format!("{B004} §5.3 (G1 at omega = 0.364)")),
+        (0.42, 0.364, format!("{B003} §4.3 and Table 5; {t51}")),
     ] {
-        let ok = first_q1.is_some_and(|v| (v - seed_w).abs() <= 0.04);
-        let other_ok =
-            first_q1.is_some_and(|v| (v - if seed_w < 0.4 { 0.42 } else { 0.364 }).abs() <= 0.04);
+        let verdict = match first_q1 {
+            Some(v) if (v - seed_w).abs() <= (v - other_w).abs() && (v - seed_w).abs() <= 0.03 => {
+                Verdict::Reproduced
+            }
+            Some(v) if (v - other_w).abs() < (v - seed_w).abs() && (v - other_w).abs() <= 0.03 => {
+                Verdict::SeedInconsistent
+            }
+            Some(_) => Verdict::Partly,
+            None => Verdict::NotReproduced,
+        };
         claims.push(Claim::new(
-            format!("An incomplete bifurcation (G1) at omega = {seed_w} adds Q1 = 1-1-1-1-1 (back-side contact) beside P1"),
+            format!("An incomplete bifurcation (G1) at omega = {seed_w} adds Q1 = 1-1-1-1-1 (back-side contact) beside the healthy P1"),
             src,
             format!("omega = {seed_w}"),
-            first_q1.map_or("P1 and Q1 never coexist".into(), |v| format!("P1 and Q1 first coexist at omega = {}", f(v))),
-            if ok { Verdict::Reproduced } else if other_ok { Verdict::SeedInconsistent } else if first_q1.is_some() { Verdict::Partly } else { Verdict::NotReproduced },
-            "The thesis text gives 0.364, both tables and the summary 0.42; multi-initial sweep with extra values at 0.364 and 0.42.",
+            first_q1.map_or("P1 and Q1 never coexist".into(), |v| format!("a healthy period 1 and 1-1-1-1-1 first coexist at omega = {}", f(v))),
+            verdict,
+            "The thesis text gives 0.364, both tables and the summary 0.42: the row nearer to the measurement is reproduced, the other is a seed inconsistency. Multi-initial sweep with extra values at 0.364 and 0.42.",
         ));
     }
     let bq = &basin_res[1];
     claims.push(basin_claim(
         bq,
         &[
-            ("P1", 0.49, &|a| a.label == "1-0-0-1-0"),
-            ("Q1", 0.51, &|a| a.label == "1-1-1-1-1"),
+            ("P1 (healthy period 1)", 0.49, &|a| {
+                a.period == 1 && a.healthy
+            }),
+            ("Q1 (1-1-1-1-1)", 0.51, &|a| a.label == "1-1-1-1-1"),
         ],
         "At omega = 0.42 the healthy P1 holds 49 % of the basin, Q1 51 %",
         format!("{B003} §4.3; {B004} §5.3 (Fig. 5.5b)"),
@@ -1403,7 +1452,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &pts,
         0.42,
         0.54,
-        &[sp("P1", p1), sp("Q1", q1)],
+        &[spl("P1 = 1-0-0-1-0", p1, h1), spl("Q1 = 1-1-1-1-1", q1, u1)],
         "omega in (0.42, 0.54): P1 (healthy) and Q1 (1-1-1-1-1)".into(),
         format!("{t51}; {t5}"),
         "P1 + Q1".into(),
@@ -1412,7 +1461,10 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &pts,
         0.54,
         0.58,
-        &[sp("R1 (healthy period 1)", r1), sp("Q1", q1)],
+        &[
+            sp("R1 (healthy period 1)", r1),
+            spl("Q1 = 1-1-1-1-1", q1, u1),
+        ],
         "omega in (0.54, 0.58): R1 (healthy, born from P1 at G2) and Q1".into(),
         format!("{t51}; {t5}"),
         "R1 + Q1".into(),
@@ -1421,7 +1473,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &pts,
         0.58,
         0.63,
-        &[sp("R2 (period 2)", r2), sp("Q1", q1)],
+        &[sp("R2 (period 2)", r2), spl("Q1 = 1-1-1-1-1", q1, u1)],
         "omega in (0.58, 0.63): R2 (period doubling of R1) and Q1".into(),
         format!("{t51}; {t5}"),
         "R2 + Q1".into(),
@@ -1438,7 +1490,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &pts,
         0.63,
         0.72,
-        &[sp("Q1", q1)],
+        &[spl("Q1 = 1-1-1-1-1", q1, u1)],
         "omega in (0.63, 0.72): only Q1".into(),
         format!("{t51}; {t5}"),
         "Q1".into(),
@@ -1549,6 +1601,21 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         Verdict::SeedInconsistent,
         "The name Q1 is reused for two different attractors (back-side contact vs healthy); the rows above test each by its own description.",
     ));
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.261, 1.526): Q2 (healthy) with chaos (PN)",
+            "omega in (1.26, 1.52): Q2 (stable) with P3 (unstable)",
+            "omega in (1.261, 1.526): stable 3-1-1-1-1 (P3) coexisting with chaos (PN)",
+        ],
+    );
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.80, 1.89): Q1 (stable) and P3",
+            "omega in (1.802, 1.891): Q2 (healthy) and P3",
+        ],
+    );
     let readings = vec![format!(
         "Continuation: {} intervals, {} events (tree_omega_branches.csv).",
         c.intervals.len(),
@@ -1641,22 +1708,33 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     }
     let t52 = format!("{B004} Table 5.2");
     let t6 = format!("{B003} Table 6");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec { name, test };
+    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
+        name,
+        test,
+        loose: None,
+    };
+    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
+        name,
+        test,
+        loose: Some(loose),
+    };
     let p1: fn(&Pt) -> bool = |p| p.name == "1-1-0-1-0";
     let q2: fn(&Pt) -> bool = |p| p.name == "2-1-0-1-0";
     let p2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
+    let h1f: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
     let q4: fn(&Pt) -> bool = |p| p.class == Class::Periodic(4) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
     let p3any: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3);
     let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
     let p6: fn(&Pt) -> bool = |p| p.class == Class::Periodic(6);
     let p10: fn(&Pt) -> bool = |p| p.class == Class::Periodic(10);
-    let mut claims = vec![
+    let mut claims =
+        vec![
         table_row(
             &pts,
             0.118,
             0.2,
-            &[sp("P1 = 1-1-0-1-0", p1), sp("Q2 = 2-1-0-1-0", q2)],
+            &[spl("P1 = 1-1-0-1-0", p1, h1f), spl("Q2 = 2-1-0-1-0", q2, p2h)],
             "F in (0.118, 0.2): P1 = 1-1-0-1-0 and Q2 = 2-1-0-1-0, both healthy".into(),
             format!("{t52}; {t6}; {B004} §5.4"),
             "P1 + Q2".into(),
@@ -1675,7 +1753,7 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             &pts,
             0.105,
             0.117,
-            &[sp("P2 (healthy period 2)", p2h), sp("Q2", q2), sp("P3", p3)],
+            &[sp("P2 (healthy period 2)", p2h), spl("Q2 = 2-1-0-1-0", q2, p2h), sp("P3", p3)],
             "F in (0.105, 0.117): P2 and Q2 (healthy) with P3".into(),
             format!("{t52}; {t6}"),
             "P2 + Q2 + P3".into(),

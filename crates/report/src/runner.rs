@@ -79,7 +79,7 @@ impl Ctx {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 2 }),
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 2, "geardyn": env!("CARGO_PKG_VERSION") }),
         )?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {

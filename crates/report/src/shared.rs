@@ -23,8 +23,11 @@ use geardyn_model::MeshModel;
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-/// Most section points per run and section kept in figures and CSV files.
+/// Most section points per run and section kept in figures and CSV files (one initial state
+/// per value); the points of a periodic run are kept once each.
 pub const POINTS_PER_RUN: usize = 150;
+/// The same for each of several initial states per value.
+pub const POINTS_PER_RUN_MULTI: usize = 40;
 
 /// A number for CSV files: six significant digits.
 pub fn g(v: f64) -> String {
@@ -142,8 +145,19 @@ pub fn sweep_figure(
             ));
             let g_ = groups.entry(nm.clone()).or_default();
             for &sec in sections {
-                let pts: Vec<&(Sec, f64, f64)> = run.points.iter().filter(|p| p.0 == sec).collect();
-                let keep = pts.len().min(POINTS_PER_RUN);
+                let mut pts: Vec<&(Sec, f64, f64)> =
+                    run.points.iter().filter(|p| p.0 == sec).collect();
+                if run.motion.is_periodic() {
+                    // a periodic orbit repeats its points: keep each once
+                    let mut seen = std::collections::HashSet::new();
+                    pts.retain(|p| seen.insert((g(p.1), g(p.2))));
+                }
+                let cap = if r.runs.len() > 1 {
+                    POINTS_PER_RUN_MULTI
+                } else {
+                    POINTS_PER_RUN
+                };
+                let keep = pts.len().min(cap);
                 for &&(s, x, v) in pts.iter().skip(pts.len() - keep) {
                     let y = if s == Sec::Strobe { x } else { v };
                     g_.entry(sec).or_default().push((r.value, y));
@@ -427,7 +441,11 @@ pub fn basin_figure(
                 format!(
                     "#{} {} {} — {:.1} %",
                     a.id,
-                    a.descriptor.label,
+                    if a.descriptor.period > 0 {
+                        a.descriptor.label.as_str()
+                    } else {
+                        "not periodic"
+                    },
                     if a.descriptor.healthy {
                         "healthy"
                     } else {
@@ -817,7 +835,37 @@ pub fn line_figure(
     hlines: &[f64],
     caption: &str,
 ) -> Result<Figure> {
+    line_figure_y(
+        ctx, dir, name, title, x_label, panels, hlines, caption, false,
+    )
+}
+
+/// [`line_figure`] with one y range shared by all panels when `same_y` (panels to compare).
+#[allow(clippy::too_many_arguments)]
+pub fn line_figure_y(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    title: &str,
+    x_label: &str,
+    panels: Vec<(String, Vec<Line>)>,
+    hlines: &[f64],
+    caption: &str,
+    same_y: bool,
+) -> Result<Figure> {
     let name = &safe(name);
+    let shared_y = if same_y {
+        let ys = panels
+            .iter()
+            .flat_map(|(_, ls)| ls.iter().flat_map(|l| l.points.iter().map(|p| p.1)))
+            .filter(|v| v.is_finite());
+        let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |a, v| {
+            (a.0.min(v), a.1.max(v))
+        });
+        (lo <= hi).then(|| geardyn_io::figure::padded(lo, hi))
+    } else {
+        None
+    };
     let mut labels: Vec<String> = Vec::new();
     for (_, ls) in &panels {
         for l in ls {
@@ -862,6 +910,7 @@ pub fn line_figure(
                     })
                     .collect(),
                 hlines: hlines.to_vec(),
+                y_range: shared_y,
                 ..Default::default()
             }
         })

@@ -1,8 +1,11 @@
-//! The report page as a reader would open it: every referenced figure and table exists, the page
-//! needs nothing from the network, and a rerun reuses the cached studies.
+//! The report page as a reader would open it: every referenced figure and table exists, every
+//! figure has the CSV of its data next to it, the page needs nothing from the network, the
+//! folder stays within its size budget, a rerun reuses the cached studies, and the claims table
+//! has its columns, its verdict vocabulary and an explanation for every `not reproduced`.
 
 use geardyn_io::Config;
-use geardyn_report::{run, ReportOptions};
+use geardyn_report::{folder_size, run, size_budget, ReportOptions};
+use std::path::{Path, PathBuf};
 
 fn refs(html: &str, attr: &str) -> Vec<String> {
     html.split(&format!("{attr}=\""))
@@ -11,20 +14,116 @@ fn refs(html: &str, attr: &str) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn quick_classic_report_is_complete_and_self_contained() {
-    let out = std::env::temp_dir().join(format!("geardyn-report-{}", std::process::id()));
+fn quick(preset: &str) -> (PathBuf, PathBuf, String) {
+    let out = std::env::temp_dir().join(format!("geardyn-report-{preset}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
-    let cfg = Config::preset("classic").unwrap();
+    let cfg = Config::preset(preset).unwrap();
     let opts = ReportOptions {
-        preset: "classic".into(),
+        preset: preset.into(),
         quick: true,
         out: out.clone(),
     };
     let index = run(&cfg, &opts).unwrap();
-    assert_eq!(index, out.join("classic").join("index.html"));
-    let page_dir = out.join("classic");
+    assert_eq!(index, out.join(preset).join("index.html"));
     let html = std::fs::read_to_string(&index).unwrap();
+    (out.clone(), out.join(preset), html)
+}
+
+fn non_empty(p: &Path) -> bool {
+    p.metadata().map(|m| m.len() > 0).unwrap_or(false)
+}
+
+/// Every `<figure>` links its PNG, its SVG and at least one CSV of its data, all present.
+fn check_figures(page_dir: &Path, html: &str) -> usize {
+    let figures: Vec<&str> = html
+        .split("<figure>")
+        .skip(1)
+        .map(|s| s.split("</figure>").next().unwrap_or(""))
+        .collect();
+    assert!(!figures.is_empty());
+    for fig in &figures {
+        let srcs = refs(fig, "src");
+        let hrefs = refs(fig, "href");
+        assert_eq!(srcs.len(), 1, "{fig}");
+        assert!(srcs[0].ends_with(".png"), "{fig}");
+        assert!(hrefs.iter().any(|h| h.ends_with(".svg")), "no SVG: {fig}");
+        let csv: Vec<&String> = hrefs.iter().filter(|h| h.ends_with(".csv")).collect();
+        assert!(!csv.is_empty(), "figure without its data: {fig}");
+        for r in srcs.iter().chain(hrefs.iter()) {
+            assert!(non_empty(&page_dir.join(r)), "missing {r}");
+        }
+        for c in csv {
+            let text = std::fs::read_to_string(page_dir.join(c)).unwrap();
+            assert!(text.lines().count() >= 2, "empty data file {c}");
+        }
+    }
+    figures.len()
+}
+
+/// Parses `claims.csv` (quoted fields) into rows.
+fn claims(page_dir: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(page_dir.join("claims.csv")).unwrap();
+    let mut rows = Vec::new();
+    let (mut row, mut field, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => row.push(std::mem::take(&mut field)),
+            ('\n', false) => {
+                row.push(std::mem::take(&mut field));
+                rows.push(std::mem::take(&mut row));
+            }
+            (c, _) => field.push(c),
+        }
+    }
+    rows
+}
+
+fn check_claims(page_dir: &Path) -> Vec<Vec<String>> {
+    let rows = claims(page_dir);
+    assert_eq!(
+        rows[0],
+        [
+            "claim",
+            "source",
+            "seed_value",
+            "measured_value",
+            "verdict",
+            "evidence"
+        ]
+    );
+    let vocab = [
+        "reproduced",
+        "partly",
+        "not reproduced",
+        "seed inconsistent",
+    ];
+    for r in &rows[1..] {
+        assert_eq!(r.len(), 6, "{r:?}");
+        assert!(vocab.contains(&r[4].as_str()), "verdict {r:?}");
+        assert!(!r[0].is_empty() && !r[1].is_empty(), "{r:?}");
+        if r[4] != "reproduced" {
+            assert!(
+                r[5].len() > 20,
+                "a verdict other than reproduced needs evidence: {r:?}"
+            );
+        }
+    }
+    rows[1..].to_vec()
+}
+
+fn count(rows: &[Vec<String>], verdict: &str) -> usize {
+    rows.iter().filter(|r| r[4] == verdict).count()
+}
+
+#[test]
+fn quick_classic_report_is_complete_and_self_contained() {
+    let (out, page_dir, html) = quick("classic");
     let imgs = refs(&html, "src");
     assert!(imgs.len() >= 3, "{imgs:?}");
     for r in imgs
@@ -32,16 +131,70 @@ fn quick_classic_report_is_complete_and_self_contained() {
         .chain(refs(&html, "href").iter().filter(|h| !h.starts_with('#')))
     {
         assert!(!r.starts_with("http"), "external reference {r}");
-        assert!(
-            page_dir.join(r).metadata().map(|m| m.len() > 0).unwrap_or(false),
-            "missing {r}"
-        );
+        assert!(non_empty(&page_dir.join(r)), "missing {r}");
     }
     assert!(!html.contains("<script"));
-    assert!(html.contains("Claims of the seeds") && html.contains("reproduced"));
+    check_figures(&page_dir, &html);
+    let rows = check_claims(&page_dir);
+    assert_eq!(count(&rows, "reproduced"), rows.len(), "{rows:?}");
+    assert!(folder_size(&page_dir) <= size_budget(true));
+    // no checkpoint is left once the studies are complete
+    for e in std::fs::read_dir(&page_dir).unwrap().flatten() {
+        if e.path().is_dir() {
+            for f in std::fs::read_dir(e.path()).unwrap().flatten() {
+                assert!(!f.file_name().to_string_lossy().contains("checkpoint"));
+            }
+        }
+    }
     // a second run reuses every cached study and writes the same page body
+    let cfg = Config::preset("classic").unwrap();
+    let opts = ReportOptions {
+        preset: "classic".into(),
+        quick: true,
+        out: out.clone(),
+    };
     let again = std::fs::read_to_string(run(&cfg, &opts).unwrap()).unwrap();
     let strip = |s: &str| s.split("Generated by").next().unwrap_or("").to_string();
     assert_eq!(strip(&html), strip(&again));
     std::fs::remove_dir_all(out).ok();
+}
+
+#[test]
+fn quick_seed_reports_have_data_budget_and_honest_claims() {
+    for (preset, min_reproduced) in [("internal", 0.4), ("breakage", 0.5)] {
+        let (out, page_dir, html) = quick(preset);
+        let n = check_figures(&page_dir, &html);
+        assert!(n >= 10, "{preset}: {n} figures");
+        let size = folder_size(&page_dir);
+        assert!(
+            size <= size_budget(true),
+            "{preset}: {size} bytes over the budget"
+        );
+        let rows = check_claims(&page_dir);
+        assert!(rows.len() >= 20, "{preset}: {} claims", rows.len());
+        let rep = count(&rows, "reproduced");
+        assert!(
+            rep as f64 >= min_reproduced * rows.len() as f64,
+            "{preset}: only {rep} of {} reproduced (quick)",
+            rows.len()
+        );
+        // sources name the seed file
+        assert!(rows.iter().all(|r| r[1].contains("seed")), "{preset}");
+        // captions are written for the preset shown
+        if preset == "internal" {
+            assert!(!html.contains("broken pair") && !html.contains("chipped"));
+        }
+        // the coexistence of period 2 and 4 near F = 0.05 is seed A's sentence
+        let p24: Vec<&Vec<String>> = rows
+            .iter()
+            .filter(|r| r[0].contains("period-4 and period-2"))
+            .collect();
+        if preset == "breakage" {
+            assert_eq!(p24.len(), 1);
+            assert!(p24[0][1].contains("seed A"));
+        } else {
+            assert!(p24.is_empty());
+        }
+        std::fs::remove_dir_all(out).ok();
+    }
 }
