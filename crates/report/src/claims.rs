@@ -99,13 +99,26 @@ impl Claim {
         verdict: Verdict,
         evidence: impl Into<String>,
     ) -> Claim {
+        let (seed_value, measured_value) = (seed_value.into(), measured_value.into());
+        let mut evidence: String = evidence.into();
+        // a verdict short of `reproduced` says what differs, in the row itself
+        if matches!(verdict, Verdict::Partly | Verdict::NotReproduced) {
+            evidence.push_str(&format!(
+                " {}: the seed states «{seed_value}», the data give «{measured_value}».",
+                if verdict == Verdict::Partly {
+                    "Partly"
+                } else {
+                    "Not reproduced"
+                }
+            ));
+        }
         Claim {
             claim: claim.into(),
             source: source.into(),
-            seed_value: seed_value.into(),
-            measured_value: measured_value.into(),
+            seed_value,
+            measured_value,
             verdict,
-            evidence: evidence.into(),
+            evidence,
         }
     }
 }

@@ -262,14 +262,15 @@ mod tests {
             pt(0.0, Class::Periodic(1)),
             pt(0.1, Class::Chaotic),
             pt(0.2, Class::Periodic(1)),
-            pt(0.3, Class::Chaotic),
+            pt(0.3, Class::Periodic(1)),
             pt(0.4, Class::Chaotic),
+            pt(0.5, Class::Chaotic),
         ];
         let t = tolerant(&p);
         assert_eq!(t[1].class, Class::Periodic(1));
-        assert_eq!(t[3].class, Class::Chaotic);
+        assert_eq!(t[4].class, Class::Chaotic);
         let ch = ranges(&t, |p| p.class == Class::Chaotic);
-        assert_eq!(ch, vec![(0.3, 0.4, 2)]);
+        assert_eq!(ch, vec![(0.4, 0.5, 2)]);
         assert_eq!(intervals(&t).len(), 2);
     }
 }
