@@ -174,7 +174,8 @@ pub fn simulate_decided(
     let scale = model.backlash_levels().1.max(1.0);
     let runaway = |res: &SimResult| {
         let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
-        (!(x_max <= DIVERGED_SCALES * scale)).then_some(Motion::Diverged { x_max })
+        // NaN counts as runaway too
+        (x_max.is_nan() || x_max > DIVERGED_SCALES * scale).then_some(Motion::Diverged { x_max })
     };
     let mut res = simulate(model, y0, opts)?;
     let mut s = summarize(model, &res, opts);

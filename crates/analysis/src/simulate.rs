@@ -697,7 +697,7 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
                 .fold(0.0f64, |m, v| m.max(v.abs()));
         let tol = 10.0 * crate::period::PERIOD_TOL * scale;
         (1..=whole)
-            .filter(|m| whole % m == 0)
+            .filter(|&m| whole.is_multiple_of(m))
             .find(|&m| {
                 pts.len() >= 2 * m
                     && (m..pts.len()).all(|j| {
