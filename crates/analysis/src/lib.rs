@@ -11,6 +11,7 @@ pub mod classify;
 pub mod continuation;
 pub mod driver;
 pub mod generic;
+pub mod lanes;
 pub mod lyapunov;
 pub mod map2d;
 pub mod period;

@@ -312,30 +312,30 @@ fn parabola_peak(a: f64, b: f64, c: f64) -> Option<f64> {
     }
 }
 
-struct Recorder<'a> {
-    model: &'a MeshModel,
-    res: SimResult,
-    keep_traj: bool,
+pub(crate) struct Recorder<'a> {
+    pub(crate) model: &'a MeshModel,
+    pub(crate) res: SimResult,
+    pub(crate) keep_traj: bool,
     /// Recorded periods completed, and the first one whose trajectory is kept.
-    period: u64,
-    traj_from: u64,
+    pub(crate) period: u64,
+    pub(crate) traj_from: u64,
     /// Mesh force at the end of the previous step (time, value, mode), reused at the next start.
-    last_end: Option<(f64, f64, MeshMode)>,
-    sample_dt: f64,
-    next_sample: u64,
-    sample_origin: f64,
-    levels: [f64; 4],
-    count_levels: [bool; 4],
-    counts: [u32; 4],
-    impact_max: f64,
+    pub(crate) last_end: Option<(f64, f64, MeshMode)>,
+    pub(crate) sample_dt: f64,
+    pub(crate) next_sample: u64,
+    pub(crate) sample_origin: f64,
+    pub(crate) levels: [f64; 4],
+    pub(crate) count_levels: [bool; 4],
+    pub(crate) counts: [u32; 4],
+    pub(crate) impact_max: f64,
     /// Mesh-cycle strobe (only when an excitation period spans several mesh cycles).
-    mesh_on: bool,
-    mesh_dt: f64,
-    next_mesh: u64,
+    pub(crate) mesh_on: bool,
+    pub(crate) mesh_dt: f64,
+    pub(crate) next_mesh: u64,
 }
 
 impl<'a> Recorder<'a> {
-    fn new(
+    pub(crate) fn new(
         model: &'a MeshModel,
         keep_traj: bool,
         samples_per_cycle: u32,

@@ -4,6 +4,7 @@
 //! * [`MeshModel`]: the validated, tabulated model; implements
 //!   [`geardyn_solvers::HybridSystem`] with state `[x, x']` in units of `b_c` and `b_c*omega_n`,
 //!   time `tau = omega_n*t`.
+//! * [`MeshLanes`]: its batched counterpart (phase tables) for the lockstep ensemble RK4.
 //! * [`ContactLaw`], [`ImpactLaw`]: drive/back-side contact laws and the back-side impact law.
 //! * [`presets`]: `classic` (C1), `breakage`, `internal`.
 //! * [`reference`]: other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
@@ -15,6 +16,7 @@
 pub mod contact_law;
 pub mod error;
 pub mod impact;
+pub mod mesh_lanes;
 pub mod mesh_model;
 pub mod params;
 pub mod phase;
@@ -24,6 +26,7 @@ pub mod reference;
 pub use contact_law::{johnson_exponent, ContactLaw};
 pub use error::ModelError;
 pub use impact::ImpactLaw;
+pub use mesh_lanes::{MeshLane, MeshLanes};
 pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone};
 pub use params::{
     BackSide, Breakage, Friction, ModelParams, StiffnessForm, ZonePiece, PARAMETER_NAMES,

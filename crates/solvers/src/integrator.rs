@@ -418,6 +418,28 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         Ok(())
     }
 
+    /// Continues a fixed-step (RK4) integration that another engine advanced meanwhile (the
+    /// lockstep ensemble, [`crate::ensemble`]): the state is `y` at time `t`, which is grid point
+    /// `grid_index` (`t_origin + grid_index*h`, or a stop time merged with it), in the current
+    /// mode. `progressed`: ordinary steps were taken since this integrator last stepped (they end
+    /// a pending Zeno fallback, as an ordinary step of its own would). The event history (Zeno
+    /// counters) and the work counters are kept.
+    pub fn resume(&mut self, t: f64, y: [f64; N], grid_index: i64, progressed: bool) {
+        self.t = t;
+        self.y = y;
+        self.grid_index = grid_index + 1;
+        self.f0_valid = false;
+        self.g0_valid = false;
+        self.next_bp = self.sys.next_breakpoint(t, &self.mode);
+        self.last.t0 = t;
+        self.last.t1 = t;
+        self.last.r = [[0.0; N]; 5];
+        self.last.r[0] = y;
+        if progressed {
+            self.zeno_fallback_pending = false;
+        }
+    }
+
     /// Replaces the state at the current time, keeping the mode (for renormalising the tangent
     /// part of an augmented state; the caller keeps the state consistent with the mode).
     pub fn set_state(&mut self, y: [f64; N]) {

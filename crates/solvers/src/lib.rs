@@ -5,6 +5,8 @@
 //! * [`Integrator`]: adaptive Dormand–Prince 5(4) or fixed-step RK4 ([`Scheme`]), stepping exactly
 //!   onto breakpoints and locating state events on the dense output; [`Integrator::step`] returns
 //!   why it stopped ([`Stop`]).
+//! * [`ensemble`]: the lockstep ensemble RK4 engine (`L` trajectories in structure-of-arrays
+//!   lanes, events finished by the scalar integrator), for sweeps and basins.
 //!
 //! Time and state are in whatever units the system uses (geardyn's gear model is dimensionless).
 #![warn(missing_docs)]
@@ -12,6 +14,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod dense;
+pub mod ensemble;
 pub mod hybrid;
 pub mod integrator;
 pub mod root;

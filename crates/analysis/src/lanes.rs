@@ -1,0 +1,506 @@
+//! Lockstep ensemble simulation of the gear model: many [`simulate`](crate::simulate::simulate)
+//! runs (fixed-step RK4) advanced together in the lanes of
+//! [`geardyn_solvers::ensemble`], with the same recorded quantities.
+//!
+//! Each run is a work item: `transient_periods` discarded, then `record_periods` recorded by the
+//! scalar [`Recorder`](crate::simulate) of [`simulate`](crate::simulate::simulate). Steps the
+//! scalar integrator takes for a lane (events, breakpoints, impacts, sticking) go to that
+//! recorder as they are; a lockstep step is recorded by a vectorised copy of the recorder's
+//! per-step arithmetic (durations, Simpson integrals, ranges and force extrema with their
+//! parabola refinement) on running totals kept per lane, in the same order, so the totals are those
+//! of the scalar recorder. A lockstep step with anything rarer — a section level crossed, a
+//! mesh-cycle strobe instant, a step longer than two trajectory samples — is handed to the scalar
+//! recorder as the scalar integrator would report it.
+//!
+//! Runs are grouped by phase table ([`MeshLanes`]: models that differ only in `omega`, `F`, `xi`,
+//! `c` share one), split into chunks of whole lane loads and the chunks run in parallel (rayon).
+//! A run's result depends on nothing but the run, so the output is the same for any thread
+//! count.
+
+// lane loops over several arrays read clearer (and vectorise as intended) with an index
+#![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
+
+use crate::driver::Observer;
+use crate::simulate::{Method, Recorder, SimError, SimOptions, SimResult};
+use geardyn_model::{MeshLane, MeshLanes, MeshMode, MeshModel};
+use geardyn_solvers::ensemble::{run_lanes, At, End, LaneDriver, LaneStep, Next, Stage, Start};
+use geardyn_solvers::{Step, Stop};
+use rayon::prelude::*;
+
+/// Lanes per engine: two AVX2 registers of `f64` per state component (more independent work per
+/// stage than one, which hides the latency of the stage chain).
+pub const LANES: usize = 8;
+
+/// Running totals of the recorder of every lane, in lanes.
+pub(crate) struct Acc<const L: usize> {
+    dur: [[f64; L]; 3],
+    int: [[f64; L]; 4],
+    xmin: [f64; L],
+    xmax: [f64; L],
+    fmax: [f64; L],
+    fmin: [f64; L],
+    /// Section levels and whether each is counted; steps longer than this go to the recorder.
+    lv: [[f64; L]; 4],
+    cnt: [[bool; L]; 4],
+    long: [f64; L],
+}
+
+impl<const L: usize> Acc<L> {
+    pub(crate) fn new() -> Self {
+        Acc {
+            dur: [[0.0; L]; 3],
+            int: [[0.0; L]; 4],
+            xmin: [0.0; L],
+            xmax: [0.0; L],
+            fmax: [0.0; L],
+            fmin: [0.0; L],
+            lv: [[0.0; L]; 4],
+            cnt: [[false; L]; 4],
+            long: [0.0; L],
+        }
+    }
+
+    /// Takes lane `l`'s totals and settings from its recorder.
+    pub(crate) fn load(&mut self, l: usize, rec: &Recorder<'_>) {
+        let r = &rec.res;
+        for s in 0..3 {
+            self.dur[s][l] = r.durations[s];
+        }
+        for s in 0..4 {
+            self.int[s][l] = r.integrals[s];
+            self.lv[s][l] = rec.levels[s];
+            self.cnt[s][l] = rec.count_levels[s];
+        }
+        self.xmin[l] = r.x_range.0;
+        self.xmax[l] = r.x_range.1;
+        self.fmax[l] = r.max_force;
+        self.fmin[l] = r.min_force;
+        self.long[l] = rec.sample_dt * 2.0;
+    }
+
+    /// Writes lane `l`'s totals back into its recorder.
+    pub(crate) fn store(&self, l: usize, rec: &mut Recorder<'_>) {
+        let r = &mut rec.res;
+        for s in 0..3 {
+            r.durations[s] = self.dur[s][l];
+        }
+        for s in 0..4 {
+            r.integrals[s] = self.int[s][l];
+        }
+        r.x_range = (self.xmin[l], self.xmax[l]);
+        r.max_force = self.fmax[l];
+        r.min_force = self.fmin[l];
+    }
+
+    /// Records a lockstep step of the lanes in `rec` (as `Recorder::on_step` does for a step
+    /// without event or mode change), except lanes with a rare case, which are returned.
+    #[inline(always)]
+    pub(crate) fn record(
+        &mut self,
+        batch: &MeshLanes,
+        st: &LaneStep<'_, MeshLane, 2, L>,
+        rec: u32,
+        mesh_on: bool,
+    ) -> u32 {
+        if rec == 0 {
+            return 0;
+        }
+        if mesh_on && batch.near_cycle_end(st.j) {
+            return rec;
+        }
+        let (t0, t1) = (st.t0, st.t1);
+        let mut dt = [0.0; L];
+        let mut xm = [0.0; L];
+        let mut vm = [0.0; L];
+        let mut x1 = [0.0; L];
+        let mut v1 = [0.0; L];
+        let mut rare = [false; L];
+        for l in 0..L {
+            dt[l] = t1[l] - t0[l];
+            let h = dt[l];
+            // the Hermite interpolant of the step (Step::hermite) at theta = 1/2 and 1
+            let mut ym = [0.0; 2];
+            let mut ye = [0.0; 2];
+            for i in 0..2 {
+                let r0 = st.y0[i][l];
+                let r1 = st.y1[i][l] - r0;
+                let r2 = h * st.f0[i][l] - r1;
+                let r3 = r1 - h * st.f1[i][l] - r2;
+                ym[i] = r0 + 0.5 * (r1 + 0.5 * (r2 + 0.5 * (r3 + 0.5 * 0.0)));
+                ye[i] = r0 + r1;
+            }
+            xm[l] = ym[0];
+            vm[l] = ym[1];
+            x1[l] = ye[0];
+            v1[l] = ye[1];
+            let x0 = st.y0[0][l];
+            let mut c = dt[l] > self.long[l];
+            for s in 0..4 {
+                let lvl = self.lv[s][l];
+                let crossed = if s % 2 == 0 {
+                    (x0 <= lvl) & (x1[l] > lvl)
+                } else {
+                    (x0 >= lvl) & (x1[l] < lvl)
+                };
+                c |= crossed & self.cnt[s][l];
+            }
+            rare[l] = c;
+        }
+        let mut rare_mask = 0u32;
+        for l in 0..L {
+            rare_mask |= (rare[l] as u32) << l;
+        }
+        let rare_mask = rare_mask & rec;
+        let upd = rec & !rare_mask;
+        if upd == 0 {
+            return rare_mask;
+        }
+        let mut x0 = [0.0; L];
+        let mut v0 = [0.0; L];
+        for l in 0..L {
+            x0[l] = st.y0[0][l];
+            v0[l] = st.y0[1][l];
+        }
+        let mut f0 = [0.0; L];
+        let mut fm = [0.0; L];
+        let mut f1 = [0.0; L];
+        // the recorder's sample times t0 + theta*dt
+        let mut a0 = At {
+            t: [0.0; L],
+            grid: [0.0; L],
+        };
+        let mut am = a0;
+        let mut a1 = a0;
+        for l in 0..L {
+            a0.t[l] = t0[l] + 0.0 * dt[l];
+            am.t[l] = t0[l] + 0.5 * dt[l];
+            a1.t[l] = t0[l] + 1.0 * dt[l];
+            a0.grid[l] = st.grid[l];
+            am.grid[l] = st.grid[l] + 0.5;
+            a1.grid[l] = st.grid[l] + 1.0;
+        }
+        batch.force(st.j, Stage::Start, &a0, st.lanes, &x0, &v0, &mut f0);
+        batch.force(st.j, Stage::Mid, &am, st.lanes, &xm, &vm, &mut fm);
+        batch.force(st.j, Stage::End, &a1, st.lanes, &x1, &v1, &mut f1);
+        const W: [f64; 3] = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
+        for l in 0..L {
+            let on = upd & (1 << l) != 0;
+            let ln = &st.lanes[l];
+            let contact = ln.sd + ln.sb > 0.0;
+            let d = dt[l];
+            // durations: drive, separated, back
+            let dur = [
+                self.dur[0][l] + ln.sd * d,
+                self.dur[1][l] + (1.0 - ln.sd - ln.sb) * d,
+                self.dur[2][l] + ln.sb * d,
+            ];
+            let xs = [x0[l], xm[l], x1[l]];
+            let fs = [f0[l], fm[l], f1[l]];
+            let (mut xmin, mut xmax) = (self.xmin[l], self.xmax[l]);
+            let (mut fmax, mut fmin) = (self.fmax[l], self.fmin[l]);
+            let mut int = [
+                self.int[0][l],
+                self.int[1][l],
+                self.int[2][l],
+                self.int[3][l],
+            ];
+            for k in 0..3 {
+                xmin = xmin.min(xs[k]);
+                xmax = xmax.max(xs[k]);
+                fmax = fmax.max(fs[k]);
+                fmin = fmin.min(fs[k]);
+                int[0] += W[k] * d * xs[k];
+                int[1] += W[k] * d * xs[k] * xs[k];
+                int[2] += W[k] * d * fs[k];
+                int[3] += W[k] * d * fs[k] * fs[k];
+            }
+            // parabola through the three samples around an extreme middle one
+            let (a, b, c) = (xs[0], xs[1], xs[2]);
+            let curv = a - 2.0 * b + c;
+            if curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
+                let p = b - (c - a) * (c - a) / (8.0 * curv);
+                xmin = xmin.min(p);
+                xmax = xmax.max(p);
+            }
+            let (a, b, c) = (fs[0], fs[1], fs[2]);
+            let curv = a - 2.0 * b + c;
+            if contact && curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
+                let p = b - (c - a) * (c - a) / (8.0 * curv);
+                fmax = fmax.max(p);
+                fmin = fmin.min(p);
+            }
+            if on {
+                for s in 0..3 {
+                    self.dur[s][l] = dur[s];
+                }
+                for s in 0..4 {
+                    self.int[s][l] = int[s];
+                }
+                self.xmin[l] = xmin;
+                self.xmax[l] = xmax;
+                self.fmax[l] = fmax;
+                self.fmin[l] = fmin;
+            }
+        }
+        rare_mask
+    }
+}
+
+/// One simulation: transient, then record.
+enum Phase {
+    Transient(u64),
+    Record(u64),
+}
+
+struct Job<'s> {
+    out: usize,
+    model: &'s MeshModel,
+    phase: Phase,
+    rec: Option<Recorder<'s>>,
+}
+
+/// Lane driver of many [`simulate`](crate::simulate::simulate) runs.
+struct SimDriver<'s, 'q, const L: usize> {
+    items: &'q [Item<'s>],
+    next: usize,
+    opts: &'q SimOptions,
+    steps_per_cycle: u32,
+    jobs: [Option<Job<'s>>; L],
+    acc: Acc<L>,
+    rec_mask: u32,
+    mesh_on: bool,
+    out: Vec<(usize, Result<SimResult, SimError>)>,
+}
+
+impl<'s, const L: usize> SimDriver<'s, '_, L> {
+    fn start_record(&mut self, l: usize, t: f64) {
+        let o = self.opts;
+        let job = self.jobs[l].as_mut().expect("busy lane");
+        let traj_from = o.record_periods.saturating_sub(o.trajectory_periods);
+        let rec = Recorder::new(job.model, false, o.samples_per_cycle, t, traj_from);
+        self.acc.load(l, &rec);
+        job.rec = Some(rec);
+        job.phase = Phase::Record(o.record_periods);
+        self.rec_mask |= 1 << l;
+    }
+}
+
+impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L> {
+    fn next_item(&mut self, l: usize) -> Option<Start<'s, MeshModel, 2>> {
+        let &(out, model, y0) = self.items.get(self.next)?;
+        self.next += 1;
+        let o = self.opts;
+        self.jobs[l] = Some(Job {
+            out,
+            model,
+            phase: Phase::Transient(o.transient_periods),
+            rec: None,
+        });
+        if o.transient_periods == 0 {
+            self.start_record(l, o.tau0);
+        }
+        Some(Start {
+            sys: model,
+            t0: o.tau0,
+            y0,
+            h: model.mesh_cycle_time() / self.steps_per_cycle as f64,
+            period: model.excitation_period(),
+        })
+    }
+
+    #[inline(always)]
+    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLane, 2, L>) -> u32 {
+        self.acc
+            .record(batch, st, st.mask & self.rec_mask, self.mesh_on)
+    }
+
+    fn on_step(
+        &mut self,
+        l: usize,
+        sys: &MeshModel,
+        step: &Step<2>,
+        before: &MeshMode,
+        stop: Stop,
+        after: &MeshMode,
+        y_after: &[f64; 2],
+    ) {
+        if self.rec_mask & (1 << l) == 0 {
+            return;
+        }
+        let Some(rec) = self.jobs[l].as_mut().and_then(|j| j.rec.as_mut()) else {
+            return;
+        };
+        self.acc.store(l, rec);
+        rec.on_step(&sys, step, before, stop, after, y_after);
+        self.acc.load(l, rec);
+    }
+
+    fn on_strobe(&mut self, l: usize, t: f64, y: &[f64; 2]) -> Next {
+        let job = self.jobs[l].as_mut().expect("busy lane");
+        match &mut job.phase {
+            Phase::Transient(left) => {
+                *left -= 1;
+                if *left > 0 {
+                    return Next::Continue;
+                }
+            }
+            Phase::Record(left) => {
+                if let Some(rec) = job.rec.as_mut() {
+                    Observer::<&MeshModel, 2>::on_strobe(rec, t, y);
+                }
+                *left -= 1;
+                return if *left == 0 {
+                    Next::Finish
+                } else {
+                    Next::Continue
+                };
+            }
+        }
+        // end of the transient: the record is a new run of periods from here
+        self.start_record(l, t);
+        if self.opts.record_periods == 0 {
+            Next::Finish
+        } else {
+            Next::Segment
+        }
+    }
+
+    fn on_end(&mut self, l: usize, end: End<2>) {
+        let bit = 1u32 << l;
+        let Some(mut job) = self.jobs[l].take() else {
+            return;
+        };
+        let recording = self.rec_mask & bit != 0;
+        self.rec_mask &= !bit;
+        let r = match end {
+            End::Failed(e) => Err(SimError::Solver(e)),
+            End::Done { t, y, stats } => {
+                let mut res = match job.rec.as_mut() {
+                    Some(rec) => {
+                        if recording {
+                            self.acc.store(l, rec);
+                        }
+                        std::mem::take(&mut rec.res)
+                    }
+                    None => SimResult::default(),
+                };
+                if res.max_force == f64::NEG_INFINITY {
+                    res.max_force = 0.0;
+                    res.min_force = 0.0;
+                }
+                res.steps = stats.steps;
+                res.rhs_evals = stats.rhs_evals;
+                res.final_state = (t, y);
+                Ok(res)
+            }
+        };
+        self.out.push((job.out, r));
+    }
+}
+
+/// Whether [`simulate_lanes`] can run these settings: fixed-step RK4 without a trajectory and
+/// with at least one period to integrate.
+pub fn lanes_apply(opts: &SimOptions) -> bool {
+    matches!(opts.method, Method::Rk4 { .. })
+        && !opts.trajectory
+        && opts.transient_periods + opts.record_periods > 0
+}
+
+/// A work item: output index, model, initial state.
+type Item<'s> = (usize, &'s MeshModel, [f64; 2]);
+
+/// Work items grouped by phase table.
+type Groups<'s> = Vec<(MeshLanes, Vec<Item<'s>>)>;
+
+/// Groups runs by phase table (models with equal tables share lanes).
+fn group<'s>(runs: &[(&'s MeshModel, [f64; 2])], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
+    let mut groups: Groups<'s> = Vec::new();
+    let mut seen: Vec<(*const MeshModel, usize)> = Vec::new();
+    for (i, &(m, y0)) in runs.iter().enumerate() {
+        let key = m as *const MeshModel;
+        let g = match seen.iter().find(|s| s.0 == key) {
+            Some(&(_, g)) => g,
+            None => {
+                let t = MeshLanes::new(m, steps_per_cycle, tau0);
+                let g = match groups.iter().position(|(u, _)| *u == t) {
+                    Some(g) => g,
+                    None => {
+                        groups.push((t, Vec::new()));
+                        groups.len() - 1
+                    }
+                };
+                seen.push((key, g));
+                g
+            }
+        };
+        groups[g].1.push((i, m, y0));
+    }
+    groups
+}
+
+/// Chunk length: whole lane loads, about three chunks per thread.
+fn chunk_len(items: usize, lanes: usize) -> usize {
+    let threads = rayon::current_num_threads().max(1);
+    lanes * items.div_ceil(lanes * threads * 3).max(1)
+}
+
+/// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
+/// (fixed-step RK4; see [`lanes_apply`]), in lockstep lanes; results in input order.
+///
+/// ```
+/// use geardyn_analysis::lanes::simulate_lanes;
+/// use geardyn_analysis::simulate::{simulate, Method, SimOptions};
+/// let m = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
+/// let opts = SimOptions {
+///     method: Method::Rk4 { steps_per_cycle: 128 },
+///     transient_periods: 50,
+///     record_periods: 10,
+///     ..Default::default()
+/// };
+/// let lanes = simulate_lanes(&[(&m, [0.0, 0.0]), (&m, [0.5, 0.1])], &opts);
+/// let scalar = simulate(&m, [0.5, 0.1], &opts).unwrap();
+/// let s = &lanes[1].as_ref().unwrap().strobe;
+/// assert!((s[9][1] - scalar.strobe[9][1]).abs() < 1e-12);
+/// ```
+pub fn simulate_lanes(
+    runs: &[(&MeshModel, [f64; 2])],
+    opts: &SimOptions,
+) -> Vec<Result<SimResult, SimError>> {
+    let Method::Rk4 { steps_per_cycle } = opts.method else {
+        panic!("simulate_lanes needs the RK4 method");
+    };
+    assert!(!opts.trajectory, "simulate_lanes keeps no trajectory");
+    let n = steps_per_cycle.max(1);
+    let groups = group(runs, n, opts.tau0);
+    let mut work: Vec<(&MeshLanes, &[Item<'_>])> = Vec::new();
+    for (table, items) in &groups {
+        for c in items.chunks(chunk_len(items.len(), LANES)) {
+            work.push((table, c));
+        }
+    }
+    let parts: Vec<Vec<(usize, Result<SimResult, SimError>)>> = work
+        .par_iter()
+        .map(|&(table, items)| {
+            let mut drv = SimDriver::<LANES> {
+                items,
+                next: 0,
+                opts,
+                steps_per_cycle: n,
+                jobs: std::array::from_fn(|_| None),
+                acc: Acc::new(),
+                rec_mask: 0,
+                mesh_on: items.first().is_some_and(|it| it.1.cycles_per_period() > 1),
+                out: Vec::with_capacity(items.len()),
+            };
+            run_lanes::<MeshLanes, _, 2, LANES>(table, &mut drv);
+            drv.out
+        })
+        .collect();
+    let mut out: Vec<Option<Result<SimResult, SimError>>> = (0..runs.len()).map(|_| None).collect();
+    for (i, r) in parts.into_iter().flatten() {
+        out[i] = Some(r);
+    }
+    out.into_iter()
+        .map(|r| r.expect("every run has a result"))
+        .collect()
+}
