@@ -10,7 +10,7 @@
 
 use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{Amplitudes, Level, SimOptions};
+use crate::simulate::{summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -260,7 +260,24 @@ fn model_at(
 
 /// Simulates one run and extracts what a sweep records.
 pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions) -> Run {
-    match simulate_decided(model, y0, &opts.sim, Decide::default()) {
+    run_of(
+        model,
+        y0,
+        ic,
+        opts,
+        simulate_decided(model, y0, &opts.sim, Decide::default()),
+    )
+}
+
+/// What a sweep records of a decided run.
+fn run_of(
+    model: &MeshModel,
+    y0: [f64; 2],
+    ic: usize,
+    opts: &SweepOptions,
+    decided: Result<(SimResult, Summary, SimOptions), SimError>,
+) -> Run {
+    match decided {
         Err(e) => Run {
             motion: Motion::Failed {
                 reason: e.to_string(),
@@ -348,6 +365,27 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
     }
 }
 
+/// The sweep's record of a run simulated in the lanes: used as it is when the period test decides
+/// it periodic (and it did not run away); otherwise the run is classified by the scalar path
+/// ([`run_once`]), exactly as without lanes.
+fn run_from_lanes(
+    model: &MeshModel,
+    y0: [f64; 2],
+    ic: usize,
+    opts: &SweepOptions,
+    lanes: Result<SimResult, SimError>,
+) -> Run {
+    if let Ok(res) = lanes {
+        let s = summarize(model, &res, &opts.sim);
+        let scale = model.backlash_levels().1.max(1.0);
+        let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
+        if s.motion.is_periodic() && x_max <= crate::classify::DIVERGED_SCALES * scale {
+            return run_of(model, y0, ic, opts, Ok((res, s, opts.sim)));
+        }
+    }
+    run_once(model, y0, ic, opts)
+}
+
 /// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
 /// `on_done` receives each newly finished task (from any thread). Returns all results in
 /// [`tasks`] order.
@@ -424,19 +462,47 @@ where
                 .copied()
                 .filter(|t| !done.contains_key(t))
                 .collect();
-            let fresh: Vec<TaskResult> = todo
-                .par_iter()
-                .map(|&t| {
-                    let runs: Vec<Run> = (0..k)
-                        .into_par_iter()
-                        .map(|ic| {
-                            let y0 = initial_state(mode, opts.y0, t.index, ic);
-                            run_once(&models[t.index], y0, ic, opts)
-                        })
-                        .collect();
-                    finish(t, runs)
-                })
-                .collect();
+            let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
+                // fixed-step RK4: every run of every value in lockstep lanes; a run not decided
+                // periodic there is classified by the scalar path (transient extensions, TLE)
+                let items: Vec<(usize, usize, [f64; 2])> = todo
+                    .iter()
+                    .flat_map(|t| {
+                        (0..k)
+                            .map(move |ic| (t.index, ic, initial_state(mode, opts.y0, t.index, ic)))
+                    })
+                    .collect();
+                let runs: Vec<(&MeshModel, [f64; 2])> =
+                    items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
+                let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
+                let mut decided: Vec<Run> = items
+                    .par_iter()
+                    .zip(lane_results)
+                    .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
+                    .collect();
+                let mut out = Vec::with_capacity(todo.len());
+                for &t in todo.iter().rev() {
+                    let runs = decided.split_off(decided.len() - k);
+                    out.push((t, runs));
+                }
+                out.into_iter()
+                    .rev()
+                    .map(|(t, runs)| finish(t, runs))
+                    .collect()
+            } else {
+                todo.par_iter()
+                    .map(|&t| {
+                        let runs: Vec<Run> = (0..k)
+                            .into_par_iter()
+                            .map(|ic| {
+                                let y0 = initial_state(mode, opts.y0, t.index, ic);
+                                run_once(&models[t.index], y0, ic, opts)
+                            })
+                            .collect();
+                        finish(t, runs)
+                    })
+                    .collect()
+            };
             for r in fresh {
                 results.insert(r.task, r);
             }

@@ -22,7 +22,7 @@
 
 use crate::driver::Observer;
 use crate::simulate::{Method, Recorder, SimError, SimOptions, SimResult};
-use geardyn_model::{MeshLane, MeshLanes, MeshMode, MeshModel};
+use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{run_lanes, At, End, LaneDriver, LaneStep, Next, Stage, Start};
 use geardyn_solvers::{Step, Stop};
 use rayon::prelude::*;
@@ -98,7 +98,7 @@ impl<const L: usize> Acc<L> {
     pub(crate) fn record(
         &mut self,
         batch: &MeshLanes,
-        st: &LaneStep<'_, MeshLane, 2, L>,
+        st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>,
         rec: u32,
         mesh_on: bool,
     ) -> u32 {
@@ -185,14 +185,15 @@ impl<const L: usize> Acc<L> {
         const W: [f64; 3] = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
         for l in 0..L {
             let on = upd & (1 << l) != 0;
-            let ln = &st.lanes[l];
-            let contact = ln.sd + ln.sb > 0.0;
+            let ln = st.lanes;
+            let (sd, sb) = (ln.sd[l], ln.sb[l]);
+            let contact = sd + sb > 0.0;
             let d = dt[l];
             // durations: drive, separated, back
             let dur = [
-                self.dur[0][l] + ln.sd * d,
-                self.dur[1][l] + (1.0 - ln.sd - ln.sb) * d,
-                self.dur[2][l] + ln.sb * d,
+                self.dur[0][l] + sd * d,
+                self.dur[1][l] + (1.0 - sd - sb) * d,
+                self.dur[2][l] + sb * d,
             ];
             let xs = [x0[l], xm[l], x1[l]];
             let fs = [f0[l], fm[l], f1[l]];
@@ -309,7 +310,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
     }
 
     #[inline(always)]
-    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLane, 2, L>) -> u32 {
+    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>) -> u32 {
         self.acc
             .record(batch, st, st.mask & self.rec_mask, self.mesh_on)
     }

@@ -1,35 +1,161 @@
-//! `geardyn bench`: integrator speed on case C1 (docs/model.md §6), printed as figures.
+//! `geardyn bench`: integrator speed on case C1 (docs/model.md §6), printed as figures, with the
+//! numba yardstick (`../shared/bench/c1_numba_rk4.py`) run in the same command for ratios.
+//!
+//! Figures: ns per RK4 step (scalar, and per lane-step of the lockstep ensemble on one thread),
+//! workload W1 (the C1 bifurcation diagram: 200 values of omega in [0.5, 2], 300 + 100 periods,
+//! RK4 512 steps per period) with the ensemble, the scalar RK4 and DP5, and the 200 x 200 basin of
+//! C1 at omega = 1.8 (ensemble RK4). The numba yardstick is run before and after the geardyn
+//! workloads (its first run compiles and is not timed) and the ratios use the mean of its timed
+//! runs. On a shared machine run it several times and compare ratios, not seconds.
 
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
 use clap::Args;
+use geardyn_analysis::basins::{basins, Axis, BasinOptions};
+use geardyn_analysis::bifurcation::{
+    linspace, run_once, run_sweep, Section, SweepMode, SweepOptions,
+};
 use geardyn_analysis::driver::{run_periods, Discard};
+use geardyn_analysis::lanes::{simulate_lanes, LANES};
+use geardyn_analysis::simulate::{Method, SimOptions};
 use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::{Integrator, Scheme};
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::time::Instant;
 
 /// Arguments of `geardyn bench`.
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Excitation periods per run.
+    /// Excitation periods per run (ns/step figures).
     #[arg(long, default_value_t = 400)]
     periods: u64,
     /// RK4 steps per mesh cycle.
     #[arg(long, default_value_t = 512)]
     steps_per_cycle: u32,
-    /// Mesh frequency.
+    /// Mesh frequency of the ns/step figures.
     #[arg(long, default_value_t = 1.3)]
     omega: f64,
-    /// Repetitions (the best is reported).
+    /// Repetitions of the ns/step figures (the best is reported).
     #[arg(long, default_value_t = 5)]
     repeat: u32,
     /// Interior guard samples per step (grazing detection); default: the integrator's choice.
     #[arg(long)]
     grazing: Option<usize>,
-    /// Also time the C1 bifurcation diagram (200 values of omega in [0.5, 2], 300 + 100 periods).
+    /// Also time W1, the C1 bifurcation diagram (200 values of omega in [0.5, 2], 300 + 100
+    /// periods): ensemble RK4, scalar RK4 and DP5.
     #[arg(long)]
     bifurcation: bool,
+    /// Also time the 200 x 200 basin of C1 at omega = 1.8 (ensemble RK4).
+    #[arg(long)]
+    basins: bool,
+    /// Also time the scalar RK4 basin (slow: minutes).
+    #[arg(long)]
+    scalar_basins: bool,
+    /// Everything: --bifurcation --basins --numba.
+    #[arg(long)]
+    all: bool,
+    /// Run the numba yardstick in this command and print ratios.
+    #[arg(long)]
+    numba: bool,
+    /// Python interpreter with numba (default: $GEARDYN_NUMBA_PYTHON, else python3).
+    #[arg(long)]
+    numba_python: Option<String>,
+    /// The yardstick script.
+    #[arg(long, default_value = "../shared/bench/c1_numba_rk4.py")]
+    numba_script: PathBuf,
+}
+
+/// Runs the numba yardstick once; its compute time in seconds.
+fn numba_once(python: &str, script: &PathBuf) -> Result<f64> {
+    let out = std::process::Command::new(python)
+        .arg(script)
+        .env(
+            "NUMBA_NUM_THREADS",
+            rayon::current_num_threads().to_string(),
+        )
+        .output()
+        .with_context(|| format!("running {python} {}", script.display()))?;
+    if !out.status.success() {
+        bail!(
+            "numba yardstick failed: {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    // "rk4: 200 parameter points, 400 periods each, 1.66 s"
+    let secs = text
+        .split(',')
+        .next_back()
+        .and_then(|s| s.trim().trim_end_matches('s').trim().parse::<f64>().ok())
+        .with_context(|| format!("unexpected yardstick output: {text}"))?;
+    Ok(secs)
+}
+
+struct Numba {
+    python: String,
+    script: PathBuf,
+    times: Vec<f64>,
+}
+
+impl Numba {
+    fn run(&mut self, label: &str) -> Result<()> {
+        let s = numba_once(&self.python, &self.script)?;
+        println!("numba yardstick W1 ({label}): {s:.3} s");
+        self.times.push(s);
+        Ok(())
+    }
+    fn mean(&self) -> Option<f64> {
+        (!self.times.is_empty()).then(|| self.times.iter().sum::<f64>() / self.times.len() as f64)
+    }
+}
+
+fn w1_options(method: Method) -> SweepOptions {
+    SweepOptions {
+        param: "omega".into(),
+        values: linspace(0.5, 2.0, 200),
+        mode: SweepMode::Fixed,
+        sim: SimOptions {
+            method,
+            transient_periods: 300,
+            record_periods: 100,
+            ..Default::default()
+        },
+        y0: [0.0, 0.0],
+        sections: vec![Section::Strobe],
+        lyapunov: false,
+    }
+}
+
+fn load() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .unwrap_or_else(|| "?".into())
 }
 
 pub fn run(a: BenchArgs) -> Result<()> {
+    let (bif, bas, num) = (a.bifurcation || a.all, a.basins || a.all, a.numba || a.all);
+    println!(
+        "geardyn bench: {} threads, ensemble {} lanes, {} dispatch, load average {}",
+        rayon::current_num_threads(),
+        LANES,
+        geardyn_solvers::ensemble::dispatch_path(),
+        load()
+    );
+    let mut numba = Numba {
+        python: a
+            .numba_python
+            .clone()
+            .or_else(|| std::env::var("GEARDYN_NUMBA_PYTHON").ok())
+            .unwrap_or_else(|| "python3".into()),
+        script: a.numba_script.clone(),
+        times: Vec::new(),
+    };
+    if num {
+        // the first run compiles (numba's cache), not timed
+        numba_once(&numba.python, &numba.script)?;
+        numba.run("before")?;
+    }
     let mut p = presets::classic();
     p.omega = a.omega;
     let model = MeshModel::new(&p)?;
@@ -52,7 +178,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
                     ..Default::default()
                 },
             );
-            let t = std::time::Instant::now();
+            let t = Instant::now();
             run_periods(&mut it, ts, a.periods, &mut Discard)?;
             let el = t.elapsed().as_secs_f64();
             if el < best {
@@ -61,7 +187,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             }
         }
         println!(
-            "C1 omega={} {} periods, {name:<5}: {:>9} steps, {:>5} events, total {:.4} s, {:.1} ns/step",
+            "C1 omega={} {} periods, scalar {name:<5}: {:>9} steps, {:>5} events, total {:.4} s, {:.1} ns/step",
             a.omega,
             a.periods,
             stats.steps,
@@ -70,47 +196,154 @@ pub fn run(a: BenchArgs) -> Result<()> {
             best * 1e9 / stats.steps as f64
         );
     }
-    if a.bifurcation {
-        use geardyn_analysis::bifurcation::{
-            linspace, run_sweep, Section, SweepMode, SweepOptions,
-        };
-        use geardyn_analysis::simulate::{Method, SimOptions};
-        for method in [
-            Method::Rk4 {
+    // ensemble: one thread, one table, LANES * 2 trajectories of the same model from different
+    // initial states (all steps recorded as in a sweep's run: transient 3/4, record 1/4)
+    {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+        let ics: Vec<[f64; 2]> = (0..2 * LANES)
+            .map(|i| [-1.0 + 0.1 * i as f64, 0.0])
+            .collect();
+        let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&model, y)).collect();
+        let opts = SimOptions {
+            method: Method::Rk4 {
                 steps_per_cycle: a.steps_per_cycle,
             },
-            Method::default(),
-        ] {
-            let opts = SweepOptions {
-                param: "omega".into(),
-                values: linspace(0.5, 2.0, 200),
-                mode: SweepMode::Fixed,
-                sim: SimOptions {
-                    method,
-                    transient_periods: 300,
-                    record_periods: 100,
-                    ..Default::default()
-                },
-                y0: [0.0, 0.0],
-                sections: vec![Section::Strobe],
-                lyapunov: false,
-            };
-            let t = std::time::Instant::now();
-            let r = run_sweep(
-                &geardyn_scenario::Scenario::dimensionless(p.clone())?,
-                &opts,
-                &Default::default(),
-                |_| {},
-            )?;
+            transient_periods: a.periods - a.periods / 4,
+            record_periods: a.periods / 4,
+            ..Default::default()
+        };
+        let mut best = f64::INFINITY;
+        let mut steps = 0;
+        for _ in 0..a.repeat {
+            let t = Instant::now();
+            let r = pool.install(|| simulate_lanes(&runs, &opts));
             let el = t.elapsed().as_secs_f64();
+            if el < best {
+                best = el;
+                steps = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
+            }
+        }
+        println!(
+            "C1 omega={} {} periods, ensemble rk4 x{} on 1 thread: {:>9} steps, total {:.4} s, {:.2} ns/step",
+            a.omega,
+            a.periods,
+            runs.len(),
+            steps,
+            best,
+            best * 1e9 / steps as f64
+        );
+    }
+    let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic())?;
+    let rk4 = Method::Rk4 {
+        steps_per_cycle: a.steps_per_cycle,
+    };
+    let mut w1_ens = None;
+    if bif {
+        // ensemble: the whole sweep (lanes, classification of non-periodic values as before)
+        let opts = w1_options(rk4);
+        let t = Instant::now();
+        let r = run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
+        let el = t.elapsed().as_secs_f64();
+        let periodic = r.iter().filter(|x| x.runs[0].period > 0).count();
+        println!(
+            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (sweep, classified): {el:.3} s ({periodic} periodic values)"
+        );
+        w1_ens = Some(el);
+        // ensemble: integration and recording only (the yardstick's work plus event location)
+        let models: Vec<MeshModel> = opts
+            .values
+            .iter()
+            .map(|&w| {
+                let mut p = presets::classic();
+                p.omega = w;
+                MeshModel::new(&p)
+            })
+            .collect::<Result<_, _>>()?;
+        let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
+        let t = Instant::now();
+        let r = simulate_lanes(&runs, &opts.sim);
+        let el_sim = t.elapsed().as_secs_f64();
+        let steps: u64 = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
+        println!(
+            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration + record): {el_sim:.3} s ({steps} steps)"
+        );
+        // scalar RK4: the sweep's runs one by one (run_once), in parallel over values
+        let t = Instant::now();
+        let _: Vec<_> = models
+            .par_iter()
+            .map(|m| run_once(m, [0.0, 0.0], 0, &opts))
+            .collect();
+        let el_scalar = t.elapsed().as_secs_f64();
+        println!(
+            "W1 C1 bifurcation, 200 values x 400 periods, rk4 scalar (sweep, classified): {el_scalar:.3} s"
+        );
+        let opts = w1_options(Method::default());
+        let t = Instant::now();
+        run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
+        let el_dp = t.elapsed().as_secs_f64();
+        println!(
+            "W1 C1 bifurcation, 200 values x 400 periods, dopri (sweep, classified): {el_dp:.3} s"
+        );
+        if num {
+            numba.run("after W1")?;
+            let nb = numba.mean().unwrap_or(f64::NAN);
             println!(
-                "C1 bifurcation, 200 values x 400 periods, {:?}, {} threads: {:.3} s ({} runs)",
-                method,
-                rayon::current_num_threads(),
-                el,
-                r.len()
+                "W1 speed-up over numba ({nb:.3} s): ensemble sweep {:.1}x, ensemble integration {:.1}x, scalar rk4 {:.2}x, dopri {:.2}x",
+                nb / el,
+                nb / el_sim,
+                nb / el_scalar,
+                nb / el_dp
             );
         }
+    }
+    if bas {
+        let mut p = presets::classic();
+        p.omega = 1.8;
+        let model = MeshModel::new(&p)?;
+        let mut ident = geardyn_analysis::attractor::IdentifyOptions::default();
+        ident.sim.method = rk4;
+        let opts = BasinOptions {
+            x: Axis {
+                min: -2.0,
+                max: 2.0,
+                n: 200,
+            },
+            v: Axis {
+                min: -1.5,
+                max: 1.5,
+                n: 200,
+            },
+            identify: ident,
+        };
+        let t = Instant::now();
+        let r = basins(&model, &opts, &Default::default(), |_, _| {});
+        let el = t.elapsed().as_secs_f64();
+        println!(
+            "basin 200x200 C1 omega=1.8, rk4 ensemble: {el:.3} s ({} attractors, {} captured early, {} periods)",
+            r.attractors.len(),
+            r.captured_early,
+            r.periods
+        );
+        if a.scalar_basins {
+            let t = Instant::now();
+            // TODO basins_scalar
+            println!(
+                "basin 200x200 C1 omega=1.8, rk4 scalar: {:.3} s",
+                t.elapsed().as_secs_f64()
+            );
+        }
+        if num {
+            numba.run("after basin")?;
+            let nb = numba.mean().unwrap_or(f64::NAN);
+            println!("basin time / numba W1 time ({nb:.3} s): {:.2}", el / nb);
+        }
+    }
+    if let (Some(el), Some(nb)) = (w1_ens, numba.mean()) {
+        println!(
+            "summary: W1 ensemble {el:.3} s, numba {nb:.3} s (mean of {} runs), ratio {:.1}x",
+            numba.times.len(),
+            nb / el
+        );
     }
     Ok(())
 }

@@ -26,7 +26,7 @@ pub mod reference;
 pub use contact_law::{johnson_exponent, ContactLaw};
 pub use error::ModelError;
 pub use impact::ImpactLaw;
-pub use mesh_lanes::{MeshLane, MeshLanes};
+pub use mesh_lanes::{MeshLane, MeshLaneBlock, MeshLanes};
 pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone};
 pub use params::{
     BackSide, Breakage, Friction, ModelParams, StiffnessForm, ZonePiece, PARAMETER_NAMES,

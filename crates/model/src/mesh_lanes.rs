@@ -28,6 +28,9 @@
 //! path to rounding, not to ulp(t). Piecewise-linear stiffness and friction tables are taken at the
 //! exact phase (their rounded-time difference is below 1e-13 relative).
 
+// lane loops over several arrays read clearer (and vectorise as intended) with an index
+#![allow(clippy::needless_range_loop)]
+
 use crate::mesh_model::{ContactState, MeshMode, MeshModel};
 use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
@@ -84,6 +87,65 @@ pub struct MeshLane {
     pub lo: f64,
     /// Clamp of the mesh force (`0` / `+inf` for a unilateral back contact).
     pub hi: f64,
+}
+
+impl MeshLane {
+    const IDLE: MeshLane = MeshLane {
+        sd: 0.0,
+        sb: 0.0,
+        load: 0.0,
+        xiw2: 0.0,
+        c: 0.0,
+        w: 0.0,
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+}
+
+/// The constants of `L` lanes as a structure of arrays (see [`MeshLane`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshLaneBlock<const L: usize> {
+    /// 1 in drive contact, else 0.
+    pub sd: [f64; L],
+    /// 1 in back contact, else 0.
+    pub sb: [f64; L],
+    /// Static load `F`.
+    pub load: [f64; L],
+    /// Excitation amplitude `xi omega^2`.
+    pub xiw2: [f64; L],
+    /// Mesh damping `c`.
+    pub c: [f64; L],
+    /// Mesh frequency `omega`.
+    pub w: [f64; L],
+    /// Lower clamp of the mesh force.
+    pub lo: [f64; L],
+    /// Upper clamp of the mesh force.
+    pub hi: [f64; L],
+}
+
+impl<const L: usize> MeshLaneBlock<L> {
+    /// Sets lane `l`.
+    pub fn set(&mut self, l: usize, ln: &MeshLane) {
+        self.sd[l] = ln.sd;
+        self.sb[l] = ln.sb;
+        self.load[l] = ln.load;
+        self.xiw2[l] = ln.xiw2;
+        self.c[l] = ln.c;
+        self.w[l] = ln.w;
+        self.lo[l] = ln.lo;
+        self.hi[l] = ln.hi;
+    }
+}
+
+/// `f` clamped to `[lo, hi]` (as `f.max(lo).min(hi)` for finite `f`, without NaN handling).
+#[inline(always)]
+fn clamp(f: f64, lo: f64, hi: f64) -> f64 {
+    let f = if f > lo { f } else { lo };
+    if f < hi {
+        f
+    } else {
+        hi
+    }
 }
 
 impl MeshLanes {
@@ -243,6 +305,78 @@ impl MeshLanes {
         )
     }
 
+    /// For a lane whose step has no guard sign change at its ends but does not clear the interior
+    /// bound: the scalar integrator's next test (`find_crossing`): the guards at the midpoint of
+    /// the Hermite interpolant and the vertex of the parabola through the three samples. `true`
+    /// when that test finds no guard near zero (the scalar step would be an ordinary one); `false`
+    /// when the scalar integrator must take the step (an event at an end, or a possible graze).
+    #[allow(clippy::too_many_arguments)]
+    #[cold]
+    #[inline(never)]
+    fn no_event_by_midpoint<const L: usize>(
+        &self,
+        d: f64,
+        sd: f64,
+        sb: f64,
+        h: f64,
+        l: usize,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &Soa<2, L>,
+        f1: &Soa<2, L>,
+    ) -> bool {
+        // Hermite interpolant of x (Step::hermite) at theta = 1/2 (Step::at_theta)
+        let r0 = y0[0][l];
+        let r1 = y1[0][l] - r0;
+        let r2 = h * f0[0][l] - r1;
+        let r3 = r1 - h * f1[0][l] - r2;
+        let xm = r0 + 0.5 * (r1 + 0.5 * (r2 + 0.5 * (r3 + 0.5 * 0.0)));
+        let x1 = y1[0][l];
+        // armed guards: (value at start, middle, end, rising?)
+        let mut guards = [(0.0, 0.0, 0.0, false); 2];
+        let mut n = 0;
+        if sb == 0.0 {
+            // x - D: rising when separated, falling in drive contact
+            guards[n] = (r0 - d, xm - d, x1 - d, sd == 0.0);
+            n += 1;
+        }
+        if sd == 0.0 {
+            // x + D: falling when separated, rising in back contact
+            guards[n] = (r0 + d, xm + d, x1 + d, sb != 0.0);
+            n += 1;
+        }
+        let crossed = |rising: bool, a: f64, b: f64| {
+            if rising {
+                a <= 0.0 && b > 0.0
+            } else {
+                a >= 0.0 && b < 0.0
+            }
+        };
+        for &(p, _, b, rising) in &guards[..n] {
+            if crossed(rising, p, b) {
+                return false;
+            }
+        }
+        for &(p, a, b, rising) in &guards[..n] {
+            let curv = p - 2.0 * a + b;
+            let near = if crossed(rising, p, a) || crossed(rising, a, b) {
+                true
+            } else if curv != 0.0 {
+                let th = 0.5 + 0.25 * (p - b) / curv;
+                let vertex = a - (b - p) * (b - p) / (8.0 * curv);
+                th > 0.0
+                    && th < 1.0
+                    && (vertex.signum() != p.signum() || vertex.abs() < 0.5 * p.abs().min(b.abs()))
+            } else {
+                false
+            };
+            if near {
+                return false;
+            }
+        }
+        true
+    }
+
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as
     /// [`MeshModel::mesh_force`] computes it at the times `at.t`.
     #[inline(always)]
@@ -252,7 +386,7 @@ impl MeshLanes {
         j: usize,
         stage: Stage,
         at: &At<L>,
-        lanes: &[MeshLane; L],
+        ln: &MeshLaneBlock<L>,
         x: &[f64; L],
         v: &[f64; L],
         out: &mut [f64; L],
@@ -260,19 +394,21 @@ impl MeshLanes {
         let m = 3 * j + stage as usize;
         let d = self.d[j];
         for l in 0..L {
-            let ln = &lanes[l];
             // (MeshModel::mesh_force writes the phase as omega t / (2 pi))
-            let (_, k) = self.cos_k(m, ln.w * at.t[l] / (2.0 * PI), at.grid[l]);
-            let off = (ln.sd - ln.sb) * d;
-            let f = (k * (x[l] - off) + ln.c * v[l]).max(ln.lo).min(ln.hi);
-            out[l] = if ln.sd + ln.sb > 0.0 { f } else { 0.0 };
+            let (_, k) = self.cos_k(m, ln.w[l] * at.t[l] / (2.0 * PI), at.grid[l]);
+            let off = (ln.sd[l] - ln.sb[l]) * d;
+            let mut f = k * (x[l] - off) + ln.c[l] * v[l];
+            if self.unilateral {
+                f = clamp(f, ln.lo[l], ln.hi[l]);
+            }
+            out[l] = if ln.sd[l] + ln.sb[l] > 0.0 { f } else { 0.0 };
         }
     }
 }
 
 impl<const L: usize> Lockstep<2, L> for MeshLanes {
     type Sys = MeshModel;
-    type Lane = MeshLane;
+    type Lanes = MeshLaneBlock<L>;
     const GUARD_DIMS: usize = 2;
 
     fn steps_per_period(&self) -> usize {
@@ -284,21 +420,38 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         self.scalar[j]
     }
 
-    fn lane(&self, sys: &MeshModel, mode: &MeshMode) -> Option<MeshLane> {
-        self.lane_of(sys, mode)
+    fn set_lane(
+        &self,
+        lanes: &mut MeshLaneBlock<L>,
+        l: usize,
+        sys: &MeshModel,
+        mode: &MeshMode,
+    ) -> bool {
+        match self.lane_of(sys, mode) {
+            Some(ln) => {
+                lanes.set(l, &ln);
+                true
+            }
+            None => false,
+        }
     }
 
-    fn idle_lane(&self) -> MeshLane {
-        MeshLane {
-            sd: 0.0,
-            sb: 0.0,
-            load: 0.0,
-            xiw2: 0.0,
-            c: 0.0,
-            w: 0.0,
-            lo: f64::NEG_INFINITY,
-            hi: f64::INFINITY,
+    fn idle_lanes(&self) -> MeshLaneBlock<L> {
+        let i = MeshLane::IDLE;
+        MeshLaneBlock {
+            sd: [i.sd; L],
+            sb: [i.sb; L],
+            load: [i.load; L],
+            xiw2: [i.xiw2; L],
+            c: [i.c; L],
+            w: [i.w; L],
+            lo: [i.lo; L],
+            hi: [i.hi; L],
         }
+    }
+
+    fn set_idle(&self, lanes: &mut MeshLaneBlock<L>, l: usize) {
+        lanes.set(l, &MeshLane::IDLE);
     }
 
     #[inline(always)]
@@ -307,7 +460,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         j: usize,
         stage: Stage,
         at: &At<L>,
-        lanes: &[MeshLane; L],
+        ln: &MeshLaneBlock<L>,
         y: &Soa<2, L>,
         dy: &mut Soa<2, L>,
     ) {
@@ -315,30 +468,129 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         let (hd, hb) = (self.hd[m], self.hb[m]);
         let d = self.d[j];
         for l in 0..L {
-            let ln = &lanes[l];
-            // (MeshModel::time_terms writes the phase as omega t (0.5 / pi))
-            let (cs, k) = self.cos_k(m, ln.w * at.t[l] * (0.5 / PI), at.grid[l]);
             let (x, v) = (y[0][l], y[1][l]);
-            let exc = ln.load + ln.xiw2 * cs;
-            let hf = ln.sd * hd + ln.sb * hb;
-            let off = (ln.sd - ln.sb) * d;
-            let fm = (k * (x - off) + ln.c * v).max(ln.lo).min(ln.hi);
+            // (MeshModel::time_terms writes the phase as omega t (0.5 / pi))
+            let (cs, k) = self.cos_k(m, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
+            let exc = ln.load[l] + ln.xiw2[l] * cs;
+            let hf = ln.sd[l] * hd + ln.sb[l] * hb;
+            let off = (ln.sd[l] - ln.sb[l]) * d;
+            let mut fm = k * (x - off) + ln.c[l] * v;
+            if self.unilateral {
+                fm = clamp(fm, ln.lo[l], ln.hi[l]);
+            }
             dy[0][l] = v;
             dy[1][l] = exc - hf * fm;
         }
+    }
+
+    /// The RK4 step of the default method, fused into one pass per lane (the whole step of a lane
+    /// lives in registers; the loop over lanes vectorises): the same operations in the same
+    /// order, so the same results.
+    #[inline(always)]
+    fn step(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &mut Soa<2, L>,
+        f1: &mut Soa<2, L>,
+    ) -> u32 {
+        let (mm, me) = (3 * j + 1, 3 * j + 2);
+        let (hdm, hbm, hde, hbe) = (self.hd[mm], self.hb[mm], self.hd[me], self.hb[me]);
+        let d = self.d[j];
+        let mut ok = [false; L];
+        let mut fin = [false; L];
+        for l in 0..L {
+            let h = t1[l] - t0[l];
+            let h2 = 0.5 * h;
+            let h6 = h * (1.0 / 6.0);
+            let (tm, te) = (t0[l] + h2, t0[l] + h);
+            let (sd, sb, c) = (ln.sd[l], ln.sb[l], ln.c[l]);
+            let off = (sd - sb) * d;
+            // stage coefficients (middle: k2, k3; end: k4, f1)
+            let (csm, km) = self.cos_k(mm, ln.w[l] * tm * (0.5 / PI), grid[l] + 0.5);
+            let (cse, ke) = self.cos_k(me, ln.w[l] * te * (0.5 / PI), grid[l] + 1.0);
+            let excm = ln.load[l] + ln.xiw2[l] * csm;
+            let exce = ln.load[l] + ln.xiw2[l] * cse;
+            let hfm = sd * hdm + sb * hbm;
+            let hfe = sd * hde + sb * hbe;
+            let (lo, hi) = (ln.lo[l], ln.hi[l]);
+            let uni = self.unilateral;
+            let acc = |exc: f64, hf: f64, k: f64, x: f64, v: f64| {
+                let mut fm = k * (x - off) + c * v;
+                if uni {
+                    fm = clamp(fm, lo, hi);
+                }
+                exc - hf * fm
+            };
+            let (x0, v0) = (y0[0][l], y0[1][l]);
+            let (a0x, a0v) = (f0[0][l], f0[1][l]);
+            let (xt, vt) = (x0 + h2 * a0x, v0 + h2 * a0v);
+            let (k2x, k2v) = (vt, acc(excm, hfm, km, xt, vt));
+            let (xt, vt) = (x0 + h2 * k2x, v0 + h2 * k2v);
+            let (k3x, k3v) = (vt, acc(excm, hfm, km, xt, vt));
+            let (xt, vt) = (x0 + h * k3x, v0 + h * k3v);
+            let (k4x, k4v) = (vt, acc(exce, hfe, ke, xt, vt));
+            let x1 = x0 + h6 * (a0x + 2.0 * (k2x + k3x) + k4x);
+            let v1 = v0 + h6 * (a0v + 2.0 * (k2v + k3v) + k4v);
+            let (b1x, b1v) = (v1, acc(exce, hfe, ke, x1, v1));
+            y1[0][l] = x1;
+            y1[1][l] = v1;
+            f1[0][l] = b1x;
+            f1[1][l] = b1v;
+            // interior bound of the Hermite interpolant (max over x, x' of |r2| + |r3|)
+            let dx = x1 - x0;
+            let r2x = h * a0x - dx;
+            let r3x = dx - h * b1x - r2x;
+            let dv = v1 - v0;
+            let r2v = h * a0v - dv;
+            let r3v = dv - h * b1v - r2v;
+            let dev = 0.0f64.max(r2x.abs() + r3x.abs()).max(r2v.abs() + r3v.abs());
+            let finite = (x1.abs() < f64::INFINITY)
+                & (v1.abs() < f64::INFINITY)
+                & (b1v.abs() < f64::INFINITY);
+            let margin = 0.25 * dev;
+            let (ga0, ga1) = (x0 - d, x1 - d);
+            let (gb0, gb1) = (x0 + d, x1 + d);
+            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (ga0.abs().min(ga1.abs()) > margin);
+            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (gb0.abs().min(gb1.abs()) > margin);
+            ok[l] = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
+            fin[l] = finite;
+        }
+        let mut mask = 0u32;
+        let mut near = 0u32;
+        for l in 0..L {
+            mask |= (ok[l] as u32) << l;
+            near |= (fin[l] as u32) << l;
+        }
+        // lanes near a surface without a sign change at the ends: the scalar integrator's
+        // midpoint test decides (rare: next to events)
+        let mut rest = near & !mask;
+        while rest != 0 {
+            let l = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            if self.no_event_by_midpoint(d, ln.sd[l], ln.sb[l], t1[l] - t0[l], l, y0, f0, y1, f1) {
+                mask |= 1 << l;
+            }
+        }
+        mask
     }
 
     #[inline(always)]
     fn clear(
         &self,
         j: usize,
-        lanes: &[MeshLane; L],
+        ln: &MeshLaneBlock<L>,
         y0: &Soa<2, L>,
         y1: &Soa<2, L>,
         dev: &[f64; L],
     ) -> u32 {
         let d = self.d[j];
-        let mut mask = 0u32;
+        let mut ok = [false; L];
         for l in 0..L {
             // guard Lipschitz constant 1 (guards x -+ D, D constant within the step)
             let margin = 0.25 * dev[l];
@@ -347,8 +599,11 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
             let ca = ((a0 > 0.0) == (a1 > 0.0)) & (a0.abs().min(a1.abs()) > margin);
             let cb = ((b0 > 0.0) == (b1 > 0.0)) & (b0.abs().min(b1.abs()) > margin);
             // x - D is armed unless in back contact, x + D unless in drive contact
-            let ok = ((lanes[l].sb != 0.0) | ca) & ((lanes[l].sd != 0.0) | cb);
-            mask |= (ok as u32) << l;
+            ok[l] = ((ln.sb[l] != 0.0) | ca) & ((ln.sd[l] != 0.0) | cb);
+        }
+        let mut mask = 0u32;
+        for l in 0..L {
+            mask |= (ok[l] as u32) << l;
         }
         mask
     }

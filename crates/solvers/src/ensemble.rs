@@ -63,9 +63,9 @@ pub enum Stage {
 pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// The scalar system of one lane (events, resets and breakpoints are its business).
     type Sys: HybridSystem<N>;
-    /// Per-lane constants of a lane's system in its current mode (contact selectors, amplitudes,
-    /// damping, ...). Must be cheap to copy.
-    type Lane: Copy;
+    /// Per-lane constants of the lanes' systems in their current modes (contact selectors,
+    /// amplitudes, damping, ...), as a structure of arrays over the `L` lanes.
+    type Lanes: Copy;
     /// Guards depend on the state components `0..GUARD_DIMS` only (the interior bound is taken
     /// over those).
     const GUARD_DIMS: usize = N;
@@ -75,15 +75,20 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// Whether the step at phase `j` must be taken by the scalar integrator in every lane (it may
     /// hold a time breakpoint).
     fn scalar_phase(&self, j: usize) -> bool;
-    /// Lane constants of `sys` in `mode`, or `None` when the batched field does not cover that
-    /// mode (the lane then steps with the scalar integrator until its mode is covered again).
-    fn lane(
+    /// Sets lane `l`'s constants to those of `sys` in `mode`; `false` when the batched field does
+    /// not cover that mode (the lane then steps with the scalar integrator until its mode is
+    /// covered again).
+    fn set_lane(
         &self,
+        lanes: &mut Self::Lanes,
+        l: usize,
         sys: &Self::Sys,
         mode: &<Self::Sys as HybridSystem<N>>::Mode,
-    ) -> Option<Self::Lane>;
-    /// Constants of an idle lane (any lane value that keeps the arithmetic finite).
-    fn idle_lane(&self) -> Self::Lane;
+    ) -> bool;
+    /// Constants of idle lanes (values that keep the arithmetic finite).
+    fn idle_lanes(&self) -> Self::Lanes;
+    /// Sets lane `l` idle.
+    fn set_idle(&self, lanes: &mut Self::Lanes, l: usize);
     /// Field of every lane at `stage` of step `j`: `dy = f(y)`. `at` gives each lane's time there,
     /// rounded as the scalar integrator rounds it, and its exact grid position (a system whose
     /// coefficients follow the rounded time may correct its tables by the difference).
@@ -92,10 +97,98 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
         j: usize,
         stage: Stage,
         at: &At<L>,
-        lanes: &[Self::Lane; L],
+        lanes: &Self::Lanes,
         y: &Soa<N, L>,
         dy: &mut Soa<N, L>,
     );
+    /// One RK4 grid step of every lane from `(y0, f0)` at `t0` to `t1` (`f0` the field at the
+    /// start, as the scalar integrator carries it from the previous step): the end states `y1`,
+    /// the end fields `f1`, and the lanes whose step provably holds no event ([`Lockstep::clear`]
+    /// with the interior bound over the Hermite interpolant) and stayed finite. The default
+    /// composes [`Lockstep::rhs`] and [`Lockstep::clear`] exactly as the scalar RK4 step does; a
+    /// model may fuse them (same arithmetic, fewer trips through memory).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn step(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        lanes: &Self::Lanes,
+        y0: &Soa<N, L>,
+        f0: &Soa<N, L>,
+        y1: &mut Soa<N, L>,
+        f1: &mut Soa<N, L>,
+    ) -> u32 {
+        let mut h = [0.0; L];
+        let mut h2 = [0.0; L];
+        let mut h6 = [0.0; L];
+        let mut mid = At {
+            t: [0.0; L],
+            grid: [0.0; L],
+        };
+        let mut end = mid;
+        for l in 0..L {
+            h[l] = t1[l] - t0[l];
+            h2[l] = 0.5 * h[l];
+            h6[l] = h[l] * (1.0 / 6.0);
+            mid.t[l] = t0[l] + h2[l];
+            end.t[l] = t0[l] + h[l];
+            mid.grid[l] = grid[l] + 0.5;
+            end.grid[l] = grid[l] + 1.0;
+        }
+        let y = y0;
+        let mut yt = [[0.0; L]; N];
+        let mut k2 = [[0.0; L]; N];
+        let mut k3 = [[0.0; L]; N];
+        let mut k4 = [[0.0; L]; N];
+        for i in 0..N {
+            for l in 0..L {
+                yt[i][l] = y[i][l] + h2[l] * f0[i][l];
+            }
+        }
+        self.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k2);
+        for i in 0..N {
+            for l in 0..L {
+                yt[i][l] = y[i][l] + h2[l] * k2[i][l];
+            }
+        }
+        self.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k3);
+        for i in 0..N {
+            for l in 0..L {
+                yt[i][l] = y[i][l] + h[l] * k3[i][l];
+            }
+        }
+        self.rhs(j, Stage::End, &end, lanes, &yt, &mut k4);
+        for i in 0..N {
+            for l in 0..L {
+                y1[i][l] = y[i][l] + h6[l] * (f0[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
+            }
+        }
+        self.rhs(j, Stage::End, &end, lanes, y1, f1);
+        // interior bound of the Hermite interpolant over the guard components, and finiteness
+        let mut dev = [0.0f64; L];
+        let mut finite = [true; L];
+        for i in 0..N {
+            for l in 0..L {
+                let d = y1[i][l] - y[i][l];
+                let r2 = h[l] * f0[i][l] - d;
+                let r3 = d - h[l] * f1[i][l] - r2;
+                if i < Self::GUARD_DIMS {
+                    dev[l] = dev[l].max(r2.abs() + r3.abs());
+                }
+                finite[l] &= (y1[i][l].abs() < f64::INFINITY) & (f1[i][l].abs() < f64::INFINITY);
+            }
+        }
+        let mut fin = 0u32;
+        for l in 0..L {
+            fin |= (finite[l] as u32) << l;
+        }
+        let clear = self.clear(j, lanes, y, y1, &dev);
+        clear & fin
+    }
+
     /// Bit `l` set when lane `l`'s step from `y0` to `y1` provably holds no event: no armed guard
     /// changes sign between the ends, and every armed guard stays farther from zero at both ends
     /// than it can move within the step given the interpolant deviation `dev[l]` (the
@@ -104,7 +197,7 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
     fn clear(
         &self,
         j: usize,
-        lanes: &[Self::Lane; L],
+        lanes: &Self::Lanes,
         y0: &Soa<N, L>,
         y1: &Soa<N, L>,
         dev: &[f64; L],
@@ -129,7 +222,7 @@ pub struct LaneStep<'a, Ln, const N: usize, const L: usize> {
     /// Lanes that took this step in lockstep (bit `l`).
     pub mask: u32,
     /// Lane constants.
-    pub lanes: &'a [Ln; L],
+    pub lanes: &'a Ln,
     /// Grid position of the start (steps from the lane's grid origin; the end is one more).
     pub grid: &'a [f64; L],
     /// Start times.
@@ -216,7 +309,7 @@ pub trait LaneDriver<'s, B: Lockstep<N, L>, const N: usize, const L: usize> {
     /// A lockstep step of the lanes in `st.mask`. Returns the lanes whose step the driver wants
     /// reported through [`LaneDriver::on_step`] as well (an observer's rare case: a level
     /// crossing, say), as the scalar integrator would report it.
-    fn on_lockstep(&mut self, _batch: &B, _st: &LaneStep<'_, B::Lane, N, L>) -> u32 {
+    fn on_lockstep(&mut self, _batch: &B, _st: &LaneStep<'_, B::Lanes, N, L>) -> u32 {
         0
     }
     /// A scalar step of lane `lane` (as [`crate::Integrator::step`] reports it; a grid point
@@ -243,9 +336,6 @@ pub trait LaneDriver<'s, B: Lockstep<N, L>, const N: usize, const L: usize> {
 struct Slot<'s, S: HybridSystem<N>, const N: usize> {
     integ: Option<Integrator<&'s S, N>>,
     sys: Option<&'s S>,
-    /// Lockstep steps since the last scalar step (and in all).
-    progressed: bool,
-    lock_steps: u64,
     lock_rhs: u64,
     /// Work of integrators replaced by a restart.
     prior: Stats,
@@ -264,11 +354,14 @@ where
     tseg: [f64; L],
     kseg: [f64; L],
     period: [f64; L],
-    lanes: [B::Lane; L],
+    lanes: B::Lanes,
+    lock_steps: [u64; L],
     /// busy lanes, lanes the batched field covers, lanes whose `f` must be recomputed
     active: u32,
     lockable: u32,
     stale: u32,
+    /// lanes that took lockstep steps since their last scalar step
+    progressed: u32,
     slots: [Slot<'s, B::Sys, N>; L],
 }
 
@@ -287,15 +380,15 @@ where
             tseg: [0.0; L],
             kseg: [0.0; L],
             period: [0.0; L],
-            lanes: [batch.idle_lane(); L],
+            lanes: batch.idle_lanes(),
+            lock_steps: [0; L],
             active: 0,
             lockable: 0,
             stale: 0,
+            progressed: 0,
             slots: core::array::from_fn(|_| Slot {
                 integ: None,
                 sys: None,
-                progressed: false,
-                lock_steps: 0,
                 lock_rhs: 0,
                 prior: Stats::default(),
             }),
@@ -312,16 +405,17 @@ where
         }
         self.t[l] = integ.t();
         let bit = 1u32 << l;
-        match batch.lane(slot.sys.expect("busy lane"), integ.mode()) {
-            Some(ln) => {
-                self.lanes[l] = ln;
-                self.lockable |= bit;
-                self.stale |= bit;
-            }
-            None => {
-                self.lanes[l] = batch.idle_lane();
-                self.lockable &= !bit;
-            }
+        if batch.set_lane(
+            &mut self.lanes,
+            l,
+            slot.sys.expect("busy lane"),
+            integ.mode(),
+        ) {
+            self.lockable |= bit;
+            self.stale |= bit;
+        } else {
+            batch.set_idle(&mut self.lanes, l);
+            self.lockable &= !bit;
         }
     }
 
@@ -330,11 +424,12 @@ where
         self.active &= !bit;
         self.lockable &= !bit;
         self.stale &= !bit;
-        self.lanes[l] = batch.idle_lane();
+        batch.set_idle(&mut self.lanes, l);
         for i in 0..N {
             self.y[i][l] = 0.0;
             self.f[i][l] = 0.0;
         }
+        self.progressed &= !bit;
         let slot = &mut self.slots[l];
         slot.integ = None;
         slot.sys = None;
@@ -343,9 +438,9 @@ where
     fn stats(&self, l: usize) -> Stats {
         let slot = &self.slots[l];
         let mut s = slot.integ.as_ref().map(|i| i.stats()).unwrap_or_default();
-        s.steps += slot.prior.steps + slot.lock_steps;
+        s.steps += slot.prior.steps + self.lock_steps[l];
         s.rejected += slot.prior.rejected;
-        s.rhs_evals += slot.prior.rhs_evals + slot.lock_rhs;
+        s.rhs_evals += slot.prior.rhs_evals + slot.lock_rhs + 4 * self.lock_steps[l];
         s.events += slot.prior.events;
         s.breakpoints += slot.prior.breakpoints;
         s
@@ -376,7 +471,7 @@ where
                 }
                 slot.integ = Some(integ);
                 slot.sys = Some(sys);
-                slot.progressed = false;
+                self.progressed &= !(1 << l);
                 self.origin[l] = t0;
                 self.idx[l] = 0.0;
                 self.h[l] = h;
@@ -399,7 +494,7 @@ where
             while self.active & (1 << l) == 0 {
                 let Some(st) = drv.next_item(l) else { break };
                 self.period[l] = st.period;
-                self.slots[l].lock_steps = 0;
+                self.lock_steps[l] = 0;
                 self.slots[l].lock_rhs = 0;
                 self.slots[l].prior = Stats::default();
                 self.begin(batch, drv, l, st.sys, st.t0, st.y0, st.h);
@@ -422,11 +517,12 @@ where
         for i in 0..N {
             y[i] = self.y[i][l];
         }
+        let progressed = self.progressed & (1 << l) != 0;
+        self.progressed &= !(1 << l);
         let slot = &mut self.slots[l];
         let sys = slot.sys.expect("busy lane");
         let integ = slot.integ.as_mut().expect("busy lane");
-        integ.resume(self.t[l], y, self.idx[l] as i64, slot.progressed);
-        slot.progressed = false;
+        integ.resume(self.t[l], y, self.idx[l] as i64, progressed);
         loop {
             let before = *integ.mode();
             match integ.step(target) {
@@ -474,7 +570,7 @@ where
     fn explain<D: LaneDriver<'s, B, N, L>>(
         &self,
         drv: &mut D,
-        st: &LaneStep<'_, B::Lane, N, L>,
+        st: &LaneStep<'_, B::Lanes, N, L>,
         mut mask: u32,
         period_end: bool,
     ) {
@@ -537,76 +633,20 @@ where
         let mut scalar = self.active;
         if !batch.scalar_phase(j) {
             self.refresh(batch, j);
-            let mut h = [0.0; L];
-            let mut h2 = [0.0; L];
-            let mut h6 = [0.0; L];
-            let mut mid = At {
-                t: [0.0; L],
-                grid: [0.0; L],
-            };
-            let mut end = mid;
-            for l in 0..L {
-                h[l] = t1[l] - self.t[l];
-                h2[l] = 0.5 * h[l];
-                h6[l] = h[l] * (1.0 / 6.0);
-                mid.t[l] = self.t[l] + h2[l];
-                end.t[l] = self.t[l] + h[l];
-                mid.grid[l] = self.idx[l] + 0.5;
-                end.grid[l] = self.idx[l] + 1.0;
-            }
-            let y = &self.y;
-            let f0 = &self.f;
-            let mut yt = [[0.0; L]; N];
-            let mut k2 = [[0.0; L]; N];
-            let mut k3 = [[0.0; L]; N];
-            let mut k4 = [[0.0; L]; N];
-            for i in 0..N {
-                for l in 0..L {
-                    yt[i][l] = y[i][l] + h2[l] * f0[i][l];
-                }
-            }
-            batch.rhs(j, Stage::Mid, &mid, &self.lanes, &yt, &mut k2);
-            for i in 0..N {
-                for l in 0..L {
-                    yt[i][l] = y[i][l] + h2[l] * k2[i][l];
-                }
-            }
-            batch.rhs(j, Stage::Mid, &mid, &self.lanes, &yt, &mut k3);
-            for i in 0..N {
-                for l in 0..L {
-                    yt[i][l] = y[i][l] + h[l] * k3[i][l];
-                }
-            }
-            batch.rhs(j, Stage::End, &end, &self.lanes, &yt, &mut k4);
             let mut y1 = [[0.0; L]; N];
-            for i in 0..N {
-                for l in 0..L {
-                    y1[i][l] =
-                        y[i][l] + h6[l] * (f0[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
-                }
-            }
             let mut f1 = [[0.0; L]; N];
-            batch.rhs(j, Stage::End, &end, &self.lanes, &y1, &mut f1);
-            // interior bound of the Hermite interpolant over the guard components, and finiteness
-            let mut dev = [0.0f64; L];
-            let mut finite = [true; L];
-            for i in 0..N {
-                for l in 0..L {
-                    let d = y1[i][l] - y[i][l];
-                    let r2 = h[l] * f0[i][l] - d;
-                    let r3 = d - h[l] * f1[i][l] - r2;
-                    if i < B::GUARD_DIMS {
-                        dev[l] = dev[l].max(r2.abs() + r3.abs());
-                    }
-                    finite[l] &= (y1[i][l].abs() < f64::INFINITY) & (f1[i][l].abs() < f64::INFINITY);
-                }
-            }
-            let mut fin = 0u32;
-            for l in 0..L {
-                fin |= (finite[l] as u32) << l;
-            }
-            let clear = batch.clear(j, &self.lanes, y, &y1, &dev);
-            let ok = self.active & self.lockable & clear & fin;
+            let clear = batch.step(
+                j,
+                &self.t,
+                &t1,
+                &self.idx,
+                &self.lanes,
+                &self.y,
+                &self.f,
+                &mut y1,
+                &mut f1,
+            );
+            let ok = self.active & self.lockable & clear;
             if ok != 0 {
                 let st = LaneStep {
                     j,
@@ -624,20 +664,23 @@ where
                 if explain != 0 {
                     self.explain(drv, &st, explain, period_end);
                 }
+                // branch-free commit of the lanes that took the step
+                let mut take = [false; L];
                 for l in 0..L {
-                    if ok & (1 << l) != 0 {
-                        for i in 0..N {
-                            self.y[i][l] = y1[i][l];
-                            self.f[i][l] = f1[i][l];
-                        }
-                        self.t[l] = t1[l];
-                        self.idx[l] += 1.0;
-                        let slot = &mut self.slots[l];
-                        slot.progressed = true;
-                        slot.lock_steps += 1;
-                        slot.lock_rhs += 4;
+                    take[l] = ok & (1 << l) != 0;
+                }
+                for i in 0..N {
+                    for l in 0..L {
+                        self.y[i][l] = if take[l] { y1[i][l] } else { self.y[i][l] };
+                        self.f[i][l] = if take[l] { f1[i][l] } else { self.f[i][l] };
                     }
                 }
+                for l in 0..L {
+                    self.t[l] = if take[l] { t1[l] } else { self.t[l] };
+                    self.idx[l] += if take[l] { 1.0 } else { 0.0 };
+                    self.lock_steps[l] += take[l] as u64;
+                }
+                self.progressed |= ok;
             }
             scalar &= !ok;
         }
