@@ -31,9 +31,17 @@ pub trait Recordable: HybridSystem<2> + Sync {
     fn scheme(&self, sim: &SimOptions) -> Scheme;
     /// Records `sim.record_periods` periods from `(t0, y0)` and describes the steady state.
     fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError>;
+    /// The gear model, when the system is one (its cells can then run in lockstep lanes,
+    /// [`crate::lanes`]). Default: none.
+    fn as_mesh(&self) -> Option<&MeshModel> {
+        None
+    }
 }
 
 impl Recordable for MeshModel {
+    fn as_mesh(&self) -> Option<&MeshModel> {
+        Some(self)
+    }
     fn strobe_period(&self) -> f64 {
         self.excitation_period()
     }
@@ -290,14 +298,14 @@ impl Descriptor {
     }
 }
 
-struct Capture<'a> {
-    known: &'a [Descriptor],
-    tol: f64,
-    divergence: f64,
+pub(crate) struct Capture<'a> {
+    pub(crate) known: &'a [Descriptor],
+    pub(crate) tol: f64,
+    pub(crate) divergence: f64,
     /// per known periodic attractor: (consecutive matches, phase index, last distance)
-    state: Vec<(usize, usize, f64)>,
-    captured: Option<usize>,
-    diverged: bool,
+    pub(crate) state: Vec<(usize, usize, f64)>,
+    pub(crate) captured: Option<usize>,
+    pub(crate) diverged: bool,
 }
 
 impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {

@@ -106,11 +106,43 @@ fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
 /// Computes the basins. `done` holds outcomes of cells finished by an interrupted run (keyed by
 /// cell index); `on_cell` receives every newly finished cell. The outcome of a cell depends only
 /// on the passes before it, so a resumed run reproduces the uninterrupted one exactly.
+///
+/// With fixed-step RK4 on the gear model the cells of a pass run in lockstep lanes
+/// ([`crate::lanes::identify_lanes`]: the same outcomes as [`identify`]).
 pub fn basins<S, F>(
     model: &S,
     opts: &BasinOptions,
     done: &HashMap<usize, Outcome>,
     on_cell: F,
+) -> BasinResult
+where
+    S: Recordable,
+    F: Fn(usize, &Outcome) + Sync,
+{
+    basins_with(model, opts, done, on_cell, true)
+}
+
+/// As [`basins`], every cell integrated by the scalar integrator (for comparisons and
+/// benchmarks).
+pub fn basins_scalar<S, F>(
+    model: &S,
+    opts: &BasinOptions,
+    done: &HashMap<usize, Outcome>,
+    on_cell: F,
+) -> BasinResult
+where
+    S: Recordable,
+    F: Fn(usize, &Outcome) + Sync,
+{
+    basins_with(model, opts, done, on_cell, false)
+}
+
+fn basins_with<S, F>(
+    model: &S,
+    opts: &BasinOptions,
+    done: &HashMap<usize, Outcome>,
+    on_cell: F,
+    lanes: bool,
 ) -> BasinResult
 where
     S: Recordable,
@@ -126,22 +158,56 @@ where
             .filter(|&c| outcomes[c].is_none() && (c % nx) % stride == 0 && (c / nx) % stride == 0)
             .collect();
         let snapshot = known.clone();
-        let fresh: Vec<(usize, Outcome)> = cells
-            .par_iter()
-            .map(|&c| {
-                // a saved outcome is reused only if it can belong to this pass (a capture by an
-                // attractor this pass knows); anything else is recomputed
-                match done.get(&c) {
-                    Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => {}
-                    Some(o) => return (c, o.clone()),
-                    None => {}
-                }
-                let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
-                let o = identify(model, y0, &snapshot, &opts.identify);
-                on_cell(c, &o);
-                (c, o)
-            })
-            .collect();
+        let mesh = model
+            .as_mesh()
+            .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify));
+        let fresh: Vec<(usize, Outcome)> = if let Some(mesh) = mesh {
+            // fixed-step RK4 on the gear model: the cells of the pass in lockstep lanes (the
+            // same reuse rule for saved outcomes as below)
+            let reuse = |c: usize| match done.get(&c) {
+                Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => None,
+                Some(o) => Some(o.clone()),
+                None => None,
+            };
+            let saved: Vec<Option<Outcome>> = cells.iter().map(|&c| reuse(c)).collect();
+            let todo: Vec<(usize, [f64; 2])> = cells
+                .iter()
+                .zip(&saved)
+                .filter(|(_, s)| s.is_none())
+                .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
+                .collect();
+            let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
+            let computed = crate::lanes::identify_lanes(mesh, &y0s, &snapshot, &opts.identify);
+            for ((c, _), o) in todo.iter().zip(&computed) {
+                on_cell(*c, o);
+            }
+            let mut computed = computed.into_iter();
+            cells
+                .iter()
+                .zip(saved)
+                .map(|(&c, s)| match s {
+                    Some(o) => (c, o),
+                    None => (c, computed.next().expect("one outcome per cell")),
+                })
+                .collect()
+        } else {
+            cells
+                .par_iter()
+                .map(|&c| {
+                    // a saved outcome is reused only if it can belong to this pass (a capture by an
+                    // attractor this pass knows); anything else is recomputed
+                    match done.get(&c) {
+                        Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => {}
+                        Some(o) => return (c, o.clone()),
+                        None => {}
+                    }
+                    let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
+                    let o = identify(model, y0, &snapshot, &opts.identify);
+                    on_cell(c, &o);
+                    (c, o)
+                })
+                .collect()
+        };
         let outs: Vec<Outcome> = fresh.iter().map(|(_, o)| o.clone()).collect();
         let ids = assign(&mut known, &outs, opts.identify.match_tol);
         for ((c, o), id) in fresh.into_iter().zip(ids) {

@@ -20,8 +20,9 @@
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
+use crate::attractor::{Capture, Descriptor, IdentifyOptions, Outcome};
 use crate::driver::Observer;
-use crate::simulate::{Method, Recorder, SimError, SimOptions, SimResult};
+use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{run_lanes, At, End, LaneDriver, LaneStep, Next, Stage, Start};
 use geardyn_solvers::{Step, Stop};
@@ -503,5 +504,234 @@ pub fn simulate_lanes(
     }
     out.into_iter()
         .map(|r| r.expect("every run has a result"))
+        .collect()
+}
+
+/// Where a cell's identification stands.
+enum IdPhase<'s, 'q> {
+    /// Transient periods done, and the early-capture observer (when capturing).
+    Transient { done: u64, cap: Option<Capture<'q>> },
+    /// Recording the description (`left` periods to go), from `t0`.
+    Record {
+        left: u64,
+        t0: f64,
+        rec: Box<Recorder<'s>>,
+    },
+    /// Decided (captured, diverged) at a strobe instant.
+    Decided(Outcome),
+}
+
+/// Lane driver of many [`identify`](crate::attractor::identify) runs of one model.
+struct IdDriver<'s, 'q, const L: usize> {
+    model: &'s MeshModel,
+    items: &'q [(usize, [f64; 2])],
+    next: usize,
+    opts: &'q IdentifyOptions,
+    known: &'q [Descriptor],
+    steps_per_cycle: u32,
+    jobs: [Option<(usize, IdPhase<'s, 'q>)>; L],
+    acc: Acc<L>,
+    rec_mask: u32,
+    mesh_on: bool,
+    out: Vec<(usize, Outcome)>,
+}
+
+impl<'s, 'q, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for IdDriver<'s, 'q, L> {
+    fn next_item(&mut self, l: usize) -> Option<Start<'s, MeshModel, 2>> {
+        let &(out, y0) = self.items.get(self.next)?;
+        self.next += 1;
+        let o = self.opts;
+        let cap = (o.early_capture && !self.known.is_empty()).then(|| Capture {
+            known: self.known,
+            tol: o.capture_tol,
+            divergence: o.divergence,
+            state: vec![(0, 0, f64::INFINITY); self.known.len()],
+            captured: None,
+            diverged: false,
+        });
+        self.jobs[l] = Some((out, IdPhase::Transient { done: 0, cap }));
+        Some(Start {
+            sys: self.model,
+            t0: o.sim.tau0,
+            y0,
+            h: self.model.mesh_cycle_time() / self.steps_per_cycle as f64,
+            period: self.model.excitation_period(),
+        })
+    }
+
+    #[inline(always)]
+    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>) -> u32 {
+        self.acc
+            .record(batch, st, st.mask & self.rec_mask, self.mesh_on)
+    }
+
+    fn on_step(
+        &mut self,
+        l: usize,
+        sys: &MeshModel,
+        step: &Step<2>,
+        before: &MeshMode,
+        stop: Stop,
+        after: &MeshMode,
+        y_after: &[f64; 2],
+    ) {
+        if self.rec_mask & (1 << l) == 0 {
+            return;
+        }
+        if let Some((_, IdPhase::Record { rec, .. })) = self.jobs[l].as_mut() {
+            self.acc.store(l, rec);
+            rec.on_step(&sys, step, before, stop, after, y_after);
+            self.acc.load(l, rec);
+        }
+    }
+
+    fn on_strobe(&mut self, l: usize, t: f64, y: &[f64; 2]) -> Next {
+        let o = self.opts;
+        let (_, phase) = self.jobs[l].as_mut().expect("busy lane");
+        match phase {
+            IdPhase::Transient { done, cap } => {
+                *done += 1;
+                // (identify: one run_periods call per period while capturing, else one for all)
+                let next = if let Some(cap) = cap {
+                    Observer::<MeshModel, 2>::on_strobe(cap, t, y);
+                    if cap.diverged {
+                        *phase = IdPhase::Decided(Outcome::Diverged);
+                        return Next::Finish;
+                    }
+                    if let Some(id) = cap.captured {
+                        *phase = IdPhase::Decided(Outcome::Captured { id, periods: *done });
+                        return Next::Finish;
+                    }
+                    Next::Segment
+                } else {
+                    Next::Continue
+                };
+                if *done < o.sim.transient_periods {
+                    return next;
+                }
+                if !(y[0].abs() < o.divergence && y[1].abs() < o.divergence) {
+                    *phase = IdPhase::Decided(Outcome::Diverged);
+                    return Next::Finish;
+                }
+                // Recordable::describe: a new integration of record_periods from (t, y)
+                let traj_from = o
+                    .sim
+                    .record_periods
+                    .saturating_sub(o.sim.trajectory_periods);
+                let rec = Recorder::new(self.model, false, o.sim.samples_per_cycle, t, traj_from);
+                self.acc.load(l, &rec);
+                self.rec_mask |= 1 << l;
+                *phase = IdPhase::Record {
+                    left: o.sim.record_periods,
+                    t0: t,
+                    rec: Box::new(rec),
+                };
+                Next::Restart
+            }
+            IdPhase::Record { left, rec, .. } => {
+                Observer::<&MeshModel, 2>::on_strobe(&mut **rec, t, y);
+                *left -= 1;
+                if *left == 0 {
+                    Next::Finish
+                } else {
+                    Next::Continue
+                }
+            }
+            IdPhase::Decided(_) => Next::Finish,
+        }
+    }
+
+    fn on_end(&mut self, l: usize, end: End<2>) {
+        let bit = 1u32 << l;
+        let recording = self.rec_mask & bit != 0;
+        self.rec_mask &= !bit;
+        let Some((out, phase)) = self.jobs[l].take() else {
+            return;
+        };
+        let outcome = match (end, phase) {
+            (End::Failed(e), _) => Outcome::Failed(e.to_string()),
+            (End::Done { .. }, IdPhase::Decided(o)) => o,
+            (End::Done { t, y, stats }, IdPhase::Record { t0, mut rec, .. }) => {
+                if recording {
+                    self.acc.store(l, &mut rec);
+                }
+                let mut res = std::mem::take(&mut rec.res);
+                if res.max_force == f64::NEG_INFINITY {
+                    res.max_force = 0.0;
+                    res.min_force = 0.0;
+                }
+                res.steps = stats.steps;
+                res.rhs_evals = stats.rhs_evals;
+                res.final_state = (t, y);
+                let rec_opts = SimOptions {
+                    transient_periods: 0,
+                    tau0: t0,
+                    ..self.opts.sim
+                };
+                let s = summarize(self.model, &res, &rec_opts);
+                let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+                Outcome::Recorded(Descriptor::new(
+                    s.period,
+                    s.label,
+                    s.healthy,
+                    &pts,
+                    s.max_force,
+                    s.p_id,
+                ))
+            }
+            (End::Done { t, .. }, IdPhase::Transient { .. }) => {
+                Outcome::Failed(format!("integration terminated at t = {t}"))
+            }
+        };
+        self.out.push((out, outcome));
+    }
+}
+
+/// Whether [`identify_lanes`] can run these settings: fixed-step RK4 without a trajectory, and
+/// a transient and a record of at least one period each.
+pub fn identify_lanes_apply(opts: &IdentifyOptions) -> bool {
+    lanes_apply(&opts.sim) && opts.sim.transient_periods > 0 && opts.sim.record_periods > 0
+}
+
+/// [`identify`](crate::attractor::identify) of `model` from every initial state of `y0s` (see
+/// [`identify_lanes_apply`]), in lockstep lanes; outcomes in input order.
+pub fn identify_lanes(
+    model: &MeshModel,
+    y0s: &[[f64; 2]],
+    known: &[Descriptor],
+    opts: &IdentifyOptions,
+) -> Vec<Outcome> {
+    let Method::Rk4 { steps_per_cycle } = opts.sim.method else {
+        panic!("identify_lanes needs the RK4 method");
+    };
+    let n = steps_per_cycle.max(1);
+    let table = MeshLanes::new(model, n, opts.sim.tau0);
+    let items: Vec<(usize, [f64; 2])> = y0s.iter().copied().enumerate().collect();
+    let parts: Vec<Vec<(usize, Outcome)>> = items
+        .par_chunks(chunk_len(items.len(), LANES))
+        .map(|chunk| {
+            let mut drv = IdDriver::<LANES> {
+                model,
+                items: chunk,
+                next: 0,
+                opts,
+                known,
+                steps_per_cycle: n,
+                jobs: std::array::from_fn(|_| None),
+                acc: Acc::new(),
+                rec_mask: 0,
+                mesh_on: model.cycles_per_period() > 1,
+                out: Vec::with_capacity(chunk.len()),
+            };
+            run_lanes::<MeshLanes, _, 2, LANES>(&table, &mut drv);
+            drv.out
+        })
+        .collect();
+    let mut out: Vec<Option<Outcome>> = (0..y0s.len()).map(|_| None).collect();
+    for (i, o) in parts.into_iter().flatten() {
+        out[i] = Some(o);
+    }
+    out.into_iter()
+        .map(|o| o.expect("every cell has an outcome"))
         .collect()
 }

@@ -216,3 +216,138 @@ fn output_is_the_same_for_any_thread_count() {
     assert_eq!(one, key(&run(2)));
     assert_eq!(one, key(&run(5)));
 }
+
+/// Basins of C1 at omega = 1.8 on a coarse grid: the cells run in lanes (early capture, then the
+/// description of new attractors) and every cell gets the outcome of the scalar path.
+#[test]
+fn basins_in_lanes_equal_the_scalar_basins() {
+    use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+    use geardyn_analysis::basins::{basins, basins_scalar, Axis, BasinOptions};
+    use std::collections::HashMap;
+    let mut p = presets::classic();
+    p.omega = 1.8;
+    let m = MeshModel::new(&p).unwrap();
+    let mut identify = IdentifyOptions::default();
+    identify.sim.method = Method::Rk4 {
+        steps_per_cycle: 256,
+    };
+    identify.sim.transient_periods = 150;
+    identify.sim.record_periods = 32;
+    let opts = BasinOptions {
+        x: Axis {
+            min: -2.0,
+            max: 2.0,
+            n: 20,
+        },
+        v: Axis {
+            min: -1.5,
+            max: 1.5,
+            n: 20,
+        },
+        identify,
+    };
+    let cells_a = std::sync::Mutex::new(HashMap::new());
+    let cells_b = std::sync::Mutex::new(HashMap::new());
+    let a = basins(&m, &opts, &HashMap::new(), |c, o: &Outcome| {
+        cells_a.lock().unwrap().insert(c, o.clone());
+    });
+    let b = basins_scalar(&m, &opts, &HashMap::new(), |c, o: &Outcome| {
+        cells_b.lock().unwrap().insert(c, o.clone());
+    });
+    // Periodic attractors (canonical ids first) and their cells are the same; chaotic cells
+    // follow different, equally valid trajectories (a 1e-16 difference grows), so their clouds
+    // may be grouped into a different number of non-periodic descriptors: the set of cells on
+    // non-periodic attractors must be the same.
+    let periodic = |r: &geardyn_analysis::basins::BasinResult| {
+        r.attractors
+            .iter()
+            .filter(|x| x.descriptor.period > 0)
+            .count() as i64
+    };
+    let np = periodic(&b);
+    assert!(np >= 2, "{:?}", b.attractors);
+    assert_eq!(periodic(&a), np);
+    for (c, (&x, &y)) in a.cells.iter().zip(&b.cells).enumerate() {
+        if y < np {
+            assert_eq!(x, y, "cell {c}");
+        } else {
+            assert!(x >= np, "cell {c}: {x} vs {y}");
+        }
+    }
+    for (x, y) in a.attractors.iter().zip(&b.attractors).take(np as usize) {
+        assert_eq!(x.cells, y.cells);
+        assert_eq!(x.descriptor.label, y.descriptor.label);
+        for (p, q) in x.descriptor.points.iter().zip(&y.descriptor.points) {
+            assert!((p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9);
+        }
+    }
+    let (ca, cb) = (cells_a.into_inner().unwrap(), cells_b.into_inner().unwrap());
+    assert_eq!(ca.len(), cb.len());
+    let mut same_capture = 0;
+    for (c, o) in &ca {
+        if let (Outcome::Captured { periods: p, .. }, Outcome::Captured { periods: q, .. }) =
+            (o, &cb[c])
+        {
+            assert_eq!(p, q, "cell {c}");
+            same_capture += 1;
+        }
+    }
+    assert!(same_capture > 0);
+}
+
+/// The bifurcation sweep with RK4 runs in lanes: every run equals the scalar `run_once` (periodic
+/// runs to rounding, the others exactly: they are classified by the scalar path).
+#[test]
+fn rk4_sweep_in_lanes_equals_scalar_runs() {
+    use geardyn_analysis::bifurcation::{
+        initial_state, run_once, run_sweep, Section, SweepMode, SweepOptions,
+    };
+    let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
+    for mode in [
+        SweepMode::Fixed,
+        SweepMode::Multi {
+            ics: 3,
+            seed: 7,
+            x0_range: (-1.5, 1.5),
+            v0_range: (-1.0, 1.0),
+        },
+    ] {
+        let opts = SweepOptions {
+            param: "omega".into(),
+            values: vec![0.6, 0.8, 1.25, 1.9],
+            mode: mode.clone(),
+            sim: SimOptions {
+                method: Method::Rk4 {
+                    steps_per_cycle: 128,
+                },
+                transient_periods: 100,
+                record_periods: 24,
+                ..Default::default()
+            },
+            y0: [0.0, 0.0],
+            sections: vec![Section::Strobe, Section::DsUp],
+            lyapunov: false,
+        };
+        let res = run_sweep(&scenario, &opts, &Default::default(), |_| {}).unwrap();
+        for r in &res {
+            let mut p = presets::classic();
+            p.omega = r.value;
+            let m = MeshModel::new(&p).unwrap();
+            for run in &r.runs {
+                let y0 = initial_state(&mode, opts.y0, r.task.index, run.ic);
+                assert_eq!(run.y0, y0);
+                let s = run_once(&m, y0, run.ic, &opts);
+                assert_eq!(run.label, s.label, "omega {}", r.value);
+                assert_eq!(run.motion.word(), s.motion.word());
+                assert_eq!(run.points.len(), s.points.len());
+                for (a, b) in run.points.iter().zip(&s.points) {
+                    assert_eq!(a.0, b.0);
+                    assert!((a.1 - b.1).abs() < 1e-9 && (a.2 - b.2).abs() < 1e-9);
+                }
+                if run.period == 0 {
+                    assert_eq!(run, &s, "non-periodic runs come from the scalar path");
+                }
+            }
+        }
+    }
+}

@@ -326,7 +326,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
         );
         if a.scalar_basins {
             let t = Instant::now();
-            // TODO basins_scalar
+            let _ = geardyn_analysis::basins::basins_scalar(
+                &model,
+                &opts,
+                &Default::default(),
+                |_, _| {},
+            );
             println!(
                 "basin 200x200 C1 omega=1.8, rk4 scalar: {:.3} s",
                 t.elapsed().as_secs_f64()
