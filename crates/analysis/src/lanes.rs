@@ -440,10 +440,12 @@ fn group<'s>(runs: &[(&'s MeshModel, [f64; 2])], steps_per_cycle: u32, tau0: f64
     groups
 }
 
-/// Chunk length: whole lane loads, about three chunks per thread.
+/// Chunk length: whole lane loads, at least eight chunks per thread (rayon balances them; within
+/// a chunk, retired lanes refill at once).
 fn chunk_len(items: usize, lanes: usize) -> usize {
     let threads = rayon::current_num_threads().max(1);
-    lanes * items.div_ceil(lanes * threads * 3).max(1)
+    let loads = items.div_ceil(lanes);
+    lanes * loads.div_ceil(threads * 8).max(1)
 }
 
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
