@@ -471,9 +471,10 @@ pub fn plot_continuation(
             })
             .collect()
     };
+    // the share lines in black and grey, apart from the attractor colours
     let mut legend = vec![
-        LegendEntry::line("basin share, healthy", palette(0)),
-        LegendEntry::line("basin share, non-healthy", palette(1)),
+        LegendEntry::line("basin share, healthy", CHAOTIC),
+        LegendEntry::line("basin share, non-healthy", QUASI),
     ];
     legend.extend(
         colored
@@ -495,12 +496,12 @@ pub fn plot_continuation(
                         Layer {
                             points: share(true),
                             style: Style::Line(2),
-                            color: palette(0),
+                            color: CHAOTIC,
                         },
                         Layer {
                             points: share(false),
-                            style: Style::Line(2),
-                            color: palette(1),
+                            style: Style::Line(1),
+                            color: QUASI,
                         },
                     ],
                     y_range: Some((-0.03, 1.03)),
