@@ -1,0 +1,1071 @@
+//! `geardyn._geardyn`: the Rust half of the Python package. Every function mirrors a `geardyn`
+//! command of the CLI (crates/cli) on the same library calls and with the same defaults, so that
+//! Python and the CLI give the same numbers for the same inputs. The pure-Python wrapper
+//! (`geardyn/__init__.py`) adds keyword arguments, docstrings and result objects.
+
+mod util;
+
+use anyhow::{bail, Context, Result};
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
+use geardyn_analysis::bifurcation::{
+    detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task, TaskResult,
+};
+use geardyn_analysis::classify::{simulate_decided, Decide};
+use geardyn_analysis::continuation::{continuation as run_continuation, ContinuationOptions};
+use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
+use geardyn_analysis::map2d::{map2d as run_map2d, MapOptions, METRICS};
+use geardyn_analysis::simulate::Method;
+use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_io::Config;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::HashMap;
+use util::{arr1, arr2, json_to_py, ser_to_py, to_pyerr, Columns, Ctl, Stop};
+
+/// Where a configuration comes from: a preset, a TOML file, or a configuration as JSON (the dict
+/// `geardyn.config()` returns), then `NAME=VALUE` overrides in order (as `--set`).
+#[derive(Clone, Debug, FromPyObject)]
+#[pyo3(from_item_all)]
+struct Source {
+    preset: Option<String>,
+    config_path: Option<String>,
+    config_json: Option<String>,
+    sets: Vec<String>,
+}
+
+impl Source {
+    /// The configuration with all overrides applied (as `ConfigArgs::config` of the CLI).
+    fn config(&self) -> Result<Config> {
+        let mut c = match (&self.preset, &self.config_path, &self.config_json) {
+            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+                bail!("preset and config exclude each other: give one of them")
+            }
+            (_, Some(path), _) => Config::from_file(std::path::Path::new(path))?,
+            (_, None, Some(json)) => {
+                let v: serde_json::Value =
+                    serde_json::from_str(json).context("malformed config dict")?;
+                let t = toml::Value::try_from(v)
+                    .map_err(|e| anyhow::anyhow!("malformed config dict: {e}"))?;
+                let text = toml::to_string(&t)
+                    .map_err(|e| anyhow::anyhow!("malformed config dict: {e}"))?;
+                Config::from_toml(&text)?
+            }
+            (Some(name), None, None) => Config::preset(name)?,
+            (None, None, None) => Config::preset("classic")?,
+        };
+        for s in &self.sets {
+            c.apply_set(s)?;
+        }
+        Ok(c)
+    }
+}
+
+/// Integration settings of the sweep commands (the CLI's `SimArgs`).
+#[derive(Clone, Debug, Default, FromPyObject)]
+#[pyo3(from_item_all)]
+struct Sim {
+    periods: Option<f64>,
+    transient: Option<f64>,
+    integrator: Option<String>,
+    steps_per_cycle: Option<f64>,
+}
+
+impl Sim {
+    fn apply(&self, cfg: &mut Config) -> Result<()> {
+        if let Some(p) = self.periods {
+            cfg.set("record_periods", p)?;
+        }
+        if let Some(t) = self.transient {
+            cfg.set("transient_periods", t)?;
+        }
+        if let Some(m) = &self.integrator {
+            cfg.simulation.method = m.clone();
+        }
+        if let Some(n) = self.steps_per_cycle {
+            cfg.set("steps_per_cycle", n)?;
+        }
+        cfg.sim_options()?;
+        Ok(())
+    }
+}
+
+/// Attractor-identification settings (the CLI's `IdentArgs`, same defaults).
+#[derive(Clone, Debug, FromPyObject)]
+#[pyo3(from_item_all)]
+struct Ident {
+    capture_tol: f64,
+    early_stop: bool,
+    ident_rtol: f64,
+}
+
+fn identify_options(cfg: &Config, a: &Ident) -> Result<IdentifyOptions> {
+    let mut sim = cfg.sim_options()?;
+    if let Method::Dopri { rtol, atol } = &mut sim.method {
+        if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
+            bail!("bad --ident-rtol {}: allowed (0, 1e-3)", a.ident_rtol);
+        }
+        *rtol = a.ident_rtol;
+        *atol = atol.max(a.ident_rtol * 1e-3);
+    }
+    if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
+        bail!("bad --capture-tol {}: allowed (0, 1)", a.capture_tol);
+    }
+    Ok(IdentifyOptions {
+        sim,
+        capture_tol: a.capture_tol,
+        match_tol: 10.0 * a.capture_tol,
+        early_capture: a.early_stop,
+        ..Default::default()
+    })
+}
+
+/// Parameter values: explicit, or `(start, stop, count)` through the library's `linspace` (the
+/// CLI's `--range`).
+fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Result<Vec<f64>> {
+    match (values, range) {
+        (Some(_), Some(_)) => bail!("values and range exclude each other: give one of them"),
+        (Some(v), None) => {
+            if v.is_empty() || v.len() > 1_000_000 {
+                bail!("bad values: 1 to 1000000 values");
+            }
+            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                bail!("bad values: {x} is not finite");
+            }
+            Ok(v)
+        }
+        (None, Some((a, b, n))) => {
+            if !(a.is_finite() && b.is_finite()) || n == 0 || n > 1_000_000 {
+                bail!("bad range ({a}, {b}, {n}): finite START, STOP and 1 <= COUNT <= 1000000");
+            }
+            Ok(linspace(a, b, n))
+        }
+        (None, None) => bail!("give the parameter values: values=[...] or range=(start, stop, count)"),
+    }
+}
+
+fn check_pair(p: (f64, f64), what: &str) -> Result<(f64, f64)> {
+    if !(p.0.is_finite() && p.1.is_finite() && p.0 <= p.1) {
+        bail!("bad {what} ({}, {}): finite MIN <= MAX", p.0, p.1);
+    }
+    Ok(p)
+}
+
+fn sections(names: &[String]) -> Result<Vec<Section>> {
+    names
+        .iter()
+        .map(|t| {
+            Section::parse(t.trim()).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "unknown section '{t}': allowed {}",
+                    Section::ALL
+                        .iter()
+                        .map(|s| s.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
+fn config_py<'py>(py: Python<'py>, cfg: &Config) -> PyResult<Bound<'py, PyAny>> {
+    ser_to_py(py, &cfg.to_value())
+}
+
+/// `geardyn presets`: `[(name, description)]`.
+#[pyfunction]
+fn presets() -> Vec<(String, String)> {
+    geardyn_model::presets::PRESETS
+        .iter()
+        .map(|(n, w)| (n.to_string(), w.to_string()))
+        .collect()
+}
+
+/// Names accepted as parameters (`--set` names besides `pair.*`).
+#[pyfunction]
+fn parameter_names() -> Vec<String> {
+    geardyn_model::PARAMETER_NAMES
+        .iter()
+        .chain(geardyn_io::config::SIMULATION_NAMES)
+        .map(|s| s.to_string())
+        .collect()
+}
+
+/// `geardyn show` (the TOML part): the resolved configuration as a dict.
+#[pyfunction]
+fn config<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
+    let (cfg, _) = resolve(&src).map_err(to_pyerr)?;
+    config_py(py, &cfg)
+}
+
+fn resolve(src: &Source) -> Result<(Config, geardyn_scenario::Scenario)> {
+    let c = src.config()?;
+    let s = c.resolve().context("configuration rejected")?;
+    Ok((c, s))
+}
+
+/// `geardyn show` (the comment part): derived quantities.
+#[pyfunction]
+fn derived<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
+    let (_, s) = resolve(&src).map_err(to_pyerr)?;
+    let text = geardyn_io::describe::describe(&s).map_err(|e| to_pyerr(e.into()))?;
+    let d = PyDict::new(py);
+    d.set_item("parameters", ser_to_py(py, &s.record())?)?;
+    let model = s.model();
+    d.set_item("excitation_period", model.excitation_period())?;
+    d.set_item("cycles_per_period", model.cycles_per_period())?;
+    d.set_item("mesh_cycle_time", model.mesh_cycle_time())?;
+    let (dd, ds) = model.backlash_levels();
+    d.set_item("backlash_levels", (dd, ds))?;
+    if let Some(pm) = s.pair_model() {
+        let g = &pm.geom;
+        let pair = PyDict::new(py);
+        pair.set_item("eps", g.eps)?;
+        pair.set_item("eps_b", pm.eps_b)?;
+        pair.set_item("centre_distance_mm", g.a_w * 1e3)?;
+        pair.set_item("operating_pressure_angle_deg", g.alpha_w.to_degrees())?;
+        pair.set_item("base_pitch_mm", g.pb * 1e3)?;
+        pair.set_item("path_of_contact_mm", (g.s_d - g.s_a) * 1e3)?;
+        pair.set_item("k_av_n_per_m", pm.k_av)?;
+        pair.set_item("m_e_kg", pm.m_e)?;
+        pair.set_item("i_p_kg_m2", pm.i_p)?;
+        pair.set_item("i_g_kg_m2", pm.i_g)?;
+        pair.set_item("omega_n_rad_per_s", pm.omega_n)?;
+        pair.set_item("b_c_um", pm.b_c * 1e6)?;
+        pair.set_item("cycles", pm.cycles)?;
+        pair.set_item("physical_backlash", pm.backlash)?;
+        let p = s.params();
+        let op = pm.to_physical(&geardyn_physics::pair::Dimensionless {
+            omega: p.omega,
+            load: p.load,
+            xi: p.xi,
+            d: p.d_single,
+        });
+        pair.set_item("operating_point", ser_to_py(py, &op)?)?;
+        d.set_item("pair", pair)?;
+    } else {
+        d.set_item("pair", py.None())?;
+    }
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| l.trim_start_matches('#').trim().to_string())
+        .filter(|l| !l.is_empty() && !l.starts_with("---"))
+        .collect();
+    d.set_item("text", lines)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn simulate` without the files: the same run, returned.
+#[pyfunction]
+#[pyo3(signature = (src, periods, transient, integrator, trajectory_periods, progress))]
+fn simulate<'py>(
+    py: Python<'py>,
+    src: Source,
+    periods: Option<f64>,
+    transient: Option<f64>,
+    integrator: Option<String>,
+    trajectory_periods: Option<u64>,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let out = util::run(py, "simulate", progress, Stop::Abandon, move |_ctl: &Ctl| {
+        let mut cfg = src.config()?;
+        if let Some(p) = periods {
+            cfg.set("record_periods", p)?;
+        }
+        if let Some(t) = transient {
+            cfg.set("transient_periods", t)?;
+        }
+        if let Some(m) = integrator {
+            cfg.simulation.method = m;
+        }
+        let scenario = cfg.resolve().context("configuration rejected")?;
+        let model = scenario.model();
+        let mut opts = cfg.sim_options()?;
+        opts.trajectory = true;
+        opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX).max(1);
+        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+        let t = std::time::Instant::now();
+        let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
+            .context("integration failed")?;
+        let elapsed = t.elapsed().as_secs_f64();
+        // summary.json of the CLI
+        let mut v = serde_json::to_value(&summary)?;
+        if let Some(obj) = v.as_object_mut() {
+            let extra = serde_json::json!({
+                "parameters": scenario.record(),
+                "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+                "excitation_period": model.excitation_period(),
+                "transient_periods": used.transient_periods,
+                "transient_requested": opts.transient_periods,
+                "record_periods": opts.record_periods,
+                "method": opts.method,
+                "steps": res.steps,
+                "rhs_evals": res.rhs_evals,
+                "wall_time_s": elapsed,
+            });
+            if let serde_json::Value::Object(more) = extra {
+                obj.extend(more);
+            }
+        }
+        let (dd, ds) = model.backlash_levels();
+        Ok((cfg, res, v, model.excitation_period(), (dd, ds)))
+    })?;
+    let (cfg, res, summary, period, levels) = out;
+    let d = PyDict::new(py);
+    let n = res.strobe.len();
+    d.set_item(
+        "strobe",
+        arr2(py, res.strobe.iter().flatten().copied().collect(), n, 3)?,
+    )?;
+    let tr = Columns::new(py);
+    tr.f64("tau", res.trajectory.iter().map(|p| p.tau).collect())?;
+    tr.f64("x", res.trajectory.iter().map(|p| p.x).collect())?;
+    tr.f64("v", res.trajectory.iter().map(|p| p.v).collect())?;
+    tr.f64(
+        "mesh_force",
+        res.trajectory.iter().map(|p| p.mesh_force).collect(),
+    )?;
+    d.set_item(
+        "trajectory_state",
+        arr1(py, res.trajectory.iter().map(|p| p.state).collect::<Vec<i8>>()),
+    )?;
+    tr.dict
+        .set_item("state", d.get_item("trajectory_state")?)?;
+    d.del_item("trajectory_state")?;
+    d.set_item("trajectory", tr.dict)?;
+    let ev = Columns::new(py);
+    ev.f64("tau", res.events.iter().map(|e| e.tau).collect())?;
+    ev.f64(
+        "cycle_position",
+        res.events.iter().map(|e| e.cycle_position).collect(),
+    )?;
+    ev.str(
+        "kind",
+        res.events
+            .iter()
+            .map(|e| {
+                serde_json::to_value(e.kind)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_default()
+            })
+            .collect(),
+    )?;
+    ev.f64("x", res.events.iter().map(|e| e.x).collect())?;
+    ev.f64("v_before", res.events.iter().map(|e| e.v_before).collect())?;
+    ev.f64("v_after", res.events.iter().map(|e| e.v_after).collect())?;
+    ev.f64("peak_force", res.events.iter().map(|e| e.peak_force).collect())?;
+    d.set_item("events", ev.dict)?;
+    let se = Columns::new(py);
+    se.str(
+        "section",
+        res.crossings
+            .iter()
+            .map(|c| c.level.name().to_string())
+            .collect(),
+    )?;
+    se.f64("tau", res.crossings.iter().map(|c| c.tau).collect())?;
+    se.f64("x", res.crossings.iter().map(|c| c.x).collect())?;
+    se.f64("v", res.crossings.iter().map(|c| c.v).collect())?;
+    d.set_item("sections", se.dict)?;
+    d.set_item("summary", json_to_py(py, &summary)?)?;
+    if res.mesh_strobe.is_empty() {
+        d.set_item("mesh_strobe", arr2(py, Vec::<f64>::new(), 0, 2)?)?;
+    } else {
+        let m = res.mesh_strobe.len();
+        d.set_item(
+            "mesh_strobe",
+            arr2(py, res.mesh_strobe.iter().flatten().copied().collect(), m, 2)?,
+        )?;
+    }
+    d.set_item(
+        "impact_force_per_period",
+        arr1(py, res.impact_force_per_period.clone()),
+    )?;
+    d.set_item("amplitudes", ser_to_py(py, &res.amplitudes())?)?;
+    d.set_item("final_state", (res.final_state.0, res.final_state.1[0], res.final_state.1[1]))?;
+    d.set_item("excitation_period", period)?;
+    d.set_item("backlash_levels", levels)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn lyapunov`.
+#[pyfunction]
+#[pyo3(signature = (src, sim, method, max_periods, d0, progress))]
+fn lyapunov<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    method: String,
+    max_periods: u64,
+    d0: f64,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let v = util::run(py, "lyapunov", progress, Stop::Abandon, move |_ctl: &Ctl| {
+        if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
+            bail!("bad method '{method}': allowed variational, two-trajectory, both");
+        }
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        if !(d0 > 0.0 && d0 < 1e-2) {
+            bail!("bad --d0 {}: allowed (0, 0.01)", d0);
+        }
+        let model = scenario.model().clone();
+        let p = scenario.params();
+        let integrated = serde_json::json!({
+            "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
+        });
+        let so = cfg.sim_options()?;
+        let mut opts = LyapunovOptions {
+            period: model.excitation_period(),
+            transient_periods: so.transient_periods,
+            periods: so.record_periods,
+            d0,
+        };
+        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+        let scheme = so.method.scheme(&model);
+        let t0 = so.tau0;
+        let mut out = serde_json::json!({
+            "method": method, "integrated": integrated, "converged": null, "tol": null,
+            "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
+        });
+        if sim.periods.is_none() {
+            if !(20..=10_000_000).contains(&max_periods) {
+                bail!("bad --max-periods {}: allowed 20 ..= 10000000", max_periods);
+            }
+            let conv = Convergence {
+                max_periods,
+                ..Default::default()
+            };
+            let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
+            opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
+            out["converged"] = c.converged.into();
+            out["tol"] = c.tol.into();
+            out["rounds"] = serde_json::to_value(&c.rounds)?;
+            if method != "two-trajectory" {
+                out["variational"] = serde_json::to_value(&c.result)?;
+            }
+        } else if method != "two-trajectory" {
+            let r = tle_variational::<_, 2, 4>(model.clone(), scheme, t0, y0, &opts)?;
+            out["variational"] = serde_json::to_value(&r)?;
+        }
+        out["periods"] = opts.periods.into();
+        if method != "variational" {
+            let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
+            out["two_trajectory"] = serde_json::to_value(&r)?;
+        }
+        out["config"] = serde_json::to_value(cfg.to_value())?;
+        Ok(out)
+    })?;
+    json_to_py(py, &v)
+}
+
+fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    // bifurcation.csv
+    let pts = Columns::new(py);
+    let mut value = Vec::new();
+    let mut branch = Vec::new();
+    let mut ic = Vec::new();
+    let mut section = Vec::new();
+    let (mut x, mut v) = (Vec::new(), Vec::new());
+    let mut label = Vec::new();
+    for r in results {
+        for run in &r.runs {
+            for &(sec, px, pv) in &run.points {
+                value.push(r.value);
+                branch.push(r.task.branch_name().to_string());
+                ic.push(run.ic as i64);
+                section.push(sec.name().to_string());
+                x.push(px);
+                v.push(pv);
+                label.push(run.label.clone());
+            }
+        }
+    }
+    pts.f64("value", value)?;
+    pts.str("branch", branch)?;
+    pts.i64("ic", ic)?;
+    pts.str("section", section)?;
+    pts.f64("x", x)?;
+    pts.f64("v", v)?;
+    pts.str("label", label)?;
+    d.set_item("points", pts.dict)?;
+    // runs.csv (plus the decided class, the transient used and the means)
+    let runs: Vec<(&TaskResult, &geardyn_analysis::bifurcation::Run)> = results
+        .iter()
+        .flat_map(|r| r.runs.iter().map(move |run| (r, run)))
+        .collect();
+    let rc = Columns::new(py);
+    let f = |g: &dyn Fn(&TaskResult, &geardyn_analysis::bifurcation::Run) -> f64| -> Vec<f64> {
+        runs.iter().map(|(r, run)| g(r, run)).collect()
+    };
+    let amp = |g: fn(&geardyn_analysis::simulate::Amplitudes) -> f64| -> Vec<f64> {
+        runs.iter()
+            .map(|(_, run)| run.amplitudes.as_ref().map_or(f64::NAN, g))
+            .collect()
+    };
+    rc.f64("value", f(&|r, _| r.value))?;
+    rc.str(
+        "branch",
+        runs.iter()
+            .map(|(r, _)| r.task.branch_name().to_string())
+            .collect(),
+    )?;
+    rc.i64("ic", runs.iter().map(|(_, run)| run.ic as i64).collect())?;
+    rc.f64("x0", f(&|_, run| run.y0[0]))?;
+    rc.f64("v0", f(&|_, run| run.y0[1]))?;
+    rc.str("label", runs.iter().map(|(_, run)| run.label.clone()).collect())?;
+    rc.i64("period", runs.iter().map(|(_, run)| run.period as i64).collect())?;
+    rc.boolean("healthy", runs.iter().map(|(_, run)| run.healthy).collect())?;
+    rc.f64("p_id", f(&|_, run| run.p_id))?;
+    rc.f64("max_force", f(&|_, run| run.max_force))?;
+    rc.f64("min_force", f(&|_, run| run.min_force))?;
+    rc.i64("impacts", runs.iter().map(|(_, run)| run.impacts as i64).collect())?;
+    rc.f64(
+        "max_impact_force",
+        f(&|_, run| {
+            run.impact_force_per_period
+                .iter()
+                .cloned()
+                .fold(0.0, f64::max)
+        }),
+    )?;
+    rc.f64("mean_x", amp(|a| a.mean_x))?;
+    rc.f64("rms_x", amp(|a| a.rms_x))?;
+    rc.f64("p2p_x", amp(|a| a.p2p_x))?;
+    rc.f64("mean_force", amp(|a| a.mean_force))?;
+    rc.f64("rms_force", amp(|a| a.rms_force))?;
+    rc.f64("p2p_force", amp(|a| a.p2p_force))?;
+    rc.f64("tle", f(&|_, run| run.tle.unwrap_or(f64::NAN)))?;
+    rc.str(
+        "motion",
+        runs.iter()
+            .map(|(_, run)| run.motion.word().to_string())
+            .collect(),
+    )?;
+    rc.i64(
+        "transient_used",
+        runs.iter()
+            .map(|(_, run)| run.transient_used as i64)
+            .collect(),
+    )?;
+    rc.f64("final_x", f(&|_, run| run.final_state[0]))?;
+    rc.f64("final_v", f(&|_, run| run.final_state[1]))?;
+    d.set_item("runs", rc.dict)?;
+    // impact_force.csv
+    let ifc = Columns::new(py);
+    let mut value = Vec::new();
+    let mut branch = Vec::new();
+    let mut ic = Vec::new();
+    let mut period = Vec::new();
+    let mut force = Vec::new();
+    for (r, run) in &runs {
+        for (j, fo) in run.impact_force_per_period.iter().enumerate() {
+            value.push(r.value);
+            branch.push(r.task.branch_name().to_string());
+            ic.push(run.ic as i64);
+            period.push(j as i64);
+            force.push(*fo);
+        }
+    }
+    ifc.f64("value", value)?;
+    ifc.str("branch", branch)?;
+    ifc.i64("ic", ic)?;
+    ifc.i64("period", period)?;
+    ifc.f64("impact_force", force)?;
+    d.set_item("impact_force", ifc.dict)?;
+    Ok(d)
+}
+
+fn sweep(
+    ctl: &Ctl,
+    scenario: &geardyn_scenario::Scenario,
+    opts: &SweepOptions,
+) -> Result<Vec<TaskResult>> {
+    let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
+    ctl.set_total(n, 0);
+    let done: HashMap<Task, TaskResult> = HashMap::new();
+    Ok(run_sweep(scenario, opts, &done, |_| ctl.tick())?)
+}
+
+/// `geardyn bifurcation` without the files.
+#[pyfunction]
+#[pyo3(signature = (src, sim, param, values, range, mode, ics, seed, x0_range, v0_range, sections_, lyapunov, progress))]
+#[allow(clippy::too_many_arguments)]
+fn bifurcation<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    param: String,
+    values: Option<Vec<f64>>,
+    range: Option<(f64, f64, usize)>,
+    mode: String,
+    ics: usize,
+    seed: u64,
+    x0_range: Option<(f64, f64)>,
+    v0_range: (f64, f64),
+    sections_: Vec<String>,
+    lyapunov: bool,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (results, cfg, opts) = util::run(py, "bifurcation", progress, Stop::AtTick, move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        let values = values_of(values, range)?;
+        let secs = sections(&sections_)?;
+        let ds = scenario.params().d_single;
+        let mode = match mode.as_str() {
+            "fixed" => SweepMode::Fixed,
+            "sweep" => SweepMode::Sweep,
+            "multi" => {
+                if ics == 0 || ics > 100_000 {
+                    bail!("bad --ics {}: allowed 1 ..= 100000", ics);
+                }
+                SweepMode::Multi {
+                    ics,
+                    seed,
+                    x0_range: match x0_range {
+                        Some(p) => check_pair(p, "x0_range")?,
+                        None => (-1.5 * ds, 1.5 * ds),
+                    },
+                    v0_range: check_pair(v0_range, "v0_range")?,
+                }
+            }
+            other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
+        };
+        let opts = SweepOptions {
+            param,
+            values,
+            mode,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            sections: secs,
+            lyapunov,
+        };
+        let results = sweep(ctl, &scenario, &opts)?;
+        Ok((results, cfg, opts))
+    })?;
+    let d = sweep_results(py, &results)?;
+    d.set_item("param", &opts.param)?;
+    d.set_item("values", arr1(py, opts.values.clone()))?;
+    d.set_item("settings", ser_to_py(py, &opts)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn response` without the files.
+#[pyfunction]
+#[pyo3(signature = (src, sim, param, values, range, progress))]
+fn response<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    param: String,
+    values: Option<Vec<f64>>,
+    range: Option<(f64, f64, usize)>,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (results, cfg, opts) = util::run(py, "response", progress, Stop::AtTick, move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        let opts = SweepOptions {
+            param,
+            values: values_of(values, range)?,
+            mode: SweepMode::Sweep,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            sections: vec![],
+            lyapunov: false,
+        };
+        let results = sweep(ctl, &scenario, &opts)?;
+        Ok((results, cfg, opts))
+    })?;
+    let d = sweep_results(py, &results)?;
+    d.set_item("jumps", ser_to_py(py, &detect_jumps(&results))?)?;
+    d.set_item("param", &opts.param)?;
+    d.set_item("values", arr1(py, opts.values.clone()))?;
+    d.set_item("settings", ser_to_py(py, &opts)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+fn axis(a: (f64, f64, usize), name: &str) -> Result<Axis> {
+    let (lo, hi, n) = a;
+    if !(lo.is_finite() && hi.is_finite()) || hi <= lo || n == 0 || n > 4000 {
+        bail!("bad {name} ({lo}, {hi}, {n}): finite MIN < MAX and 1 <= N <= 4000");
+    }
+    Ok(Axis {
+        min: lo,
+        max: hi,
+        n,
+    })
+}
+
+/// `geardyn basins` without the files.
+#[pyfunction]
+#[pyo3(signature = (src, sim, ident, x, v, phase, progress))]
+#[allow(clippy::too_many_arguments)]
+fn basins<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    ident: Ident,
+    x: Option<(f64, f64, usize)>,
+    v: Option<(f64, f64, usize)>,
+    phase: f64,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (r, cfg, opts, elapsed) = util::run(py, "basins", progress, Stop::AtTick, move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        let model = scenario.model();
+        if !(0.0..1.0).contains(&phase) {
+            bail!(
+                "bad --phase {}: allowed [0, 1) (fraction of the excitation period)",
+                phase
+            );
+        }
+        let d = scenario.params().d_single;
+        let xa = match x {
+            Some(a) => axis(a, "x")?,
+            None => Axis {
+                min: -2.0 * d,
+                max: 2.0 * d,
+                n: 200,
+            },
+        };
+        let va = match v {
+            Some(a) => axis(a, "v")?,
+            None => Axis {
+                min: -1.5,
+                max: 1.5,
+                n: 200,
+            },
+        };
+        let mut identify = identify_options(&cfg, &ident)?;
+        identify.sim.tau0 = phase * model.excitation_period();
+        let opts = BasinOptions {
+            x: xa,
+            v: va,
+            identify,
+        };
+        ctl.set_total((xa.n * va.n) as u64, 0);
+        let done: HashMap<usize, Outcome> = HashMap::new();
+        let t = std::time::Instant::now();
+        let r = run_basins(model, &opts, &done, |_, _| ctl.tick());
+        Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("cells", arr2(py, r.cells.clone(), r.v.n, r.x.n)?)?;
+    d.set_item(
+        "x",
+        arr1(py, (0..r.x.n).map(|i| r.x.value(i)).collect::<Vec<f64>>()),
+    )?;
+    d.set_item(
+        "v",
+        arr1(py, (0..r.v.n).map(|i| r.v.value(i)).collect::<Vec<f64>>()),
+    )?;
+    d.set_item("attractors", ser_to_py(py, &r.attractors)?)?;
+    d.set_item("diverged", r.diverged)?;
+    d.set_item("failed", r.failed)?;
+    d.set_item("boundary_fraction", r.boundary_fraction)?;
+    d.set_item("captured_early", r.captured_early)?;
+    d.set_item("periods", r.periods)?;
+    d.set_item("x_axis", (r.x.min, r.x.max, r.x.n))?;
+    d.set_item("v_axis", (r.v.min, r.v.max, r.v.n))?;
+    d.set_item("phase", phase)?;
+    d.set_item("elapsed_s", elapsed)?;
+    d.set_item("settings", ser_to_py(py, &opts)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn continuation` without the files.
+#[pyfunction]
+#[pyo3(signature = (src, sim, ident, param, values, range, ics, seed, x0_range, v0_range, progress))]
+#[allow(clippy::too_many_arguments)]
+fn continuation<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    ident: Ident,
+    param: String,
+    values: Option<Vec<f64>>,
+    range: Option<(f64, f64, usize)>,
+    ics: usize,
+    seed: u64,
+    x0_range: Option<(f64, f64)>,
+    v0_range: (f64, f64),
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (r, cfg, opts) = util::run(py, "continuation", progress, Stop::AtTick, move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        let values = values_of(values, range)?;
+        if ics == 0 || ics > 100_000 {
+            bail!("bad --ics {}: allowed 1 ..= 100000", ics);
+        }
+        let d = scenario.params().d_single;
+        let opts = ContinuationOptions {
+            param,
+            values,
+            ics,
+            seed,
+            x0_range: match x0_range {
+                Some(p) => check_pair(p, "x0_range")?,
+                None => (-2.0 * d, 2.0 * d),
+            },
+            v0_range: check_pair(v0_range, "v0_range")?,
+            identify: identify_options(&cfg, &ident)?,
+        };
+        ctl.set_total(opts.values.len() as u64, 0);
+        let done = HashMap::new();
+        let r = run_continuation(&scenario, &opts, &done, |_| ctl.tick())?;
+        Ok((r, cfg, opts))
+    })?;
+    let d = PyDict::new(py);
+    let c = Columns::new(py);
+    c.f64("value", r.points.iter().map(|p| p.value).collect())?;
+    c.i64("branch", r.points.iter().map(|p| p.branch as i64).collect())?;
+    c.str("label", r.points.iter().map(|p| p.label.clone()).collect())?;
+    c.i64("period", r.points.iter().map(|p| p.period as i64).collect())?;
+    c.boolean("healthy", r.points.iter().map(|p| p.healthy).collect())?;
+    c.f64("fraction", r.points.iter().map(|p| p.fraction).collect())?;
+    c.f64("max_force", r.points.iter().map(|p| p.max_force).collect())?;
+    c.f64("x", r.points.iter().map(|p| p.x).collect())?;
+    c.f64("v", r.points.iter().map(|p| p.v).collect())?;
+    d.set_item("points", c.dict)?;
+    d.set_item("events", ser_to_py(py, &r.events)?)?;
+    d.set_item("intervals", ser_to_py(py, &r.intervals)?)?;
+    let nl = r.lost.len();
+    d.set_item(
+        "lost",
+        arr2(
+            py,
+            r.lost.iter().flat_map(|&(a, b)| [a, b]).collect(),
+            nl,
+            2,
+        )?,
+    )?;
+    d.set_item("param", &r.param)?;
+    d.set_item("values", arr1(py, opts.values.clone()))?;
+    d.set_item("settings", ser_to_py(py, &opts)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn map2d` without the files.
+#[pyfunction]
+#[pyo3(signature = (src, sim, x_param, x_values, x_range, y_param, y_values, y_range, metric, progress))]
+#[allow(clippy::too_many_arguments)]
+fn map2d<'py>(
+    py: Python<'py>,
+    src: Source,
+    sim: Sim,
+    x_param: String,
+    x_values: Option<Vec<f64>>,
+    x_range: Option<(f64, f64, usize)>,
+    y_param: String,
+    y_values: Option<Vec<f64>>,
+    y_range: Option<(f64, f64, usize)>,
+    metric: String,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (cells, cfg, opts, metric) = util::run(py, "map2d", progress, Stop::AtTick, move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        if !METRICS.contains(&metric.as_str()) {
+            bail!(
+                "unknown --metric '{}': allowed {}",
+                metric,
+                METRICS.join(", ")
+            );
+        }
+        let opts = MapOptions {
+            x_param,
+            x_values: values_of(x_values, x_range)?,
+            y_param,
+            y_values: values_of(y_values, y_range)?,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            lyapunov: metric == "tle",
+        };
+        ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
+        let done = HashMap::new();
+        let cells = run_map2d(&scenario, &opts, &done, |_| ctl.tick())?;
+        Ok((cells, cfg, opts, metric))
+    })?;
+    let (nx, ny) = (opts.x_values.len(), opts.y_values.len());
+    let d = PyDict::new(py);
+    let vals: Vec<f64> = cells
+        .iter()
+        .map(|c| c.metric(&metric).unwrap_or(f64::NAN))
+        .collect();
+    d.set_item("values", arr2(py, vals, ny, nx)?)?;
+    d.set_item("metric", &metric)?;
+    d.set_item("x_param", &opts.x_param)?;
+    d.set_item("y_param", &opts.y_param)?;
+    d.set_item("x", arr1(py, opts.x_values.clone()))?;
+    d.set_item("y", arr1(py, opts.y_values.clone()))?;
+    let c = Columns::new(py);
+    c.f64("x", cells.iter().map(|c| c.x).collect())?;
+    c.f64("y", cells.iter().map(|c| c.y).collect())?;
+    c.str("label", cells.iter().map(|c| c.label.clone()).collect())?;
+    c.i64("period", cells.iter().map(|c| c.period as i64).collect())?;
+    c.boolean("healthy", cells.iter().map(|c| c.healthy).collect())?;
+    c.f64("max_force", cells.iter().map(|c| c.max_force).collect())?;
+    c.f64("min_force", cells.iter().map(|c| c.min_force).collect())?;
+    c.f64("p_id", cells.iter().map(|c| c.p_id).collect())?;
+    c.i64("impacts", cells.iter().map(|c| c.impacts as i64).collect())?;
+    c.f64(
+        "tle",
+        cells.iter().map(|c| c.tle.unwrap_or(f64::NAN)).collect(),
+    )?;
+    c.str(
+        "motion",
+        cells.iter().map(|c| c.motion.word().to_string()).collect(),
+    )?;
+    d.set_item("cells", c.dict)?;
+    d.set_item("settings", ser_to_py(py, &opts)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn stiffness` without the files: the stiffness.csv table.
+#[pyfunction]
+fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
+    let (cfg, scenario) = resolve(&src).map_err(to_pyerr)?;
+    let pair = match cfg.pair.as_ref() {
+        Some(spec) => Some(spec.build().map_err(|e| to_pyerr(e.into()))?),
+        None => None,
+    };
+    let model = scenario.model();
+    let d = PyDict::new(py);
+    let c = Columns::new(py);
+    if let Some(pm) = &pair {
+        let (dd, ds) = (scenario.params().d_double, scenario.params().d_single);
+        let rows = &pm.rows;
+        c.f64("position_cycles", rows.iter().map(|r| r.position).collect())?;
+        c.f64("k_pair1_N_per_m", rows.iter().map(|r| r.k_pair1).collect())?;
+        c.f64("k_pair2_N_per_m", rows.iter().map(|r| r.k_pair2).collect())?;
+        c.f64("k_mesh_N_per_m", rows.iter().map(|r| r.k_mesh).collect())?;
+        c.f64("share1", rows.iter().map(|r| r.share1).collect())?;
+        c.f64("share2", rows.iter().map(|r| r.share2).collect())?;
+        c.f64("h_drive", rows.iter().map(|r| r.h_drive).collect())?;
+        c.f64("h_back", rows.iter().map(|r| r.h_back).collect())?;
+        c.f64(
+            "half_backlash",
+            rows.iter().map(|r| if r.single { ds } else { dd }).collect(),
+        )?;
+        c.str(
+            "zone",
+            rows.iter()
+                .map(|r| (if r.single { "single" } else { "double" }).to_string())
+                .collect(),
+        )?;
+        c.f64("mu1", rows.iter().map(|r| r.mu1).collect())?;
+        c.f64("mu2", rows.iter().map(|r| r.mu2).collect())?;
+        c.f64("film1_um", rows.iter().map(|r| r.film1 * 1e6).collect())?;
+        c.f64("lambda1", rows.iter().map(|r| r.lambda1).collect())?;
+        c.str(
+            "regime1",
+            rows.iter()
+                .map(|r| {
+                    (match r.regime1 {
+                        0 => "ehl",
+                        1 => "mixed",
+                        2 => "boundary",
+                        _ => "constant_mu",
+                    })
+                    .to_string()
+                })
+                .collect(),
+        )?;
+        let info = PyDict::new(py);
+        info.set_item("eps", pm.geom.eps)?;
+        info.set_item("eps_b", pm.eps_b)?;
+        info.set_item("k_av_n_per_m", pm.k_av)?;
+        info.set_item("omega_n_rad_per_s", pm.omega_n)?;
+        info.set_item("cycles", pm.cycles)?;
+        info.set_item("samples_per_cycle", pm.spec.samples_per_cycle)?;
+        d.set_item("pair", info)?;
+    } else {
+        let n = 1024 * model.cycles_per_period() as usize;
+        let cy = model.cycles_per_period() as f64;
+        let rows: Vec<[f64; 5]> = (0..n)
+            .map(|i| {
+                let u = cy * i as f64 / n as f64;
+                let (hd, hb) = model.friction_factors_at(u);
+                [u, model.stiffness_at(u), hd, hb, model.backlash_at(u)]
+            })
+            .collect();
+        for (j, name) in [
+            "position_cycles",
+            "k_dimensionless",
+            "h_drive",
+            "h_back",
+            "half_backlash",
+        ]
+        .iter()
+        .enumerate()
+        {
+            c.f64(name, rows.iter().map(|r| r[j]).collect())?;
+        }
+        d.set_item("pair", py.None())?;
+    }
+    d.set_item("table", c.dict)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// `geardyn report` (run in-process; the Python wrapper runs it in a child process so that
+/// Ctrl-C can stop it).
+#[pyfunction]
+#[pyo3(signature = (preset, sets, quick, out))]
+fn report(py: Python<'_>, preset: String, sets: Vec<String>, quick: bool, out: String) -> PyResult<String> {
+    util::run(py, "report", false, Stop::Abandon, move |_ctl| {
+        let mut cfg = Config::preset(&preset)?;
+        for s in &sets {
+            cfg.apply_set(s)?;
+        }
+        cfg.resolve()?;
+        let index = geardyn_report::run(
+            &cfg,
+            &geardyn_report::ReportOptions {
+                preset,
+                quick,
+                out: out.into(),
+            },
+        )?;
+        Ok(index.display().to_string())
+    })
+}
+
+/// The Rust half of the `geardyn` package.
+#[pymodule]
+fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(presets, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_names, m)?)?;
+    m.add_function(wrap_pyfunction!(config, m)?)?;
+    m.add_function(wrap_pyfunction!(derived, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(lyapunov, m)?)?;
+    m.add_function(wrap_pyfunction!(bifurcation, m)?)?;
+    m.add_function(wrap_pyfunction!(response, m)?)?;
+    m.add_function(wrap_pyfunction!(basins, m)?)?;
+    m.add_function(wrap_pyfunction!(continuation, m)?)?;
+    m.add_function(wrap_pyfunction!(map2d, m)?)?;
+    m.add_function(wrap_pyfunction!(stiffness, m)?)?;
+    m.add_function(wrap_pyfunction!(report, m)?)?;
+    Ok(())
+}

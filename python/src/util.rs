@@ -1,0 +1,266 @@
+//! Helpers: error mapping (the CLI's one-line messages), conversions to Python objects and numpy
+//! arrays, and running long work off the interpreter with Ctrl-C and progress.
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyString};
+use serde_json::Value;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{mpsc, Arc};
+use std::time::{Duration, Instant};
+
+/// Maps an error to a Python exception with the message the CLI prints after `error: `
+/// (anyhow's `{:#}`): `OSError` for files that cannot be read or written, `RuntimeError` when an
+/// integration fails, `ValueError` for everything else (bad parameters and settings).
+pub fn to_pyerr(e: anyhow::Error) -> PyErr {
+    let msg = format!("{e:#}");
+    let os = e.chain().any(|c| {
+        matches!(
+            c.downcast_ref::<geardyn_io::ConfigError>(),
+            Some(geardyn_io::ConfigError::Read { .. })
+        ) || c.downcast_ref::<geardyn_io::output::OutputError>().is_some()
+            || c.downcast_ref::<std::io::Error>().is_some()
+    });
+    let runtime = e.chain().any(|c| {
+        c.downcast_ref::<geardyn_analysis::simulate::SimError>()
+            .is_some()
+            || c.downcast_ref::<geardyn_solvers::SolverError>().is_some()
+    });
+    if os {
+        PyOSError::new_err(msg)
+    } else if runtime {
+        PyRuntimeError::new_err(msg)
+    } else {
+        PyValueError::new_err(msg)
+    }
+}
+
+/// Converts a JSON value (as the CLI writes it: non-finite numbers are `null`) to Python.
+pub fn json_to_py<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else {
+                n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any()
+            }
+        }
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(o) => {
+            let d = PyDict::new(py);
+            for (k, x) in o {
+                d.set_item(k, json_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+/// Any serialisable value as a Python object (through its JSON form).
+pub fn ser_to_py<'py, T: serde::Serialize>(py: Python<'py>, v: &T) -> PyResult<Bound<'py, PyAny>> {
+    let v = serde_json::to_value(v).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    json_to_py(py, &v)
+}
+
+/// A 1-d array.
+pub fn arr1<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyAny> {
+    PyArray1::from_vec(py, v).into_any()
+}
+
+/// A 2-d C-ordered array of `rows x cols` from row-major data.
+pub fn arr2<'py, T: numpy::Element>(
+    py: Python<'py>,
+    v: Vec<T>,
+    rows: usize,
+    cols: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, v).reshape([rows, cols])?.into_any())
+}
+
+/// A column table: name -> array (numbers) or list (strings), in insertion order.
+pub struct Columns<'py> {
+    pub dict: Bound<'py, PyDict>,
+}
+
+impl<'py> Columns<'py> {
+    pub fn new(py: Python<'py>) -> Self {
+        Columns {
+            dict: PyDict::new(py),
+        }
+    }
+    pub fn f64(&self, name: &str, v: Vec<f64>) -> PyResult<()> {
+        self.dict.set_item(name, arr1(self.dict.py(), v))
+    }
+    pub fn i64(&self, name: &str, v: Vec<i64>) -> PyResult<()> {
+        self.dict.set_item(name, arr1(self.dict.py(), v))
+    }
+    pub fn boolean(&self, name: &str, v: Vec<bool>) -> PyResult<()> {
+        self.dict.set_item(name, arr1(self.dict.py(), v))
+    }
+    pub fn str(&self, name: &str, v: Vec<String>) -> PyResult<()> {
+        self.dict.set_item(name, PyList::new(self.dict.py(), v)?)
+    }
+}
+
+/// Payload of the unwinding that stops a computation after Ctrl-C.
+pub struct Cancelled;
+
+/// Shared between the caller (progress, Ctrl-C) and the worker.
+#[derive(Default)]
+pub struct Ctl {
+    cancel: AtomicBool,
+    done: AtomicU64,
+    total: AtomicU64,
+}
+
+impl Ctl {
+    /// Announces the number of items.
+    pub fn set_total(&self, total: u64, done: u64) {
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(done, Ordering::Relaxed);
+    }
+
+    /// One item finished (called from the library's `on_done` callbacks, on any thread). After
+    /// Ctrl-C it unwinds the computation (no panic message: `resume_unwind`); the library's
+    /// parallel loops hand the unwinding to the caller, which discards the partial work.
+    pub fn tick(&self) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+        if self.cancel.load(Ordering::Relaxed) {
+            std::panic::resume_unwind(Box::new(Cancelled));
+        }
+    }
+}
+
+/// How a computation reacts to Ctrl-C.
+#[derive(Clone, Copy, PartialEq)]
+pub enum Stop {
+    /// It calls [`Ctl::tick`]: wait until it has stopped (no work left behind).
+    AtTick,
+    /// It cannot be stopped: return at once and let it finish in the background (it writes
+    /// nothing; its result is dropped).
+    Abandon,
+}
+
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".into()
+    }
+}
+
+fn show_progress(py: Python<'_>, what: &str, ctl: &Ctl, started: Instant, end: bool) {
+    let (done, total) = (
+        ctl.done.load(Ordering::Relaxed),
+        ctl.total.load(Ordering::Relaxed),
+    );
+    let secs = started.elapsed().as_secs_f64();
+    let line = if total > 0 {
+        format!(
+            "\r{what}: {done}/{total} ({:.0}%), {secs:.1} s elapsed",
+            100.0 * done as f64 / total as f64
+        )
+    } else {
+        format!("\r{what}: {secs:.1} s elapsed")
+    };
+    let line = if end { line + "\n" } else { line };
+    if let Ok(err) = py.import("sys").and_then(|s| s.getattr("stderr")) {
+        let _ = err.call_method1("write", (line,));
+        let _ = err.call_method0("flush");
+    }
+}
+
+/// Runs `f` on a worker thread with the interpreter released (the library's own thread pool does
+/// the parallel work), polling for Ctrl-C (KeyboardInterrupt) and, with `progress`, printing a
+/// progress line on `sys.stderr`.
+pub fn run<T, F>(py: Python<'_>, what: &str, progress: bool, stop: Stop, f: F) -> PyResult<T>
+where
+    T: Send + 'static,
+    F: FnOnce(&Ctl) -> anyhow::Result<T> + Send + 'static,
+{
+    let ctl = Arc::new(Ctl::default());
+    let (tx, rx) = mpsc::channel();
+    // the receiver is used from inside `detach` closures, which must be `Send`
+    let rx = std::sync::Mutex::new(rx);
+    let recv = |rx: &std::sync::Mutex<mpsc::Receiver<_>>| {
+        rx.lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .recv_timeout(Duration::from_millis(50))
+    };
+    let worker_ctl = ctl.clone();
+    std::thread::Builder::new()
+        .name(format!("geardyn-{what}"))
+        .spawn(move || {
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&worker_ctl)));
+            let _ = tx.send(r);
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+    let started = Instant::now();
+    let mut last = Instant::now();
+    loop {
+        let r = py.detach(|| recv(&rx));
+        match r {
+            Ok(Ok(res)) => {
+                if progress {
+                    show_progress(py, what, &ctl, started, true);
+                }
+                return res.map_err(to_pyerr);
+            }
+            Ok(Err(payload)) => {
+                if payload.is::<Cancelled>() {
+                    return Err(PyKeyboardInterrupt::new_err(""));
+                }
+                return Err(PyRuntimeError::new_err(format!(
+                    "internal error in geardyn: {}",
+                    panic_message(payload.as_ref())
+                )));
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err(
+                    "internal error in geardyn: the worker ended without a result",
+                ))
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    ctl.cancel.store(true, Ordering::Relaxed);
+                    if stop == Stop::AtTick {
+                        // wait for the worker to unwind (items in flight finish first); a second
+                        // Ctrl-C stops waiting
+                        loop {
+                            match py.detach(|| recv(&rx)) {
+                                Err(mpsc::RecvTimeoutError::Timeout) => {
+                                    if py.check_signals().is_err() {
+                                        break;
+                                    }
+                                }
+                                _ => break,
+                            }
+                        }
+                    }
+                    if progress {
+                        show_progress(py, what, &ctl, started, true);
+                    }
+                    return Err(e);
+                }
+                if progress && last.elapsed() >= Duration::from_millis(250) {
+                    last = Instant::now();
+                    show_progress(py, what, &ctl, started, false);
+                }
+            }
+        }
+    }
+}
