@@ -177,10 +177,10 @@ where
                 .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
                 .collect();
             let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
-            let computed = crate::lanes::identify_lanes(mesh, &y0s, &snapshot, &opts.identify);
-            for ((c, _), o) in todo.iter().zip(&computed) {
-                on_cell(*c, o);
-            }
+            let computed =
+                crate::lanes::identify_lanes(mesh, &y0s, &snapshot, &opts.identify, |i, o| {
+                    on_cell(todo[i].0, o)
+                });
             let mut computed = computed.into_iter();
             cells
                 .iter()

@@ -463,32 +463,36 @@ where
                 .filter(|t| !done.contains_key(t))
                 .collect();
             let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
-                // fixed-step RK4: every run of every value in lockstep lanes; a run not decided
-                // periodic there is classified by the scalar path (transient extensions, TLE)
-                let items: Vec<(usize, usize, [f64; 2])> = todo
-                    .iter()
-                    .flat_map(|t| {
-                        (0..k)
-                            .map(move |ic| (t.index, ic, initial_state(mode, opts.y0, t.index, ic)))
-                    })
-                    .collect();
-                let runs: Vec<(&MeshModel, [f64; 2])> =
-                    items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
-                let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
-                let mut decided: Vec<Run> = items
-                    .par_iter()
-                    .zip(lane_results)
-                    .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
-                    .collect();
+                // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
+                // (each batch's results are handed on, so a checkpoint loses at most one batch);
+                // a run not decided periodic there is classified by the scalar path (transient
+                // extensions, TLE)
+                let batch = (64 * rayon::current_num_threads()).div_ceil(k).max(1);
                 let mut out = Vec::with_capacity(todo.len());
-                for &t in todo.iter().rev() {
-                    let runs = decided.split_off(decided.len() - k);
-                    out.push((t, runs));
+                for tasks in todo.chunks(batch) {
+                    let items: Vec<(usize, usize, [f64; 2])> = tasks
+                        .iter()
+                        .flat_map(|t| {
+                            (0..k).map(move |ic| {
+                                (t.index, ic, initial_state(mode, opts.y0, t.index, ic))
+                            })
+                        })
+                        .collect();
+                    let runs: Vec<(&MeshModel, [f64; 2])> =
+                        items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
+                    let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
+                    let decided: Vec<Run> = items
+                        .par_iter()
+                        .zip(lane_results)
+                        .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
+                        .collect();
+                    let mut decided = decided.into_iter();
+                    for &t in tasks {
+                        let runs: Vec<Run> = decided.by_ref().take(k).collect();
+                        out.push(finish(t, runs));
+                    }
                 }
-                out.into_iter()
-                    .rev()
-                    .map(|(t, runs)| finish(t, runs))
-                    .collect()
+                out
             } else {
                 todo.par_iter()
                     .map(|&t| {

@@ -524,7 +524,8 @@ enum IdPhase<'s, 'q> {
 }
 
 /// Lane driver of many [`identify`](crate::attractor::identify) runs of one model.
-struct IdDriver<'s, 'q, const L: usize> {
+struct IdDriver<'s, 'q, F, const L: usize> {
+    on_done: &'q F,
     model: &'s MeshModel,
     items: &'q [(usize, [f64; 2])],
     next: usize,
@@ -538,7 +539,10 @@ struct IdDriver<'s, 'q, const L: usize> {
     out: Vec<(usize, Outcome)>,
 }
 
-impl<'s, 'q, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for IdDriver<'s, 'q, L> {
+impl<'s, 'q, F, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for IdDriver<'s, 'q, F, L>
+where
+    F: Fn(usize, &Outcome) + Sync,
+{
     fn next_item(&mut self, l: usize) -> Option<Start<'s, MeshModel, 2>> {
         let &(out, y0) = self.items.get(self.next)?;
         self.next += 1;
@@ -685,6 +689,7 @@ impl<'s, 'q, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for IdDriver<'s, 'q
                 Outcome::Failed(format!("integration terminated at t = {t}"))
             }
         };
+        (self.on_done)(out, &outcome);
         self.out.push((out, outcome));
     }
 }
@@ -696,13 +701,18 @@ pub fn identify_lanes_apply(opts: &IdentifyOptions) -> bool {
 }
 
 /// [`identify`](crate::attractor::identify) of `model` from every initial state of `y0s` (see
-/// [`identify_lanes_apply`]), in lockstep lanes; outcomes in input order.
-pub fn identify_lanes(
+/// [`identify_lanes_apply`]), in lockstep lanes; outcomes in input order. `on_done(i, outcome)`
+/// receives each outcome as soon as it is known (from any thread).
+pub fn identify_lanes<F>(
     model: &MeshModel,
     y0s: &[[f64; 2]],
     known: &[Descriptor],
     opts: &IdentifyOptions,
-) -> Vec<Outcome> {
+    on_done: F,
+) -> Vec<Outcome>
+where
+    F: Fn(usize, &Outcome) + Sync,
+{
     let Method::Rk4 { steps_per_cycle } = opts.sim.method else {
         panic!("identify_lanes needs the RK4 method");
     };
@@ -712,7 +722,8 @@ pub fn identify_lanes(
     let parts: Vec<Vec<(usize, Outcome)>> = items
         .par_chunks(chunk_len(items.len(), LANES))
         .map(|chunk| {
-            let mut drv = IdDriver::<LANES> {
+            let mut drv = IdDriver::<_, LANES> {
+                on_done: &on_done,
                 model,
                 items: chunk,
                 next: 0,
