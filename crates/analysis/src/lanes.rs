@@ -24,7 +24,9 @@ use crate::attractor::{Capture, Descriptor, IdentifyOptions, Outcome};
 use crate::driver::Observer;
 use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
-use geardyn_solvers::ensemble::{run_lanes, At, End, LaneDriver, LaneStep, Next, Stage, Start};
+use geardyn_solvers::ensemble::{
+    run_lanes, run_lanes_baseline, At, End, LaneDriver, LaneStep, Next, Stage, Start,
+};
 use geardyn_solvers::{Step, Stop};
 use rayon::prelude::*;
 
@@ -470,6 +472,24 @@ pub fn simulate_lanes(
     runs: &[(&MeshModel, [f64; 2])],
     opts: &SimOptions,
 ) -> Vec<Result<SimResult, SimError>> {
+    simulate_lanes_on(runs, opts, false)
+}
+
+/// As [`simulate_lanes`], on the baseline (not AVX2) copy of the engine: the results are
+/// identical (for tests).
+#[doc(hidden)]
+pub fn simulate_lanes_baseline(
+    runs: &[(&MeshModel, [f64; 2])],
+    opts: &SimOptions,
+) -> Vec<Result<SimResult, SimError>> {
+    simulate_lanes_on(runs, opts, true)
+}
+
+fn simulate_lanes_on(
+    runs: &[(&MeshModel, [f64; 2])],
+    opts: &SimOptions,
+    baseline: bool,
+) -> Vec<Result<SimResult, SimError>> {
     let Method::Rk4 { steps_per_cycle } = opts.method else {
         panic!("simulate_lanes needs the RK4 method");
     };
@@ -496,7 +516,11 @@ pub fn simulate_lanes(
                 mesh_on: items.first().is_some_and(|it| it.1.cycles_per_period() > 1),
                 out: Vec::with_capacity(items.len()),
             };
-            run_lanes::<MeshLanes, _, 2, LANES>(table, &mut drv);
+            if baseline {
+                run_lanes_baseline::<MeshLanes, _, 2, LANES>(table, &mut drv);
+            } else {
+                run_lanes::<MeshLanes, _, 2, LANES>(table, &mut drv);
+            }
             drv.out
         })
         .collect();

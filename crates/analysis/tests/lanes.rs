@@ -215,6 +215,10 @@ fn output_is_the_same_for_any_thread_count() {
     let one = key(&run(1));
     assert_eq!(one, key(&run(2)));
     assert_eq!(one, key(&run(5)));
+    // the same bytes from the baseline copy of the engine as from the AVX2/FMA one (no fused
+    // multiply-add anywhere in the lanes)
+    let base = geardyn_analysis::lanes::simulate_lanes_baseline(&runs, &opts);
+    assert_eq!(one, key(&base));
 }
 
 /// Basins of C1 at omega = 1.8 on a coarse grid: the cells run in lanes (early capture, then the
