@@ -8,7 +8,9 @@ use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{basin_figure, line_figure, line_figure_y, sweep_figure, Line, SweepPanels};
+use crate::shared::{
+    basin_figure, line_figure, line_figure_y, portrait_figure, sweep_figure, Line, SweepPanels,
+};
 use crate::{Figure, Section};
 use anyhow::{Context, Result};
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, SweepOptions};
@@ -417,7 +419,7 @@ fn states(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Sect
                 vec![Line { label: "F_m".into(), points: fs, dots: false }],
             ),
             (
-                "state (0 double, 1 single I, 2 single II, 3 separated, 4 back impact)".into(),
+                "state (caption)".into(),
                 vec![Line { label: "state".into(), points: sts, dots: true }],
             ),
         ],
@@ -1441,21 +1443,16 @@ fn portraits(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             summary.motion.word().to_string()
         };
         let title = format!("{}: {motion}", crate::readings::sets(&sets));
-        figs.push(line_figure(
+        figs.push(portrait_figure(
             ctx,
             dir,
             &format!("portrait_{name}"),
             &format!("Phase portrait, {title}"),
-            "x",
-            vec![(
-                "x'".into(),
-                vec![
-                    Line { label: "trajectory (last 2 revolutions)".into(), points: traj, dots: false },
-                    Line { label: "stroboscopic points".into(), points: strobe, dots: true },
-                    Line { label: "back-side impacts".into(), points: impacts, dots: true },
-                ],
-            )],
-            &[],
+            [
+                ("trajectory (last 2 revolutions)", traj),
+                ("stroboscopic points", strobe),
+                ("back-side impacts (state before)", impacts),
+            ],
             &format!("{title}: phase portrait of the last two revolutions, stroboscopic points of every recorded revolution and the state before each back-side impact."),
         )?);
         rows.push(vec![

@@ -880,9 +880,21 @@ pub fn line_figure_y(
             .position(|x| x == l)
             .map_or(PlotColor(60, 60, 60), palette)
     };
+    let dotted = |l: &str| {
+        panels
+            .iter()
+            .flat_map(|(_, ls)| ls.iter())
+            .any(|x| x.label == l && x.dots)
+    };
     let legend = labels
         .iter()
-        .map(|l| LegendEntry::line(l.clone(), col(l)))
+        .map(|l| {
+            if dotted(l) {
+                LegendEntry::dot(l.clone(), col(l))
+            } else {
+                LegendEntry::line(l.clone(), col(l))
+            }
+        })
         .collect();
     let mut rows: Vec<Vec<String>> = Vec::new();
     let fig_panels = panels
@@ -902,7 +914,7 @@ pub fn line_figure_y(
                     .map(|l| Layer {
                         points: l.points.clone(),
                         style: if l.dots {
-                            Style::Dots(2)
+                            Style::Dots(3)
                         } else {
                             Style::Line(2)
                         },
@@ -928,5 +940,64 @@ pub fn line_figure_y(
     )?;
     let csv = dir.join(format!("{name}.csv"));
     write_csv(&csv, &["panel", "series", "x", "y"], rows)?;
+    Ok(ctx.fig(&stem, caption, &[csv]))
+}
+
+/// A phase portrait `dir/name.png|svg` (trajectory, stroboscopic points, impacts) with
+/// `name.csv` (`series, x, v`).
+pub fn portrait_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    title: &str,
+    series: [(&str, Vec<(f64, f64)>); 3],
+    caption: &str,
+) -> Result<Figure> {
+    let name = &safe(name);
+    let mut rows = Vec::new();
+    for (label, pts) in &series {
+        rows.extend(pts.iter().map(|p| vec![label.to_string(), g(p.0), g(p.1)]));
+    }
+    let cols = [palette(0), palette(1), palette(2)];
+    let [(l0, p0), (l1, p1), (l2, p2)] = series;
+    let stem = dir.join(name);
+    write_figure(
+        &stem,
+        &Fig {
+            title: title.into(),
+            x_label: "x".into(),
+            panels: vec![Panel {
+                y_label: "x'".into(),
+                layers: vec![
+                    Layer {
+                        points: p0,
+                        style: Style::Line(1),
+                        color: cols[0],
+                    },
+                    Layer {
+                        points: p1,
+                        style: Style::Dots(3),
+                        color: cols[1],
+                    },
+                    Layer {
+                        points: p2,
+                        style: Style::Dots(3),
+                        color: cols[2],
+                    },
+                ],
+                ..Default::default()
+            }],
+            legend: vec![
+                LegendEntry::line(l0, cols[0]),
+                LegendEntry::dot(l1, cols[1]),
+                LegendEntry::dot(l2, cols[2]),
+            ],
+            width: 1000,
+            panel_height: 520,
+            ..Default::default()
+        },
+    )?;
+    let csv = dir.join(format!("{name}.csv"));
+    write_csv(&csv, &["series", "x", "v"], rows)?;
     Ok(ctx.fig(&stem, caption, &[csv]))
 }
