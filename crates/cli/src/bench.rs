@@ -51,6 +51,13 @@ pub struct BenchArgs {
     /// Also time the scalar RK4 basin (slow: minutes).
     #[arg(long)]
     scalar_basins: bool,
+    /// Also time the basin with the adaptive DP5 (scalar; rtol 1e-7, the `geardyn basins`
+    /// identification default).
+    #[arg(long)]
+    dopri_basins: bool,
+    /// RK4 steps per mesh cycle of the basin (W1 uses --steps-per-cycle).
+    #[arg(long, default_value_t = 512)]
+    basin_steps: u32,
     /// Everything: --bifurcation --basins --numba.
     #[arg(long)]
     all: bool,
@@ -301,7 +308,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
         p.omega = 1.8;
         let model = MeshModel::new(&p)?;
         let mut ident = geardyn_analysis::attractor::IdentifyOptions::default();
-        ident.sim.method = rk4;
+        ident.sim.method = Method::Rk4 {
+            steps_per_cycle: a.basin_steps,
+        };
         let opts = BasinOptions {
             x: Axis {
                 min: -2.0,
@@ -319,11 +328,26 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let r = basins(&model, &opts, &Default::default(), |_, _| {});
         let el = t.elapsed().as_secs_f64();
         println!(
-            "basin 200x200 C1 omega=1.8, rk4 ensemble: {el:.3} s ({} attractors, {} captured early, {} periods)",
+            "basin 200x200 C1 omega=1.8, rk4 ensemble ({} steps/cycle): {el:.3} s ({} attractors, {} captured early, {} periods)",
+            a.basin_steps,
             r.attractors.len(),
             r.captured_early,
             r.periods
         );
+        if a.dopri_basins {
+            let mut o = opts;
+            o.identify.sim.method = Method::Dopri {
+                rtol: 1e-7,
+                atol: 1e-10,
+            };
+            let t = Instant::now();
+            let r = basins(&model, &o, &Default::default(), |_, _| {});
+            println!(
+                "basin 200x200 C1 omega=1.8, dopri rtol 1e-7 (scalar): {:.3} s ({} attractors)",
+                t.elapsed().as_secs_f64(),
+                r.attractors.len()
+            );
+        }
         if a.scalar_basins {
             let t = Instant::now();
             let _ = geardyn_analysis::basins::basins_scalar(
