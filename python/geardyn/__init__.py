@@ -40,6 +40,7 @@ import json
 import os
 import subprocess
 import sys
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -235,6 +236,9 @@ class SimulationResult(Result):
         ``stick``, ``release``).
     sections : dict of ndarray
         ``section`` (``ds_up``, ``ds_down``, ``dd_up``, ``dd_down``), ``tau, x, v`` (sections.csv).
+    description : str
+        The decided motion in words (``period 1``, ``chaotic (TLE ...)``, ...). A diverged run
+        (the CLI's error) is returned with a ``RuntimeWarning``.
     summary : dict
         What summary.json holds: ``period``, ``label``, ``motion``, ``counts``, ``healthy``,
         ``p_id``, force extrema, impacts, ``parameters`` (the integrated dimensionless values),
@@ -262,6 +266,7 @@ class SimulationResult(Result):
         "events",
         "sections",
         "summary",
+        "description",
         "mesh_strobe",
         "impact_force_per_period",
         "amplitudes",
@@ -472,19 +477,22 @@ def parameter_names():
     return list(_geardyn.parameter_names())
 
 
-def config(preset=None, config=None, *, set=None, **params):
+def config(preset=None, config=None, *, set=None, as_toml=False, **params):
     """The resolved, validated configuration (what ``geardyn show`` prints as TOML).
 
     Parameters
     ----------
     preset, config, set, **params
         Where the configuration comes from (see the module documentation).
+    as_toml : bool
+        Return the TOML text instead (ready to save and pass back as ``config=path``, or to the
+        CLI's ``--config``).
 
     Returns
     -------
-    dict
-        Tables ``model``, ``pair`` (if any), ``set`` (if any), ``simulation``; pass it back as
-        ``config=`` to any function, or edit it first.
+    dict or str
+        Tables ``model``, ``pair`` (if any), ``set`` (if any), ``simulation``; pass the dict back
+        as ``config=`` to any function, or edit it first.
 
     Examples
     --------
@@ -492,7 +500,7 @@ def config(preset=None, config=None, *, set=None, **params):
     >>> cfg["model"]["omega"]
     1.3
     """
-    return _geardyn.config(_source(preset, config, set, params))
+    return _geardyn.config(_source(preset, config, set, params), bool(as_toml))
 
 
 def derived(preset=None, config=None, *, set=None, **params):
@@ -562,6 +570,9 @@ def simulate(
     )
     d["events"] = _table(d["events"])
     d["sections"] = _table(d["sections"])
+    if d["summary"]["motion"].get("class") == "diverged":
+        # the CLI writes the files, then ends with this message as an error
+        warnings.warn(d["description"], RuntimeWarning, stacklevel=2)
     return SimulationResult(**d)
 
 

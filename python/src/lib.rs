@@ -192,11 +192,15 @@ fn parameter_names() -> Vec<String> {
         .collect()
 }
 
-/// `geardyn show` (the TOML part): the resolved configuration as a dict.
+/// `geardyn show` (the TOML part): the resolved configuration as a dict, or as the TOML text.
 #[pyfunction]
-fn config<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
+fn config<'py>(py: Python<'py>, src: Source, as_toml: bool) -> PyResult<Bound<'py, PyAny>> {
     let (cfg, _) = resolve(&src).map_err(to_pyerr)?;
-    config_py(py, &cfg)
+    if as_toml {
+        Ok(pyo3::types::PyString::new(py, &cfg.to_toml()).into_any())
+    } else {
+        config_py(py, &cfg)
+    }
 }
 
 fn resolve(src: &Source) -> Result<(Config, geardyn_scenario::Scenario)> {
@@ -309,9 +313,9 @@ fn simulate<'py>(
             }
         }
         let (dd, ds) = model.backlash_levels();
-        Ok((cfg, res, v, model.excitation_period(), (dd, ds)))
+        Ok((cfg, res, v, model.excitation_period(), (dd, ds), summary.motion.describe()))
     })?;
-    let (cfg, res, summary, period, levels) = out;
+    let (cfg, res, summary, period, levels, description) = out;
     let d = PyDict::new(py);
     let n = res.strobe.len();
     d.set_item(
@@ -370,6 +374,7 @@ fn simulate<'py>(
     se.f64("v", res.crossings.iter().map(|c| c.v).collect())?;
     d.set_item("sections", se.dict)?;
     d.set_item("summary", json_to_py(py, &summary)?)?;
+    d.set_item("description", description)?;
     if res.mesh_strobe.is_empty() {
         d.set_item("mesh_strobe", arr2(py, Vec::<f64>::new(), 0, 2)?)?;
     } else {
@@ -586,6 +591,15 @@ fn sweep(
     scenario: &geardyn_scenario::Scenario,
     opts: &SweepOptions,
 ) -> Result<Vec<TaskResult>> {
+    // the swept parameter is valid at both ends before anything runs (as the CLI checks)
+    for v in [opts.values.first(), opts.values.last()]
+        .into_iter()
+        .flatten()
+    {
+        scenario
+            .with(&opts.param, *v)
+            .with_context(|| format!("--param {} = {v}", opts.param))?;
+    }
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();

@@ -1,0 +1,218 @@
+"""The Python API: shapes, dtypes, configuration round trips, errors, Ctrl-C, the GIL."""
+
+import _thread
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import geardyn
+
+
+def test_must_show_period_one():
+    assert geardyn.simulate(preset="classic", omega=0.8).summary["period"] == 1
+
+
+def test_presets_and_names():
+    p = geardyn.presets()
+    assert set(p) == {"classic", "breakage", "internal"}
+    assert all(isinstance(v, str) and v for v in p.values())
+    names = geardyn.parameter_names()
+    assert {"omega", "F", "xi", "D", "x0", "record_periods"} <= set(names)
+
+
+def test_simulate_shapes_and_dtypes():
+    r = geardyn.simulate(omega=1.3, periods=12, transient=50, trajectory_periods=2)
+    assert r.strobe.dtype == np.float64 and r.strobe.shape == (12, 3)
+    n = len(r.trajectory["tau"])
+    assert n > 2 * 128
+    for k in ["tau", "x", "v", "mesh_force"]:
+        assert r.trajectory[k].dtype == np.float64 and r.trajectory[k].shape == (n,)
+    assert r.trajectory["state"].dtype == np.int8
+    assert set(np.unique(r.trajectory["state"])) <= {1, 0, -1, -2}
+    # only the last two excitation periods are kept
+    assert r.trajectory["tau"][-1] - r.trajectory["tau"][0] <= 2 * r.excitation_period + 1e-9
+    m = len(r.events["tau"])
+    assert r.events["kind"].dtype.kind == "U" and r.events["kind"].shape == (m,)
+    assert r.events["peak_force"].dtype == np.float64
+    assert r.sections["section"].dtype.kind == "U"
+    assert r.summary["record_periods"] == 12 and r.summary["transient_requested"] == 50
+    assert r.summary["parameters"]["omega"] == 1.3
+    assert r.impact_force_per_period.shape == (12,)
+    assert r.mesh_strobe.shape == (0, 2)
+    assert "strobe" in repr(r)
+    # the strobe is once per excitation period
+    np.testing.assert_allclose(np.diff(r.strobe[:, 0]), r.excitation_period)
+
+
+def test_simulate_all_trajectory_and_integrator():
+    r = geardyn.simulate(omega=0.8, periods=4, transient=20, trajectory_periods=None, integrator="rk4",
+                         steps_per_cycle=256)
+    assert r.summary["method"] == {"method": "rk4", "steps_per_cycle": 256}
+    assert r.trajectory["tau"][-1] - r.trajectory["tau"][0] > 3.9 * r.excitation_period
+
+
+def test_breakage_has_mesh_strobe():
+    r = geardyn.simulate(preset="breakage", periods=2, transient=2)
+    cyc = r.summary["parameters"]["cycles_per_period"]
+    assert cyc > 1 and r.mesh_strobe.shape == (2 * cyc, 2)
+
+
+def test_config_round_trips(tmp_path):
+    cfg = geardyn.config(preset="internal", set={"pair.mu": 0.1}, omega=1.8)
+    assert cfg["pair"]["mu"] == 0.1 and cfg["set"]["omega"] == 1.8
+    a = geardyn.simulate(preset="internal", set={"pair.mu": 0.1}, omega=1.8, periods=3, transient=5)
+    b = geardyn.simulate(config=cfg, periods=3, transient=5)
+    np.testing.assert_array_equal(a.strobe, b.strobe)
+    path = tmp_path / "my.toml"
+    path.write_text(geardyn.config(config=cfg, as_toml=True))
+    c = geardyn.simulate(config=path, periods=3, transient=5)
+    np.testing.assert_array_equal(a.strobe, c.strobe)
+    assert geardyn.config(config=str(path)) == cfg
+    # simulation settings as parameters
+    assert geardyn.config(x0=0.5, record_periods=7)["simulation"]["record_periods"] == 7
+
+
+def test_derived():
+    d = geardyn.derived(preset="internal")
+    assert d["pair"]["k_av_n_per_m"] > 0 and d["pair"]["omega_n_rad_per_s"] > 0
+    assert d["parameters"]["physical_pair"] is True
+    assert any("omega_n" in line for line in d["text"])
+    c = geardyn.derived(preset="classic", omega=2)
+    assert c["pair"] is None and c["parameters"]["omega"] == 2
+    assert c["excitation_period"] == pytest.approx(2 * np.pi / 2)
+
+
+def test_lyapunov_fields():
+    r = geardyn.lyapunov(omega=1.3, periods=60, transient=40, method="variational")
+    assert isinstance(r.value, float) and r.history.shape == (60,) and r.history.dtype == np.float64
+    assert r.periods == 60 and r.two_trajectory is None and r.rounds is None
+    t = geardyn.lyapunov(omega=1.3, periods=60, transient=40, method="two-trajectory")
+    assert t.variational is None and t.value == t.two_trajectory["tle"]
+
+
+def test_bifurcation_shapes():
+    r = geardyn.bifurcation(values=[0.8, 1.2, 1.6], periods=8, transient=30, mode="multi", ics=2,
+                            sections="strobe,impact")
+    n = len(r.points["value"])
+    for k, kind in [("value", "f"), ("branch", "U"), ("ic", "i"), ("section", "U"), ("x", "f"),
+                    ("v", "f"), ("label", "U")]:
+        assert r.points[k].shape == (n,) and r.points[k].dtype.kind == kind, k
+    assert r.runs["value"].shape == (6,)
+    assert r.runs["healthy"].dtype == np.bool_
+    assert np.isnan(r.runs["tle"]).all()
+    assert set(r.points["branch"]) == {"fixed"}
+    np.testing.assert_array_equal(r.values, [0.8, 1.2, 1.6])
+    # each run records 8 strobe points
+    assert (r.points["section"] == "strobe").sum() == 6 * 8
+
+
+def test_range_is_the_cli_linspace():
+    r = geardyn.bifurcation(range=(0.5, 2, 4), periods=2, transient=2)
+    np.testing.assert_array_equal(r.values, [0.5, 1.0, 1.5, 2.0])
+
+
+def test_basins_shapes():
+    r = geardyn.basins(omega=1.8, x=(-2, 2, 6), v=(-1.5, 1.5, 4), transient=100, periods=32)
+    assert r.cells.shape == (4, 6) and r.cells.dtype == np.int64
+    assert r.x.shape == (6,) and r.v.shape == (4,)
+    assert r.cells.min() >= -2 and r.cells.max() < len(r.attractors)
+    total = sum(a["fraction"] for a in r.attractors) + r.diverged + r.failed
+    assert total == pytest.approx(1.0)
+    for a in r.attractors:
+        assert {"label", "period", "healthy", "fraction", "points"} <= set(a)
+        assert a["points"].ndim == 2 and a["points"].shape[1] == 2
+
+
+def test_continuation_and_map_shapes():
+    c = geardyn.continuation(range=(1.7, 1.8, 2), ics=4, transient=100, periods=32)
+    assert c.points["branch"].dtype == np.int64 and c.lost.shape == (2, 2)
+    m = geardyn.map2d(x=("omega", [0.8, 1.0]), y=("xi", 0.1, 0.2, 3), metric="period", periods=8,
+                      transient=30)
+    assert m.values.shape == (3, 2) and m.values.dtype == np.float64
+    assert m.cells["label"].shape == (6,)
+
+
+def test_stiffness_tables():
+    s = geardyn.stiffness()
+    assert s.pair is None and s.table["k_dimensionless"].shape == (1024,)
+    b = geardyn.stiffness(preset="breakage")
+    assert b.pair["eps_b"] is not None and b.table["zone"].dtype.kind == "U"
+
+
+@pytest.mark.parametrize(
+    "call,exc,text",
+    [
+        (lambda: geardyn.simulate(D=-1), ValueError, "invalid D_d = -1"),
+        (lambda: geardyn.simulate(omega="fast"), ValueError, "bad --set 'omega=fast'"),
+        (lambda: geardyn.simulate(omega=None), TypeError, "omega"),
+        (lambda: geardyn.simulate(omega=True), TypeError, "omega"),
+        (lambda: geardyn.simulate(preset="classic", config={"model": {}}), ValueError, "exclude"),
+        (lambda: geardyn.simulate(config="/nonexistent/geardyn.toml"), OSError, "cannot read"),
+        (lambda: geardyn.simulate(periods=0), ValueError, "record_periods"),
+        (lambda: geardyn.simulate(periods=1.5), ValueError, "record_periods"),
+        (lambda: geardyn.simulate(integrator="euler"), ValueError, "method"),
+        (lambda: geardyn.simulate(set={"pair.mu": 0.1}), ValueError, "pair"),
+        (lambda: geardyn.bifurcation(mode="both"), ValueError, "mode"),
+        (lambda: geardyn.bifurcation(sections="strobe,nope"), ValueError, "unknown section 'nope'"),
+        (lambda: geardyn.bifurcation(values=[]), ValueError, "values"),
+        (lambda: geardyn.bifurcation(values=[1.0], range=(1, 2, 3)), ValueError, "exclude"),
+        (lambda: geardyn.bifurcation(ics=-1, mode="multi"), ValueError, "ics"),
+        (lambda: geardyn.basins(x=(1, -1, 10)), ValueError, "bad x"),
+        (lambda: geardyn.basins(capture_tol=2), ValueError, "capture-tol"),
+        (lambda: geardyn.lyapunov(method="qr"), ValueError, "method"),
+        (lambda: geardyn.lyapunov(max_periods=5), ValueError, "max-periods"),
+        (lambda: geardyn.map2d(x=("xi",)), TypeError, "x"),
+        (lambda: geardyn.report(preset="nope", out="/tmp/never"), ValueError, "nope"),
+    ],
+)
+def test_bad_input_raises(call, exc, text):
+    with pytest.raises(exc) as e:
+        call()
+    assert text in str(e.value)
+    assert "\n" not in str(e.value)
+
+
+def test_ctrl_c_interrupts_a_long_call():
+    """KeyboardInterrupt (as from Ctrl-C) stops a long computation promptly."""
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    t = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        # about a minute of work on two cores
+        geardyn.basins(omega=1.8, x=(-2, 2, 200), v=(-1.5, 1.5, 200))
+    assert time.monotonic() - t < 15
+    timer.cancel()
+    # the package still works afterwards
+    assert geardyn.simulate(omega=0.8, periods=2, transient=10).strobe.shape == (2, 3)
+
+
+def test_long_calls_release_the_gil():
+    done = []
+    ticks = 0
+    th = threading.Thread(
+        target=lambda: done.append(geardyn.bifurcation(range=(0.5, 2, 24), periods=50, transient=200))
+    )
+    th.start()
+    while th.is_alive():
+        ticks += 1
+        time.sleep(0.001)
+    th.join()
+    assert done and ticks > 10
+
+
+def test_progress_goes_to_stderr(capsys):
+    geardyn.bifurcation(range=(0.5, 2, 3), periods=4, transient=10, progress=True)
+    err = capsys.readouterr().err
+    assert "bifurcation: 3/3" in err
+    geardyn.bifurcation(range=(0.5, 2, 3), periods=4, transient=10)
+    assert capsys.readouterr().err == ""
+
+
+def test_help_shows_docstrings():
+    for f in [geardyn.simulate, geardyn.bifurcation, geardyn.basins, geardyn.lyapunov,
+              geardyn.continuation, geardyn.map2d, geardyn.stiffness, geardyn.report,
+              geardyn.config, geardyn.derived]:
+        assert f.__doc__ and "Returns" in f.__doc__, f.__name__
+    assert "ValueError" in geardyn.__doc__

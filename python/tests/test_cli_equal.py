@@ -1,0 +1,275 @@
+"""Python results equal the CLI's for the same inputs (the CLI writes numbers in shortest
+round-trip form, so equality is exact)."""
+
+import csv
+import json
+import re
+import sys
+
+import numpy as np
+import pytest
+
+import geardyn
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    tomllib = None
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def column(path, name, kind=float):
+    header, rows = read_csv(path)
+    j = header.index(name)
+
+    def conv(s):
+        if kind is float:
+            return float(s) if s != "" else float("nan")
+        return kind(s)
+
+    return [conv(r[j]) for r in rows]
+
+
+def assert_same(a, b):
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    assert a.shape == b.shape
+    np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize(
+    "preset,sets,periods,transient",
+    [
+        ("classic", {"omega": 0.8}, 20, 100),
+        ("classic", {"omega": 1.3, "F": 0.05}, 20, 100),
+        ("breakage", {}, 3, 5),
+        ("internal", {"omega": 1.8, "pair.mu": 0.1}, 5, 20),
+    ],
+)
+def test_simulate_equals_cli(cli, out, preset, sets, periods, transient):
+    args = ["simulate", "--preset", preset, "--periods", periods, "--transient", transient]
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v}"]
+    cli(*args, "--out", out)
+    dotted = {k: v for k, v in sets.items() if "." in k}
+    plain = {k: v for k, v in sets.items() if "." not in k}
+    r = geardyn.simulate(preset=preset, periods=periods, transient=transient, set=dotted, **plain)
+
+    header, _ = read_csv(out / "strobe.csv")
+    assert header == ["tau", "x", "v"]
+    for j, name in enumerate(header):
+        assert_same(r.strobe[:, j], column(out / "strobe.csv", name))
+    for name in ["tau", "x", "v", "mesh_force"]:
+        assert_same(r.trajectory[name], column(out / "trajectory.csv", name))
+    assert r.trajectory["state"].tolist() == column(out / "trajectory.csv", "state", int)
+    for name in ["tau", "cycle_position", "x", "v_before", "v_after", "peak_force"]:
+        assert_same(r.events[name], column(out / "events.csv", name))
+    assert r.events["kind"].tolist() == column(out / "events.csv", "kind", str)
+    for name in ["tau", "x", "v"]:
+        assert_same(r.sections[name], column(out / "sections.csv", name))
+    assert r.sections["section"].tolist() == column(out / "sections.csv", "section", str)
+
+    summary = json.loads((out / "summary.json").read_text())
+    mine = dict(r.summary)
+    for s in (summary, mine):
+        s.pop("wall_time_s")
+    assert mine == summary
+
+
+def parse_tle(stdout, what):
+    m = re.search(rf"TLE \({what}[^)]*\): (-?[0-9.]+) \+- ([0-9.naNinf]+)", stdout)
+    assert m, stdout
+    return m.group(1), m.group(2)
+
+
+def test_lyapunov_fixed_length_equals_cli(cli):
+    p = cli("lyapunov", "--set", "omega=1.3", "--periods", "150", "--transient", "100")
+    r = geardyn.lyapunov(omega=1.3, periods=150, transient=100)
+    assert r.method == "both" and r.converged is None
+    assert parse_tle(p.stdout, "variational") == (f"{r.value:.6f}", f"{r.stderr:.6f}")
+    two = r.two_trajectory
+    assert parse_tle(p.stdout, "two-trajectory") == (f"{two['tle']:.6f}", f"{two['spread']:.6f}")
+
+
+def test_lyapunov_converged_equals_cli(cli):
+    p = cli("lyapunov", "--set", "omega=0.7", "--method", "variational", "--max-periods", "800")
+    r = geardyn.lyapunov(omega=0.7, method="variational", max_periods=800)
+    rounds = re.findall(r"^\s+(\d+) periods: TLE (-?[0-9.]+) \(at half the run (-?[0-9.]+)\)", p.stdout, re.M)
+    assert [int(n) for n, _, _ in rounds] == r.rounds["periods"].tolist()
+    assert [t for _, t, _ in rounds] == [f"{x:.6f}" for x in r.rounds["tle"]]
+    assert [h for _, _, h in rounds] == [f"{x:.6f}" for x in r.rounds["half"]]
+    assert ("converged:" in p.stdout) == r.converged
+    assert parse_tle(p.stdout, "variational") == (f"{r.value:.6f}", f"{r.stderr:.6f}")
+    assert r.two_trajectory is None
+
+
+@pytest.mark.parametrize(
+    "mode,extra",
+    [
+        ("fixed", []),
+        ("sweep", []),
+        ("multi", ["--ics", "3", "--seed", "7"]),
+    ],
+)
+def test_bifurcation_equals_cli(cli, out, mode, extra):
+    cli(
+        "bifurcation",
+        "--range", "0.6:1.8:7",
+        "--periods", "16",
+        "--transient", "60",
+        "--mode", mode,
+        "--sections", "strobe,impact,ds_up",
+        *extra,
+        "--out", out,
+    )
+    kw = {"ics": 3, "seed": 7} if mode == "multi" else {}
+    r = geardyn.bifurcation(
+        range=(0.6, 1.8, 7), periods=16, transient=60, mode=mode,
+        sections=["strobe", "impact", "ds_up"], **kw,
+    )
+    path = out / "bifurcation.csv"
+    assert_same(r.points["value"], column(path, "omega"))
+    for name in ["x", "v"]:
+        assert_same(r.points[name], column(path, name))
+    assert r.points["ic"].tolist() == column(path, "ic", int)
+    for name in ["branch", "section", "label"]:
+        assert r.points[name].tolist() == column(path, name, str)
+    runs = out / "runs.csv"
+    for name in ["x0", "v0", "p_id", "max_force", "min_force", "max_impact_force", "rms_x",
+                 "p2p_x", "rms_force", "p2p_force"]:
+        assert_same(r.runs[name], column(runs, name))
+    assert r.runs["label"].tolist() == column(runs, "label", str)
+    assert r.runs["period"].tolist() == column(runs, "period", int)
+    assert r.runs["healthy"].tolist() == [s == "true" for s in column(runs, "healthy", str)]
+
+
+def test_bifurcation_lyapunov_and_pair_param_equal_cli(cli, out):
+    cli(
+        "bifurcation", "--preset", "internal", "--param", "pair.mu", "--range", "0.02:0.1:3",
+        "--periods", "8", "--transient", "20", "--lyapunov", "--out", out,
+    )
+    r = geardyn.bifurcation(
+        preset="internal", param="pair.mu", range=(0.02, 0.1, 3), periods=8, transient=20,
+        lyapunov=True,
+    )
+    assert_same(r.runs["tle"], column(out / "runs.csv", "tle"))
+    assert_same(r.points["x"], column(out / "bifurcation.csv", "x"))
+
+
+def test_response_equals_cli(cli, out):
+    cli("response", "--range", "0.6:1.8:6", "--periods", "16", "--transient", "60", "--out", out)
+    r = geardyn.response(range=(0.6, 1.8, 6), periods=16, transient=60)
+    path = out / "response.csv"
+    for name in ["mean_x", "rms_x", "p2p_x", "mean_force", "rms_force", "p2p_force", "max_force",
+                 "p_id"]:
+        assert_same(r.runs[name], column(path, name))
+    assert r.runs["branch"].tolist() == column(path, "branch", str)
+    jumps = json.loads((out / "jumps.json").read_text())
+    assert r.jumps == jumps
+
+
+def test_basins_equal_cli(cli, out):
+    cli(
+        "basins", "--set", "omega=1.8", "--grid", "x:-2:2:12", "--grid", "v:-1.5:1.5:10",
+        "--transient", "150", "--periods", "32", "--phase", "0.25", "--out", out,
+    )
+    r = geardyn.basins(omega=1.8, x=(-2, 2, 12), v=(-1.5, 1.5, 10), transient=150, periods=32,
+                       phase=0.25)
+    cells = np.load(out / "basins.npy")
+    assert r.cells.dtype == cells.dtype == np.int64
+    np.testing.assert_array_equal(r.cells, cells)
+    att = json.loads((out / "attractors.json").read_text())
+    assert [a["descriptor"]["label"] for a in att["attractors"]] == [a["label"] for a in r.attractors]
+    assert [a["fraction"] for a in att["attractors"]] == [a["fraction"] for a in r.attractors]
+    for a, b in zip(att["attractors"], r.attractors):
+        np.testing.assert_array_equal(np.asarray(a["descriptor"]["points"]).reshape(-1, 2), b["points"])
+    assert att["boundary_fraction"] == r.boundary_fraction
+    assert_same(r.x, sorted(set(column(out / "basins.csv", "x0"))))
+
+
+def test_continuation_equals_cli(cli, out):
+    cli(
+        "continuation", "--range", "1.6:1.9:3", "--ics", "6", "--transient", "120", "--periods",
+        "32", "--out", out,
+    )
+    r = geardyn.continuation(range=(1.6, 1.9, 3), ics=6, transient=120, periods=32)
+    path = out / "continuation.csv"
+    for name in ["fraction", "max_force", "x", "v"]:
+        assert_same(r.points[name], column(path, name))
+    assert r.points["label"].tolist() == column(path, "label", str)
+    assert r.points["branch"].tolist() == column(path, "branch", int)
+    saved = json.loads((out / "continuation.json").read_text())
+    assert saved["events"] == r.events
+    assert saved["intervals"] == r.intervals
+
+
+def test_map2d_equals_cli(cli, out):
+    cli(
+        "map2d", "--x", "omega:0.7:1.5:3", "--y", "F:0.05:0.15:2", "--metric", "class",
+        "--periods", "16", "--transient", "60", "--out", out,
+    )
+    r = geardyn.map2d(x=("omega", 0.7, 1.5, 3), y=("F", 0.05, 0.15, 2), metric="class",
+                      periods=16, transient=60)
+    values = np.load(out / "map.npy")
+    assert r.values.shape == values.shape == (2, 3)
+    np.testing.assert_array_equal(r.values, values)
+    assert_same(r.cells["max_force"], column(out / "map.csv", "max_force"))
+
+
+@pytest.mark.parametrize("preset", ["classic", "breakage"])
+def test_stiffness_equals_cli(cli, out, preset):
+    cli("stiffness", "--preset", preset, "--out", out)
+    r = geardyn.stiffness(preset=preset)
+    header, _ = read_csv(out / "stiffness.csv")
+    assert list(r.table) == header
+    for name in header:
+        if r.table[name].dtype.kind == "U":
+            assert r.table[name].tolist() == column(out / "stiffness.csv", name, str)
+        else:
+            assert_same(r.table[name], column(out / "stiffness.csv", name))
+
+
+@pytest.mark.skipif(tomllib is None, reason="tomllib needs Python 3.11")
+@pytest.mark.parametrize("preset,sets", [("classic", {"omega": 1.3}), ("internal", {"omega": 2.0, "pair.mu": 0.1})])
+def test_config_equals_show(cli, preset, sets):
+    args = ["show", "--preset", preset]
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v}"]
+    p = cli(*args)
+    assert tomllib.loads(p.stdout) == geardyn.config(preset=preset, set=sets)
+    toml_part = "".join(l for l in p.stdout.splitlines(True) if not l.startswith("#"))
+    assert geardyn.config(preset=preset, set=sets, as_toml=True) == toml_part
+    derived = geardyn.derived(preset=preset, set=sets)
+    comments = [l[1:].strip() for l in p.stdout.splitlines() if l.startswith("#") and "---" not in l]
+    assert derived["text"] == comments
+
+
+@pytest.mark.parametrize(
+    "args,call",
+    [
+        (["simulate", "--set", "D=-1"], lambda: geardyn.simulate(D=-1)),
+        (["simulate", "--set", "omgea=1"], lambda: geardyn.simulate(omgea=1)),
+        (["simulate", "--preset", "internal", "--set", "mu=0.1"], lambda: geardyn.simulate(preset="internal", mu=0.1)),
+        (["simulate", "--preset", "nope"], lambda: geardyn.simulate(preset="nope")),
+        (["simulate", "--set", "omega=5000"], lambda: geardyn.simulate(omega=5000)),
+        (["lyapunov", "--d0", "0.5"], lambda: geardyn.lyapunov(d0=0.5)),
+        (["bifurcation", "--param", "eps", "--preset", "breakage", "--range", "1:2:3"],
+         lambda: geardyn.bifurcation(param="eps", preset="breakage", range=(1, 2, 3))),
+        (["basins", "--phase", "1.5"], lambda: geardyn.basins(phase=1.5)),
+        (["map2d", "--metric", "nope"], lambda: geardyn.map2d(metric="nope")),
+        (["show", "--set", "pair.mu=0.1"], lambda: geardyn.config(set={"pair.mu": 0.1})),
+    ],
+)
+def test_errors_have_the_cli_message(cli, out, args, call):
+    p = cli(*args, *(["--out", out] if args[0] not in ("lyapunov", "show") else []), check=False)
+    assert p.returncode != 0
+    line = p.stderr.strip().splitlines()[-1]
+    assert line.startswith("error: ")
+    with pytest.raises(ValueError) as e:
+        call()
+    assert str(e.value) == line[len("error: "):]
