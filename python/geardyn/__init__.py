@@ -1041,7 +1041,13 @@ def report(preset="breakage", out="out/report", *, quick=False, set=None, progre
         env=env,
     )
     try:
-        stdout, _ = proc.communicate()
+        while True:
+            # short waits, so that Ctrl-C is seen even when no signal interrupts the wait
+            try:
+                stdout, _ = proc.communicate(timeout=0.2)
+                break
+            except subprocess.TimeoutExpired:
+                continue
     except BaseException:
         proc.kill()
         proc.wait()

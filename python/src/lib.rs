@@ -140,7 +140,9 @@ fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Resu
             }
             Ok(linspace(a, b, n))
         }
-        (None, None) => bail!("give the parameter values: values=[...] or range=(start, stop, count)"),
+        (None, None) => {
+            bail!("give the parameter values: values=[...] or range=(start, stop, count)")
+        }
     }
 }
 
@@ -272,49 +274,62 @@ fn simulate<'py>(
     trajectory_periods: Option<u64>,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let out = util::run(py, "simulate", progress, Stop::Abandon, move |_ctl: &Ctl| {
-        let mut cfg = src.config()?;
-        if let Some(p) = periods {
-            cfg.set("record_periods", p)?;
-        }
-        if let Some(t) = transient {
-            cfg.set("transient_periods", t)?;
-        }
-        if let Some(m) = integrator {
-            cfg.simulation.method = m;
-        }
-        let scenario = cfg.resolve().context("configuration rejected")?;
-        let model = scenario.model();
-        let mut opts = cfg.sim_options()?;
-        opts.trajectory = true;
-        opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX).max(1);
-        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-        let t = std::time::Instant::now();
-        let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
-            .context("integration failed")?;
-        let elapsed = t.elapsed().as_secs_f64();
-        // summary.json of the CLI
-        let mut v = serde_json::to_value(&summary)?;
-        if let Some(obj) = v.as_object_mut() {
-            let extra = serde_json::json!({
-                "parameters": scenario.record(),
-                "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
-                "excitation_period": model.excitation_period(),
-                "transient_periods": used.transient_periods,
-                "transient_requested": opts.transient_periods,
-                "record_periods": opts.record_periods,
-                "method": opts.method,
-                "steps": res.steps,
-                "rhs_evals": res.rhs_evals,
-                "wall_time_s": elapsed,
-            });
-            if let serde_json::Value::Object(more) = extra {
-                obj.extend(more);
+    let out = util::run(
+        py,
+        "simulate",
+        progress,
+        Stop::Abandon,
+        move |_ctl: &Ctl| {
+            let mut cfg = src.config()?;
+            if let Some(p) = periods {
+                cfg.set("record_periods", p)?;
             }
-        }
-        let (dd, ds) = model.backlash_levels();
-        Ok((cfg, res, v, model.excitation_period(), (dd, ds), summary.motion.describe()))
-    })?;
+            if let Some(t) = transient {
+                cfg.set("transient_periods", t)?;
+            }
+            if let Some(m) = integrator {
+                cfg.simulation.method = m;
+            }
+            let scenario = cfg.resolve().context("configuration rejected")?;
+            let model = scenario.model();
+            let mut opts = cfg.sim_options()?;
+            opts.trajectory = true;
+            opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX).max(1);
+            let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+            let t = std::time::Instant::now();
+            let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
+                .context("integration failed")?;
+            let elapsed = t.elapsed().as_secs_f64();
+            // summary.json of the CLI
+            let mut v = serde_json::to_value(&summary)?;
+            if let Some(obj) = v.as_object_mut() {
+                let extra = serde_json::json!({
+                    "parameters": scenario.record(),
+                    "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+                    "excitation_period": model.excitation_period(),
+                    "transient_periods": used.transient_periods,
+                    "transient_requested": opts.transient_periods,
+                    "record_periods": opts.record_periods,
+                    "method": opts.method,
+                    "steps": res.steps,
+                    "rhs_evals": res.rhs_evals,
+                    "wall_time_s": elapsed,
+                });
+                if let serde_json::Value::Object(more) = extra {
+                    obj.extend(more);
+                }
+            }
+            let (dd, ds) = model.backlash_levels();
+            Ok((
+                cfg,
+                res,
+                v,
+                model.excitation_period(),
+                (dd, ds),
+                summary.motion.describe(),
+            ))
+        },
+    )?;
     let (cfg, res, summary, period, levels, description) = out;
     let d = PyDict::new(py);
     let n = res.strobe.len();
@@ -332,10 +347,12 @@ fn simulate<'py>(
     )?;
     d.set_item(
         "trajectory_state",
-        arr1(py, res.trajectory.iter().map(|p| p.state).collect::<Vec<i8>>()),
+        arr1(
+            py,
+            res.trajectory.iter().map(|p| p.state).collect::<Vec<i8>>(),
+        ),
     )?;
-    tr.dict
-        .set_item("state", d.get_item("trajectory_state")?)?;
+    tr.dict.set_item("state", d.get_item("trajectory_state")?)?;
     d.del_item("trajectory_state")?;
     d.set_item("trajectory", tr.dict)?;
     let ev = Columns::new(py);
@@ -359,7 +376,10 @@ fn simulate<'py>(
     ev.f64("x", res.events.iter().map(|e| e.x).collect())?;
     ev.f64("v_before", res.events.iter().map(|e| e.v_before).collect())?;
     ev.f64("v_after", res.events.iter().map(|e| e.v_after).collect())?;
-    ev.f64("peak_force", res.events.iter().map(|e| e.peak_force).collect())?;
+    ev.f64(
+        "peak_force",
+        res.events.iter().map(|e| e.peak_force).collect(),
+    )?;
     d.set_item("events", ev.dict)?;
     let se = Columns::new(py);
     se.str(
@@ -381,7 +401,12 @@ fn simulate<'py>(
         let m = res.mesh_strobe.len();
         d.set_item(
             "mesh_strobe",
-            arr2(py, res.mesh_strobe.iter().flatten().copied().collect(), m, 2)?,
+            arr2(
+                py,
+                res.mesh_strobe.iter().flatten().copied().collect(),
+                m,
+                2,
+            )?,
         )?;
     }
     d.set_item(
@@ -389,7 +414,14 @@ fn simulate<'py>(
         arr1(py, res.impact_force_per_period.clone()),
     )?;
     d.set_item("amplitudes", ser_to_py(py, &res.amplitudes())?)?;
-    d.set_item("final_state", (res.final_state.0, res.final_state.1[0], res.final_state.1[1]))?;
+    d.set_item(
+        "final_state",
+        (
+            res.final_state.0,
+            res.final_state.1[0],
+            res.final_state.1[1],
+        ),
+    )?;
     d.set_item("excitation_period", period)?;
     d.set_item("backlash_levels", levels)?;
     d.set_item("config", config_py(py, &cfg)?)?;
@@ -408,63 +440,69 @@ fn lyapunov<'py>(
     d0: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let v = util::run(py, "lyapunov", progress, Stop::Abandon, move |_ctl: &Ctl| {
-        if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
-            bail!("bad method '{method}': allowed variational, two-trajectory, both");
-        }
-        let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
-        let scenario = cfg.resolve()?;
-        if !(d0 > 0.0 && d0 < 1e-2) {
-            bail!("bad --d0 {}: allowed (0, 0.01)", d0);
-        }
-        let model = scenario.model().clone();
-        let p = scenario.params();
-        let integrated = serde_json::json!({
-            "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
-        });
-        let so = cfg.sim_options()?;
-        let mut opts = LyapunovOptions {
-            period: model.excitation_period(),
-            transient_periods: so.transient_periods,
-            periods: so.record_periods,
-            d0,
-        };
-        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-        let scheme = so.method.scheme(&model);
-        let t0 = so.tau0;
-        let mut out = serde_json::json!({
-            "method": method, "integrated": integrated, "converged": null, "tol": null,
-            "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
-        });
-        if sim.periods.is_none() {
-            if !(20..=10_000_000).contains(&max_periods) {
-                bail!("bad --max-periods {}: allowed 20 ..= 10000000", max_periods);
+    let v = util::run(
+        py,
+        "lyapunov",
+        progress,
+        Stop::Abandon,
+        move |_ctl: &Ctl| {
+            if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
+                bail!("bad method '{method}': allowed variational, two-trajectory, both");
             }
-            let conv = Convergence {
-                max_periods,
-                ..Default::default()
+            let mut cfg = src.config()?;
+            sim.apply(&mut cfg)?;
+            let scenario = cfg.resolve()?;
+            if !(d0 > 0.0 && d0 < 1e-2) {
+                bail!("bad --d0 {}: allowed (0, 0.01)", d0);
+            }
+            let model = scenario.model().clone();
+            let p = scenario.params();
+            let integrated = serde_json::json!({
+                "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
+            });
+            let so = cfg.sim_options()?;
+            let mut opts = LyapunovOptions {
+                period: model.excitation_period(),
+                transient_periods: so.transient_periods,
+                periods: so.record_periods,
+                d0,
             };
-            let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
-            opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
-            out["converged"] = c.converged.into();
-            out["tol"] = c.tol.into();
-            out["rounds"] = serde_json::to_value(&c.rounds)?;
-            if method != "two-trajectory" {
-                out["variational"] = serde_json::to_value(&c.result)?;
+            let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+            let scheme = so.method.scheme(&model);
+            let t0 = so.tau0;
+            let mut out = serde_json::json!({
+                "method": method, "integrated": integrated, "converged": null, "tol": null,
+                "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
+            });
+            if sim.periods.is_none() {
+                if !(20..=10_000_000).contains(&max_periods) {
+                    bail!("bad --max-periods {}: allowed 20 ..= 10000000", max_periods);
+                }
+                let conv = Convergence {
+                    max_periods,
+                    ..Default::default()
+                };
+                let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
+                opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
+                out["converged"] = c.converged.into();
+                out["tol"] = c.tol.into();
+                out["rounds"] = serde_json::to_value(&c.rounds)?;
+                if method != "two-trajectory" {
+                    out["variational"] = serde_json::to_value(&c.result)?;
+                }
+            } else if method != "two-trajectory" {
+                let r = tle_variational::<_, 2, 4>(model.clone(), scheme, t0, y0, &opts)?;
+                out["variational"] = serde_json::to_value(&r)?;
             }
-        } else if method != "two-trajectory" {
-            let r = tle_variational::<_, 2, 4>(model.clone(), scheme, t0, y0, &opts)?;
-            out["variational"] = serde_json::to_value(&r)?;
-        }
-        out["periods"] = opts.periods.into();
-        if method != "variational" {
-            let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
-            out["two_trajectory"] = serde_json::to_value(&r)?;
-        }
-        out["config"] = serde_json::to_value(cfg.to_value())?;
-        Ok(out)
-    })?;
+            out["periods"] = opts.periods.into();
+            if method != "variational" {
+                let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
+                out["two_trajectory"] = serde_json::to_value(&r)?;
+            }
+            out["config"] = serde_json::to_value(cfg.to_value())?;
+            Ok(out)
+        },
+    )?;
     json_to_py(py, &v)
 }
 
@@ -523,13 +561,22 @@ fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound
     rc.i64("ic", runs.iter().map(|(_, run)| run.ic as i64).collect())?;
     rc.f64("x0", f(&|_, run| run.y0[0]))?;
     rc.f64("v0", f(&|_, run| run.y0[1]))?;
-    rc.str("label", runs.iter().map(|(_, run)| run.label.clone()).collect())?;
-    rc.i64("period", runs.iter().map(|(_, run)| run.period as i64).collect())?;
+    rc.str(
+        "label",
+        runs.iter().map(|(_, run)| run.label.clone()).collect(),
+    )?;
+    rc.i64(
+        "period",
+        runs.iter().map(|(_, run)| run.period as i64).collect(),
+    )?;
     rc.boolean("healthy", runs.iter().map(|(_, run)| run.healthy).collect())?;
     rc.f64("p_id", f(&|_, run| run.p_id))?;
     rc.f64("max_force", f(&|_, run| run.max_force))?;
     rc.f64("min_force", f(&|_, run| run.min_force))?;
-    rc.i64("impacts", runs.iter().map(|(_, run)| run.impacts as i64).collect())?;
+    rc.i64(
+        "impacts",
+        runs.iter().map(|(_, run)| run.impacts as i64).collect(),
+    )?;
     rc.f64(
         "max_impact_force",
         f(&|_, run| {
@@ -978,7 +1025,9 @@ fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
         c.f64("h_back", rows.iter().map(|r| r.h_back).collect())?;
         c.f64(
             "half_backlash",
-            rows.iter().map(|r| if r.single { ds } else { dd }).collect(),
+            rows.iter()
+                .map(|r| if r.single { ds } else { dd })
+                .collect(),
         )?;
         c.str(
             "zone",
@@ -1045,7 +1094,13 @@ fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
 /// Ctrl-C can stop it).
 #[pyfunction]
 #[pyo3(signature = (preset, sets, quick, out))]
-fn report(py: Python<'_>, preset: String, sets: Vec<String>, quick: bool, out: String) -> PyResult<String> {
+fn report(
+    py: Python<'_>,
+    preset: String,
+    sets: Vec<String>,
+    quick: bool,
+    out: String,
+) -> PyResult<String> {
     util::run(py, "report", false, Stop::Abandon, move |_ctl| {
         let mut cfg = Config::preset(&preset)?;
         for s in &sets {

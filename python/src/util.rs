@@ -19,7 +19,9 @@ pub fn to_pyerr(e: anyhow::Error) -> PyErr {
         matches!(
             c.downcast_ref::<geardyn_io::ConfigError>(),
             Some(geardyn_io::ConfigError::Read { .. })
-        ) || c.downcast_ref::<geardyn_io::output::OutputError>().is_some()
+        ) || c
+            .downcast_ref::<geardyn_io::output::OutputError>()
+            .is_some()
             || c.downcast_ref::<std::io::Error>().is_some()
     });
     let runtime = e.chain().any(|c| {

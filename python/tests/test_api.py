@@ -1,6 +1,6 @@
 """The Python API: shapes, dtypes, configuration round trips, errors, Ctrl-C, the GIL."""
 
-import _thread
+import signal
 import threading
 import time
 
@@ -174,11 +174,18 @@ def test_bad_input_raises(call, exc, text):
     assert "\n" not in str(e.value)
 
 
+def ctrl_c_after(seconds):
+    """Sends SIGINT to the main thread after a while, as Ctrl-C in a terminal does."""
+    main = threading.main_thread().ident
+    timer = threading.Timer(seconds, lambda: signal.pthread_kill(main, signal.SIGINT))
+    timer.start()
+    return timer
+
+
 def test_ctrl_c_interrupts_a_long_call():
     """KeyboardInterrupt (as from Ctrl-C) stops a long computation promptly."""
-    timer = threading.Timer(0.5, _thread.interrupt_main)
     t = time.monotonic()
-    timer.start()
+    timer = ctrl_c_after(0.5)
     with pytest.raises(KeyboardInterrupt):
         # about a minute of work on two cores
         geardyn.basins(omega=1.8, x=(-2, 2, 200), v=(-1.5, 1.5, 200))
@@ -216,3 +223,20 @@ def test_help_shows_docstrings():
               geardyn.config, geardyn.derived]:
         assert f.__doc__ and "Returns" in f.__doc__, f.__name__
     assert "ValueError" in geardyn.__doc__
+
+
+def test_report_quick_and_interrupt(tmp_path):
+    out = tmp_path / "rep"
+    # Ctrl-C stops the report's process at once
+    t = time.monotonic()
+    timer = ctrl_c_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        geardyn.report(preset="classic", out=out, quick=True)
+    assert time.monotonic() - t < 10
+    timer.cancel()
+    assert not (out / "classic" / "index.html").exists()
+    # rerunning resumes and writes the page
+    index = geardyn.report(preset="classic", out=out, quick=True)
+    assert index == out / "classic" / "index.html"
+    assert index.is_file() and (out / "index.html").is_file()
+    assert (out / "classic" / "claims.csv").is_file()

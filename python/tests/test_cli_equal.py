@@ -273,3 +273,13 @@ def test_errors_have_the_cli_message(cli, out, args, call):
     with pytest.raises(ValueError) as e:
         call()
     assert str(e.value) == line[len("error: "):]
+
+
+def test_report_equals_cli(cli, tmp_path):
+    cli("report", "--preset", "classic", "--quick", "--set", "F=0.12", "--out", tmp_path / "cli")
+    index = geardyn.report(preset="classic", quick=True, F=0.12, out=tmp_path / "py")
+    assert index == tmp_path / "py" / "classic" / "index.html"
+    for name in ["claims.csv", "config.toml"]:
+        a = (tmp_path / "cli" / "classic" / name).read_text()
+        b = (tmp_path / "py" / "classic" / name).read_text()
+        assert a == b, name
