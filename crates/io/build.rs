@@ -5,7 +5,10 @@ fn main() {
     // since a missing path would make cargo rerun it on every build)
     let mut watched = false;
     for p in ["../../.git/HEAD", "../../.git/refs/heads"] {
-        if std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(p).exists() {
+        if std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(p)
+            .exists()
+        {
             println!("cargo:rerun-if-changed={p}");
             watched = true;
         }
