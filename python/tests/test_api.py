@@ -174,6 +174,15 @@ def test_bad_input_raises(call, exc, text):
     assert "\n" not in str(e.value)
 
 
+@pytest.fixture()
+def sigint():
+    """Python's own SIGINT handler, as in an interactive session (a process started in the
+    background by a non-interactive shell inherits SIGINT ignored, and Python keeps that)."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
 def ctrl_c_after(seconds):
     """Sends SIGINT to the main thread after a while, as Ctrl-C in a terminal does."""
     main = threading.main_thread().ident
@@ -182,7 +191,7 @@ def ctrl_c_after(seconds):
     return timer
 
 
-def test_ctrl_c_interrupts_a_long_call():
+def test_ctrl_c_interrupts_a_long_call(sigint):
     """KeyboardInterrupt (as from Ctrl-C) stops a long computation promptly."""
     t = time.monotonic()
     timer = ctrl_c_after(0.5)
@@ -225,7 +234,7 @@ def test_help_shows_docstrings():
     assert "ValueError" in geardyn.__doc__
 
 
-def test_report_quick_and_interrupt(tmp_path):
+def test_report_quick_and_interrupt(tmp_path, sigint):
     out = tmp_path / "rep"
     # Ctrl-C stops the report's process at once
     t = time.monotonic()
