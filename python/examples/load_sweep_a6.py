@@ -12,6 +12,7 @@ cell in a notebook. It writes ``a6_load_sweep.png`` when matplotlib is installed
 """
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -40,7 +41,7 @@ r = geardyn.bifurcation(
     param="F",
     range=values,
     sections=["strobe", "impact"],
-    progress=True,
+    progress=sys.stderr.isatty(),
     **lengths,
 )
 print(f"{len(r.values)} loads in {time.monotonic() - t:.1f} s")

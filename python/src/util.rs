@@ -242,14 +242,9 @@ where
                     if stop == Stop::AtTick {
                         // wait for the worker to unwind (items in flight finish first); a second
                         // Ctrl-C stops waiting
-                        loop {
-                            match py.detach(|| recv(&rx)) {
-                                Err(mpsc::RecvTimeoutError::Timeout) => {
-                                    if py.check_signals().is_err() {
-                                        break;
-                                    }
-                                }
-                                _ => break,
+                        while let Err(mpsc::RecvTimeoutError::Timeout) = py.detach(|| recv(&rx)) {
+                            if py.check_signals().is_err() {
+                                break;
                             }
                         }
                     }
