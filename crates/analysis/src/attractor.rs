@@ -10,10 +10,29 @@
 //! Otherwise, after `max_transient` periods, `record` periods are recorded and summarised into a
 //! [`Descriptor`] (period, `n-p-q-r-s` label, healthy flag, section points, bounding box).
 //!
-//! Two descriptors match when (periodic) they have the same period and every point of one lies
-//! within `match_tol` of a point of the other, or (chaotic) each cloud has at least 90% of its
-//! points inside the other's bounding box enlarged by 5%.
+//! # One motion, one attractor
+//!
+//! Recorded descriptors are merged into attractors by their recurrent sets, never by statistics
+//! of their crossings (a chaotic record of 64 periods may happen to hold no back-side contact):
+//!
+//! - **periodic / periodic**: the same period and every point of one within `match_tol` of a
+//!   point of the other (`match_tol` = 10 × the capture tolerance, far above the integrator's
+//!   error at the identification tolerance and far below the distance between coexisting
+//!   orbits);
+//! - **not periodic / periodic**: the last points of the non-periodic record all lie within
+//!   `match_tol` of the periodic orbit (a slow transient that had nearly arrived);
+//! - **not periodic / not periodic**: at least [`CONTAINED`] of the points of one record lie within
+//!   [`NEAR`] × the diagonal of the two clouds' joint bounding box of a point of the other (the
+//!   stroboscopic map is invertible, so two distinct attractors are disjoint sets: one cloud
+//!   sitting on another is one attractor seen over two records).
+//!
+//! [`consolidate`] first decides every new non-periodic descriptor (the gear model: the decided
+//! classification of `crate::classify` continued from a point of the record, so a slowly settling
+//! orbit is given its period and a chaotic one its Lyapunov exponent), then merges matching
+//! descriptors (transitively) and renumbers the assignments. Merged chaotic clouds keep the
+//! union of their points, so later records are compared with the whole attractor.
 
+use crate::classify::{simulate_decided, Decide, Motion};
 use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period;
 use crate::simulate::{simulate, summarize, SimOptions};
@@ -36,6 +55,12 @@ pub trait Recordable: HybridSystem<2> + Sync {
     fn as_mesh(&self) -> Option<&MeshModel> {
         None
     }
+    /// Decides the motion of a non-periodic descriptor: continues from one of its points and
+    /// returns the decided description (it may turn out periodic after a longer transient).
+    /// Default: the descriptor as it is.
+    fn decide(&self, d: &Descriptor, _sim: &SimOptions) -> Descriptor {
+        d.clone()
+    }
 }
 
 impl Recordable for MeshModel {
@@ -48,6 +73,27 @@ impl Recordable for MeshModel {
     fn scheme(&self, sim: &SimOptions) -> Scheme {
         sim.method.scheme(self)
     }
+    fn decide(&self, d: &Descriptor, sim: &SimOptions) -> Descriptor {
+        let Some(&y0) = d.points.last() else {
+            return d.clone();
+        };
+        // a point of the stroboscopic record: its time is tau0 plus whole excitation periods
+        let opts = SimOptions {
+            transient_periods: 0,
+            trajectory: false,
+            ..*sim
+        };
+        match simulate_decided(self, y0, &opts, Decide::default()) {
+            Ok((res, s, _)) => {
+                let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+                let mut out =
+                    Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
+                out.motion = s.motion;
+                out
+            }
+            Err(_) => d.clone(),
+        }
+    }
     fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
         let rec_opts = SimOptions {
             transient_periods: 0,
@@ -59,14 +105,9 @@ impl Recordable for MeshModel {
         })?;
         let s = summarize(self, &res, &rec_opts);
         let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-        Ok(Descriptor::new(
-            s.period,
-            s.label,
-            s.healthy,
-            &pts,
-            s.max_force,
-            s.p_id,
-        ))
+        let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
+        d.motion = s.motion;
+        Ok(d)
     }
 }
 
@@ -165,7 +206,19 @@ pub struct Descriptor {
     pub max_force: f64,
     /// Dynamic instability proportion.
     pub p_id: f64,
+    /// The decided class (`Unsettled` without an exponent until [`consolidate`] has decided a
+    /// non-periodic record).
+    #[serde(default)]
+    pub motion: Motion,
 }
+
+/// Share of one cloud's points that must lie near the other for two non-periodic descriptors to
+/// be one attractor.
+pub const CONTAINED: f64 = 0.8;
+/// "Near" for non-periodic clouds: this fraction of the diagonal of their joint bounding box.
+pub const NEAR: f64 = 0.05;
+/// Points kept for a merged non-periodic attractor.
+pub const MAX_CLOUD: usize = 256;
 
 /// Tolerances and lengths of the identification.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -255,6 +308,11 @@ impl Descriptor {
             let step = (pts.len() / 128).max(1);
             pts.iter().step_by(step).copied().collect()
         };
+        let motion = if period > 0 {
+            Motion::Periodic { period }
+        } else {
+            Motion::default()
+        };
         Descriptor {
             period,
             label,
@@ -263,39 +321,143 @@ impl Descriptor {
             points,
             max_force,
             p_id,
+            motion,
         }
     }
 
     /// Whether two descriptors describe the same attractor (see module doc).
     pub fn matches(&self, other: &Descriptor, tol: f64) -> bool {
-        if self.period != other.period {
-            return false;
-        }
-        if self.period > 0 {
-            self.points
-                .iter()
-                .all(|p| other.points.iter().any(|q| dist(p, q) <= tol))
-                && other
-                    .points
-                    .iter()
-                    .all(|p| self.points.iter().any(|q| dist(p, q) <= tol))
-        } else {
-            let inside = |pts: &[[f64; 2]], b: &[f64; 4]| {
-                let (wx, wv) = (0.05 * (b[1] - b[0]) + tol, 0.05 * (b[3] - b[2]) + tol);
-                let n = pts
-                    .iter()
-                    .filter(|p| {
-                        p[0] >= b[0] - wx
-                            && p[0] <= b[1] + wx
-                            && p[1] >= b[2] - wv
-                            && p[1] <= b[3] + wv
-                    })
-                    .count();
-                n as f64 >= 0.9 * pts.len() as f64
-            };
-            inside(&self.points, &other.bbox) && inside(&other.points, &self.bbox)
+        let within = |a: &[[f64; 2]], b: &[[f64; 2]], r: f64| {
+            a.iter().all(|p| b.iter().any(|q| dist(p, q) <= r))
+        };
+        match (self.period, other.period) {
+            (0, 0) => {
+                let b = [
+                    self.bbox[0].min(other.bbox[0]),
+                    self.bbox[1].max(other.bbox[1]),
+                    self.bbox[2].min(other.bbox[2]),
+                    self.bbox[3].max(other.bbox[3]),
+                ];
+                let r = (NEAR * (b[1] - b[0]).hypot(b[3] - b[2])).max(tol);
+                let share = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+                    let n = a
+                        .iter()
+                        .filter(|p| b.iter().any(|q| dist(p, q) <= r))
+                        .count();
+                    n as f64 / a.len().max(1) as f64
+                };
+                share(&self.points, &other.points) >= CONTAINED
+                    || share(&other.points, &self.points) >= CONTAINED
+            }
+            (0, n) | (n, 0) => {
+                let (cloud, orbit) = if self.period == 0 {
+                    (self, other)
+                } else {
+                    (other, self)
+                };
+                let tail = &cloud.points[cloud.points.len().saturating_sub(2 * n)..];
+                !tail.is_empty() && within(tail, &orbit.points, tol)
+            }
+            (n, m) => {
+                n == m
+                    && within(&self.points, &other.points, tol)
+                    && within(&other.points, &self.points, tol)
+            }
         }
     }
+
+    /// Merges `other` (the same attractor) into `self`: a periodic description wins over a
+    /// non-periodic one; two clouds keep the union of their points (at most [`MAX_CLOUD`],
+    /// evenly thinned) and the decided class of either.
+    fn absorb(&mut self, other: &Descriptor) {
+        if self.period > 0 {
+            return;
+        }
+        if other.period > 0 {
+            *self = other.clone();
+            return;
+        }
+        let mut pts = self.points.clone();
+        pts.extend_from_slice(&other.points);
+        if pts.len() > MAX_CLOUD {
+            let step = pts.len() as f64 / MAX_CLOUD as f64;
+            pts = (0..MAX_CLOUD)
+                .map(|i| pts[(i as f64 * step) as usize])
+                .collect();
+        }
+        self.bbox = bbox(&pts);
+        self.points = pts;
+        self.max_force = self.max_force.max(other.max_force);
+        let undecided = |m: &Motion| matches!(m, Motion::Unsettled { tle: None, .. });
+        if undecided(&self.motion) && !undecided(&other.motion) {
+            self.motion = other.motion.clone();
+            self.label = other.label.clone();
+            self.healthy = other.healthy;
+            self.p_id = other.p_id;
+        }
+    }
+}
+
+/// Makes one attractor of one motion (see module doc): decides the descriptors from
+/// `first_new` on that are not periodic yet ([`Recordable::decide`]), merges matching
+/// descriptors of `known` (the earliest index survives) and renumbers `ids` (entries `< 0` are
+/// left alone). Deterministic: sequential, in index order.
+pub fn consolidate<S: Recordable>(
+    sys: &S,
+    known: &mut Vec<Descriptor>,
+    first_new: usize,
+    ids: &mut [i64],
+    opts: &IdentifyOptions,
+) {
+    for d in known.iter_mut().skip(first_new) {
+        if d.period == 0 {
+            *d = sys.decide(d, &opts.sim);
+        }
+    }
+    // union-find over the table, earliest index as the root
+    let n = known.len();
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], mut i: usize) -> usize {
+        while root[i] != i {
+            root[i] = root[root[i]];
+            i = root[i];
+        }
+        i
+    }
+    // until nothing merges: a grown cloud may now reach a descriptor it missed before
+    let mut merged = true;
+    while merged {
+        merged = false;
+        for j in 1..n {
+            for i in 0..j {
+                let (ri, rj) = (find(&mut root, i), find(&mut root, j));
+                if ri != rj && known[ri].matches(&known[rj], opts.match_tol) {
+                    let (lo, hi) = (ri.min(rj), ri.max(rj));
+                    let other = known[hi].clone();
+                    known[lo].absorb(&other);
+                    root[hi] = lo;
+                    merged = true;
+                }
+            }
+        }
+    }
+    let mut remap = vec![0i64; n];
+    let mut kept = Vec::new();
+    for i in 0..n {
+        if find(&mut root, i) == i {
+            remap[i] = kept.len() as i64;
+            kept.push(known[i].clone());
+        }
+    }
+    for i in 0..n {
+        remap[i] = remap[find(&mut root, i)];
+    }
+    for id in ids.iter_mut() {
+        if *id >= 0 {
+            *id = remap[*id as usize];
+        }
+    }
+    *known = kept;
 }
 
 pub(crate) struct Capture<'a> {

@@ -3,12 +3,15 @@
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
 //! (every 16th cell, every 4th, then all). Within a pass the table of known attractors is fixed,
 //! cells run in parallel with early capture against it, and new attractors are merged in cell
-//! order afterwards. Attractor ids are finally sorted by a canonical key (healthy first, then
+//! order afterwards, then consolidated (new non-periodic records decided, records of one motion
+//! merged: [`crate::attractor::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
 //! period, then position of the first point), so they do not depend on the order of discovery
 //! and stay the same under grid refinement. Divergent (`-1`) and failed (`-2`) cells are counted
 //! explicitly; fractions, with them, sum to one.
 
-use crate::attractor::{assign, identify, Descriptor, IdentifyOptions, Outcome, Recordable};
+use crate::attractor::{
+    assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome, Recordable,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -209,11 +212,13 @@ where
                 .collect()
         };
         let outs: Vec<Outcome> = fresh.iter().map(|(_, o)| o.clone()).collect();
+        let first_new = known.len();
         let ids = assign(&mut known, &outs, opts.identify.match_tol);
         for ((c, o), id) in fresh.into_iter().zip(ids) {
             outcomes[c] = Some(o);
             assigned[c] = id;
         }
+        consolidate(model, &mut known, first_new, &mut assigned, &opts.identify);
     }
     // canonical ids
     let order = canonical_order(&known);

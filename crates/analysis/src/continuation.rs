@@ -11,7 +11,7 @@
 // Branch matching indexes several parallel tables by attractor number.
 #![allow(clippy::needless_range_loop)]
 
-use crate::attractor::{assign, identify, Descriptor, IdentifyOptions, Outcome};
+use crate::attractor::{assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -155,8 +155,16 @@ pub fn attractors_at(
             .into_par_iter()
             .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &opts.identify))
             .collect();
+        let first_new = known.len();
         let ids = assign(&mut known, &outs, opts.identify.match_tol);
         assignment[lo..hi].copy_from_slice(&ids);
+        consolidate(
+            model,
+            &mut known,
+            first_new,
+            &mut assignment,
+            &opts.identify,
+        );
     }
     ValueAttractors {
         index,

@@ -13,12 +13,22 @@ pub const PERIOD_TOL: f64 = 1e-6;
 /// assert_eq!(geardyn_analysis::period::minimal_period(&pts, 8), Some(2));
 /// ```
 pub fn minimal_period<const N: usize>(pts: &[[f64; N]], max_n: usize) -> Option<usize> {
+    minimal_period_tol(pts, max_n, PERIOD_TOL)
+}
+
+/// As [`minimal_period`], with relative tolerance `rel_tol` instead of [`PERIOD_TOL`] (the
+/// simulation uses the integrator's own: `crate::simulate::Method::period_tol`).
+pub fn minimal_period_tol<const N: usize>(
+    pts: &[[f64; N]],
+    max_n: usize,
+    rel_tol: f64,
+) -> Option<usize> {
     let scale = 1.0
         + pts
             .iter()
             .flat_map(|p| p.iter())
             .fold(0.0f64, |m, v| m.max(v.abs()));
-    let tol = PERIOD_TOL * scale;
+    let tol = rel_tol * scale;
     let len = pts.len();
     (1..=max_n).find(|&n| {
         if len < 3 * n {

@@ -5,7 +5,7 @@
 
 use crate::classify::Motion;
 use crate::driver::{run_periods, Discard, Observer};
-use crate::period::minimal_period;
+use crate::period::minimal_period_tol;
 use geardyn_model::{ContactState, EventKind, MeshMode, MeshModel};
 use geardyn_solvers::{Integrator, Scheme, SolverError, Step, Stop};
 use serde::Serialize;
@@ -40,7 +40,26 @@ impl Default for Method {
     }
 }
 
+/// Ratio of the period-test tolerance to the adaptive integrator's relative tolerance: a
+/// periodic orbit recomputed over one period by DP5 repeats to a few hundred `rtol` at most
+/// (local errors of ~100 steps per period, event times located to the same accuracy).
+pub const PERIOD_TOL_PER_RTOL: f64 = 100.0;
+
 impl Method {
+    /// Relative tolerance of the period test for this integrator: [`PERIOD_TOL`] or, for DP5 at a
+    /// loose tolerance, `PERIOD_TOL_PER_RTOL × rtol` (at the identification tolerance 1e-7 a
+    /// 1e-6 test would reject orbits the integrator cannot reproduce more closely). Fixed-step
+    /// RK4 maps a periodic orbit of its own discrete map onto itself to rounding, so it keeps
+    /// [`PERIOD_TOL`].
+    ///
+    /// [`PERIOD_TOL`]: crate::period::PERIOD_TOL
+    pub fn period_tol(&self) -> f64 {
+        match *self {
+            Method::Dopri { rtol, .. } => crate::period::PERIOD_TOL.max(PERIOD_TOL_PER_RTOL * rtol),
+            Method::Rk4 { .. } => crate::period::PERIOD_TOL,
+        }
+    }
+
     /// The solver scheme for `model`.
     pub fn scheme(&self, model: &MeshModel) -> Scheme {
         match *self {
@@ -645,7 +664,7 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
 /// Period, label, healthy flag and P_ID of a simulation.
 pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summary {
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-    let period = minimal_period(&pts, opts.max_period).unwrap_or(0);
+    let period = minimal_period_tol(&pts, opts.max_period, opts.method.period_tol()).unwrap_or(0);
     let counts = if period > 0 && res.counts_per_period.len() >= period {
         let mut c = [0u32; 4];
         for row in &res.counts_per_period[res.counts_per_period.len() - period..] {
@@ -695,7 +714,7 @@ pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summa
                 .iter()
                 .flat_map(|p| p.iter())
                 .fold(0.0f64, |m, v| m.max(v.abs()));
-        let tol = 10.0 * crate::period::PERIOD_TOL * scale;
+        let tol = 10.0 * opts.method.period_tol() * scale;
         (1..=whole)
             .filter(|&m| whole.is_multiple_of(m))
             .find(|&m| {
