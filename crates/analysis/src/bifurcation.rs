@@ -8,7 +8,7 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
-use crate::classify::{simulate_decided, Decide, Motion};
+use crate::classify::{simulate_decided, simulate_decided_from, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::{summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
@@ -365,9 +365,10 @@ fn run_of(
     }
 }
 
-/// The sweep's record of a run simulated in the lanes: used as it is when the period test decides
-/// it periodic (and it did not run away); otherwise the run is classified by the scalar path
-/// ([`run_once`]), exactly as without lanes.
+/// The sweep's record of a run simulated in the lanes: its classification continues from the
+/// lanes' result ([`simulate_decided_from`]: period test, then TLE and transient extensions from
+/// its final state), so the run is never integrated twice; a run that failed in the lanes is
+/// redone by the scalar path ([`run_once`]), which reports the failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -375,15 +376,14 @@ fn run_from_lanes(
     opts: &SweepOptions,
     lanes: Result<SimResult, SimError>,
 ) -> Run {
-    if let Ok(res) = lanes {
-        let s = summarize(model, &res, &opts.sim);
-        let scale = model.backlash_levels().1.max(1.0);
-        let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
-        if s.motion.is_periodic() && x_max <= crate::classify::DIVERGED_SCALES * scale {
-            return run_of(model, y0, ic, opts, Ok((res, s, opts.sim)));
+    match lanes {
+        Ok(res) => {
+            let s = summarize(model, &res, &opts.sim);
+            let decided = simulate_decided_from(model, (res, s), &opts.sim, Decide::default());
+            run_of(model, y0, ic, opts, decided)
         }
+        Err(_) => run_once(model, y0, ic, opts),
     }
-    run_once(model, y0, ic, opts)
 }
 
 /// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
@@ -465,8 +465,8 @@ where
             let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
                 // (each batch's results are handed on, so a checkpoint loses at most one batch);
-                // a run not decided periodic there is classified by the scalar path (transient
-                // extensions, TLE)
+                // a run not decided periodic there is classified from its lanes result by the
+                // scalar path (TLE, transient extensions), without integrating it again
                 let batch = (64 * rayon::current_num_threads()).div_ceil(k).max(1);
                 let mut out = Vec::with_capacity(todo.len());
                 for tasks in todo.chunks(batch) {
