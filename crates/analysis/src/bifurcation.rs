@@ -386,6 +386,9 @@ fn run_from_lanes(
     }
 }
 
+/// Runs per thread in a batch of the lanes path of [`run_sweep`].
+const BATCH_PER_THREAD: usize = 64;
+
 /// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
 /// `on_done` receives each newly finished task (from any thread). Returns all results in
 /// [`tasks`] order.
@@ -464,12 +467,16 @@ where
                 .collect();
             let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
-                // (each batch's results are handed on, so a checkpoint loses at most one batch);
-                // a run not decided periodic there is classified from its lanes result by the
-                // scalar path (TLE, transient extensions), without integrating it again
-                let batch = (64 * rayon::current_num_threads()).div_ceil(k).max(1);
-                let mut out = Vec::with_capacity(todo.len());
-                for tasks in todo.chunks(batch) {
+                // (each batch's results are handed on, so an interruption loses at most the two
+                // batches in progress); a run not decided periodic there is classified from its
+                // lanes result by the scalar path (TLE, transient extensions), without
+                // integrating it again. The batches are pipelined: a batch is classified while
+                // the next one runs in the lanes (rayon balances the two), so the threads are
+                // not left waiting on the few long classifications of a batch.
+                let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
+                    .div_ceil(k)
+                    .max(1);
+                let simulated = |tasks: &[Task]| {
                     let items: Vec<(usize, usize, [f64; 2])> = tasks
                         .iter()
                         .flat_map(|t| {
@@ -481,15 +488,38 @@ where
                     let runs: Vec<(&MeshModel, [f64; 2])> =
                         items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
                     let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
-                    let decided: Vec<Run> = items
+                    (items, lane_results)
+                };
+                type Simulated = (
+                    Vec<(usize, usize, [f64; 2])>,
+                    Vec<Result<SimResult, SimError>>,
+                );
+                let decide = |(items, lane_results): Simulated| -> Vec<Run> {
+                    items
                         .par_iter()
                         .zip(lane_results)
                         .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
-                        .collect();
-                    let mut decided = decided.into_iter();
-                    for &t in tasks {
-                        let runs: Vec<Run> = decided.by_ref().take(k).collect();
-                        out.push(finish(t, runs));
+                        .collect()
+                };
+                let mut out = Vec::with_capacity(todo.len());
+                let mut pending: Option<(&[Task], Simulated)> = None;
+                let mut batches = todo.chunks(batch);
+                loop {
+                    let next = batches.next();
+                    let (decided, simulated) = rayon::join(
+                        || pending.take().map(|(tasks, sim)| (tasks, decide(sim))),
+                        || next.map(|tasks| (tasks, simulated(tasks))),
+                    );
+                    if let Some((tasks, decided)) = decided {
+                        let mut decided = decided.into_iter();
+                        for &t in tasks {
+                            let runs: Vec<Run> = decided.by_ref().take(k).collect();
+                            out.push(finish(t, runs));
+                        }
+                    }
+                    pending = simulated;
+                    if pending.is_none() {
+                        break;
                     }
                 }
                 out
