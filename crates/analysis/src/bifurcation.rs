@@ -8,9 +8,11 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
-use crate::classify::{simulate_decided, simulate_decided_from, Decide, Motion};
+use crate::classify::{simulate_decided, simulate_decided_with, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
+use crate::simulate::{
+    simulate, summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary,
+};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -366,9 +368,11 @@ fn run_of(
 }
 
 /// The sweep's record of a run simulated in the lanes: its classification continues from the
-/// lanes' result ([`simulate_decided_from`]: period test, then TLE and transient extensions from
-/// its final state), so the run is never integrated twice; a run that failed in the lanes is
-/// redone by the scalar path ([`run_once`]), which reports the failure.
+/// lanes' result ([`simulate_decided_with`]: period test, then TLE and transient extensions from
+/// its final state, the extensions on a one-lane engine when the lanes cover the contact law), so
+/// the run is never integrated twice; a
+/// run that failed in the lanes is redone by the scalar path ([`run_once`]), which reports the
+/// failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -379,7 +383,14 @@ fn run_from_lanes(
     match lanes {
         Ok(res) => {
             let s = summarize(model, &res, &opts.sim);
-            let decided = simulate_decided_from(model, (res, s), &opts.sim, Decide::default());
+            // the transient extensions on a one-lane engine (the lanes' arithmetic) when the
+            // lanes cover the contact law, else on the scalar integrator
+            let how = Decide::default();
+            let decided = if crate::lanes::lanes_cover_contact(model) {
+                simulate_decided_with(model, (res, s), &opts.sim, how, crate::lanes::simulate_lane)
+            } else {
+                simulate_decided_with(model, (res, s), &opts.sim, how, simulate)
+            };
             run_of(model, y0, ic, opts, decided)
         }
         Err(_) => run_once(model, y0, ic, opts),

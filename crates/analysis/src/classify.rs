@@ -186,6 +186,18 @@ pub fn simulate_decided_from(
     opts: &SimOptions,
     how: Decide,
 ) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    simulate_decided_with(model, first, opts, how, simulate)
+}
+
+/// As [`simulate_decided_from`], the transient extensions simulated by `sim` (a function with the
+/// contract of [`simulate`], e.g. [`crate::lanes::simulate_lane`] for fixed-step RK4).
+pub fn simulate_decided_with(
+    model: &MeshModel,
+    first: (SimResult, Summary),
+    opts: &SimOptions,
+    how: Decide,
+    sim: impl Fn(&MeshModel, [f64; 2], &SimOptions) -> Result<SimResult, SimError>,
+) -> Result<(SimResult, Summary, SimOptions), SimError> {
     let mut used = *opts;
     let scale = model.backlash_levels().1.max(1.0);
     let runaway = |res: &SimResult| {
@@ -222,7 +234,7 @@ pub fn simulate_decided_from(
                 transient_periods: extra,
                 ..*opts
             };
-            res = simulate(model, y, &more)?;
+            res = sim(model, y, &more)?;
             used.transient_periods += opts.record_periods + extra;
             s = summarize(model, &res, &more);
             if let Some(d) = runaway(&res) {

@@ -299,6 +299,45 @@ fn basins_in_lanes_equal_the_scalar_basins() {
     assert!(same_capture > 0);
 }
 
+/// A run on a one-lane engine is the same run as in the lockstep lanes, to the last bit
+/// (periodic and chaotic C1, breakage with events and breakpoints; a start time other than 0).
+#[test]
+fn one_lane_engine_equals_the_lockstep_lanes() {
+    use geardyn_analysis::lanes::simulate_lane;
+    let key = |r: &SimResult| serde_json::to_string(r).unwrap();
+    for (preset, omega, n, tau0) in [
+        ("classic", 0.8, 128, 0.0),
+        ("classic", 1.3, 128, 1234.5678),
+        ("breakage", 2.0, 64, 17.25),
+    ] {
+        let mut p = if preset == "classic" {
+            presets::classic()
+        } else {
+            presets::breakage()
+        };
+        p.omega = omega;
+        let m = MeshModel::new(&p).unwrap();
+        let opts = SimOptions {
+            method: Method::Rk4 { steps_per_cycle: n },
+            tau0,
+            transient_periods: 30,
+            record_periods: 8,
+            ..Default::default()
+        };
+        let ics = [[0.0, 0.0], [0.9, -0.5], [-1.1, 0.3]];
+        let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&m, y)).collect();
+        let lanes = simulate_lanes(&runs, &opts);
+        for (&(_, y0), r) in runs.iter().zip(&lanes) {
+            let one = simulate_lane(&m, y0, &opts).unwrap();
+            assert_eq!(
+                key(&one),
+                key(r.as_ref().unwrap()),
+                "{preset} omega {omega}"
+            );
+        }
+    }
+}
+
 /// The bifurcation sweep with RK4 runs in lanes: periodic runs equal the scalar `run_once` to
 /// rounding; the others are classified from their lanes result, never integrated again
 /// (`simulate_decided_from`: TLE and transient extensions continue from the lanes' final state).
@@ -310,7 +349,8 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
     use geardyn_analysis::bifurcation::{
         initial_state, run_once, run_sweep, Section, SweepMode, SweepOptions,
     };
-    use geardyn_analysis::classify::{simulate_decided_from, Decide};
+    use geardyn_analysis::classify::{simulate_decided_with, Decide};
+    use geardyn_analysis::lanes::simulate_lane;
     let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [
         SweepMode::Fixed,
@@ -356,11 +396,18 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
                     }
                     continue;
                 }
-                // non-periodic: exactly the decision continued from the lanes' first run
+                // non-periodic: exactly the decision continued from the lanes' first run, the
+                // transient extensions on a one-lane engine
                 let first = simulate_lanes(&[(&m, y0)], &opts.sim).remove(0).unwrap();
                 let sum = summarize(&m, &first, &opts.sim);
-                let (res, d, used) =
-                    simulate_decided_from(&m, (first, sum), &opts.sim, Decide::default()).unwrap();
+                let (res, d, used) = simulate_decided_with(
+                    &m,
+                    (first, sum),
+                    &opts.sim,
+                    Decide::default(),
+                    simulate_lane,
+                )
+                .unwrap();
                 assert_eq!(run.label, d.label, "omega {}", r.value);
                 assert_eq!(run.motion, d.motion);
                 assert_eq!(run.p_id, d.p_id);
