@@ -8,9 +8,11 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
-use crate::classify::{simulate_decided, Decide, Motion};
+use crate::classify::{simulate_decided, simulate_decided_with, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
+use crate::simulate::{
+    simulate, summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary,
+};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -365,9 +367,12 @@ fn run_of(
     }
 }
 
-/// The sweep's record of a run simulated in the lanes: used as it is when the period test decides
-/// it periodic (and it did not run away); otherwise the run is classified by the scalar path
-/// ([`run_once`]), exactly as without lanes.
+/// The sweep's record of a run simulated in the lanes: its classification continues from the
+/// lanes' result ([`simulate_decided_with`]: period test, then TLE and transient extensions from
+/// its final state, the extensions on a one-lane engine when the lanes cover the contact law), so
+/// the run is never integrated twice; a
+/// run that failed in the lanes is redone by the scalar path ([`run_once`]), which reports the
+/// failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -375,16 +380,25 @@ fn run_from_lanes(
     opts: &SweepOptions,
     lanes: Result<SimResult, SimError>,
 ) -> Run {
-    if let Ok(res) = lanes {
-        let s = summarize(model, &res, &opts.sim);
-        let scale = model.backlash_levels().1.max(1.0);
-        let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
-        if s.motion.is_periodic() && x_max <= crate::classify::DIVERGED_SCALES * scale {
-            return run_of(model, y0, ic, opts, Ok((res, s, opts.sim)));
+    match lanes {
+        Ok(res) => {
+            let s = summarize(model, &res, &opts.sim);
+            // the transient extensions on a one-lane engine (the lanes' arithmetic) when the
+            // lanes cover the contact law, else on the scalar integrator
+            let how = Decide::default();
+            let decided = if crate::lanes::lanes_cover_contact(model) {
+                simulate_decided_with(model, (res, s), &opts.sim, how, crate::lanes::simulate_lane)
+            } else {
+                simulate_decided_with(model, (res, s), &opts.sim, how, simulate)
+            };
+            run_of(model, y0, ic, opts, decided)
         }
+        Err(_) => run_once(model, y0, ic, opts),
     }
-    run_once(model, y0, ic, opts)
 }
+
+/// Runs per thread in a batch of the lanes path of [`run_sweep`].
+const BATCH_PER_THREAD: usize = 64;
 
 /// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
 /// `on_done` receives each newly finished task (from any thread). Returns all results in
@@ -464,12 +478,16 @@ where
                 .collect();
             let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
-                // (each batch's results are handed on, so a checkpoint loses at most one batch);
-                // a run not decided periodic there is classified by the scalar path (transient
-                // extensions, TLE)
-                let batch = (64 * rayon::current_num_threads()).div_ceil(k).max(1);
-                let mut out = Vec::with_capacity(todo.len());
-                for tasks in todo.chunks(batch) {
+                // (each batch's results are handed on, so an interruption loses at most the two
+                // batches in progress); a run not decided periodic there is classified from its
+                // lanes result by the scalar path (TLE, transient extensions), without
+                // integrating it again. The batches are pipelined: a batch is classified while
+                // the next one runs in the lanes (rayon balances the two), so the threads are
+                // not left waiting on the few long classifications of a batch.
+                let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
+                    .div_ceil(k)
+                    .max(1);
+                let simulated = |tasks: &[Task]| {
                     let items: Vec<(usize, usize, [f64; 2])> = tasks
                         .iter()
                         .flat_map(|t| {
@@ -481,15 +499,38 @@ where
                     let runs: Vec<(&MeshModel, [f64; 2])> =
                         items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
                     let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
-                    let decided: Vec<Run> = items
+                    (items, lane_results)
+                };
+                type Simulated = (
+                    Vec<(usize, usize, [f64; 2])>,
+                    Vec<Result<SimResult, SimError>>,
+                );
+                let decide = |(items, lane_results): Simulated| -> Vec<Run> {
+                    items
                         .par_iter()
                         .zip(lane_results)
                         .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
-                        .collect();
-                    let mut decided = decided.into_iter();
-                    for &t in tasks {
-                        let runs: Vec<Run> = decided.by_ref().take(k).collect();
-                        out.push(finish(t, runs));
+                        .collect()
+                };
+                let mut out = Vec::with_capacity(todo.len());
+                let mut pending: Option<(&[Task], Simulated)> = None;
+                let mut batches = todo.chunks(batch);
+                loop {
+                    let next = batches.next();
+                    let (decided, simulated) = rayon::join(
+                        || pending.take().map(|(tasks, sim)| (tasks, decide(sim))),
+                        || next.map(|tasks| (tasks, simulated(tasks))),
+                    );
+                    if let Some((tasks, decided)) = decided {
+                        let mut decided = decided.into_iter();
+                        for &t in tasks {
+                            let runs: Vec<Run> = decided.by_ref().take(k).collect();
+                            out.push(finish(t, runs));
+                        }
+                    }
+                    pending = simulated;
+                    if pending.is_none() {
+                        break;
                     }
                 }
                 out

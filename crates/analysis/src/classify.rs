@@ -170,6 +170,34 @@ pub fn simulate_decided(
     opts: &SimOptions,
     how: Decide,
 ) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    let res = simulate(model, y0, opts)?;
+    let s = summarize(model, &res, opts);
+    simulate_decided_from(model, (res, s), opts, how)
+}
+
+/// As [`simulate_decided`], continuing from a first run already computed: `first` is the result
+/// of [`simulate`] with `opts` (from any integrator of the same settings, e.g. the lockstep lanes
+/// of [`crate::lanes`]) and its [`summarize`]; the decision (period test, TLE, transient
+/// extensions) continues from its final state exactly as [`simulate_decided`] does after its own
+/// first run, so the first run is never integrated twice.
+pub fn simulate_decided_from(
+    model: &MeshModel,
+    first: (SimResult, Summary),
+    opts: &SimOptions,
+    how: Decide,
+) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    simulate_decided_with(model, first, opts, how, simulate)
+}
+
+/// As [`simulate_decided_from`], the transient extensions simulated by `sim` (a function with the
+/// contract of [`simulate`], e.g. [`crate::lanes::simulate_lane`] for fixed-step RK4).
+pub fn simulate_decided_with(
+    model: &MeshModel,
+    first: (SimResult, Summary),
+    opts: &SimOptions,
+    how: Decide,
+    sim: impl Fn(&MeshModel, [f64; 2], &SimOptions) -> Result<SimResult, SimError>,
+) -> Result<(SimResult, Summary, SimOptions), SimError> {
     let mut used = *opts;
     let scale = model.backlash_levels().1.max(1.0);
     let runaway = |res: &SimResult| {
@@ -177,8 +205,7 @@ pub fn simulate_decided(
         // NaN counts as runaway too
         (x_max.is_nan() || x_max > DIVERGED_SCALES * scale).then_some(Motion::Diverged { x_max })
     };
-    let mut res = simulate(model, y0, opts)?;
-    let mut s = summarize(model, &res, opts);
+    let (mut res, mut s) = first;
     if let Some(d) = runaway(&res) {
         s.set_motion(d);
         return Ok((res, s, used));
@@ -207,7 +234,7 @@ pub fn simulate_decided(
                 transient_periods: extra,
                 ..*opts
             };
-            res = simulate(model, y, &more)?;
+            res = sim(model, y, &more)?;
             used.transient_periods += opts.record_periods + extra;
             s = summarize(model, &res, &more);
             if let Some(d) = runaway(&res) {

@@ -18,6 +18,8 @@ pub mod period;
 pub mod simulate;
 pub mod tle_convergence;
 
-pub use classify::{simulate_decided, Decide, Motion};
+pub use classify::{
+    simulate_decided, simulate_decided_from, simulate_decided_with, Decide, Motion,
+};
 pub use driver::{run_periods, Discard, Observer};
 pub use simulate::{simulate, summarize, Method, SimOptions, SimResult, Summary};

@@ -1,9 +1,9 @@
 //! Decided classification: a slow periodic transient is not chaos, chaos is not given a period,
 //! and the default Lyapunov run converges to the Floquet value of a periodic orbit.
 
-use geardyn_analysis::classify::{simulate_decided, Decide, Motion};
+use geardyn_analysis::classify::{simulate_decided, simulate_decided_from, Decide, Motion};
 use geardyn_analysis::lyapunov::LyapunovOptions;
-use geardyn_analysis::simulate::SimOptions;
+use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
 use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::{Integrator, Stop};
@@ -152,4 +152,27 @@ fn a_contact_entered_by_a_backlash_jump_is_counted() {
     let (lo, hi) = res.x_range;
     assert!(lo > 0.9 && hi < 1.1, "x in [{lo}, {hi}]");
     assert_eq!(s.label, "1-0-0-1-0");
+}
+
+/// Continuing from a first run computed beforehand decides exactly as deciding from scratch
+/// (periodic, chaotic, and a slow transient that needs extensions).
+#[test]
+fn deciding_from_a_first_run_equals_deciding_from_scratch() {
+    for (omega, f) in [(0.8, 0.1), (1.3, 0.1), (1.3, 0.05)] {
+        let m = c1(&[("omega", omega), ("F", f)]);
+        let opts = SimOptions {
+            record_periods: 50,
+            ..Default::default()
+        };
+        let a = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let first = simulate(&m, [0.0, 0.0], &opts).unwrap();
+        let s = summarize(&m, &first, &opts);
+        let b = simulate_decided_from(&m, (first, s), &opts, Decide::default()).unwrap();
+        assert_eq!(a.1, b.1, "omega {omega}, F {f}");
+        assert_eq!(a.2, b.2);
+        assert_eq!(
+            serde_json::to_string(&a.0).unwrap(),
+            serde_json::to_string(&b.0).unwrap()
+        );
+    }
 }

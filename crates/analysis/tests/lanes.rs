@@ -299,13 +299,58 @@ fn basins_in_lanes_equal_the_scalar_basins() {
     assert!(same_capture > 0);
 }
 
-/// The bifurcation sweep with RK4 runs in lanes: every run equals the scalar `run_once` (periodic
-/// runs to rounding, the others exactly: they are classified by the scalar path).
+/// A run on a one-lane engine is the same run as in the lockstep lanes, to the last bit
+/// (periodic and chaotic C1, breakage with events and breakpoints; a start time other than 0).
+#[test]
+fn one_lane_engine_equals_the_lockstep_lanes() {
+    use geardyn_analysis::lanes::simulate_lane;
+    let key = |r: &SimResult| serde_json::to_string(r).unwrap();
+    for (preset, omega, n, tau0) in [
+        ("classic", 0.8, 128, 0.0),
+        ("classic", 1.3, 128, 1234.5678),
+        ("breakage", 2.0, 64, 17.25),
+    ] {
+        let mut p = if preset == "classic" {
+            presets::classic()
+        } else {
+            presets::breakage()
+        };
+        p.omega = omega;
+        let m = MeshModel::new(&p).unwrap();
+        let opts = SimOptions {
+            method: Method::Rk4 { steps_per_cycle: n },
+            tau0,
+            transient_periods: 30,
+            record_periods: 8,
+            ..Default::default()
+        };
+        let ics = [[0.0, 0.0], [0.9, -0.5], [-1.1, 0.3]];
+        let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&m, y)).collect();
+        let lanes = simulate_lanes(&runs, &opts);
+        for (&(_, y0), r) in runs.iter().zip(&lanes) {
+            let one = simulate_lane(&m, y0, &opts).unwrap();
+            assert_eq!(
+                key(&one),
+                key(r.as_ref().unwrap()),
+                "{preset} omega {omega}"
+            );
+        }
+    }
+}
+
+/// The bifurcation sweep with RK4 runs in lanes: periodic runs equal the scalar `run_once` to
+/// rounding; the others are classified from their lanes result, never integrated again
+/// (`simulate_decided_from`: TLE and transient extensions continue from the lanes' final state).
+/// The lanes' trajectory equals the scalar one to rounding, which chaos amplifies, so a
+/// non-periodic run's numbers differ from `run_once` (and a borderline chaotic transient may be
+/// decided differently); on these values its class is the same.
 #[test]
 fn rk4_sweep_in_lanes_equals_scalar_runs() {
     use geardyn_analysis::bifurcation::{
         initial_state, run_once, run_sweep, Section, SweepMode, SweepOptions,
     };
+    use geardyn_analysis::classify::{simulate_decided_with, Decide};
+    use geardyn_analysis::lanes::simulate_lane;
     let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [
         SweepMode::Fixed,
@@ -341,16 +386,40 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
                 let y0 = initial_state(&mode, opts.y0, r.task.index, run.ic);
                 assert_eq!(run.y0, y0);
                 let s = run_once(&m, y0, run.ic, &opts);
-                assert_eq!(run.label, s.label, "omega {}", r.value);
-                assert_eq!(run.motion.word(), s.motion.word());
-                assert_eq!(run.points.len(), s.points.len());
-                for (a, b) in run.points.iter().zip(&s.points) {
-                    assert_eq!(a.0, b.0);
-                    assert!((a.1 - b.1).abs() < 1e-9 && (a.2 - b.2).abs() < 1e-9);
+                assert_eq!(run.motion.word(), s.motion.word(), "omega {}", r.value);
+                if run.period > 0 {
+                    assert_eq!(run.label, s.label, "omega {}", r.value);
+                    assert_eq!(run.points.len(), s.points.len());
+                    for (a, b) in run.points.iter().zip(&s.points) {
+                        assert_eq!(a.0, b.0);
+                        assert!((a.1 - b.1).abs() < 1e-9 && (a.2 - b.2).abs() < 1e-9);
+                    }
+                    continue;
                 }
-                if run.period == 0 {
-                    assert_eq!(run, &s, "non-periodic runs come from the scalar path");
-                }
+                // non-periodic: exactly the decision continued from the lanes' first run, the
+                // transient extensions on a one-lane engine
+                let first = simulate_lanes(&[(&m, y0)], &opts.sim).remove(0).unwrap();
+                let sum = summarize(&m, &first, &opts.sim);
+                let (res, d, used) = simulate_decided_with(
+                    &m,
+                    (first, sum),
+                    &opts.sim,
+                    Decide::default(),
+                    simulate_lane,
+                )
+                .unwrap();
+                assert_eq!(run.label, d.label, "omega {}", r.value);
+                assert_eq!(run.motion, d.motion);
+                assert_eq!(run.p_id, d.p_id);
+                assert_eq!(run.max_force, d.max_force);
+                assert_eq!(run.transient_used, used.transient_periods);
+                assert_eq!(run.final_state, res.final_state.1);
+                let strobe: Vec<(Section, f64, f64)> = res
+                    .strobe
+                    .iter()
+                    .map(|p| (Section::Strobe, p[1], p[2]))
+                    .collect();
+                assert_eq!(run.points[..strobe.len()], strobe[..]);
             }
         }
     }

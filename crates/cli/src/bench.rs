@@ -246,7 +246,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     };
     let mut w1_ens = None;
     if bif {
-        // ensemble: the whole sweep (lanes, classification of non-periodic values as before)
+        // ensemble: the whole sweep (lanes; non-periodic values classified from their lanes result)
         let opts = w1_options(rk4);
         let t = Instant::now();
         let r = run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
