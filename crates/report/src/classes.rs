@@ -211,6 +211,38 @@ pub fn ranges(pts: &[Pt], pred: impl Fn(&Pt) -> bool) -> Vec<(f64, f64, usize)> 
     out
 }
 
+/// Bands `(first, last, count, windows)` of values satisfying `pred` in which runs of at most
+/// `max_gap` consecutive other values are kept as windows (`(first, last)` of each) instead of
+/// ending the band: a chaotic band with narrow periodic windows is one band, as a dynamicist
+/// reads a bifurcation diagram. `count` counts the values satisfying `pred`.
+#[allow(clippy::type_complexity)]
+pub fn bands(
+    pts: &[Pt],
+    pred: impl Fn(&Pt) -> bool,
+    max_gap: usize,
+) -> Vec<(f64, f64, usize, Vec<(f64, f64)>)> {
+    let mut out: Vec<(f64, f64, usize, Vec<(f64, f64)>)> = Vec::new();
+    let mut gap: Vec<f64> = Vec::new();
+    for p in pts {
+        if pred(p) {
+            match out.last_mut() {
+                Some(b) if gap.len() <= max_gap => {
+                    if let (Some(&a), Some(&z)) = (gap.first(), gap.last()) {
+                        b.3.push((a, z));
+                    }
+                    b.1 = p.value;
+                    b.2 += 1;
+                }
+                _ => out.push((p.value, p.value, 1, Vec::new())),
+            }
+            gap.clear();
+        } else {
+            gap.push(p.value);
+        }
+    }
+    out
+}
+
 /// Points with values in `[lo, hi]`.
 pub fn within(pts: &[Pt], lo: f64, hi: f64) -> Vec<&Pt> {
     pts.iter()

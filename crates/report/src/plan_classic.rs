@@ -56,10 +56,13 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
             .iter()
             .find(|p| p.class == Class::Periodic(2))
             .map(|p| p.value);
-        let chaos = classes::ranges(&t, |p| p.class == Class::Chaotic);
-        let main = chaos.iter().max_by_key(|c| c.2).copied();
+        // one chaotic band: periodic windows of up to three sweep values inside it are windows
+        let chaos = classes::bands(&t, |p| p.class == Class::Chaotic, 3);
+        let main = chaos.iter().max_by_key(|c| c.2).cloned();
         let ok_p2 = first_p2.is_some_and(|v| (0.8..1.0).contains(&v));
-        let ok_ch = main.is_some_and(|c| (1.0..1.25).contains(&c.0) && (1.5..1.8).contains(&c.1));
+        let ok_ch = main
+            .as_ref()
+            .is_some_and(|c| (1.0..1.25).contains(&c.0) && (1.5..1.8).contains(&c.1));
         let agree = pts
             .iter()
             .filter(|p| p.tle.is_some())
@@ -92,10 +95,17 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
                 format!(
                     "first period 2 at {}; chaos {}",
                     first_p2.map_or("none".into(), f),
-                    main.map_or("none".into(), |c| range(c.0, c.1))
+                    main.as_ref().map_or("none".into(), |c| {
+                        let windows: Vec<String> = c.3.iter().map(|w| range(w.0, w.1)).collect();
+                        if windows.is_empty() {
+                            range(c.0, c.1)
+                        } else {
+                            format!("{} with periodic windows at {}", range(c.0, c.1), windows.join(", "))
+                        }
+                    })
                 ),
                 Verdict::of_parts(&[ok_p2, ok_ch]),
-                "Fixed-initial-state sweep; intervals after ignoring single values at bifurcation points.",
+                "Fixed-initial-state sweep, decided classification; single values at bifurcation points ignored; a chaotic band is one band across periodic windows of up to three sweep values (listed).",
             )],
             seconds: 0.0,
         })
