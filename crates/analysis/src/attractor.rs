@@ -89,6 +89,7 @@ impl Recordable for MeshModel {
                 let mut out =
                     Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
                 out.motion = s.motion;
+                out.mesh_period = s.mesh_period;
                 out
             }
             Err(_) => d.clone(),
@@ -107,6 +108,7 @@ impl Recordable for MeshModel {
         let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
         let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
         d.motion = s.motion;
+        d.mesh_period = s.mesh_period;
         Ok(d)
     }
 }
@@ -210,6 +212,10 @@ pub struct Descriptor {
     /// non-periodic record).
     #[serde(default)]
     pub motion: Motion,
+    /// Period in mesh cycles from the mesh-cycle strobe, where the excitation period spans several
+    /// mesh cycles (breakage) and the motion is periodic (the second clock).
+    #[serde(default)]
+    pub mesh_period: Option<usize>,
 }
 
 /// Share of one cloud's points that must lie near the other for two non-periodic descriptors to
@@ -322,6 +328,7 @@ impl Descriptor {
             max_force,
             p_id,
             motion,
+            mesh_period: None,
         }
     }
 

@@ -11,7 +11,9 @@
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{simulate, summarize, SimError, SimOptions, SimResult, Summary};
+use crate::simulate::{
+    simulate, summarize, summarize_tol, SimError, SimOptions, SimResult, Summary,
+};
 use geardyn_model::MeshModel;
 use serde::{Deserialize, Serialize};
 
@@ -161,6 +163,14 @@ fn significantly_positive(tle: f64, se: f64) -> bool {
     tle > TLE_POSITIVE && tle > 3.0 * se
 }
 
+fn significantly_negative(tle: f64, se: f64) -> bool {
+    significantly_positive(-tle, se)
+}
+
+/// Factor on the period-test tolerance for motions whose TLE is significantly negative (after the
+/// extended transient): their points must repeat to this many times the strict tolerance.
+pub const ATTRACTING_PERIOD_TOL_FACTOR: f64 = 100.0;
+
 /// Simulates and classifies: the periodic test first, then the TLE (chaos), then longer
 /// transients; the summary's `motion` and `label` state the decision and `transient_periods`
 /// in the returned options is the transient actually used.
@@ -224,6 +234,7 @@ pub fn simulate_decided_with(
             }
         }
     }
+    let mut last_opts = *opts;
     if how.extend {
         for k in 0..MAX_EXTENSIONS {
             let extra = (opts.transient_periods.max(MIN_EXTENSION)) << k;
@@ -237,6 +248,7 @@ pub fn simulate_decided_with(
             res = sim(model, y, &more)?;
             used.transient_periods += opts.record_periods + extra;
             s = summarize(model, &res, &more);
+            last_opts = more;
             if let Some(d) = runaway(&res) {
                 s.set_motion(d);
                 return Ok((res, s, used));
@@ -248,6 +260,22 @@ pub fn simulate_decided_with(
         if how.lyapunov {
             let (t, y) = res.final_state;
             tle = tle_from(model, opts, t, y);
+        }
+    }
+    if let Some((l, se)) = tle {
+        if significantly_negative(l, se) {
+            // an attracting motion of a periodically forced one-degree-of-freedom system is a
+            // periodic orbit: the strict test failed on the integrator's noise (long excitation
+            // periods with many events), so its period is read at a looser tolerance
+            let loose = summarize_tol(
+                model,
+                &res,
+                &last_opts,
+                ATTRACTING_PERIOD_TOL_FACTOR * opts.method.period_tol(),
+            );
+            if loose.motion.is_periodic() {
+                return Ok((res, loose, used));
+            }
         }
     }
     let motion = match tle {

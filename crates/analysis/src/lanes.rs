@@ -723,14 +723,11 @@ where
                 };
                 let s = summarize(self.model, &res, &rec_opts);
                 let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-                Outcome::Recorded(Descriptor::new(
-                    s.period,
-                    s.label,
-                    s.healthy,
-                    &pts,
-                    s.max_force,
-                    s.p_id,
-                ))
+                let mut d =
+                    Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
+                d.motion = s.motion;
+                d.mesh_period = s.mesh_period;
+                Outcome::Recorded(d)
             }
             (End::Done { t, .. }, IdPhase::Transient { .. }) => {
                 Outcome::Failed(format!("integration terminated at t = {t}"))

@@ -663,8 +663,20 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
 
 /// Period, label, healthy flag and P_ID of a simulation.
 pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summary {
+    summarize_tol(model, res, opts, opts.method.period_tol())
+}
+
+/// As [`summarize`], with relative period-test tolerance `period_tol` (the classification uses a
+/// looser one only for motions whose Lyapunov exponent shows them attracting:
+/// `crate::classify`).
+pub fn summarize_tol(
+    model: &MeshModel,
+    res: &SimResult,
+    opts: &SimOptions,
+    period_tol: f64,
+) -> Summary {
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-    let period = minimal_period_tol(&pts, opts.max_period, opts.method.period_tol()).unwrap_or(0);
+    let period = minimal_period_tol(&pts, opts.max_period, period_tol).unwrap_or(0);
     let counts = if period > 0 && res.counts_per_period.len() >= period {
         let mut c = [0u32; 4];
         for row in &res.counts_per_period[res.counts_per_period.len() - period..] {

@@ -165,9 +165,12 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
     for at in &r.attractors {
         println!(
-            "attractor #{}: {} ({}), basin fraction {:.4}",
+            "attractor #{}: {}{} ({}), basin fraction {:.4}",
             at.id,
             at.descriptor.label,
+            at.descriptor
+                .mesh_period
+                .map_or(String::new(), |m| format!(" [period {m} mesh cycles]")),
             geardyn_analysis::simulate::health_text(
                 at.descriptor.healthy,
                 at.descriptor.period > 0
