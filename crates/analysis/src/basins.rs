@@ -1,8 +1,11 @@
 //! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (docs/model.md §5).
 //!
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
-//! (every 16th cell, every 4th, then all). Within a pass the table of known attractors is fixed,
-//! cells run in parallel with early capture against it, and new attractors are merged in cell
+//! (every 16th cell, every 4th, then all). Within a pass the table of known attractors and the
+//! labels of the cells of earlier passes are fixed; cells run in parallel with early capture
+//! against the attractors and against the labelled cells (a trajectory landing, at the grid's
+//! phase, in a square of the labelled lattice whose corners and neighbours all belong to one
+//! attractor, in two consecutive periods: [`CellLabels`]), and new attractors are merged in cell
 //! order afterwards, then consolidated (new non-periodic records decided, records of one motion
 //! merged: [`crate::attractor::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
 //! period, then position of the first point), so they do not depend on the order of discovery
@@ -10,7 +13,7 @@
 //! explicitly; fractions, with them, sum to one.
 
 use crate::attractor::{
-    assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome, Recordable,
+    assign, consolidate, identify_in, CellLabels, Descriptor, IdentifyOptions, Outcome, Recordable,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -156,11 +159,23 @@ where
     let mut outcomes: Vec<Option<Outcome>> = vec![None; total];
     let mut known: Vec<Descriptor> = Vec::new();
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
+    let mut prev_stride = 0usize;
     for stride in [16usize, 4, 1] {
         let cells: Vec<usize> = (0..total)
             .filter(|&c| outcomes[c].is_none() && (c % nx) % stride == 0 && (c / nx) % stride == 0)
             .collect();
         let snapshot = known.clone();
+        // the cells of the earlier passes, as labelled lattice for capture by the grid
+        let labels =
+            (prev_stride > 0 && opts.identify.early_capture && !snapshot.is_empty()).then(|| {
+                CellLabels {
+                    x: opts.x,
+                    v: opts.v,
+                    stride: prev_stride,
+                    labels: assigned.clone(),
+                }
+            });
+        prev_stride = stride;
         let mesh = model
             .as_mesh()
             .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify));
@@ -180,10 +195,14 @@ where
                 .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
                 .collect();
             let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
-            let computed =
-                crate::lanes::identify_lanes(mesh, &y0s, &snapshot, &opts.identify, |i, o| {
-                    on_cell(todo[i].0, o)
-                });
+            let computed = crate::lanes::identify_lanes_in(
+                mesh,
+                &y0s,
+                &snapshot,
+                labels.as_ref(),
+                &opts.identify,
+                |i, o| on_cell(todo[i].0, o),
+            );
             let mut computed = computed.into_iter();
             cells
                 .iter()
@@ -205,7 +224,7 @@ where
                         None => {}
                     }
                     let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
-                    let o = identify(model, y0, &snapshot, &opts.identify);
+                    let o = identify_in(model, y0, &snapshot, labels.as_ref(), &opts.identify);
                     on_cell(c, &o);
                     (c, o)
                 })
