@@ -1,7 +1,7 @@
 //! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (docs/model.md §5).
 //!
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
-//! (every 16th cell, every 4th, then all). Within a pass the table of known attractors and the
+//! (every 16th cell, every 8th, 4th, 2nd, then all). Within a pass the table of known attractors and the
 //! labels of the cells of earlier passes are fixed; cells run in parallel with early capture
 //! against the attractors and against the labelled cells (a trajectory landing, at the grid's
 //! phase, in a square of the labelled lattice whose corners and neighbours all belong to one
@@ -160,7 +160,8 @@ where
     let mut known: Vec<Descriptor> = Vec::new();
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
     let mut prev_stride = 0usize;
-    for stride in [16usize, 4, 1] {
+    // halving the stride from pass to pass: each pass captures by a lattice twice as fine
+    for stride in [16usize, 8, 4, 2, 1] {
         let cells: Vec<usize> = (0..total)
             .filter(|&c| outcomes[c].is_none() && (c % nx) % stride == 0 && (c / nx) % stride == 0)
             .collect();
