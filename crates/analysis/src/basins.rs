@@ -1,7 +1,8 @@
 //! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (docs/model.md §5).
 //!
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
-//! (every 16th cell, every 8th, 4th, 2nd, then all). Within a pass the table of known attractors and the
+//! (every 16th cell — every 32nd, 64th, ... on grids larger than 304 x 304 — then every 8th, 4th,
+//! 2nd, and all). Within a pass the table of known attractors and the
 //! labels of the cells of earlier passes are fixed; cells run in parallel with early capture
 //! against the attractors and against the labelled cells (a trajectory landing, at the grid's
 //! phase, in a square of the labelled lattice whose corners and neighbours all belong to one
@@ -85,6 +86,10 @@ pub struct BasinResult {
     pub periods: u64,
 }
 
+/// Most cells of the first pass (every cell of it runs the whole transient and is recorded): its
+/// stride is the first of 16, 32, 64, ... that keeps it within this (16 on grids up to 304 x 304).
+const FIRST_PASS_CELLS: usize = 361;
+
 fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..known.len()).collect();
     let key = |d: &Descriptor| {
@@ -161,7 +166,12 @@ where
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
     let mut prev_stride = 0usize;
     // halving the stride from pass to pass: each pass captures by a lattice twice as fine
-    for stride in [16usize, 8, 4, 2, 1] {
+    let mut first = 16usize;
+    while nx.div_ceil(first) * nv.div_ceil(first) > FIRST_PASS_CELLS {
+        first *= 2;
+    }
+    let strides = std::iter::successors(Some(first), |&s| (s > 1).then_some(s / 2));
+    for stride in strides {
         let cells: Vec<usize> = (0..total)
             .filter(|&c| outcomes[c].is_none() && (c % nx) % stride == 0 && (c / nx) % stride == 0)
             .collect();
