@@ -467,6 +467,65 @@ pub fn consolidate<S: Recordable>(
     *known = kept;
 }
 
+/// Labels of the cells of a basin grid finished in earlier passes, for capture by the grid
+/// ("cell capture"): a trajectory whose stroboscopic point (at the phase of the grid's initial
+/// states) lands inside the square of labelled cell centres whose corners and ring of neighbours
+/// ([`CellLabels::RING`]) all carry attractor `k`, in [`CellLabels::HITS`] consecutive periods,
+/// goes to `k` — the basin is uniform there at the resolution of the labelled lattice, so only a
+/// trajectory passing within a lattice spacing of a basin boundary can be misjudged, and such a
+/// trajectory starts next to a boundary (the boundary is invariant under the map).
+#[derive(Clone, Debug)]
+pub struct CellLabels {
+    /// `x` axis of the grid.
+    pub x: crate::basins::Axis,
+    /// `v` axis of the grid.
+    pub v: crate::basins::Axis,
+    /// Spacing (in cells) of the labelled lattice: cells `(ix, iv)` with `ix % stride == 0` and
+    /// `iv % stride == 0` are labelled.
+    pub stride: usize,
+    /// Attractor id per cell (`labels[iv * nx + ix]`); negative: not an attractor (divergent,
+    /// failed, not yet computed).
+    pub labels: Vec<i64>,
+}
+
+impl CellLabels {
+    /// Lattice nodes around the square that must agree, on each side (0: the four corners only).
+    pub const RING: usize = 1;
+    /// Consecutive periods a trajectory must land in uniform squares of one attractor.
+    pub const HITS: u32 = 2;
+
+    /// The attractor of the uniform labelled square holding `y`, if there is one.
+    pub fn lookup(&self, y: &[f64; 2]) -> Option<usize> {
+        let s = self.stride.max(1) as f64;
+        let node = |a: &crate::basins::Axis, u: f64| -> Option<(usize, usize)> {
+            // fractional cell index (centres at integers), in lattice units
+            let f = ((u - a.min) / (a.max - a.min) * a.n as f64 - 0.5) / s;
+            if !f.is_finite() || f < 0.0 {
+                return None;
+            }
+            let i = f.floor() as usize;
+            let (lo, hi) = (i.checked_sub(Self::RING)?, i + 1 + Self::RING);
+            // the last node of the lattice is (n - 1) / stride
+            (hi <= (a.n - 1) / self.stride.max(1)).then_some((lo, hi))
+        };
+        let (x0, x1) = node(&self.x, y[0])?;
+        let (v0, v1) = node(&self.v, y[1])?;
+        let st = self.stride.max(1);
+        let first = self.labels[v0 * st * self.x.n + x0 * st];
+        if first < 0 {
+            return None;
+        }
+        for iv in v0..=v1 {
+            for ix in x0..=x1 {
+                if self.labels[iv * st * self.x.n + ix * st] != first {
+                    return None;
+                }
+            }
+        }
+        Some(first as usize)
+    }
+}
+
 pub(crate) struct Capture<'a> {
     pub(crate) known: &'a [Descriptor],
     pub(crate) tol: f64,
@@ -475,6 +534,28 @@ pub(crate) struct Capture<'a> {
     pub(crate) state: Vec<(usize, usize, f64)>,
     pub(crate) captured: Option<usize>,
     pub(crate) diverged: bool,
+    /// Labels of finished cells, and the run of consecutive uniform squares (attractor, count).
+    pub(crate) cells: Option<&'a CellLabels>,
+    pub(crate) cell_run: (usize, u32),
+}
+
+impl<'a> Capture<'a> {
+    pub(crate) fn new(
+        known: &'a [Descriptor],
+        cells: Option<&'a CellLabels>,
+        opts: &IdentifyOptions,
+    ) -> Self {
+        Capture {
+            known,
+            tol: opts.capture_tol,
+            divergence: opts.divergence,
+            state: vec![(0, 0, f64::INFINITY); known.len()],
+            captured: None,
+            diverged: false,
+            cells,
+            cell_run: (0, 0),
+        }
+    }
 }
 
 impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
@@ -514,6 +595,25 @@ impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
                 self.captured = Some(k);
             }
         }
+        if self.captured.is_some() {
+            return;
+        }
+        if let Some(cells) = self.cells {
+            self.cell_run = match cells.lookup(y) {
+                Some(k) if k < self.known.len() => {
+                    let run = if self.cell_run.0 == k {
+                        self.cell_run.1 + 1
+                    } else {
+                        1
+                    };
+                    if run >= CellLabels::HITS {
+                        self.captured = Some(k);
+                    }
+                    (k, run)
+                }
+                _ => (0, 0),
+            };
+        }
     }
 }
 
@@ -525,17 +625,22 @@ pub fn identify<S: Recordable>(
     known: &[Descriptor],
     opts: &IdentifyOptions,
 ) -> Outcome {
+    identify_in(sys, y0, known, None, opts)
+}
+
+/// As [`identify`], also captured by the labelled cells of a basin grid (see [`CellLabels`];
+/// early capture must be on). `cells` labels are ids into `known`.
+pub fn identify_in<S: Recordable>(
+    sys: &S,
+    y0: [f64; 2],
+    known: &[Descriptor],
+    cells: Option<&CellLabels>,
+    opts: &IdentifyOptions,
+) -> Outcome {
     let run = || -> Result<Outcome, SolverError> {
         let mut it = Integrator::new(sys, sys.scheme(&opts.sim), opts.sim.tau0, y0)?;
         let period = sys.strobe_period();
-        let mut cap = Capture {
-            known,
-            tol: opts.capture_tol,
-            divergence: opts.divergence,
-            state: vec![(0, 0, f64::INFINITY); known.len()],
-            captured: None,
-            diverged: false,
-        };
+        let mut cap = Capture::new(known, cells, opts);
         let mut done = 0u64;
         while done < opts.sim.transient_periods {
             if opts.early_capture && !known.is_empty() {

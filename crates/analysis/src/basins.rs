@@ -1,8 +1,12 @@
 //! Basins of attraction on a grid of initial states `(x0, x0')` at a given phase (docs/model.md §5).
 //!
 //! Deterministic for any thread count: cells are processed in passes over nested sub-grids
-//! (every 16th cell, every 4th, then all). Within a pass the table of known attractors is fixed,
-//! cells run in parallel with early capture against it, and new attractors are merged in cell
+//! (every 16th cell — every 32nd, 64th, ... on grids larger than 304 x 304 — then every 8th, 4th,
+//! 2nd, and all). Within a pass the table of known attractors and the
+//! labels of the cells of earlier passes are fixed; cells run in parallel with early capture
+//! against the attractors and against the labelled cells (a trajectory landing, at the grid's
+//! phase, in a square of the labelled lattice whose corners and neighbours all belong to one
+//! attractor, in two consecutive periods: [`CellLabels`]), and new attractors are merged in cell
 //! order afterwards, then consolidated (new non-periodic records decided, records of one motion
 //! merged: [`crate::attractor::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
 //! period, then position of the first point), so they do not depend on the order of discovery
@@ -10,7 +14,7 @@
 //! explicitly; fractions, with them, sum to one.
 
 use crate::attractor::{
-    assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome, Recordable,
+    assign, consolidate, identify_in, CellLabels, Descriptor, IdentifyOptions, Outcome, Recordable,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -81,6 +85,10 @@ pub struct BasinResult {
     /// Excitation periods integrated in all.
     pub periods: u64,
 }
+
+/// Most cells of the first pass (every cell of it runs the whole transient and is recorded): its
+/// stride is the first of 16, 32, 64, ... that keeps it within this (16 on grids up to 304 x 304).
+const FIRST_PASS_CELLS: usize = 361;
 
 fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..known.len()).collect();
@@ -156,11 +164,29 @@ where
     let mut outcomes: Vec<Option<Outcome>> = vec![None; total];
     let mut known: Vec<Descriptor> = Vec::new();
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
-    for stride in [16usize, 4, 1] {
+    let mut prev_stride = 0usize;
+    // halving the stride from pass to pass: each pass captures by a lattice twice as fine
+    let mut first = 16usize;
+    while nx.div_ceil(first) * nv.div_ceil(first) > FIRST_PASS_CELLS {
+        first *= 2;
+    }
+    let strides = std::iter::successors(Some(first), |&s| (s > 1).then_some(s / 2));
+    for stride in strides {
         let cells: Vec<usize> = (0..total)
             .filter(|&c| outcomes[c].is_none() && (c % nx) % stride == 0 && (c / nx) % stride == 0)
             .collect();
         let snapshot = known.clone();
+        // the cells of the earlier passes, as labelled lattice for capture by the grid
+        let labels =
+            (prev_stride > 0 && opts.identify.early_capture && !snapshot.is_empty()).then(|| {
+                CellLabels {
+                    x: opts.x,
+                    v: opts.v,
+                    stride: prev_stride,
+                    labels: assigned.clone(),
+                }
+            });
+        prev_stride = stride;
         let mesh = model
             .as_mesh()
             .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify));
@@ -180,10 +206,14 @@ where
                 .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
                 .collect();
             let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
-            let computed =
-                crate::lanes::identify_lanes(mesh, &y0s, &snapshot, &opts.identify, |i, o| {
-                    on_cell(todo[i].0, o)
-                });
+            let computed = crate::lanes::identify_lanes_in(
+                mesh,
+                &y0s,
+                &snapshot,
+                labels.as_ref(),
+                &opts.identify,
+                |i, o| on_cell(todo[i].0, o),
+            );
             let mut computed = computed.into_iter();
             cells
                 .iter()
@@ -205,7 +235,7 @@ where
                         None => {}
                     }
                     let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
-                    let o = identify(model, y0, &snapshot, &opts.identify);
+                    let o = identify_in(model, y0, &snapshot, labels.as_ref(), &opts.identify);
                     on_cell(c, &o);
                     (c, o)
                 })

@@ -20,7 +20,7 @@
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
-use crate::attractor::{Capture, Descriptor, IdentifyOptions, Outcome};
+use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
 use crate::driver::Observer;
 use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -578,6 +578,7 @@ struct IdDriver<'s, 'q, F, const L: usize> {
     next: usize,
     opts: &'q IdentifyOptions,
     known: &'q [Descriptor],
+    cells: Option<&'q CellLabels>,
     steps_per_cycle: u32,
     jobs: [Option<(usize, IdPhase<'s, 'q>)>; L],
     acc: Acc<L>,
@@ -594,14 +595,8 @@ where
         let &(out, y0) = self.items.get(self.next)?;
         self.next += 1;
         let o = self.opts;
-        let cap = (o.early_capture && !self.known.is_empty()).then(|| Capture {
-            known: self.known,
-            tol: o.capture_tol,
-            divergence: o.divergence,
-            state: vec![(0, 0, f64::INFINITY); self.known.len()],
-            captured: None,
-            diverged: false,
-        });
+        let cap = (o.early_capture && !self.known.is_empty())
+            .then(|| Capture::new(self.known, self.cells, o));
         self.jobs[l] = Some((out, IdPhase::Transient { done: 0, cap }));
         Some(Start {
             sys: self.model,
@@ -757,6 +752,22 @@ pub fn identify_lanes<F>(
 where
     F: Fn(usize, &Outcome) + Sync,
 {
+    identify_lanes_in(model, y0s, known, None, opts, on_done)
+}
+
+/// As [`identify_lanes`], also captured by the labelled cells of a basin grid
+/// ([`crate::attractor::identify_in`]: the same outcomes).
+pub fn identify_lanes_in<F>(
+    model: &MeshModel,
+    y0s: &[[f64; 2]],
+    known: &[Descriptor],
+    cells: Option<&CellLabels>,
+    opts: &IdentifyOptions,
+    on_done: F,
+) -> Vec<Outcome>
+where
+    F: Fn(usize, &Outcome) + Sync,
+{
     let Method::Rk4 { steps_per_cycle } = opts.sim.method else {
         panic!("identify_lanes needs the RK4 method");
     };
@@ -773,6 +784,7 @@ where
                 next: 0,
                 opts,
                 known,
+                cells,
                 steps_per_cycle: n,
                 jobs: std::array::from_fn(|_| None),
                 acc: Acc::new(),

@@ -1,6 +1,6 @@
 //! Basins of attraction: symmetry, sums, refinement, determinism, early termination.
 
-use geardyn_analysis::attractor::{IdentifyOptions, StrobeOnly};
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome, StrobeOnly};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::reference::Duffing;
@@ -142,4 +142,87 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
     let half: HashMap<_, _> = all.into_iter().filter(|(c, _)| c % 2 == 0).collect();
     let resumed = basins(&m, &opts(16), &half, |c, _| assert!(!half.contains_key(&c)));
     assert_eq!(resumed.cells, coarse.cells);
+}
+
+#[test]
+fn cell_labels_capture_only_inside_a_uniform_square() {
+    use geardyn_analysis::attractor::CellLabels;
+    // 9 x 9 grid on [0, 9]^2 (centres at i + 0.5), lattice of every 2nd cell: nodes 0, 2, .., 8
+    let axis = Axis {
+        min: 0.0,
+        max: 9.0,
+        n: 9,
+    };
+    let mut labels = vec![i64::MIN; 81];
+    for iv in (0..9).step_by(2) {
+        for ix in (0..9).step_by(2) {
+            labels[iv * 9 + ix] = 0;
+        }
+    }
+    let mut cells = CellLabels {
+        x: axis,
+        v: axis,
+        stride: 2,
+        labels,
+    };
+    // the square of nodes 2..4 (centres 2.5..4.5) with its ring of nodes 0..6 is uniform
+    assert_eq!(cells.lookup(&[3.0, 3.7]), Some(0));
+    // too close to the edge for a ring of nodes, or outside
+    assert_eq!(cells.lookup(&[1.0, 3.0]), None);
+    assert_eq!(cells.lookup(&[8.8, 3.0]), None);
+    assert_eq!(cells.lookup(&[-3.0, 3.0]), None);
+    // one ring node of another attractor (or divergent) spoils the square
+    cells.labels[6 * 9 + 6] = 1;
+    assert_eq!(cells.lookup(&[3.0, 3.7]), None);
+    cells.labels[6 * 9 + 6] = -1;
+    assert_eq!(cells.lookup(&[3.0, 3.7]), None);
+    cells.labels[6 * 9 + 6] = 0;
+    assert_eq!(cells.lookup(&[3.0, 3.7]), Some(0));
+}
+
+#[test]
+fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
+    // C1 at omega = 1.8, RK4 lanes: most cells of the later passes are captured by the labelled
+    // cells; the result is the same for 1 and 2 threads and on the scalar path
+    use geardyn_analysis::basins::basins_scalar;
+    use geardyn_analysis::simulate::Method;
+    let mut p = presets::classic();
+    p.omega = 1.8;
+    let m = MeshModel::new(&p).unwrap();
+    let axis = |n, r: f64| Axis { min: -r, max: r, n };
+    let mut identify = IdentifyOptions::default();
+    identify.sim.method = Method::Rk4 {
+        steps_per_cycle: 128,
+    };
+    identify.sim.transient_periods = 300;
+    identify.sim.record_periods = 16;
+    let opts = BasinOptions {
+        x: axis(40, 2.0),
+        v: axis(40, 1.5),
+        identify,
+    };
+    let quick = std::sync::atomic::AtomicUsize::new(0);
+    let one = in_pool(1, || {
+        basins(&m, &opts, &HashMap::new(), |_, o| {
+            // capture by an attractor needs tens of periods (from O(1) to 1e-4 of it); by the
+            // labelled cells, a few
+            if matches!(o, Outcome::Captured { periods, .. } if *periods <= 10) {
+                quick.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+        })
+    });
+    let two = in_pool(2, || basins(&m, &opts, &HashMap::new(), |_, _| {}));
+    assert_eq!(one.cells, two.cells);
+    assert_eq!(one.periods, two.periods);
+    // the scalar path: the same cells (a capture may come a period apart: the lanes' phase
+    // tables differ from the scalar path by ulps)
+    let scalar = basins_scalar(&m, &opts, &HashMap::new(), |_, _| {});
+    assert_eq!(one.cells, scalar.cells);
+    assert!(one.periods.abs_diff(scalar.periods) * 1000 < one.periods);
+    let quick = quick.into_inner();
+    assert!(
+        quick > 800,
+        "{quick} of 1600 cells captured within 10 periods"
+    );
+    assert!(one.attractors.len() >= 2);
 }
