@@ -80,6 +80,7 @@ impl Recordable for MeshModel {
         // a point of the stroboscopic record: its time is tau0 plus whole excitation periods
         let opts = SimOptions {
             transient_periods: 0,
+            record_periods: sim.record_periods.max(DECIDE_RECORD),
             trajectory: false,
             ..*sim
         };
@@ -216,6 +217,9 @@ pub struct Descriptor {
     /// mesh cycles (breakage) and the motion is periodic (the second clock).
     #[serde(default)]
     pub mesh_period: Option<usize>,
+    /// A non-periodic attractor already followed to confirm that it persists ([`consolidate`]).
+    #[serde(skip)]
+    pub persistence_checked: bool,
 }
 
 /// Share of one cloud's points that must lie near the other for two non-periodic descriptors to
@@ -223,6 +227,9 @@ pub struct Descriptor {
 pub const CONTAINED: f64 = 0.8;
 /// "Near" for non-periodic clouds: this fraction of the diagonal of their joint bounding box.
 pub const NEAR: f64 = 0.05;
+/// Recorded periods (at least) of the run that decides a new non-periodic attractor, so that its
+/// cloud is dense enough to be matched even when the cells record only a few periods.
+pub const DECIDE_RECORD: u64 = 128;
 /// Points kept for a merged non-periodic attractor.
 pub const MAX_CLOUD: usize = 256;
 
@@ -329,6 +336,7 @@ impl Descriptor {
             p_id,
             motion,
             mesh_period: None,
+            persistence_checked: false,
         }
     }
 
@@ -421,6 +429,60 @@ pub fn consolidate<S: Recordable>(
             *d = sys.decide(d, &opts.sim);
         }
     }
+    merge_all(known, ids, opts.match_tol);
+    // an attractor persists: a non-periodic one is followed for PERSIST_FACTOR transients more,
+    // and if it lands on a periodic orbit it was transient chaos (long chaotic transients are
+    // common near crises); the cells that reached it go to that orbit
+    loop {
+        let periodic: Vec<Descriptor> = known.iter().filter(|d| d.period > 0).cloned().collect();
+        let mut changed = false;
+        for d in known.iter_mut() {
+            if d.period > 0 || d.persistence_checked {
+                continue;
+            }
+            d.persistence_checked = true;
+            let Some(&y0) = d.points.last() else { continue };
+            let follow = IdentifyOptions {
+                sim: SimOptions {
+                    transient_periods: PERSIST_FACTOR * opts.sim.transient_periods.max(100),
+                    ..opts.sim
+                },
+                early_capture: true,
+                ..*opts
+            };
+            match identify(sys, y0, &periodic, &follow) {
+                Outcome::Captured { id, .. } => {
+                    *d = periodic[id].clone();
+                    changed = true;
+                }
+                Outcome::Recorded(r) if r.period > 0 => {
+                    *d = r;
+                    changed = true;
+                }
+                Outcome::Recorded(r) if !r.points.is_empty() => {
+                    // still not periodic: where it is now (a chaotic transient has reached the
+                    // attractor it feeds, and merges with it; a persistent one stays itself)
+                    d.bbox = r.bbox;
+                    d.points = r.points;
+                    changed = true;
+                }
+                _ => {}
+            }
+        }
+        if !changed {
+            break;
+        }
+        merge_all(known, ids, opts.match_tol);
+    }
+}
+
+/// Transients (of the identification's length, at least 100 periods) a non-periodic attractor is
+/// followed to confirm that it persists.
+pub const PERSIST_FACTOR: u64 = 10;
+
+/// Merges matching descriptors of `known` transitively (the earliest index survives) and
+/// renumbers `ids`.
+fn merge_all(known: &mut Vec<Descriptor>, ids: &mut [i64], match_tol: f64) {
     // union-find over the table, earliest index as the root
     let n = known.len();
     let mut root: Vec<usize> = (0..n).collect();
@@ -438,7 +500,7 @@ pub fn consolidate<S: Recordable>(
         for j in 1..n {
             for i in 0..j {
                 let (ri, rj) = (find(&mut root, i), find(&mut root, j));
-                if ri != rj && known[ri].matches(&known[rj], opts.match_tol) {
+                if ri != rj && known[ri].matches(&known[rj], match_tol) {
                     let (lo, hi) = (ri.min(rj), ri.max(rj));
                     let other = known[hi].clone();
                     known[lo].absorb(&other);

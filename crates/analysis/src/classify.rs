@@ -280,7 +280,14 @@ pub fn simulate_decided_with(
     }
     let motion = match tle {
         Some((l, se)) if significantly_positive(l, se) => Motion::Chaotic { tle: l, stderr: se },
-        Some((l, se)) if how.extend && l.abs() <= (3.0 * se).max(TLE_POSITIVE) => {
+        // quasi-periodic only on decisive evidence: an exponent precisely zero (within 1e-3,
+        // with a standard error below 1e-3) and a record long enough for every period tested
+        Some((l, se))
+            if how.extend
+                && l.abs() <= TLE_POSITIVE
+                && se <= TLE_POSITIVE
+                && opts.record_periods >= 3 * opts.max_period as u64 =>
+        {
             Motion::QuasiPeriodic { tle: l, stderr: se }
         }
         Some((l, se)) => Motion::Unsettled {

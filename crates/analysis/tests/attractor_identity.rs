@@ -207,3 +207,20 @@ fn chaotic_records_of_one_cloud_match_and_separate_clouds_do_not() {
     let early = Descriptor::new(0, "unsettled".into(), false, &approach[..6], 0.0, 0.0);
     assert!(!early.matches(&orbit, 1e-3));
 }
+
+#[test]
+fn transient_chaos_is_not_an_attractor() {
+    // internal preset at its operating point (omega = 1.4, F = 0.07, xi = 0.23): some initial
+    // states wander chaotically for several hundred periods (TLE ~0.09) before settling on the
+    // period-3 orbit; with a 2000-period transient every cell ends there. The chaotic record is
+    // followed until it lands, so it is not listed as an attractor.
+    let model = ScenarioSpec::preset("internal")
+        .unwrap()
+        .resolve()
+        .unwrap()
+        .model()
+        .clone();
+    let r = run(&model, 40, 300);
+    assert_eq!(labels(&r), vec!["3-1-1-1-1".to_string()], "{:?}", labels(&r));
+    assert_eq!(r.attractors[0].fraction, 1.0);
+}
