@@ -108,8 +108,9 @@ pub struct Interval {
     pub to: f64,
     /// Healthy attractors: `(branch, label, min fraction, max fraction)`.
     pub healthy: Vec<(usize, String, f64, f64)>,
-    /// Unstable attractors.
-    pub unstable: Vec<(usize, String, f64, f64)>,
+    /// Non-healthy attractors (back-side contact, or not periodic; the seeds call them
+    /// "unstable", which does not mean dynamically unstable).
+    pub non_healthy: Vec<(usize, String, f64, f64)>,
 }
 
 /// Continuation result.
@@ -275,7 +276,7 @@ pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> Conti
                         branches: vec![branch[a]],
                         text: format!(
                             "{} attractor {} (branch {}) appears{}",
-                            if d.healthy { "healthy" } else { "unstable" },
+                            crate::simulate::health_text(d.healthy, d.period > 0),
                             d.label,
                             branch[a],
                             if persisting > 0 {
@@ -382,7 +383,7 @@ fn intervals(per_value: &[ValueAttractors], points: &[BranchPoint]) -> Vec<Inter
                 let list = if p.healthy {
                     &mut iv.healthy
                 } else {
-                    &mut iv.unstable
+                    &mut iv.non_healthy
                 };
                 if let Some(e) = list.iter_mut().find(|e| e.0 == p.branch) {
                     e.2 = e.2.min(p.fraction);
@@ -394,14 +395,14 @@ fn intervals(per_value: &[ValueAttractors], points: &[BranchPoint]) -> Vec<Inter
                 from: va.value,
                 to: va.value,
                 healthy: vec![],
-                unstable: vec![],
+                non_healthy: vec![],
             };
             for p in &here {
                 let e = (p.branch, p.label.clone(), p.fraction, p.fraction);
                 if p.healthy {
                     iv.healthy.push(e);
                 } else {
-                    iv.unstable.push(e);
+                    iv.non_healthy.push(e);
                 }
             }
             out.push(iv);

@@ -221,6 +221,11 @@ fn transient_chaos_is_not_an_attractor() {
         .model()
         .clone();
     let r = run(&model, 40, 300);
-    assert_eq!(labels(&r), vec!["3-1-1-1-1".to_string()], "{:?}", labels(&r));
+    assert_eq!(
+        labels(&r),
+        vec!["3-1-1-1-1".to_string()],
+        "{:?}",
+        labels(&r)
+    );
     assert_eq!(r.attractors[0].fraction, 1.0);
 }

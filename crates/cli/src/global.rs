@@ -80,9 +80,14 @@ fn parse_axis(s: &str) -> Result<(char, Axis)> {
     if parts.len() != 4 || !(parts[0] == "x" || parts[0] == "v") {
         bail!("bad --grid '{s}': expected x:MIN:MAX:N or v:MIN:MAX:N");
     }
-    let (lo, hi, n) = parse_range(&parts[1..].join(":"))?;
-    if hi <= lo || n > 4000 {
-        bail!("bad --grid '{s}': MIN < MAX and 1 <= N <= 4000");
+    let (lo, hi, n) = crate::sweep::parse_range_of(
+        &parts[1..].join(":"),
+        &format!("--grid {}", parts[0]),
+        "x:MIN:MAX:N or v:MIN:MAX:N",
+        4000,
+    )?;
+    if hi <= lo || n > 4000 || lo.abs() > 1e3 || hi.abs() > 1e3 {
+        bail!("bad --grid '{s}': MIN < MAX within ±1000 (initial states in length scales and their rates) and 1 <= N <= 4000");
     }
     Ok((
         parts[0].chars().next().unwrap_or('x'),
@@ -161,11 +166,21 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     )?;
     npy::write_i64(&a.out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
     write_json(&a.out.join("attractors.json"), &r)?;
-    let title = format!("Basins of attraction at phase {}", a.phase);
+    let title = {
+        let p = scenario.params();
+        format!(
+            "Basins of attraction: {}, omega = {}, F = {}, xi = {}, phase {}",
+            a.cfg.source(),
+            geardyn_model::error::num(p.omega),
+            geardyn_model::error::num(p.load),
+            geardyn_model::error::num(p.xi),
+            a.phase
+        )
+    };
     sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
     for at in &r.attractors {
         println!(
-            "attractor #{}: {}{} ({}), basin fraction {:.4}",
+            "attractor #{}: {}{}, {}, basin fraction {:.4}",
             at.id,
             at.descriptor.label,
             at.descriptor
@@ -313,12 +328,12 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
                 .join(", ")
         };
         println!(
-            "{} in [{:.4}, {:.4}]: healthy {{{}}} non-healthy (back-side contact) {{{}}}",
+            "{} in [{:.4}, {:.4}]: healthy {{{}}} non-healthy (back-side contact or not periodic) {{{}}}",
             a.param,
             iv.from,
             iv.to,
             fmt(&iv.healthy),
-            fmt(&iv.unstable)
+            fmt(&iv.non_healthy)
         );
     }
     for e in &r.events {

@@ -29,20 +29,36 @@ enum Command {
     Show(run_config::ConfigArgs),
     /// Mesh stiffness, load shares, friction factors and backlash over the excitation period
     /// (healthy versus broken for a broken pair): stiffness.csv and plots.
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Stiffness(stiffness::StiffnessArgs),
     /// Integrate the model and write trajectory, stroboscopic points, events, summary and plots.
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Simulate(simulate::SimulateArgs),
     /// Bifurcation diagram over a parameter (fixed, continuation or multi-initial), resumable.
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Bifurcation(bifurcation::BifurcationArgs),
     /// Top Lyapunov exponent (variational with saltation, and/or two-trajectory).
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Lyapunov(lyapunov::LyapunovArgs),
     /// Frequency response: up and down continuation sweeps, RMS and peak-to-peak, jumps.
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Response(bifurcation::ResponseArgs),
     /// Basins of attraction on a grid of initial states, with automatic attractor identification.
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Basins(global::BasinArgs),
     /// Attractor continuation along a parameter: branches, basin fractions, events (resumable).
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Continuation(global::ContinuationArgs),
     /// Two-parameter map of max mesh force, P_ID, period, TLE or motion class (resumable).
+    // negative values after a space (`--phase -0.1`) are values, not flags
+    #[command(allow_negative_numbers = true)]
     Map2d(global::MapArgs),
     /// Measure integrator and sweep speed on case C1 and print the figures.
     Bench(bench::BenchArgs),

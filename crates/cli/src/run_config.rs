@@ -37,6 +37,15 @@ impl ConfigArgs {
         Ok(c)
     }
 
+    /// What the model comes from, for titles: `preset classic` or `config <file>`.
+    pub fn source(&self) -> String {
+        match (&self.preset, &self.config) {
+            (_, Some(path)) => format!("config {}", path.display()),
+            (Some(name), None) => format!("preset {name}"),
+            (None, None) => "preset classic".into(),
+        }
+    }
+
     /// The configuration and the scenario it resolves to (validated).
     pub fn resolve(&self) -> Result<(Config, Scenario)> {
         let c = self.config()?;

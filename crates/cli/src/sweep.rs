@@ -53,26 +53,39 @@ impl SimArgs {
     }
 }
 
-/// Parses `START:STOP:COUNT`.
+/// Parses `START:STOP:COUNT` of `--range`.
 pub fn parse_range(s: &str) -> Result<(f64, f64, usize)> {
+    parse_range_of(s, "--range", "START:STOP:COUNT, e.g. 0.5:2:200", 1_000_000)
+}
+
+/// Parses `START:STOP:COUNT` given to option `flag` (named in errors, with the expected `form`),
+/// at most `max_count` values; the spacing `(STOP - START) / COUNT` must be finite too.
+pub fn parse_range_of(
+    s: &str,
+    flag: &str,
+    form: &str,
+    max_count: usize,
+) -> Result<(f64, f64, usize)> {
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
-        bail!("bad --range '{s}': expected START:STOP:COUNT, e.g. 0.5:2:200");
+        bail!("bad {flag} '{s}': expected {form}");
     }
     let a: f64 = parts[0]
         .trim()
         .parse()
-        .with_context(|| format!("bad --range start '{}'", parts[0]))?;
+        .with_context(|| format!("bad {flag} '{s}': start '{}' is not a number", parts[0]))?;
     let b: f64 = parts[1]
         .trim()
         .parse()
-        .with_context(|| format!("bad --range stop '{}'", parts[1]))?;
-    let n: usize = parts[2]
-        .trim()
-        .parse()
-        .with_context(|| format!("bad --range count '{}': a positive integer", parts[2]))?;
-    if !(a.is_finite() && b.is_finite()) || n == 0 || n > 1_000_000 {
-        bail!("bad --range '{s}': finite START, STOP and 1 <= COUNT <= 1000000");
+        .with_context(|| format!("bad {flag} '{s}': stop '{}' is not a number", parts[1]))?;
+    let n: usize = parts[2].trim().parse().with_context(|| {
+        format!(
+            "bad {flag} '{s}': count '{}' is not a positive integer",
+            parts[2]
+        )
+    })?;
+    if !(a.is_finite() && b.is_finite() && (b - a).is_finite()) || n == 0 || n > max_count {
+        bail!("bad {flag} '{s}': finite start and stop (finite difference too) and 1 <= count <= {max_count}");
     }
     Ok((a, b, n))
 }

@@ -367,17 +367,24 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
         .map(|at| {
             LegendEntry::dot(
                 format!(
-                    "#{} {} {} ({:.1} %)",
+                    "#{} {}{}, {} ({:.1} %)",
                     at.id,
                     if at.descriptor.period > 0 {
-                        at.descriptor.label.as_str()
+                        at.descriptor.label.clone()
+                    } else {
+                        // the decided class, without the crossing rates
+                        at.descriptor.motion.word().to_string()
+                    },
+                    at.descriptor
+                        .mesh_period
+                        .map_or(String::new(), |m| format!(" [{m} mesh cycles]")),
+                    if at.descriptor.healthy {
+                        "healthy"
+                    } else if at.descriptor.period > 0 {
+                        "back-side contact"
                     } else {
                         "not periodic"
                     },
-                    geardyn_analysis::simulate::health_text(
-                        at.descriptor.healthy,
-                        at.descriptor.period > 0
-                    ),
                     100.0 * at.fraction
                 ),
                 palette(at.id),

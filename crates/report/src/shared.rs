@@ -621,7 +621,7 @@ pub fn continuation_figure(
         ],
         c.intervals
             .iter()
-            .map(|iv| vec![f(iv.from), f(iv.to), fmt(&iv.healthy), fmt(&iv.unstable)])
+            .map(|iv| vec![f(iv.from), f(iv.to), fmt(&iv.healthy), fmt(&iv.non_healthy)])
             .collect(),
     )?;
     Ok((
