@@ -689,7 +689,7 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
         Verdict::NotReproduced
     };
     let hi_txt = format!(
-        "F in (0.1, 0.15): periodic without impacts at {}, undecided {}, chaotic {}, impacts at {} of values",
+        "F in [0.1075, 0.1425] (the seed's F > 0.1 without its boundary): periodic without impacts at {}, undecided {}, chaotic {}, impacts at {} of values",
         pct(hi_ok),
         pct(hi_undecided),
         pct(hi_chaos),
@@ -756,7 +756,7 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
             "At higher loads (F > 0.1) the motion is periodic without back-side impact",
             format!("{A000} ¶9"),
             "F > 0.1: periodic, no impact",
-            hi_txt.clone(),
+            format!("{hi_txt}; the last value with impacts is F = {} (seed's border 0.1)", f(largest_imp)),
             hi_verdict,
             format!("Broken pair, omega = 1.2, F in [0.1075, 0.1425] (the interval trimmed by 15 % at each end); largest F with impacts {}. Undecided = no period within the extended transient and a TLE that is not significantly positive (slow transients between periodic branches); they do not contradict the statement.", f(largest_imp)),
         ),

@@ -35,7 +35,16 @@ pub fn f(v: f64) -> String {
 
 /// A percentage (`49 %`).
 pub fn pct(v: f64) -> String {
-    format!("{:.0} %", 100.0 * v)
+    // a share that exists but rounds to zero must not read as absent
+    if v > 0.0 && v < 0.005 {
+        if v < 0.001 {
+            "< 0.1 %".into()
+        } else {
+            format!("{:.1} %", 100.0 * v)
+        }
+    } else {
+        format!("{:.0} %", 100.0 * v)
+    }
 }
 
 /// A range `a–b` (or the single value).
@@ -106,5 +115,18 @@ mod tests {
         assert_eq!(f(1234.567), "1235");
         assert_eq!(f(-0.00001), "-1.000e-5");
         assert_eq!(range(0.1, 0.1), "0.1");
+    }
+}
+
+#[cfg(test)]
+mod pct_tests {
+    use super::pct;
+
+    #[test]
+    fn small_shares_do_not_read_as_absent() {
+        assert_eq!(pct(0.0), "0 %");
+        assert_eq!(pct(0.0004), "< 0.1 %");
+        assert_eq!(pct(0.003), "0.3 %");
+        assert_eq!(pct(0.5), "50 %");
     }
 }
