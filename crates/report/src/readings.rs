@@ -116,11 +116,6 @@ mod tests {
         assert_eq!(f(-0.00001), "-1.000e-5");
         assert_eq!(range(0.1, 0.1), "0.1");
     }
-}
-
-#[cfg(test)]
-mod pct_tests {
-    use super::pct;
 
     #[test]
     fn small_shares_do_not_read_as_absent() {
