@@ -392,6 +392,54 @@ fn attractor_colors(n: usize) -> Vec<PlotColor> {
     (0..n).map(palette).collect()
 }
 
+/// A box of initial states: `(x0 range, x0' range)`.
+pub type StateBox = ((f64, f64), (f64, f64));
+
+/// Basin shares of one model on further boxes of initial states (no figure): the seeds never give
+/// their box, and attractor shares depend on it, so share claims are read against several boxes.
+/// Returns `(box description, result)` per box, in the order given.
+#[allow(clippy::too_many_arguments)]
+pub fn basin_boxes(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    model: &MeshModel,
+    n: usize,
+    boxes: &[StateBox],
+    identify: IdentifyOptions,
+) -> Result<Vec<(String, BasinResult)>> {
+    let mut out = Vec::new();
+    for (i, &(x, v)) in boxes.iter().enumerate() {
+        let opts = BasinOptions {
+            x: Axis {
+                min: x.0,
+                max: x.1,
+                n,
+            },
+            v: Axis {
+                min: v.0,
+                max: v.1,
+                n,
+            },
+            identify,
+        };
+        let r = ctx.basins(dir, &safe(&format!("{name}_box{i}")), model, &opts)?;
+        out.push((box_text(x, v), r));
+    }
+    Ok(out)
+}
+
+/// `x0 ∈ [a, b], x0' ∈ [c, d]` for people.
+pub fn box_text(x: (f64, f64), v: (f64, f64)) -> String {
+    format!(
+        "x0 ∈ [{}, {}], x0' ∈ [{}, {}]",
+        f(x.0),
+        f(x.1),
+        f(v.0),
+        f(v.1)
+    )
+}
+
 /// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv`; the box is
 /// `x0 in x`, `x0' in v`. Returns the figure, a table of the attractors and the result.
 #[allow(clippy::too_many_arguments)]
