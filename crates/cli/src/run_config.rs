@@ -21,6 +21,11 @@ pub struct ConfigArgs {
     /// point, omega/F/xi/c/D set here take precedence and are recorded.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
+    /// Contact law of both flanks, replacing the configuration's [model.contact]:
+    /// LAW[:EXPONENT[:RESTITUTION]], e.g. linear (seed B's dimensionless studies), power:1.5,
+    /// lankarani_nikravesh:1.19:0.8.
+    #[arg(long, value_name = "LAW")]
+    pub contact: Option<String>,
 }
 
 impl ConfigArgs {
@@ -31,6 +36,9 @@ impl ConfigArgs {
             (Some(name), None) => Config::preset(name)?,
             (None, None) => Config::preset("classic")?,
         };
+        if let Some(law) = &self.contact {
+            c.apply_contact(law)?;
+        }
         for s in &self.sets {
             c.apply_set(s)?;
         }

@@ -2,7 +2,7 @@
 //! and `NAME=VALUE` overrides. The resolved configuration is echoed into every output folder.
 
 use geardyn_analysis::simulate::{Method, SimOptions};
-use geardyn_model::{presets, ModelError, ModelParams};
+use geardyn_model::{presets, ContactLaw, ModelError, ModelParams};
 use geardyn_physics::{PairSpec, PhysicsError};
 use geardyn_scenario::{Scenario, ScenarioError, ScenarioSpec};
 use serde::{Deserialize, Serialize};
@@ -102,6 +102,14 @@ pub enum ConfigError {
     /// A bad `NAME=VALUE` override.
     #[error("bad --set '{0}': expected NAME=VALUE with a number, e.g. omega=1.3")]
     SetSyntax(String),
+    /// A bad `--contact` value.
+    #[error("bad --contact '{value}': {msg}; expected LAW[:EXPONENT[:RESTITUTION]] with LAW one of linear, power, hunt_crossley, lankarani_nikravesh, impact_damping (e.g. linear, power:1.5, lankarani_nikravesh:1.1:0.8)")]
+    Contact {
+        /// The value given.
+        value: String,
+        /// What is wrong.
+        msg: String,
+    },
     /// A simulation setting out of range.
     #[error("invalid simulation.{field} = {value}: allowed {allowed}")]
     Simulation {
@@ -347,6 +355,46 @@ impl Config {
         self.set(name.trim(), value)
     }
 
+    /// Replaces the contact law of both flanks: `LAW[:EXPONENT[:RESTITUTION]]`, the fields of
+    /// `[model.contact]` in order (`linear`, `power:1.5`, `lankarani_nikravesh:1.1:0.8`). The
+    /// law is range-checked with the rest of the model by [`Config::resolve`].
+    pub fn apply_contact(&mut self, value: &str) -> Result<(), ConfigError> {
+        let err = |msg: String| ConfigError::Contact {
+            value: value.into(),
+            msg,
+        };
+        let mut parts = value.split(':').map(str::trim);
+        let law = parts.next().unwrap_or_default();
+        if law.is_empty() || !law.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+            return Err(err("no law name".into()));
+        }
+        let mut toml_text = format!("law = \"{law}\"\n");
+        for (field, part) in ["exponent", "restitution"].iter().zip(parts.by_ref()) {
+            let v: f64 = part
+                .parse()
+                .map_err(|_| err(format!("{field} '{part}' is not a number")))?;
+            if !v.is_finite() {
+                return Err(err(format!("{field} {v} is not finite")));
+            }
+            toml_text.push_str(&format!("{field} = {v:?}\n"));
+        }
+        if parts.next().is_some() {
+            return Err(err("more than three fields".into()));
+        }
+        let law_value: ContactLaw =
+            toml::from_str(&toml_text).map_err(|e| err(e.message().to_string()))?;
+        // a field the law does not have would otherwise be dropped without a word
+        let back = toml::Value::try_from(&law_value).map_err(|e| err(e.to_string()))?;
+        let given = toml_text.lines().count() - 1;
+        let kept = back.as_table().map_or(0, |t| t.len() - 1);
+        if given > kept {
+            let field = ["exponent", "restitution"][kept];
+            return Err(err(format!("{law} has no {field}")));
+        }
+        self.model.contact = law_value;
+        Ok(())
+    }
+
     /// The builder inputs of this configuration.
     pub fn spec(&self) -> ScenarioSpec {
         ScenarioSpec {
@@ -545,5 +593,37 @@ mod tests {
         t = t.replace("omega = 0.8", "omega = 0.8\nomegaa = 1.0");
         let e = Config::from_toml(&t).unwrap_err().to_string();
         assert!(e.contains("omegaa"), "{e}");
+    }
+
+    #[test]
+    fn contact_law_from_the_command_line() {
+        let mut c = Config::preset("internal").unwrap();
+        c.apply_contact("linear").unwrap();
+        assert_eq!(c.model.contact, ContactLaw::Linear);
+        assert_eq!(c.resolve().unwrap().params().contact, ContactLaw::Linear);
+        c.apply_contact("lankarani_nikravesh:1.2:0.8").unwrap();
+        assert_eq!(
+            c.model.contact,
+            ContactLaw::LankaraniNikravesh {
+                exponent: 1.2,
+                restitution: 0.8
+            }
+        );
+        for (bad, says) in [
+            ("linear:1.5", "linear has no exponent"),
+            ("power:1.5:0.3", "restitution"),
+            ("lankarani_nikravesh:1.1", "restitution"),
+            ("hertz", "unknown variant"),
+            ("power:x", "exponent 'x'"),
+            ("power:inf", "not finite"),
+            ("", "no law name"),
+        ] {
+            let e = c.apply_contact(bad).unwrap_err().to_string();
+            assert!(e.contains(says) && e.contains("--contact"), "{bad}: {e}");
+        }
+        // ranges are checked with the rest of the model
+        c.apply_contact("power:0.5").unwrap();
+        let e = c.resolve().unwrap_err().to_string();
+        assert!(e.contains("exponent") && e.contains("[1, 3]"), "{e}");
     }
 }
