@@ -384,7 +384,7 @@ impl Config {
         let law_value: ContactLaw =
             toml::from_str(&toml_text).map_err(|e| err(e.message().to_string()))?;
         // a field the law does not have would otherwise be dropped without a word
-        let back = toml::Value::try_from(&law_value).map_err(|e| err(e.to_string()))?;
+        let back = toml::Value::try_from(law_value).map_err(|e| err(e.to_string()))?;
         let given = toml_text.lines().count() - 1;
         let kept = back.as_table().map_or(0, |t| t.len() - 1);
         if given > kept {
