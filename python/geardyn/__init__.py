@@ -19,6 +19,10 @@ set : dict, optional
     ``c``, ``D``, ``D_d``, ``D_s``, ``kappa``, ``R``, ...) and simulation settings (``x0``,
     ``v0``, ``tau0``, ``rtol``, ``atol``, ``steps_per_cycle``, ``transient_periods``,
     ``record_periods``); see :func:`parameter_names` and docs/configuration.md.
+contact : str, optional (keyword)
+    The contact law of both flanks as the CLI's ``--contact`` takes it,
+    ``LAW[:EXPONENT[:RESTITUTION]]``: ``"linear"``, ``"power:1.5"``,
+    ``"lankarani_nikravesh:1.19:0.8"``; applied before the overrides.
 
 Errors
 ------
@@ -94,6 +98,11 @@ def _assignment(name, value):
 
 
 def _source(preset, config, set_, params):
+    # contact="linear" (LAW[:EXPONENT[:RESTITUTION]]) is the CLI's --contact, not a number
+    params = dict(params)
+    contact = params.pop("contact", None)
+    if contact is not None and not isinstance(contact, str):
+        raise TypeError("contact: a law as the CLI's --contact takes it, e.g. 'linear' or 'power:1.5'")
     sets = []
     if set_ is not None:
         if not isinstance(set_, Mapping):
@@ -110,7 +119,13 @@ def _source(preset, config, set_, params):
             raise TypeError("config: a path to a TOML file or a dict from geardyn.config()")
     if preset is not None and not isinstance(preset, str):
         raise TypeError("preset: a preset name (see geardyn.presets())")
-    return {"preset": preset, "config_path": path, "config_json": text, "sets": sets}
+    return {
+        "preset": preset,
+        "config_path": path,
+        "config_json": text,
+        "sets": sets,
+        "contact": contact,
+    }
 
 
 def _opt_float(name, v):
@@ -1027,6 +1042,11 @@ def report(preset="breakage", out="out/report", *, quick=False, set=None, progre
         The page, ``OUT/<preset>/index.html``.
     """
     src = _source(preset, None, set, params)
+    if src["contact"] is not None:
+        raise ValueError(
+            "report: contact is not an option (each study sets its own contact law; "
+            "the seed B studies use the linear law and show the preset's beside it)"
+        )
     payload = json.dumps(
         {"preset": preset, "sets": src["sets"], "quick": bool(quick), "out": os.fspath(out)}
     )

@@ -32,6 +32,7 @@ struct Source {
     config_path: Option<String>,
     config_json: Option<String>,
     sets: Vec<String>,
+    contact: Option<String>,
 }
 
 impl Source {
@@ -54,6 +55,9 @@ impl Source {
             (Some(name), None, None) => Config::preset(name)?,
             (None, None, None) => Config::preset("classic")?,
         };
+        if let Some(law) = &self.contact {
+            c.apply_contact(law)?;
+        }
         for s in &self.sets {
             c.apply_set(s)?;
         }

@@ -72,6 +72,10 @@ def test_config_round_trips(tmp_path):
     assert geardyn.config(config=str(path)) == cfg
     # simulation settings as parameters
     assert geardyn.config(x0=0.5, record_periods=7)["simulation"]["record_periods"] == 7
+    # the contact law as the CLI's --contact
+    lin = geardyn.config(preset="internal", contact="linear")
+    assert lin["model"]["contact"] == {"law": "linear"}
+    assert cfg["model"]["contact"]["law"] == "lankarani_nikravesh"
 
 
 def test_derived():
@@ -165,6 +169,9 @@ def test_stiffness_tables():
         (lambda: geardyn.lyapunov(max_periods=5), ValueError, "max-periods"),
         (lambda: geardyn.map2d(x=("xi",)), TypeError, "x"),
         (lambda: geardyn.report(preset="nope", out="/tmp/never"), ValueError, "nope"),
+        (lambda: geardyn.simulate(contact="power:1.5:0.3"), ValueError, "--contact"),
+        (lambda: geardyn.simulate(contact=1.5), TypeError, "contact"),
+        (lambda: geardyn.report(contact="linear", out="/tmp/never"), ValueError, "contact"),
     ],
 )
 def test_bad_input_raises(call, exc, text):
