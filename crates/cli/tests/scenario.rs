@@ -89,6 +89,38 @@ fn every_command_integrates_the_operating_point_that_was_set() {
 }
 
 #[test]
+fn every_command_runs_the_contact_law_that_was_given() {
+    for cmd in [
+        "simulate",
+        "bifurcation",
+        "response",
+        "basins",
+        "continuation",
+        "map2d",
+    ] {
+        let dir = tmp(&format!("contact-{cmd}"));
+        let mut args = strs(&[cmd, "--preset", "internal", "--contact", "power:1.5"]);
+        args.extend(strs(&command_args(cmd)));
+        args.extend(strs(&["--out", dir.to_str().unwrap()]));
+        let (code, _, err) = geardyn(&args);
+        assert_eq!(code, 0, "{cmd}: {err}");
+        let text = std::fs::read_to_string(dir.join("run.json")).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let law = &v["config"]["model"]["contact"];
+        assert_eq!(law["law"], "power", "{cmd}: {law}");
+        assert_eq!(law["exponent"], 1.5, "{cmd}: {law}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // a field the law does not have is refused, naming the option
+    let (code, _, err) = geardyn(&strs(&["simulate", "--contact", "linear:2"]));
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--contact") && err.contains("linear has no exponent"),
+        "{err}"
+    );
+}
+
+#[test]
 fn a_set_operating_point_changes_the_result_on_every_preset() {
     for preset in PRESETS {
         let mut summaries = Vec::new();
