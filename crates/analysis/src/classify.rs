@@ -7,10 +7,19 @@
 //! `2^MAX_EXTENSIONS` times the requested transient, at least [`MIN_EXTENSION`] periods per
 //! round) and, if still undecided, is reported as `unsettled` with its numbers — never as chaos.
 //!
+//! Two more checks keep transients out of the verdict:
+//! * a positive exponent is followed one more transient before the motion is called chaotic:
+//!   a chaotic transient that lands on a periodic orbit (internal pair, omega = 1.84: ~400
+//!   periods of transient chaos) is then periodic;
+//! * a periodic record whose first points are still transient (the orbit was reached inside the
+//!   record) is recorded again from its final state, so that forces, P_ID and health describe
+//!   the orbit and not the approach to it.
+//!
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
 use crate::lyapunov::{tle_variational, LyapunovOptions};
+use crate::period::on_cycle_throughout;
 use crate::simulate::{
     simulate, summarize, summarize_tol, SimError, SimOptions, SimResult, Summary,
 };
@@ -215,12 +224,41 @@ pub fn simulate_decided_with(
         // NaN counts as runaway too
         (x_max.is_nan() || x_max > DIVERGED_SCALES * scale).then_some(Motion::Diverged { x_max })
     };
+    // A periodic record whose head is still transient (the orbit was reached inside the record)
+    // would give the orbit the forces, P_ID and health of its transient: record again from the
+    // final state, which is on the orbit. Once, so the cost stays bounded.
+    let settle = |res: SimResult,
+                  s: Summary,
+                  tol: f64,
+                  used: &mut SimOptions|
+     -> Result<(SimResult, Summary), SimError> {
+        let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        if on_cycle_throughout(&pts, s.period, tol) {
+            return Ok((res, s));
+        }
+        let (t, y) = res.final_state;
+        let again = SimOptions {
+            tau0: t,
+            transient_periods: 0,
+            ..*opts
+        };
+        let res2 = sim(model, y, &again)?;
+        let s2 = summarize_tol(model, &res2, &again, tol);
+        if s2.motion.is_periodic() {
+            used.transient_periods += opts.record_periods;
+            Ok((res2, s2))
+        } else {
+            Ok((res, s))
+        }
+    };
+    let strict = opts.method.period_tol();
     let (mut res, mut s) = first;
     if let Some(d) = runaway(&res) {
         s.set_motion(d);
         return Ok((res, s, used));
     }
     if s.motion.is_periodic() {
+        let (res, s) = settle(res, s, strict, &mut used)?;
         return Ok((res, s, used));
     }
     let mut tle = None;
@@ -229,6 +267,28 @@ pub fn simulate_decided_with(
         tle = tle_from(model, opts, t, y);
         if let Some((l, se)) = tle {
             if significantly_positive(l, se) {
+                if how.extend {
+                    // a chaotic transient shows a positive exponent too: before calling the
+                    // motion chaotic, follow it one more transient and look again
+                    let more = SimOptions {
+                        tau0: res.final_state.0,
+                        transient_periods: opts.transient_periods.max(MIN_EXTENSION),
+                        ..*opts
+                    };
+                    let res2 = sim(model, res.final_state.1, &more)?;
+                    used.transient_periods += opts.record_periods + more.transient_periods;
+                    let mut s2 = summarize(model, &res2, &more);
+                    if let Some(d) = runaway(&res2) {
+                        s2.set_motion(d);
+                        return Ok((res2, s2, used));
+                    }
+                    if s2.motion.is_periodic() {
+                        let (res2, s2) = settle(res2, s2, strict, &mut used)?;
+                        return Ok((res2, s2, used));
+                    }
+                    res = res2;
+                    s = s2;
+                }
                 s.set_motion(Motion::Chaotic { tle: l, stderr: se });
                 return Ok((res, s, used));
             }
@@ -254,6 +314,7 @@ pub fn simulate_decided_with(
                 return Ok((res, s, used));
             }
             if s.motion.is_periodic() {
+                let (res, s) = settle(res, s, strict, &mut used)?;
                 return Ok((res, s, used));
             }
         }
@@ -267,13 +328,10 @@ pub fn simulate_decided_with(
             // an attracting motion of a periodically forced one-degree-of-freedom system is a
             // periodic orbit: the strict test failed on the integrator's noise (long excitation
             // periods with many events), so its period is read at a looser tolerance
-            let loose = summarize_tol(
-                model,
-                &res,
-                &last_opts,
-                ATTRACTING_PERIOD_TOL_FACTOR * opts.method.period_tol(),
-            );
+            let loose_tol = ATTRACTING_PERIOD_TOL_FACTOR * strict;
+            let loose = summarize_tol(model, &res, &last_opts, loose_tol);
             if loose.motion.is_periodic() {
+                let (res, loose) = settle(res, loose, loose_tol, &mut used)?;
                 return Ok((res, loose, used));
             }
         }

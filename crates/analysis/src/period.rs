@@ -41,6 +41,32 @@ pub fn minimal_period_tol<const N: usize>(
     })
 }
 
+/// Whether the whole sequence `pts` lies on a cycle of period `n`: every point repeats the one
+/// `n` before it within `rel_tol * (1 + max |state|)` (the test of [`minimal_period_tol`], over
+/// the whole record instead of its end). `false` when the motion reached its orbit only inside
+/// the record: statistics of such a record mix transient and steady state.
+///
+/// ```
+/// use geardyn_analysis::period::on_cycle_throughout;
+/// let mut pts: Vec<[f64; 1]> = (0..12).map(|j| [(j % 2) as f64]).collect();
+/// assert!(on_cycle_throughout(&pts, 2, 1e-9));
+/// pts[0][0] = 0.5; // the first point is still transient
+/// assert!(!on_cycle_throughout(&pts, 2, 1e-9));
+/// ```
+pub fn on_cycle_throughout<const N: usize>(pts: &[[f64; N]], n: usize, rel_tol: f64) -> bool {
+    let scale = 1.0
+        + pts
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+    let tol = rel_tol * scale;
+    n > 0
+        && (n..pts.len()).all(|j| {
+            let d: f64 = (0..N).map(|i| (pts[j][i] - pts[j - n][i]).abs()).sum();
+            d <= tol
+        })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
