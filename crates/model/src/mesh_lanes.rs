@@ -52,20 +52,29 @@ pub struct MeshLanes {
     u0: f64,
     steps: usize,
     inv_n: f64,
-    /// Per step and stage (`3*j + stage`): excitation cosine and its derivative by the phase (in
-    /// cycles), stiffness and its derivative by the phase, friction factors.
-    cos: Vec<f64>,
-    dcos: Vec<f64>,
-    k: Vec<f64>,
-    dk: Vec<f64>,
-    hd: Vec<f64>,
-    hb: Vec<f64>,
-    /// Per step: half backlash.
-    d: Vec<f64>,
-    /// Per step: may hold a time breakpoint (scalar in every lane).
-    scalar: Vec<bool>,
+    /// One row per step: everything a step reads, contiguous (one bounds check, one cache line
+    /// pair per step).
+    rows: Vec<Row>,
     linear: bool,
     unilateral: bool,
+    /// Some stiffness derivative is nonzero (harmonic stiffness): the stiffness takes the
+    /// first-order time correction; otherwise `k + 0 * delta == k` and the kernel skips it.
+    harmonic: bool,
+}
+
+/// The phase-table row of one grid step: per stage (start, middle, end) the excitation cosine
+/// and its derivative by the phase (in cycles), the stiffness and its derivative by the phase,
+/// the friction factors; the half backlash of the step and whether it may hold a time breakpoint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Row {
+    cos: [f64; 3],
+    dcos: [f64; 3],
+    k: [f64; 3],
+    dk: [f64; 3],
+    hd: [f64; 3],
+    hb: [f64; 3],
+    d: f64,
+    scalar: bool,
 }
 
 /// Constants of one lane: contact selectors and the lane model's own amplitudes.
@@ -148,6 +157,27 @@ fn clamp(f: f64, lo: f64, hi: f64) -> f64 {
     }
 }
 
+/// `a.max(b)` for a non-NaN `a` (then equal to `f64::max` for any `b`, NaN included; one
+/// instruction instead of three).
+#[inline(always)]
+fn max_fast(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `a.min(b)` for non-NaN operands (equal to `f64::min` there; one instruction).
+#[inline(always)]
+fn min_fast(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 impl MeshLanes {
     /// Tables of `model` for `steps_per_cycle` RK4 steps per mesh cycle, the grid starting at
     /// `tau0`.
@@ -170,30 +200,31 @@ impl MeshLanes {
             StiffnessForm::Harmonic { kappa } => kappa,
             _ => 0.0,
         };
-        let mut cos = Vec::with_capacity(3 * steps);
-        let mut dcos = Vec::with_capacity(3 * steps);
-        let mut k = Vec::with_capacity(3 * steps);
-        let mut dk = Vec::with_capacity(3 * steps);
-        let mut hd = Vec::with_capacity(3 * steps);
-        let mut hb = Vec::with_capacity(3 * steps);
-        let mut d = Vec::with_capacity(steps);
+        let mut rows = Vec::with_capacity(steps);
         for j in 0..steps {
+            let mut r = Row {
+                cos: [0.0; 3],
+                dcos: [0.0; 3],
+                k: [0.0; 3],
+                dk: [0.0; 3],
+                hd: [0.0; 3],
+                hb: [0.0; 3],
+                d: model.backlash_at(pos(2 * j + 1)),
+                scalar: false,
+            };
             for s in 0..3 {
                 let u = pos(2 * j + s);
-                cos.push(cos_cycles(u));
+                r.cos[s] = cos_cycles(u);
                 // d cos(2 pi u) / du = -2 pi sin(2 pi u)
                 let dc = -2.0 * PI * cos_cycles(u - 0.25);
-                dcos.push(dc);
-                k.push(model.stiffness_at(u));
-                dk.push(kappa * dc);
-                let (a, b) = model.friction_factors_at(u);
-                hd.push(a);
-                hb.push(b);
+                r.dcos[s] = dc;
+                r.k[s] = model.stiffness_at(u);
+                r.dk[s] = kappa * dc;
+                (r.hd[s], r.hb[s]) = model.friction_factors_at(u);
             }
-            d.push(model.backlash_at(pos(2 * j + 1)));
+            rows.push(r);
         }
         // steps that may hold a segment border: (u_j - delta, u_{j+1} + delta], any wrap
-        let mut scalar = vec![false; steps];
         let segs = model.segments();
         if segs.len() > 1 {
             let nf = n as f64;
@@ -210,12 +241,13 @@ impl MeshLanes {
                         let a = u0 + j / nf;
                         let b = u0 + (j + 1.0) / nf;
                         if e > a - delta && e <= b + delta {
-                            scalar[j as usize] = true;
+                            rows[j as usize].scalar = true;
                         }
                     }
                 }
             }
         }
+        let harmonic = rows.iter().any(|r| r.dk.iter().any(|&x| x != 0.0));
         let p = model.params();
         MeshLanes {
             n,
@@ -223,16 +255,10 @@ impl MeshLanes {
             u0,
             steps,
             inv_n: 1.0 / n as f64,
-            cos,
-            dcos,
-            k,
-            dk,
-            hd,
-            hb,
-            d,
-            scalar,
+            rows,
             linear: model.contact_law().exponent() == 1.0,
             unilateral: p.unilateral,
+            harmonic,
         }
     }
 
@@ -243,7 +269,7 @@ impl MeshLanes {
 
     /// Steps flagged for the scalar integrator (they may hold a time breakpoint).
     pub fn scalar_steps(&self) -> usize {
-        self.scalar.iter().filter(|&&s| s).count()
+        self.rows.iter().filter(|r| r.scalar).count()
     }
 
     /// Start position of the grid in the excitation period (mesh cycles).
@@ -290,19 +316,26 @@ impl MeshLanes {
         })
     }
 
-    /// Excitation cosine and stiffness of half-step `m` for a lane at grid position `grid` whose
+    /// Excitation cosine and stiffness of `stage` of row `r` for a lane at grid position `grid` whose
     /// scalar counterpart evaluates them at the phase `s` (cycles, from its rounded time): the
     /// tabulated values at the exact phase, corrected to first order by the difference
     /// `s - (u0 + grid/n)` reduced to the nearest integer (exact when `n` is a power of two and
     /// the grid starts at phase 0).
     #[inline(always)]
-    fn cos_k(&self, m: usize, s: f64, grid: f64) -> (f64, f64) {
-        let e = s - (self.u0 + grid * self.inv_n);
-        let delta = e - round_near(e);
+    fn cos_k(&self, r: &Row, stage: usize, s: f64, grid: f64) -> (f64, f64) {
+        let delta = self.phase_delta(s, grid);
         (
-            self.cos[m] + self.dcos[m] * delta,
-            self.k[m] + self.dk[m] * delta,
+            r.cos[stage] + r.dcos[stage] * delta,
+            r.k[stage] + r.dk[stage] * delta,
         )
+    }
+
+    /// The phase difference `s - (u0 + grid/n)` reduced to the nearest integer (see
+    /// [`MeshLanes::cos_k`]).
+    #[inline(always)]
+    fn phase_delta(&self, s: f64, grid: f64) -> f64 {
+        let e = s - (self.u0 + grid * self.inv_n);
+        e - round_near(e)
     }
 
     /// For a lane whose step has no guard sign change at its ends but does not clear the interior
@@ -377,6 +410,100 @@ impl MeshLanes {
         true
     }
 
+    /// The fused RK4 step of every lane (see [`Lockstep::step`]), specialised at compile time
+    /// for the unilateral clamp (`UNI`) and for a stiffness with a time correction (`HARM`;
+    /// without it `k + dk * delta` is `k + 0 * delta == k` exactly, as `delta` is finite).
+    /// Returns bit `l` set when lane `l`'s step is finite and clears both guards by the interior
+    /// bound, and bit `32 + l` when it is finite. `max`/`min` are plain comparisons: the `max`
+    /// chain equals `f64::max`'s for any operand, the `min` only differs on a NaN state, whose
+    /// lane is not finite and therefore not cleared either way.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn kernel<const UNI: bool, const HARM: bool, const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &mut Soa<2, L>,
+        f1: &mut Soa<2, L>,
+    ) -> u64 {
+        // the row of step j, read once: middle (k2, k3) and end (k4, f1) coefficients
+        let r = &self.rows[j];
+        let (cm, dcm, kkm, dkm, hdm, hbm) =
+            (r.cos[1], r.dcos[1], r.k[1], r.dk[1], r.hd[1], r.hb[1]);
+        let (ce, dce, kke, dke, hde, hbe) =
+            (r.cos[2], r.dcos[2], r.k[2], r.dk[2], r.hd[2], r.hb[2]);
+        let d = r.d;
+        let mut bits = [0u64; L];
+        for l in 0..L {
+            let h = t1[l] - t0[l];
+            let h2 = 0.5 * h;
+            let h6 = h * (1.0 / 6.0);
+            let (tm, te) = (t0[l] + h2, t0[l] + h);
+            let (sd, sb, c) = (ln.sd[l], ln.sb[l], ln.c[l]);
+            let off = (sd - sb) * d;
+            // stage coefficients (as cos_k)
+            let dm = self.phase_delta(ln.w[l] * tm * (0.5 / PI), grid[l] + 0.5);
+            let de = self.phase_delta(ln.w[l] * te * (0.5 / PI), grid[l] + 1.0);
+            let (csm, km) = (cm + dcm * dm, if HARM { kkm + dkm * dm } else { kkm });
+            let (cse, ke) = (ce + dce * de, if HARM { kke + dke * de } else { kke });
+            let excm = ln.load[l] + ln.xiw2[l] * csm;
+            let exce = ln.load[l] + ln.xiw2[l] * cse;
+            let hfm = sd * hdm + sb * hbm;
+            let hfe = sd * hde + sb * hbe;
+            let (lo, hi) = (ln.lo[l], ln.hi[l]);
+            let acc = |exc: f64, hf: f64, k: f64, x: f64, v: f64| {
+                let mut fm = k * (x - off) + c * v;
+                if UNI {
+                    fm = clamp(fm, lo, hi);
+                }
+                exc - hf * fm
+            };
+            let (x0, v0) = (y0[0][l], y0[1][l]);
+            let (a0x, a0v) = (f0[0][l], f0[1][l]);
+            let (xt, vt) = (x0 + h2 * a0x, v0 + h2 * a0v);
+            let (k2x, k2v) = (vt, acc(excm, hfm, km, xt, vt));
+            let (xt, vt) = (x0 + h2 * k2x, v0 + h2 * k2v);
+            let (k3x, k3v) = (vt, acc(excm, hfm, km, xt, vt));
+            let (xt, vt) = (x0 + h * k3x, v0 + h * k3v);
+            let (k4x, k4v) = (vt, acc(exce, hfe, ke, xt, vt));
+            let x1 = x0 + h6 * (a0x + 2.0 * (k2x + k3x) + k4x);
+            let v1 = v0 + h6 * (a0v + 2.0 * (k2v + k3v) + k4v);
+            let (b1x, b1v) = (v1, acc(exce, hfe, ke, x1, v1));
+            y1[0][l] = x1;
+            y1[1][l] = v1;
+            f1[0][l] = b1x;
+            f1[1][l] = b1v;
+            // interior bound of the Hermite interpolant (max over x, x' of |r2| + |r3|)
+            let dx = x1 - x0;
+            let r2x = h * a0x - dx;
+            let r3x = dx - h * b1x - r2x;
+            let dv = v1 - v0;
+            let r2v = h * a0v - dv;
+            let r3v = dv - h * b1v - r2v;
+            let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
+            let finite = (x1.abs() < f64::INFINITY)
+                & (v1.abs() < f64::INFINITY)
+                & (b1v.abs() < f64::INFINITY);
+            let margin = 0.25 * dev;
+            let (ga0, ga1) = (x0 - d, x1 - d);
+            let (gb0, gb1) = (x0 + d, x1 + d);
+            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
+            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
+            let ok = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
+            bits[l] = ((ok as u64) << l) | ((finite as u64) << (32 + l));
+        }
+        let mut all = 0u64;
+        for b in bits {
+            all |= b;
+        }
+        all
+    }
+
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as
     /// [`MeshModel::mesh_force`] computes it at the times `at.t`.
     #[inline(always)]
@@ -391,11 +518,12 @@ impl MeshLanes {
         v: &[f64; L],
         out: &mut [f64; L],
     ) {
-        let m = 3 * j + stage as usize;
-        let d = self.d[j];
+        let r = &self.rows[j];
+        let st = stage as usize;
+        let d = r.d;
         for l in 0..L {
             // (MeshModel::mesh_force writes the phase as omega t / (2 pi))
-            let (_, k) = self.cos_k(m, ln.w[l] * at.t[l] / (2.0 * PI), at.grid[l]);
+            let (_, k) = self.cos_k(r, st, ln.w[l] * at.t[l] / (2.0 * PI), at.grid[l]);
             let off = (ln.sd[l] - ln.sb[l]) * d;
             let mut f = k * (x[l] - off) + ln.c[l] * v[l];
             if self.unilateral {
@@ -417,7 +545,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
 
     #[inline(always)]
     fn scalar_phase(&self, j: usize) -> bool {
-        self.scalar[j]
+        self.rows[j].scalar
     }
 
     fn set_lane(
@@ -464,13 +592,14 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         y: &Soa<2, L>,
         dy: &mut Soa<2, L>,
     ) {
-        let m = 3 * j + stage as usize;
-        let (hd, hb) = (self.hd[m], self.hb[m]);
-        let d = self.d[j];
+        let r = &self.rows[j];
+        let st = stage as usize;
+        let (hd, hb) = (r.hd[st], r.hb[st]);
+        let d = r.d;
         for l in 0..L {
             let (x, v) = (y[0][l], y[1][l]);
             // (MeshModel::time_terms writes the phase as omega t (0.5 / pi))
-            let (cs, k) = self.cos_k(m, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
+            let (cs, k) = self.cos_k(r, st, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
             let exc = ln.load[l] + ln.xiw2[l] * cs;
             let hf = ln.sd[l] * hd + ln.sb[l] * hb;
             let off = (ln.sd[l] - ln.sb[l]) * d;
@@ -485,7 +614,8 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
 
     /// The RK4 step of the default method, fused into one pass per lane (the whole step of a lane
     /// lives in registers; the loop over lanes vectorises): the same operations in the same
-    /// order, so the same results.
+    /// order, so the same results. Dispatches once per step to a copy of the kernel specialised
+    /// for the table's contact clamp and stiffness form ([`MeshLanes::kernel`]).
     #[inline(always)]
     fn step(
         &self,
@@ -499,82 +629,25 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
-        let (mm, me) = (3 * j + 1, 3 * j + 2);
-        let (hdm, hbm, hde, hbe) = (self.hd[mm], self.hb[mm], self.hd[me], self.hb[me]);
-        let d = self.d[j];
-        let mut ok = [false; L];
-        let mut fin = [false; L];
-        for l in 0..L {
-            let h = t1[l] - t0[l];
-            let h2 = 0.5 * h;
-            let h6 = h * (1.0 / 6.0);
-            let (tm, te) = (t0[l] + h2, t0[l] + h);
-            let (sd, sb, c) = (ln.sd[l], ln.sb[l], ln.c[l]);
-            let off = (sd - sb) * d;
-            // stage coefficients (middle: k2, k3; end: k4, f1)
-            let (csm, km) = self.cos_k(mm, ln.w[l] * tm * (0.5 / PI), grid[l] + 0.5);
-            let (cse, ke) = self.cos_k(me, ln.w[l] * te * (0.5 / PI), grid[l] + 1.0);
-            let excm = ln.load[l] + ln.xiw2[l] * csm;
-            let exce = ln.load[l] + ln.xiw2[l] * cse;
-            let hfm = sd * hdm + sb * hbm;
-            let hfe = sd * hde + sb * hbe;
-            let (lo, hi) = (ln.lo[l], ln.hi[l]);
-            let uni = self.unilateral;
-            let acc = |exc: f64, hf: f64, k: f64, x: f64, v: f64| {
-                let mut fm = k * (x - off) + c * v;
-                if uni {
-                    fm = clamp(fm, lo, hi);
-                }
-                exc - hf * fm
-            };
-            let (x0, v0) = (y0[0][l], y0[1][l]);
-            let (a0x, a0v) = (f0[0][l], f0[1][l]);
-            let (xt, vt) = (x0 + h2 * a0x, v0 + h2 * a0v);
-            let (k2x, k2v) = (vt, acc(excm, hfm, km, xt, vt));
-            let (xt, vt) = (x0 + h2 * k2x, v0 + h2 * k2v);
-            let (k3x, k3v) = (vt, acc(excm, hfm, km, xt, vt));
-            let (xt, vt) = (x0 + h * k3x, v0 + h * k3v);
-            let (k4x, k4v) = (vt, acc(exce, hfe, ke, xt, vt));
-            let x1 = x0 + h6 * (a0x + 2.0 * (k2x + k3x) + k4x);
-            let v1 = v0 + h6 * (a0v + 2.0 * (k2v + k3v) + k4v);
-            let (b1x, b1v) = (v1, acc(exce, hfe, ke, x1, v1));
-            y1[0][l] = x1;
-            y1[1][l] = v1;
-            f1[0][l] = b1x;
-            f1[1][l] = b1v;
-            // interior bound of the Hermite interpolant (max over x, x' of |r2| + |r3|)
-            let dx = x1 - x0;
-            let r2x = h * a0x - dx;
-            let r3x = dx - h * b1x - r2x;
-            let dv = v1 - v0;
-            let r2v = h * a0v - dv;
-            let r3v = dv - h * b1v - r2v;
-            let dev = 0.0f64.max(r2x.abs() + r3x.abs()).max(r2v.abs() + r3v.abs());
-            let finite = (x1.abs() < f64::INFINITY)
-                & (v1.abs() < f64::INFINITY)
-                & (b1v.abs() < f64::INFINITY);
-            let margin = 0.25 * dev;
-            let (ga0, ga1) = (x0 - d, x1 - d);
-            let (gb0, gb1) = (x0 + d, x1 + d);
-            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (ga0.abs().min(ga1.abs()) > margin);
-            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (gb0.abs().min(gb1.abs()) > margin);
-            ok[l] = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
-            fin[l] = finite;
-        }
-        let mut mask = 0u32;
-        let mut near = 0u32;
-        for l in 0..L {
-            mask |= (ok[l] as u32) << l;
-            near |= (fin[l] as u32) << l;
-        }
+        let bits = match (self.unilateral, self.harmonic) {
+            (false, false) => self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+        };
+        let mut mask = bits as u32;
         // lanes near a surface without a sign change at the ends: the scalar integrator's
         // midpoint test decides (rare: next to events)
-        let mut rest = near & !mask;
-        while rest != 0 {
-            let l = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
-            if self.no_event_by_midpoint(d, ln.sd[l], ln.sb[l], t1[l] - t0[l], l, y0, f0, y1, f1) {
-                mask |= 1 << l;
+        let mut rest = (bits >> 32) as u32 & !mask;
+        if rest != 0 {
+            let d = self.rows[j].d;
+            while rest != 0 {
+                let l = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                let h = t1[l] - t0[l];
+                if self.no_event_by_midpoint(d, ln.sd[l], ln.sb[l], h, l, y0, f0, y1, f1) {
+                    mask |= 1 << l;
+                }
             }
         }
         mask
@@ -589,7 +662,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         y1: &Soa<2, L>,
         dev: &[f64; L],
     ) -> u32 {
-        let d = self.d[j];
+        let d = self.rows[j].d;
         let mut ok = [false; L];
         for l in 0..L {
             // guard Lipschitz constant 1 (guards x -+ D, D constant within the step)

@@ -345,8 +345,12 @@ struct Engine<'s, B: Lockstep<N, L>, const N: usize, const L: usize>
 where
     B::Sys: 's,
 {
-    y: Soa<N, L>,
-    f: Soa<N, L>,
+    /// States and derivatives, double-buffered: `y[cur]` is current, a lockstep step writes the
+    /// other buffer and becomes current (lanes that did not take it are copied over), so a step
+    /// costs no per-lane commit.
+    y: [Soa<N, L>; 2],
+    f: [Soa<N, L>; 2],
+    cur: usize,
     t: [f64; L],
     idx: [f64; L],
     origin: [f64; L],
@@ -371,8 +375,9 @@ where
 {
     fn new(batch: &B) -> Self {
         Engine {
-            y: [[0.0; L]; N],
-            f: [[0.0; L]; N],
+            y: [[[0.0; L]; N]; 2],
+            f: [[[0.0; L]; N]; 2],
+            cur: 0,
             t: [0.0; L],
             idx: [0.0; L],
             origin: [0.0; L],
@@ -401,7 +406,7 @@ where
         let integ = slot.integ.as_ref().expect("busy lane");
         let y = integ.y();
         for i in 0..N {
-            self.y[i][l] = y[i];
+            self.y[self.cur][i][l] = y[i];
         }
         self.t[l] = integ.t();
         let bit = 1u32 << l;
@@ -425,9 +430,11 @@ where
         self.lockable &= !bit;
         self.stale &= !bit;
         batch.set_idle(&mut self.lanes, l);
-        for i in 0..N {
-            self.y[i][l] = 0.0;
-            self.f[i][l] = 0.0;
+        for b in 0..2 {
+            for i in 0..N {
+                self.y[b][i][l] = 0.0;
+                self.f[b][i][l] = 0.0;
+            }
         }
         self.progressed &= !bit;
         let slot = &mut self.slots[l];
@@ -515,7 +522,7 @@ where
     ) {
         let mut y = [0.0; N];
         for i in 0..N {
-            y[i] = self.y[i][l];
+            y[i] = self.y[self.cur][i][l];
         }
         let progressed = self.progressed & (1 << l) != 0;
         self.progressed &= !(1 << l);
@@ -604,11 +611,12 @@ where
             t: self.t,
             grid: self.idx,
         };
-        batch.rhs(j, Stage::Start, &at, &self.lanes, &self.y, &mut f);
+        let c = self.cur;
+        batch.rhs(j, Stage::Start, &at, &self.lanes, &self.y[c], &mut f);
         for l in 0..L {
             if stale & (1 << l) != 0 {
                 for i in 0..N {
-                    self.f[i][l] = f[i][l];
+                    self.f[c][i][l] = f[i][l];
                 }
                 self.slots[l].lock_rhs += 1;
             }
@@ -633,19 +641,10 @@ where
         let mut scalar = self.active;
         if !batch.scalar_phase(j) {
             self.refresh(batch, j);
-            let mut y1 = [[0.0; L]; N];
-            let mut f1 = [[0.0; L]; N];
-            let clear = batch.step(
-                j,
-                &self.t,
-                &t1,
-                &self.idx,
-                &self.lanes,
-                &self.y,
-                &self.f,
-                &mut y1,
-                &mut f1,
-            );
+            let c = self.cur;
+            let (y0, y1) = pair(&mut self.y, c);
+            let (f0, f1) = pair(&mut self.f, c);
+            let clear = batch.step(j, &self.t, &t1, &self.idx, &self.lanes, y0, f0, y1, f1);
             let ok = self.active & self.lockable & clear;
             if ok != 0 {
                 let st = LaneStep {
@@ -655,31 +654,38 @@ where
                     grid: &self.idx,
                     t0: &self.t,
                     t1: &t1,
-                    y0: &self.y,
-                    f0: &self.f,
-                    y1: &y1,
-                    f1: &f1,
+                    y0: &self.y[c],
+                    f0: &self.f[c],
+                    y1: &self.y[1 - c],
+                    f1: &self.f[1 - c],
                 };
                 let explain = drv.on_lockstep(batch, &st) & ok;
                 if explain != 0 {
                     self.explain(drv, &st, explain, period_end);
                 }
-                // branch-free commit of the lanes that took the step
-                let mut take = [false; L];
+                // the lanes that took the step advance: one more grid step (an exact integer)
+                // and lockstep step; the buffer the step wrote becomes current, with the state of
+                // the busy lanes that did not take the step copied over (idle lanes stay at their
+                // zero state either way)
                 for l in 0..L {
-                    take[l] = ok & (1 << l) != 0;
+                    self.idx[l] += 1.0;
+                    self.lock_steps[l] += 1;
                 }
-                for i in 0..N {
-                    for l in 0..L {
-                        self.y[i][l] = if take[l] { y1[i][l] } else { self.y[i][l] };
-                        self.f[i][l] = if take[l] { f1[i][l] } else { self.f[i][l] };
+                let mut t = t1;
+                let mut keep = self.active & !ok;
+                while keep != 0 {
+                    let l = keep.trailing_zeros() as usize;
+                    keep &= keep - 1;
+                    for i in 0..N {
+                        self.y[1 - c][i][l] = self.y[c][i][l];
+                        self.f[1 - c][i][l] = self.f[c][i][l];
                     }
+                    t[l] = self.t[l];
+                    self.idx[l] -= 1.0;
+                    self.lock_steps[l] -= 1;
                 }
-                for l in 0..L {
-                    self.t[l] = if take[l] { t1[l] } else { self.t[l] };
-                    self.idx[l] += if take[l] { 1.0 } else { 0.0 };
-                    self.lock_steps[l] += take[l] as u64;
-                }
+                self.t = t;
+                self.cur = 1 - c;
                 self.progressed |= ok;
             }
             scalar &= !ok;
@@ -700,7 +706,7 @@ where
             self.kseg[l] += 1.0;
             let mut y = [0.0; N];
             for i in 0..N {
-                y[i] = self.y[i][l];
+                y[i] = self.y[self.cur][i][l];
             }
             match drv.on_strobe(l, self.t[l], &y) {
                 Next::Continue => {}
@@ -727,6 +733,17 @@ where
                 }
             }
         }
+    }
+}
+
+/// The current buffer and the other one of a double buffer.
+#[inline(always)]
+fn pair<T>(b: &mut [T; 2], cur: usize) -> (&T, &mut T) {
+    let [b0, b1] = b;
+    if cur == 0 {
+        (b0, b1)
+    } else {
+        (b1, b0)
     }
 }
 
