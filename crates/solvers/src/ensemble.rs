@@ -33,9 +33,11 @@
 //!   result of an item does not depend on the lane it ran in nor on its neighbours: per-lane
 //!   arithmetic is the same in every lane and no fused multiply-add is used, so the output is the
 //!   same for any chunking, thread count, and CPU dispatch path.
-//! * [`run_lanes`] dispatches at run time to a copy of the engine compiled for AVX2/FMA when the
-//!   CPU has them (`is_x86_feature_detected!`), else to the baseline copy; stable Rust, no build
-//!   flags.
+//! * [`run_lanes`] dispatches at run time to a copy of the engine compiled for AVX-512 (F, VL,
+//!   DQ) or AVX2/FMA when the CPU has them (`is_x86_feature_detected!`), else to the baseline copy;
+//!   stable Rust, no build flags (the AVX-512 copy needs Rust 1.89, `build.rs` leaves it out on
+//!   older compilers). The copies run the same IEEE operations in the same order (no fused
+//!   multiply-add, no fast-math), so their results are identical.
 //!
 //! The hot loop allocates nothing, takes no lock, and is generic (monomorphised), not dynamic.
 
@@ -59,7 +61,7 @@ pub enum Stage {
 
 /// The batched counterpart of a [`HybridSystem`] family: its field and guard check over `L` lanes
 /// at a step phase. All lanes of one batch share the phase tables (the lanes' systems differ only
-/// in what [`Lockstep::Lane`] carries).
+/// in what [`Lockstep::Lanes`] carries).
 pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// The scalar system of one lane (events, resets and breakpoints are its business).
     type Sys: HybridSystem<N>;
@@ -775,6 +777,17 @@ where
     }
 }
 
+#[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma")]
+fn drive_avx512<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
+where
+    B: Lockstep<N, L>,
+    B::Sys: 's,
+    D: LaneDriver<'s, B, N, L>,
+{
+    drive(batch, drv)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn drive_avx2<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
@@ -796,9 +809,23 @@ where
     drive(batch, drv)
 }
 
-/// Which copy of the engine [`run_lanes`] uses on this CPU: `"avx2+fma"` or `"baseline"`.
+/// The copies of the engine [`run_lanes_on`] can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dispatch {
+    /// The best copy this CPU runs (AVX-512, else AVX2/FMA, else baseline).
+    Auto,
+    /// The AVX2/FMA copy when the CPU has those features, else the baseline.
+    Avx2,
+    /// The baseline copy (x86-64 SSE2 on x86_64).
+    Baseline,
+}
+
+/// Which copy of the engine [`run_lanes`] uses on this CPU: `"avx512"`, `"avx2+fma"` or
+/// `"baseline"`.
 pub fn dispatch_path() -> &'static str {
-    if has_avx2() {
+    if has_avx512() {
+        "avx512"
+    } else if has_avx2() {
         "avx2+fma"
     } else {
         "baseline"
@@ -816,24 +843,30 @@ fn has_avx2() -> bool {
     }
 }
 
+fn has_avx512() -> bool {
+    #[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+    {
+        has_avx2()
+            && std::is_x86_feature_detected!("avx512f")
+            && std::is_x86_feature_detected!("avx512vl")
+            && std::is_x86_feature_detected!("avx512dq")
+    }
+    #[cfg(not(all(target_arch = "x86_64", geardyn_avx512)))]
+    {
+        false
+    }
+}
+
 /// Runs every item the driver supplies through `L` lockstep lanes until its queue is empty.
-/// Dispatches to the AVX2/FMA copy of the engine when the CPU has those features (the results
-/// are identical: no fused multiply-add is used).
+/// Dispatches to the AVX-512 or AVX2/FMA copy of the engine when the CPU has those features (the
+/// results are identical: the same IEEE operations in the same order, no fused multiply-add).
 pub fn run_lanes<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
 where
     B: Lockstep<N, L>,
     B::Sys: 's,
     D: LaneDriver<'s, B, N, L>,
 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2() {
-            // SAFETY: the CPU supports the features the function was compiled for.
-            unsafe { drive_avx2(batch, drv) };
-            return;
-        }
-    }
-    drive_base(batch, drv)
+    run_lanes_on(Dispatch::Auto, batch, drv)
 }
 
 /// As [`run_lanes`], always on the baseline copy (for tests and benchmarks).
@@ -843,5 +876,31 @@ where
     B::Sys: 's,
     D: LaneDriver<'s, B, N, L>,
 {
+    run_lanes_on(Dispatch::Baseline, batch, drv)
+}
+
+/// As [`run_lanes`], on the copy `how` selects (when the CPU runs it; for tests and benchmarks).
+pub fn run_lanes_on<'s, B, D, const N: usize, const L: usize>(how: Dispatch, batch: &B, drv: &mut D)
+where
+    B: Lockstep<N, L>,
+    B::Sys: 's,
+    D: LaneDriver<'s, B, N, L>,
+{
+    #[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+    {
+        if how == Dispatch::Auto && has_avx512() {
+            // SAFETY: the CPU supports the features the function was compiled for.
+            unsafe { drive_avx512(batch, drv) };
+            return;
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if how != Dispatch::Baseline && has_avx2() {
+            // SAFETY: the CPU supports the features the function was compiled for.
+            unsafe { drive_avx2(batch, drv) };
+            return;
+        }
+    }
     drive_base(batch, drv)
 }
