@@ -25,7 +25,7 @@ use crate::driver::Observer;
 use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{
-    run_lanes, run_lanes_baseline, At, End, LaneDriver, LaneStep, Next, Stage, Start,
+    run_lanes, run_lanes_on, At, Dispatch, End, LaneDriver, LaneStep, Next, Stage, Start,
 };
 use geardyn_solvers::{Step, Stop};
 use rayon::prelude::*;
@@ -473,7 +473,7 @@ pub fn simulate_lanes(
     runs: &[(&MeshModel, [f64; 2])],
     opts: &SimOptions,
 ) -> Vec<Result<SimResult, SimError>> {
-    simulate_lanes_on::<LANES>(runs, opts, false)
+    simulate_lanes_on::<LANES>(runs, opts, Dispatch::Auto)
 }
 
 /// As [`simulate_lanes`], on the baseline (not AVX2) copy of the engine: the results are
@@ -483,7 +483,18 @@ pub fn simulate_lanes_baseline(
     runs: &[(&MeshModel, [f64; 2])],
     opts: &SimOptions,
 ) -> Vec<Result<SimResult, SimError>> {
-    simulate_lanes_on::<LANES>(runs, opts, true)
+    simulate_lanes_on::<LANES>(runs, opts, Dispatch::Baseline)
+}
+
+/// As [`simulate_lanes`], on the copy of the engine `how` selects (when the CPU runs it): the
+/// results are identical (for tests).
+#[doc(hidden)]
+pub fn simulate_lanes_dispatch(
+    runs: &[(&MeshModel, [f64; 2])],
+    opts: &SimOptions,
+    how: Dispatch,
+) -> Vec<Result<SimResult, SimError>> {
+    simulate_lanes_on::<LANES>(runs, opts, how)
 }
 
 /// Whether the lanes step `model`'s contact states themselves: the linear contact law without
@@ -503,7 +514,7 @@ pub fn simulate_lane(
     y0: [f64; 2],
     opts: &SimOptions,
 ) -> Result<SimResult, SimError> {
-    simulate_lanes_on::<1>(&[(model, y0)], opts, false)
+    simulate_lanes_on::<1>(&[(model, y0)], opts, Dispatch::Auto)
         .pop()
         .expect("one run, one result")
 }
@@ -511,7 +522,7 @@ pub fn simulate_lane(
 fn simulate_lanes_on<const L: usize>(
     runs: &[(&MeshModel, [f64; 2])],
     opts: &SimOptions,
-    baseline: bool,
+    how: Dispatch,
 ) -> Vec<Result<SimResult, SimError>> {
     let Method::Rk4 { steps_per_cycle } = opts.method else {
         panic!("simulate_lanes needs the RK4 method");
@@ -539,11 +550,7 @@ fn simulate_lanes_on<const L: usize>(
                 mesh_on: items.first().is_some_and(|it| it.1.cycles_per_period() > 1),
                 out: Vec::with_capacity(items.len()),
             };
-            if baseline {
-                run_lanes_baseline::<MeshLanes, _, 2, L>(table, &mut drv);
-            } else {
-                run_lanes::<MeshLanes, _, 2, L>(table, &mut drv);
-            }
+            run_lanes_on::<MeshLanes, _, 2, L>(how, table, &mut drv);
             drv.out
         })
         .collect();

@@ -215,10 +215,16 @@ fn output_is_the_same_for_any_thread_count() {
     let one = key(&run(1));
     assert_eq!(one, key(&run(2)));
     assert_eq!(one, key(&run(5)));
-    // the same bytes from the baseline copy of the engine as from the AVX2/FMA one (no fused
-    // multiply-add anywhere in the lanes)
+    // the same bytes from the baseline copy of the engine as from the AVX2/FMA and AVX-512 ones
+    // (no fused multiply-add anywhere in the lanes; `one` ran on the best copy this CPU has)
     let base = geardyn_analysis::lanes::simulate_lanes_baseline(&runs, &opts);
     assert_eq!(one, key(&base));
+    let avx2 = geardyn_analysis::lanes::simulate_lanes_dispatch(
+        &runs,
+        &opts,
+        geardyn_solvers::ensemble::Dispatch::Avx2,
+    );
+    assert_eq!(one, key(&avx2));
 }
 
 /// Basins of C1 at omega = 1.8 on a coarse grid: the cells run in lanes (early capture, then the

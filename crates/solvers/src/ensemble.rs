@@ -33,9 +33,11 @@
 //!   result of an item does not depend on the lane it ran in nor on its neighbours: per-lane
 //!   arithmetic is the same in every lane and no fused multiply-add is used, so the output is the
 //!   same for any chunking, thread count, and CPU dispatch path.
-//! * [`run_lanes`] dispatches at run time to a copy of the engine compiled for AVX2/FMA when the
-//!   CPU has them (`is_x86_feature_detected!`), else to the baseline copy; stable Rust, no build
-//!   flags.
+//! * [`run_lanes`] dispatches at run time to a copy of the engine compiled for AVX-512 (F, VL,
+//!   DQ) or AVX2/FMA when the CPU has them (`is_x86_feature_detected!`), else to the baseline copy;
+//!   stable Rust, no build flags (the AVX-512 copy needs Rust 1.89, `build.rs` leaves it out on
+//!   older compilers). The copies run the same IEEE operations in the same order (no fused
+//!   multiply-add, no fast-math), so their results are identical.
 //!
 //! The hot loop allocates nothing, takes no lock, and is generic (monomorphised), not dynamic.
 
@@ -59,7 +61,7 @@ pub enum Stage {
 
 /// The batched counterpart of a [`HybridSystem`] family: its field and guard check over `L` lanes
 /// at a step phase. All lanes of one batch share the phase tables (the lanes' systems differ only
-/// in what [`Lockstep::Lane`] carries).
+/// in what [`Lockstep::Lanes`] carries).
 pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// The scalar system of one lane (events, resets and breakpoints are its business).
     type Sys: HybridSystem<N>;
@@ -345,8 +347,12 @@ struct Engine<'s, B: Lockstep<N, L>, const N: usize, const L: usize>
 where
     B::Sys: 's,
 {
-    y: Soa<N, L>,
-    f: Soa<N, L>,
+    /// States and derivatives, double-buffered: `y[cur]` is current, a lockstep step writes the
+    /// other buffer and becomes current (lanes that did not take it are copied over), so a step
+    /// costs no per-lane commit.
+    y: [Soa<N, L>; 2],
+    f: [Soa<N, L>; 2],
+    cur: usize,
     t: [f64; L],
     idx: [f64; L],
     origin: [f64; L],
@@ -371,8 +377,9 @@ where
 {
     fn new(batch: &B) -> Self {
         Engine {
-            y: [[0.0; L]; N],
-            f: [[0.0; L]; N],
+            y: [[[0.0; L]; N]; 2],
+            f: [[[0.0; L]; N]; 2],
+            cur: 0,
             t: [0.0; L],
             idx: [0.0; L],
             origin: [0.0; L],
@@ -401,7 +408,7 @@ where
         let integ = slot.integ.as_ref().expect("busy lane");
         let y = integ.y();
         for i in 0..N {
-            self.y[i][l] = y[i];
+            self.y[self.cur][i][l] = y[i];
         }
         self.t[l] = integ.t();
         let bit = 1u32 << l;
@@ -425,9 +432,11 @@ where
         self.lockable &= !bit;
         self.stale &= !bit;
         batch.set_idle(&mut self.lanes, l);
-        for i in 0..N {
-            self.y[i][l] = 0.0;
-            self.f[i][l] = 0.0;
+        for b in 0..2 {
+            for i in 0..N {
+                self.y[b][i][l] = 0.0;
+                self.f[b][i][l] = 0.0;
+            }
         }
         self.progressed &= !bit;
         let slot = &mut self.slots[l];
@@ -515,7 +524,7 @@ where
     ) {
         let mut y = [0.0; N];
         for i in 0..N {
-            y[i] = self.y[i][l];
+            y[i] = self.y[self.cur][i][l];
         }
         let progressed = self.progressed & (1 << l) != 0;
         self.progressed &= !(1 << l);
@@ -604,11 +613,12 @@ where
             t: self.t,
             grid: self.idx,
         };
-        batch.rhs(j, Stage::Start, &at, &self.lanes, &self.y, &mut f);
+        let c = self.cur;
+        batch.rhs(j, Stage::Start, &at, &self.lanes, &self.y[c], &mut f);
         for l in 0..L {
             if stale & (1 << l) != 0 {
                 for i in 0..N {
-                    self.f[i][l] = f[i][l];
+                    self.f[c][i][l] = f[i][l];
                 }
                 self.slots[l].lock_rhs += 1;
             }
@@ -633,19 +643,10 @@ where
         let mut scalar = self.active;
         if !batch.scalar_phase(j) {
             self.refresh(batch, j);
-            let mut y1 = [[0.0; L]; N];
-            let mut f1 = [[0.0; L]; N];
-            let clear = batch.step(
-                j,
-                &self.t,
-                &t1,
-                &self.idx,
-                &self.lanes,
-                &self.y,
-                &self.f,
-                &mut y1,
-                &mut f1,
-            );
+            let c = self.cur;
+            let (y0, y1) = pair(&mut self.y, c);
+            let (f0, f1) = pair(&mut self.f, c);
+            let clear = batch.step(j, &self.t, &t1, &self.idx, &self.lanes, y0, f0, y1, f1);
             let ok = self.active & self.lockable & clear;
             if ok != 0 {
                 let st = LaneStep {
@@ -655,31 +656,38 @@ where
                     grid: &self.idx,
                     t0: &self.t,
                     t1: &t1,
-                    y0: &self.y,
-                    f0: &self.f,
-                    y1: &y1,
-                    f1: &f1,
+                    y0: &self.y[c],
+                    f0: &self.f[c],
+                    y1: &self.y[1 - c],
+                    f1: &self.f[1 - c],
                 };
                 let explain = drv.on_lockstep(batch, &st) & ok;
                 if explain != 0 {
                     self.explain(drv, &st, explain, period_end);
                 }
-                // branch-free commit of the lanes that took the step
-                let mut take = [false; L];
+                // the lanes that took the step advance: one more grid step (an exact integer)
+                // and lockstep step; the buffer the step wrote becomes current, with the state of
+                // the busy lanes that did not take the step copied over (idle lanes stay at their
+                // zero state either way)
                 for l in 0..L {
-                    take[l] = ok & (1 << l) != 0;
+                    self.idx[l] += 1.0;
+                    self.lock_steps[l] += 1;
                 }
-                for i in 0..N {
-                    for l in 0..L {
-                        self.y[i][l] = if take[l] { y1[i][l] } else { self.y[i][l] };
-                        self.f[i][l] = if take[l] { f1[i][l] } else { self.f[i][l] };
+                let mut t = t1;
+                let mut keep = self.active & !ok;
+                while keep != 0 {
+                    let l = keep.trailing_zeros() as usize;
+                    keep &= keep - 1;
+                    for i in 0..N {
+                        self.y[1 - c][i][l] = self.y[c][i][l];
+                        self.f[1 - c][i][l] = self.f[c][i][l];
                     }
+                    t[l] = self.t[l];
+                    self.idx[l] -= 1.0;
+                    self.lock_steps[l] -= 1;
                 }
-                for l in 0..L {
-                    self.t[l] = if take[l] { t1[l] } else { self.t[l] };
-                    self.idx[l] += if take[l] { 1.0 } else { 0.0 };
-                    self.lock_steps[l] += take[l] as u64;
-                }
+                self.t = t;
+                self.cur = 1 - c;
                 self.progressed |= ok;
             }
             scalar &= !ok;
@@ -700,7 +708,7 @@ where
             self.kseg[l] += 1.0;
             let mut y = [0.0; N];
             for i in 0..N {
-                y[i] = self.y[i][l];
+                y[i] = self.y[self.cur][i][l];
             }
             match drv.on_strobe(l, self.t[l], &y) {
                 Next::Continue => {}
@@ -727,6 +735,17 @@ where
                 }
             }
         }
+    }
+}
+
+/// The current buffer and the other one of a double buffer.
+#[inline(always)]
+fn pair<T>(b: &mut [T; 2], cur: usize) -> (&T, &mut T) {
+    let [b0, b1] = b;
+    if cur == 0 {
+        (b0, b1)
+    } else {
+        (b1, b0)
     }
 }
 
@@ -758,6 +777,17 @@ where
     }
 }
 
+#[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma")]
+fn drive_avx512<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
+where
+    B: Lockstep<N, L>,
+    B::Sys: 's,
+    D: LaneDriver<'s, B, N, L>,
+{
+    drive(batch, drv)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn drive_avx2<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
@@ -779,9 +809,23 @@ where
     drive(batch, drv)
 }
 
-/// Which copy of the engine [`run_lanes`] uses on this CPU: `"avx2+fma"` or `"baseline"`.
+/// The copies of the engine [`run_lanes_on`] can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dispatch {
+    /// The best copy this CPU runs (AVX-512, else AVX2/FMA, else baseline).
+    Auto,
+    /// The AVX2/FMA copy when the CPU has those features, else the baseline.
+    Avx2,
+    /// The baseline copy (x86-64 SSE2 on x86_64).
+    Baseline,
+}
+
+/// Which copy of the engine [`run_lanes`] uses on this CPU: `"avx512"`, `"avx2+fma"` or
+/// `"baseline"`.
 pub fn dispatch_path() -> &'static str {
-    if has_avx2() {
+    if has_avx512() {
+        "avx512"
+    } else if has_avx2() {
         "avx2+fma"
     } else {
         "baseline"
@@ -799,24 +843,30 @@ fn has_avx2() -> bool {
     }
 }
 
+fn has_avx512() -> bool {
+    #[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+    {
+        has_avx2()
+            && std::is_x86_feature_detected!("avx512f")
+            && std::is_x86_feature_detected!("avx512vl")
+            && std::is_x86_feature_detected!("avx512dq")
+    }
+    #[cfg(not(all(target_arch = "x86_64", geardyn_avx512)))]
+    {
+        false
+    }
+}
+
 /// Runs every item the driver supplies through `L` lockstep lanes until its queue is empty.
-/// Dispatches to the AVX2/FMA copy of the engine when the CPU has those features (the results
-/// are identical: no fused multiply-add is used).
+/// Dispatches to the AVX-512 or AVX2/FMA copy of the engine when the CPU has those features (the
+/// results are identical: the same IEEE operations in the same order, no fused multiply-add).
 pub fn run_lanes<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
 where
     B: Lockstep<N, L>,
     B::Sys: 's,
     D: LaneDriver<'s, B, N, L>,
 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2() {
-            // SAFETY: the CPU supports the features the function was compiled for.
-            unsafe { drive_avx2(batch, drv) };
-            return;
-        }
-    }
-    drive_base(batch, drv)
+    run_lanes_on(Dispatch::Auto, batch, drv)
 }
 
 /// As [`run_lanes`], always on the baseline copy (for tests and benchmarks).
@@ -826,5 +876,31 @@ where
     B::Sys: 's,
     D: LaneDriver<'s, B, N, L>,
 {
+    run_lanes_on(Dispatch::Baseline, batch, drv)
+}
+
+/// As [`run_lanes`], on the copy `how` selects (when the CPU runs it; for tests and benchmarks).
+pub fn run_lanes_on<'s, B, D, const N: usize, const L: usize>(how: Dispatch, batch: &B, drv: &mut D)
+where
+    B: Lockstep<N, L>,
+    B::Sys: 's,
+    D: LaneDriver<'s, B, N, L>,
+{
+    #[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+    {
+        if how == Dispatch::Auto && has_avx512() {
+            // SAFETY: the CPU supports the features the function was compiled for.
+            unsafe { drive_avx512(batch, drv) };
+            return;
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if how != Dispatch::Baseline && has_avx2() {
+            // SAFETY: the CPU supports the features the function was compiled for.
+            unsafe { drive_avx2(batch, drv) };
+            return;
+        }
+    }
     drive_base(batch, drv)
 }
