@@ -14,7 +14,7 @@ pub struct ReportArgs {
     /// Override a parameter of the preset: NAME=VALUE (repeatable).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     sets: Vec<String>,
-    /// Coarse version of every figure (under two minutes).
+    /// Coarse version of every figure (well under a minute per preset).
     #[arg(long)]
     quick: bool,
     /// Output directory: the page goes into OUT/<preset>/, and OUT/index.html links every

@@ -21,9 +21,10 @@ pub struct ConfigArgs {
     /// point, omega/F/xi/c/D set here take precedence and are recorded.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
-    /// Contact law of both flanks, replacing the configuration's [model.contact]:
-    /// LAW[:EXPONENT[:RESTITUTION]], e.g. linear (seed B's dimensionless studies), power:1.5,
-    /// lankarani_nikravesh:1.19:0.8.
+    /// Contact law replacing the configuration's [model.contact] (the drive flank, and the back
+    /// flank when it is in continuous contact; a back side modelled by impacts, as on the
+    /// breakage preset, keeps its impact law): LAW[:EXPONENT[:RESTITUTION]], e.g. linear (seed
+    /// B's dimensionless studies), power:1.5, lankarani_nikravesh:1.19:0.8.
     #[arg(long, value_name = "LAW")]
     pub contact: Option<String>,
 }

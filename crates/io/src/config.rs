@@ -355,7 +355,9 @@ impl Config {
         self.set(name.trim(), value)
     }
 
-    /// Replaces the contact law of both flanks: `LAW[:EXPONENT[:RESTITUTION]]`, the fields of
+    /// Replaces the contact law (`[model.contact]`: the drive flank, and the back flank when it is
+    /// in continuous contact; a back side modelled by impacts keeps its impact law):
+    /// `LAW[:EXPONENT[:RESTITUTION]]`, the fields of
     /// `[model.contact]` in order (`linear`, `power:1.5`, `lankarani_nikravesh:1.1:0.8`). The
     /// law is range-checked with the rest of the model by [`Config::resolve`].
     pub fn apply_contact(&mut self, value: &str) -> Result<(), ConfigError> {
@@ -365,8 +367,13 @@ impl Config {
         };
         let mut parts = value.split(':').map(str::trim);
         let law = parts.next().unwrap_or_default();
-        if law.is_empty() || !law.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+        if law.is_empty() {
             return Err(err("no law name".into()));
+        }
+        if !law.chars().all(|c| c.is_ascii_lowercase() || c == '_') {
+            return Err(err(format!(
+                "'{law}' is not a law name (names are lower case, with '_')"
+            )));
         }
         let mut toml_text = format!("law = \"{law}\"\n");
         for (field, part) in ["exponent", "restitution"].iter().zip(parts.by_ref()) {

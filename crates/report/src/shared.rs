@@ -492,7 +492,7 @@ pub fn basin_figure(
                     if a.descriptor.period > 0 {
                         a.descriptor.label.as_str()
                     } else {
-                        "not periodic"
+                        a.descriptor.motion.word()
                     },
                     if a.descriptor.healthy {
                         "healthy"
