@@ -8,7 +8,7 @@
 //! round) and, if still undecided, is reported as `unsettled` with its numbers — never as chaos.
 //!
 //! Two more checks keep transients out of the verdict:
-//! * a positive exponent is followed [`PERSIST_PERIODS`] more periods (or one transient, if
+//! * a positive exponent is followed [`PERSIST_CYCLES`] more mesh cycles (or one transient, if
 //!   longer) before the motion is called chaotic: a chaotic transient that lands on a periodic
 //!   orbit (internal pair, omega = 1.84: 400–700 periods of transient chaos) is then periodic;
 //! * a periodic record whose first points are still transient (the orbit was reached inside the
@@ -37,10 +37,16 @@ pub const DIVERGED_SCALES: f64 = 1e3;
 /// Excitation periods of the Lyapunov estimate that decides chaos (at least; the record length
 /// when longer).
 pub const TLE_PERIODS: u64 = 100;
-/// Excitation periods (at least; the requested transient when longer) a motion with a positive
-/// TLE is followed before it is called chaotic: chaotic transients of several hundred periods
-/// are common near crises (internal pair, omega = 1.80–1.89: 400–700 periods).
-pub const PERSIST_PERIODS: u64 = 500;
+/// Mesh cycles (at least; the requested transient when longer) a motion with a positive TLE is
+/// followed before it is called chaotic: chaotic transients of several hundred cycles are common
+/// near crises (internal pair, omega = 1.80–1.89: 400–700 cycles).
+pub const PERSIST_CYCLES: u64 = 500;
+
+/// [`PERSIST_CYCLES`] in excitation periods of `model` (one period spans several mesh cycles on
+/// a pair with a broken tooth).
+fn persist_periods(model: &MeshModel) -> u64 {
+    PERSIST_CYCLES.div_ceil(u64::from(model.cycles_per_period().max(1)))
+}
 /// A TLE (per unit dimensionless time) is significantly positive when it exceeds both this and
 /// three standard errors.
 pub const TLE_POSITIVE: f64 = 1e-3;
@@ -276,7 +282,7 @@ pub fn simulate_decided_with(
                     // motion chaotic, follow it one more transient and look again
                     let more = SimOptions {
                         tau0: res.final_state.0,
-                        transient_periods: opts.transient_periods.max(PERSIST_PERIODS),
+                        transient_periods: opts.transient_periods.max(persist_periods(model)),
                         ..*opts
                     };
                     let res2 = sim(model, res.final_state.1, &more)?;
