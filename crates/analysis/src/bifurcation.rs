@@ -369,10 +369,10 @@ fn run_of(
 
 /// The sweep's record of a run simulated in the lanes: its classification continues from the
 /// lanes' result ([`simulate_decided_with`]: period test, then TLE and transient extensions from
-/// its final state, the extensions on a one-lane engine when the lanes cover the contact law), so
-/// the run is never integrated twice; a
-/// run that failed in the lanes is redone by the scalar path ([`run_once`]), which reports the
-/// failure.
+/// its final state, the extensions on a one-lane engine when the lanes cover the contact law —
+/// the sweep decides those runs together, [`crate::lanes::decide_lanes`], the same decisions),
+/// so the run is never integrated twice; a run that failed in the lanes is redone by the scalar
+/// path ([`run_once`]), which reports the failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -387,7 +387,10 @@ fn run_from_lanes(
             // lanes cover the contact law, else on the scalar integrator
             let how = Decide::default();
             let decided = if crate::lanes::lanes_cover_contact(model) {
-                simulate_decided_with(model, (res, s), &opts.sim, how, crate::lanes::simulate_lane)
+                let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| {
+                    crate::lanes::simulate_lane_grid(m, y, o, opts.sim.tau0)
+                };
+                simulate_decided_with(model, (res, s), &opts.sim, how, grid)
             } else {
                 simulate_decided_with(model, (res, s), &opts.sim, how, simulate)
             };
@@ -506,10 +509,54 @@ where
                     Vec<Result<SimResult, SimError>>,
                 );
                 let decide = |(items, lane_results): Simulated| -> Vec<Run> {
-                    items
-                        .par_iter()
-                        .zip(lane_results)
-                        .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
+                    // runs whose model the lanes cover are decided together (their
+                    // integrations in the lanes), the others one by one
+                    let mut batched = Vec::new();
+                    let mut single = Vec::new();
+                    for (j, (&(i, ic, y0), r)) in items.iter().zip(lane_results).enumerate() {
+                        match r {
+                            Ok(res) if crate::lanes::lanes_cover_contact(&models[i]) => {
+                                batched.push((j, i, ic, y0, res))
+                            }
+                            r => single.push((j, i, ic, y0, r)),
+                        }
+                    }
+                    let (a, b) = rayon::join(
+                        || {
+                            let firsts: Vec<(&MeshModel, (SimResult, Summary))> = batched
+                                .iter_mut()
+                                .map(|(_, i, _, _, res)| {
+                                    let m = &models[*i];
+                                    let res = std::mem::take(res);
+                                    let s = summarize(m, &res, &opts.sim);
+                                    (m, (res, s))
+                                })
+                                .collect();
+                            let decided =
+                                crate::lanes::decide_lanes(firsts, &opts.sim, Decide::default());
+                            batched
+                                .par_iter()
+                                .zip(decided)
+                                .map(|(&(j, i, ic, y0, _), d)| {
+                                    (j, run_of(&models[i], y0, ic, opts, d))
+                                })
+                                .collect::<Vec<_>>()
+                        },
+                        || {
+                            single
+                                .into_par_iter()
+                                .map(|(j, i, ic, y0, r)| {
+                                    (j, run_from_lanes(&models[i], y0, ic, opts, r))
+                                })
+                                .collect::<Vec<_>>()
+                        },
+                    );
+                    let mut runs: Vec<Option<Run>> = (0..items.len()).map(|_| None).collect();
+                    for (j, run) in a.into_iter().chain(b) {
+                        runs[j] = Some(run);
+                    }
+                    runs.into_iter()
+                        .map(|r| r.expect("every run is decided"))
                         .collect()
                 };
                 let mut out = Vec::with_capacity(todo.len());
