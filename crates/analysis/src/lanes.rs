@@ -916,8 +916,10 @@ where
         .collect()
 }
 
-/// Runs in a round of [`decide_lanes`] below which they run on one-lane engines rather than
-/// sharing a 16-lane one.
+/// Runs per thread in a round of [`decide_lanes`] below which they run on one-lane engines (in
+/// parallel) rather than sharing a 16-lane one: on one thread (C1, 512 steps per cycle) a
+/// 16-lane engine with k busy lanes took as long as k one-lane engines at k = 4, 2x longer at
+/// k = 2, half as long at k = 8.
 const LONE_RUNS: usize = 4;
 
 /// [`simulate_decided_from`](crate::classify::simulate_decided_from) of many runs of a lanes
@@ -963,13 +965,19 @@ pub fn decide_lanes(
         if tles.is_empty() && sims.is_empty() {
             break;
         }
+        // longest first, so that the lanes of a chunk retire together (the results do not
+        // depend on the order)
+        sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
         let (tle_res, sim_res) = rayon::join(
             || {
                 tles.par_iter()
                     .map(|&(i, t, y)| tle_of(models[i], opts, t, y))
                     .collect::<Vec<_>>()
             },
-            || simulate_items(&sims, opts, opts.tau0, Dispatch::Auto, LONE_RUNS),
+            || {
+                let lone = LONE_RUNS * rayon::current_num_threads().max(1);
+                simulate_items(&sims, opts, opts.tau0, Dispatch::Auto, lone)
+            },
         );
         for (&(i, ..), r) in tles.iter().zip(tle_res) {
             ds[i].tle(r);
