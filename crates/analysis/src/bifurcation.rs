@@ -367,12 +367,12 @@ fn run_of(
     }
 }
 
-/// The sweep's record of a run simulated in the lanes: its classification continues from the
-/// lanes' result ([`simulate_decided_with`]: period test, then TLE and transient extensions from
-/// its final state, the extensions on a one-lane engine when the lanes cover the contact law —
-/// the sweep decides those runs together, [`crate::lanes::decide_lanes`], the same decisions),
-/// so the run is never integrated twice; a run that failed in the lanes is redone by the scalar
-/// path ([`run_once`]), which reports the failure.
+/// The sweep's record of a run simulated in the lanes whose contact law the lanes do not cover
+/// (the others are decided together, [`crate::lanes::decide_lanes`]): its classification
+/// continues from the lanes' result ([`simulate_decided_with`]: period test, then TLE and
+/// transient extensions from its final state on the scalar integrator), so the run is never
+/// integrated twice; a run that failed in the lanes is redone by the scalar path
+/// ([`run_once`]), which reports the failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -383,17 +383,8 @@ fn run_from_lanes(
     match lanes {
         Ok(res) => {
             let s = summarize(model, &res, &opts.sim);
-            // the transient extensions on a one-lane engine (the lanes' arithmetic) when the
-            // lanes cover the contact law, else on the scalar integrator
-            let how = Decide::default();
-            let decided = if crate::lanes::lanes_cover_contact(model) {
-                let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| {
-                    crate::lanes::simulate_lane_grid(m, y, o, opts.sim.tau0)
-                };
-                simulate_decided_with(model, (res, s), &opts.sim, how, grid)
-            } else {
-                simulate_decided_with(model, (res, s), &opts.sim, how, simulate)
-            };
+            let decided =
+                simulate_decided_with(model, (res, s), &opts.sim, Decide::default(), simulate);
             run_of(model, y0, ic, opts, decided)
         }
         Err(_) => run_once(model, y0, ic, opts),
@@ -483,8 +474,9 @@ where
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
                 // (each batch's results are handed on, so an interruption loses at most the two
                 // batches in progress); a run not decided periodic there is classified from its
-                // lanes result by the scalar path (TLE, transient extensions), without
-                // integrating it again. The batches are pipelined: a batch is classified while
+                // lanes result, without integrating it again: the runs of a batch together in
+                // rounds (TLEs in parallel; transient extensions, persistence checks and records
+                // again in the lanes: crate::lanes::decide_lanes). The batches are pipelined: a batch is classified while
                 // the next one runs in the lanes (rayon balances the two), so the threads are
                 // not left waiting on the few long classifications of a batch.
                 let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
