@@ -367,12 +367,12 @@ fn run_of(
     }
 }
 
-/// The sweep's record of a run simulated in the lanes: its classification continues from the
-/// lanes' result ([`simulate_decided_with`]: period test, then TLE and transient extensions from
-/// its final state, the extensions on a one-lane engine when the lanes cover the contact law), so
-/// the run is never integrated twice; a
-/// run that failed in the lanes is redone by the scalar path ([`run_once`]), which reports the
-/// failure.
+/// The sweep's record of a run simulated in the lanes whose contact law the lanes do not cover
+/// (the others are decided together, [`crate::lanes::decide_lanes`]): its classification
+/// continues from the lanes' result ([`simulate_decided_with`]: period test, then TLE and
+/// transient extensions from its final state on the scalar integrator), so the run is never
+/// integrated twice; a run that failed in the lanes is redone by the scalar path
+/// ([`run_once`]), which reports the failure.
 fn run_from_lanes(
     model: &MeshModel,
     y0: [f64; 2],
@@ -383,14 +383,8 @@ fn run_from_lanes(
     match lanes {
         Ok(res) => {
             let s = summarize(model, &res, &opts.sim);
-            // the transient extensions on a one-lane engine (the lanes' arithmetic) when the
-            // lanes cover the contact law, else on the scalar integrator
-            let how = Decide::default();
-            let decided = if crate::lanes::lanes_cover_contact(model) {
-                simulate_decided_with(model, (res, s), &opts.sim, how, crate::lanes::simulate_lane)
-            } else {
-                simulate_decided_with(model, (res, s), &opts.sim, how, simulate)
-            };
+            let decided =
+                simulate_decided_with(model, (res, s), &opts.sim, Decide::default(), simulate);
             run_of(model, y0, ic, opts, decided)
         }
         Err(_) => run_once(model, y0, ic, opts),
@@ -480,8 +474,9 @@ where
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
                 // (each batch's results are handed on, so an interruption loses at most the two
                 // batches in progress); a run not decided periodic there is classified from its
-                // lanes result by the scalar path (TLE, transient extensions), without
-                // integrating it again. The batches are pipelined: a batch is classified while
+                // lanes result, without integrating it again: the runs of a batch together in
+                // rounds (TLEs in parallel; transient extensions, persistence checks and records
+                // again in the lanes: crate::lanes::decide_lanes). The batches are pipelined: a batch is classified while
                 // the next one runs in the lanes (rayon balances the two), so the threads are
                 // not left waiting on the few long classifications of a batch.
                 let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
@@ -506,10 +501,54 @@ where
                     Vec<Result<SimResult, SimError>>,
                 );
                 let decide = |(items, lane_results): Simulated| -> Vec<Run> {
-                    items
-                        .par_iter()
-                        .zip(lane_results)
-                        .map(|(&(i, ic, y0), r)| run_from_lanes(&models[i], y0, ic, opts, r))
+                    // runs whose model the lanes cover are decided together (their
+                    // integrations in the lanes), the others one by one
+                    let mut batched = Vec::new();
+                    let mut single = Vec::new();
+                    for (j, (&(i, ic, y0), r)) in items.iter().zip(lane_results).enumerate() {
+                        match r {
+                            Ok(res) if crate::lanes::lanes_cover_contact(&models[i]) => {
+                                batched.push((j, i, ic, y0, res))
+                            }
+                            r => single.push((j, i, ic, y0, r)),
+                        }
+                    }
+                    let (a, b) = rayon::join(
+                        || {
+                            let firsts: Vec<(&MeshModel, (SimResult, Summary))> = batched
+                                .iter_mut()
+                                .map(|(_, i, _, _, res)| {
+                                    let m = &models[*i];
+                                    let res = std::mem::take(res);
+                                    let s = summarize(m, &res, &opts.sim);
+                                    (m, (res, s))
+                                })
+                                .collect();
+                            let decided =
+                                crate::lanes::decide_lanes(firsts, &opts.sim, Decide::default());
+                            batched
+                                .par_iter()
+                                .zip(decided)
+                                .map(|(&(j, i, ic, y0, _), d)| {
+                                    (j, run_of(&models[i], y0, ic, opts, d))
+                                })
+                                .collect::<Vec<_>>()
+                        },
+                        || {
+                            single
+                                .into_par_iter()
+                                .map(|(j, i, ic, y0, r)| {
+                                    (j, run_from_lanes(&models[i], y0, ic, opts, r))
+                                })
+                                .collect::<Vec<_>>()
+                        },
+                    );
+                    let mut runs: Vec<Option<Run>> = (0..items.len()).map(|_| None).collect();
+                    for (j, run) in a.into_iter().chain(b) {
+                        runs[j] = Some(run);
+                    }
+                    runs.into_iter()
+                        .map(|r| r.expect("every run is decided"))
                         .collect()
                 };
                 let mut out = Vec::with_capacity(todo.len());

@@ -166,7 +166,12 @@ impl Default for Decide {
     }
 }
 
-/// TLE of the motion continuing from `(t, y)`, or `None` if it cannot be computed.
+/// TLE of the motion continuing from `(t, y)` and its standard error, or `None` if it cannot be
+/// computed: the exponent [`Need::Tle`] asks for.
+pub fn tle_of(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
+    tle_from(model, opts, t, y)
+}
+
 fn tle_from(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
     let lo = LyapunovOptions {
         period: model.excitation_period(),
@@ -227,143 +232,328 @@ pub fn simulate_decided_with(
     how: Decide,
     sim: impl Fn(&MeshModel, [f64; 2], &SimOptions) -> Result<SimResult, SimError>,
 ) -> Result<(SimResult, Summary, SimOptions), SimError> {
-    let mut used = *opts;
-    let scale = model.backlash_levels().1.max(1.0);
-    let runaway = |res: &SimResult| {
-        let x_max = res.x_range.0.abs().max(res.x_range.1.abs());
-        // NaN counts as runaway too
-        (x_max.is_nan() || x_max > DIVERGED_SCALES * scale).then_some(Motion::Diverged { x_max })
-    };
-    // A periodic record whose head is still transient (the orbit was reached inside the record)
-    // would give the orbit the forces, P_ID and health of its transient: record again from the
-    // final state, which is on the orbit. Once, so the cost stays bounded.
-    let settle = |res: SimResult,
-                  s: Summary,
-                  tol: f64,
-                  used: &mut SimOptions|
-     -> Result<(SimResult, Summary), SimError> {
-        let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-        if on_cycle_throughout(&pts, s.period, tol) {
-            return Ok((res, s));
+    let mut d = Decision::new(model, first, opts, how);
+    loop {
+        match d.need() {
+            Need::Sim { y0, opts } => d.simulated(sim(model, y0, &opts)),
+            Need::Tle { t, y } => d.tle(tle_from(model, opts, t, y)),
+            Need::Done => return d.finish(),
         }
-        let (t, y) = res.final_state;
+    }
+}
+
+/// The next integration a [`Decision`] waits for.
+#[derive(Clone, Copy, Debug)]
+pub enum Need {
+    /// A run of [`simulate`] from `y0` with `opts` (a transient extension, the persistence check
+    /// of a positive exponent, or the record again of a periodic run whose head is transient);
+    /// hand its result to [`Decision::simulated`].
+    Sim {
+        /// Initial state.
+        y0: [f64; 2],
+        /// Options of the run (`tau0` is its start time).
+        opts: SimOptions,
+    },
+    /// The TLE of the motion continuing from `(t, y)` ([`tle_of`]); hand it to
+    /// [`Decision::tle`].
+    Tle {
+        /// Start time.
+        t: f64,
+        /// Start state.
+        y: [f64; 2],
+    },
+    /// Decided: [`Decision::finish`].
+    Done,
+}
+
+/// What a [`Decision`] waits for.
+#[derive(Clone, Copy, Debug)]
+enum Wait {
+    /// The TLE after the first record.
+    TleFirst,
+    /// The persistence run of a positive exponent `(tle, stderr)`.
+    Persist(f64, f64),
+    /// Transient extension `k`.
+    Extend(u32),
+    /// The TLE after the last extension.
+    TleLast,
+    /// The record again of a periodic run (at tolerance `tol`).
+    Settle(f64),
+    /// Nothing: decided.
+    Done,
+}
+
+/// The decision of [`simulate_decided_with`] as a state machine: it states the integration it
+/// needs next ([`Decision::need`]) and takes its result, so that the integrations of many runs
+/// can be done together (the lockstep lanes of [`crate::lanes::decide_lanes`]). Driven by
+/// [`simulate_decided_with`] it is that function: one decision code for both.
+pub struct Decision<'m> {
+    model: &'m MeshModel,
+    opts: SimOptions,
+    how: Decide,
+    used: SimOptions,
+    res: SimResult,
+    s: Summary,
+    tle: Option<(f64, f64)>,
+    last_opts: SimOptions,
+    wait: Wait,
+    need: Need,
+    err: Option<SimError>,
+}
+
+impl<'m> Decision<'m> {
+    /// Starts the decision of a first run (`first`: the result of [`simulate`] with `opts` and its
+    /// [`summarize`]).
+    pub fn new(
+        model: &'m MeshModel,
+        first: (SimResult, Summary),
+        opts: &SimOptions,
+        how: Decide,
+    ) -> Self {
+        let (res, s) = first;
+        let mut d = Decision {
+            model,
+            opts: *opts,
+            how,
+            used: *opts,
+            res,
+            s,
+            tle: None,
+            last_opts: *opts,
+            wait: Wait::Done,
+            need: Need::Done,
+            err: None,
+        };
+        if d.runaway() {
+            return d;
+        }
+        if d.s.motion.is_periodic() {
+            d.settle(d.opts.method.period_tol());
+            return d;
+        }
+        if how.lyapunov {
+            let (t, y) = d.res.final_state;
+            d.ask(Wait::TleFirst, Need::Tle { t, y });
+        } else {
+            d.extend_or_final(0);
+        }
+        d
+    }
+
+    /// The model of the run.
+    pub fn model(&self) -> &'m MeshModel {
+        self.model
+    }
+
+    /// The integration needed next.
+    pub fn need(&self) -> Need {
+        self.need
+    }
+
+    /// The result of the run [`Need::Sim`] asked for.
+    pub fn simulated(&mut self, r: Result<SimResult, SimError>) {
+        let Need::Sim { opts: more, .. } = self.need else {
+            panic!("no run was asked for");
+        };
+        let res2 = match r {
+            Ok(r) => r,
+            Err(e) => {
+                self.err = Some(e);
+                self.ask(Wait::Done, Need::Done);
+                return;
+            }
+        };
+        let opts = self.opts;
+        let strict = opts.method.period_tol();
+        match self.wait {
+            Wait::Persist(l, se) => {
+                self.used.transient_periods += opts.record_periods + more.transient_periods;
+                let s2 = summarize(self.model, &res2, &more);
+                self.res = res2;
+                self.s = s2;
+                self.ask(Wait::Done, Need::Done);
+                if self.runaway() {
+                    return;
+                }
+                if self.s.motion.is_periodic() {
+                    self.settle(strict);
+                    return;
+                }
+                self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+            }
+            Wait::Extend(k) => {
+                self.used.transient_periods += opts.record_periods + more.transient_periods;
+                self.s = summarize(self.model, &res2, &more);
+                self.res = res2;
+                self.last_opts = more;
+                self.ask(Wait::Done, Need::Done);
+                if self.runaway() {
+                    return;
+                }
+                if self.s.motion.is_periodic() {
+                    self.settle(strict);
+                    return;
+                }
+                self.extend_or_final(k + 1);
+            }
+            Wait::Settle(tol) => {
+                let s2 = summarize_tol(self.model, &res2, &more, tol);
+                if s2.motion.is_periodic() {
+                    self.used.transient_periods += opts.record_periods;
+                    self.res = res2;
+                    self.s = s2;
+                }
+                self.ask(Wait::Done, Need::Done);
+            }
+            Wait::TleFirst | Wait::TleLast | Wait::Done => panic!("no run was asked for"),
+        }
+    }
+
+    /// The TLE [`Need::Tle`] asked for ([`tle_of`]).
+    pub fn tle(&mut self, tle: Option<(f64, f64)>) {
+        self.tle = tle;
+        match self.wait {
+            Wait::TleFirst => {
+                if let Some((l, se)) = tle {
+                    if significantly_positive(l, se) {
+                        if self.how.extend {
+                            // a chaotic transient shows a positive exponent too: before calling
+                            // the motion chaotic, follow it PERSIST_CYCLES (or one transient)
+                            // and look again
+                            let more = SimOptions {
+                                tau0: self.res.final_state.0,
+                                transient_periods: self
+                                    .opts
+                                    .transient_periods
+                                    .max(persist_periods(self.model)),
+                                ..self.opts
+                            };
+                            let y0 = self.res.final_state.1;
+                            self.ask(Wait::Persist(l, se), Need::Sim { y0, opts: more });
+                        } else {
+                            self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                            self.ask(Wait::Done, Need::Done);
+                        }
+                        return;
+                    }
+                }
+                self.extend_or_final(0);
+            }
+            Wait::TleLast => self.conclude(),
+            _ => panic!("no TLE was asked for"),
+        }
+    }
+
+    /// The decision: the run (its last record), its summary (`motion` and `label` state the
+    /// decision) and the options actually used (`transient_periods`).
+    pub fn finish(self) -> Result<(SimResult, Summary, SimOptions), SimError> {
+        assert!(matches!(self.need, Need::Done), "not decided yet");
+        match self.err {
+            Some(e) => Err(e),
+            None => Ok((self.res, self.s, self.used)),
+        }
+    }
+
+    fn ask(&mut self, wait: Wait, need: Need) {
+        self.wait = wait;
+        self.need = need;
+    }
+
+    /// Decided diverged if the current run ran away.
+    fn runaway(&mut self) -> bool {
+        let scale = self.model.backlash_levels().1.max(1.0);
+        let x_max = self.res.x_range.0.abs().max(self.res.x_range.1.abs());
+        // NaN counts as runaway too
+        if x_max.is_nan() || x_max > DIVERGED_SCALES * scale {
+            self.s.set_motion(Motion::Diverged { x_max });
+            self.ask(Wait::Done, Need::Done);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// A periodic record whose head is still transient (the orbit was reached inside the record)
+    /// would give the orbit the forces, P_ID and health of its transient: record again from the
+    /// final state, which is on the orbit. Once, so the cost stays bounded.
+    fn settle(&mut self, tol: f64) {
+        let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        if on_cycle_throughout(&pts, self.s.period, tol) {
+            self.ask(Wait::Done, Need::Done);
+            return;
+        }
+        let (t, y) = self.res.final_state;
         let again = SimOptions {
             tau0: t,
             transient_periods: 0,
-            ..*opts
+            ..self.opts
         };
-        let res2 = sim(model, y, &again)?;
-        let s2 = summarize_tol(model, &res2, &again, tol);
-        if s2.motion.is_periodic() {
-            used.transient_periods += opts.record_periods;
-            Ok((res2, s2))
-        } else {
-            Ok((res, s))
-        }
-    };
-    let strict = opts.method.period_tol();
-    let (mut res, mut s) = first;
-    if let Some(d) = runaway(&res) {
-        s.set_motion(d);
-        return Ok((res, s, used));
+        self.ask(Wait::Settle(tol), Need::Sim { y0: y, opts: again });
     }
-    if s.motion.is_periodic() {
-        let (res, s) = settle(res, s, strict, &mut used)?;
-        return Ok((res, s, used));
-    }
-    let mut tle = None;
-    if how.lyapunov {
-        let (t, y) = res.final_state;
-        tle = tle_from(model, opts, t, y);
-        if let Some((l, se)) = tle {
-            if significantly_positive(l, se) {
-                if how.extend {
-                    // a chaotic transient shows a positive exponent too: before calling the
-                    // motion chaotic, follow it one more transient and look again
-                    let more = SimOptions {
-                        tau0: res.final_state.0,
-                        transient_periods: opts.transient_periods.max(persist_periods(model)),
-                        ..*opts
-                    };
-                    let res2 = sim(model, res.final_state.1, &more)?;
-                    used.transient_periods += opts.record_periods + more.transient_periods;
-                    let mut s2 = summarize(model, &res2, &more);
-                    if let Some(d) = runaway(&res2) {
-                        s2.set_motion(d);
-                        return Ok((res2, s2, used));
-                    }
-                    if s2.motion.is_periodic() {
-                        let (res2, s2) = settle(res2, s2, strict, &mut used)?;
-                        return Ok((res2, s2, used));
-                    }
-                    res = res2;
-                    s = s2;
-                }
-                s.set_motion(Motion::Chaotic { tle: l, stderr: se });
-                return Ok((res, s, used));
-            }
-        }
-    }
-    let mut last_opts = *opts;
-    if how.extend {
-        for k in 0..MAX_EXTENSIONS {
-            let extra = (opts.transient_periods.max(MIN_EXTENSION)) << k;
-            let (t, y) = res.final_state;
-            // continue in time: the stroboscopic phase stays that of tau0
+
+    /// Transient extension `k` (continuing in time: the stroboscopic phase stays that of tau0),
+    /// or, after the last one, the TLE again and the conclusion.
+    fn extend_or_final(&mut self, k: u32) {
+        if self.how.extend && k < MAX_EXTENSIONS {
+            let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << k;
+            let (t, y0) = self.res.final_state;
             let more = SimOptions {
                 tau0: t,
                 transient_periods: extra,
-                ..*opts
+                ..self.opts
             };
-            res = sim(model, y, &more)?;
-            used.transient_periods += opts.record_periods + extra;
-            s = summarize(model, &res, &more);
-            last_opts = more;
-            if let Some(d) = runaway(&res) {
-                s.set_motion(d);
-                return Ok((res, s, used));
-            }
-            if s.motion.is_periodic() {
-                let (res, s) = settle(res, s, strict, &mut used)?;
-                return Ok((res, s, used));
-            }
+            self.ask(Wait::Extend(k), Need::Sim { y0, opts: more });
+            return;
         }
-        if how.lyapunov {
-            let (t, y) = res.final_state;
-            tle = tle_from(model, opts, t, y);
+        if self.how.extend && self.how.lyapunov {
+            let (t, y) = self.res.final_state;
+            self.ask(Wait::TleLast, Need::Tle { t, y });
+            return;
         }
+        self.conclude();
     }
-    if let Some((l, se)) = tle {
-        if significantly_negative(l, se) {
-            // an attracting motion of a periodically forced one-degree-of-freedom system is a
-            // periodic orbit: the strict test failed on the integrator's noise (long excitation
-            // periods with many events), so its period is read at a looser tolerance
-            let loose_tol = ATTRACTING_PERIOD_TOL_FACTOR * strict;
-            let loose = summarize_tol(model, &res, &last_opts, loose_tol);
-            if loose.motion.is_periodic() {
-                let (res, loose) = settle(res, loose, loose_tol, &mut used)?;
-                return Ok((res, loose, used));
+
+    /// The verdict from the TLE at hand.
+    fn conclude(&mut self) {
+        let opts = self.opts;
+        let strict = opts.method.period_tol();
+        let how = self.how;
+        self.ask(Wait::Done, Need::Done);
+        if let Some((l, se)) = self.tle {
+            if significantly_negative(l, se) {
+                // an attracting motion of a periodically forced one-degree-of-freedom system is
+                // a periodic orbit: the strict test failed on the integrator's noise (long
+                // excitation periods with many events), so its period is read at a looser
+                // tolerance
+                let loose_tol = ATTRACTING_PERIOD_TOL_FACTOR * strict;
+                let loose = summarize_tol(self.model, &self.res, &self.last_opts, loose_tol);
+                if loose.motion.is_periodic() {
+                    self.s = loose;
+                    self.settle(loose_tol);
+                    return;
+                }
             }
         }
+        let motion = match self.tle {
+            Some((l, se)) if significantly_positive(l, se) => {
+                Motion::Chaotic { tle: l, stderr: se }
+            }
+            // quasi-periodic only on decisive evidence: an exponent precisely zero (within 1e-3,
+            // with a standard error below 1e-3) and a record long enough for every period tested
+            Some((l, se))
+                if how.extend
+                    && l.abs() <= TLE_POSITIVE
+                    && se <= TLE_POSITIVE
+                    && opts.record_periods >= 3 * opts.max_period as u64 =>
+            {
+                Motion::QuasiPeriodic { tle: l, stderr: se }
+            }
+            Some((l, se)) => Motion::Unsettled {
+                tle: Some(l),
+                stderr: Some(se),
+            },
+            None => Motion::default(),
+        };
+        self.s.set_motion(motion);
     }
-    let motion = match tle {
-        Some((l, se)) if significantly_positive(l, se) => Motion::Chaotic { tle: l, stderr: se },
-        // quasi-periodic only on decisive evidence: an exponent precisely zero (within 1e-3,
-        // with a standard error below 1e-3) and a record long enough for every period tested
-        Some((l, se))
-            if how.extend
-                && l.abs() <= TLE_POSITIVE
-                && se <= TLE_POSITIVE
-                && opts.record_periods >= 3 * opts.max_period as u64 =>
-        {
-            Motion::QuasiPeriodic { tle: l, stderr: se }
-        }
-        Some((l, se)) => Motion::Unsettled {
-            tle: Some(l),
-            stderr: Some(se),
-        },
-        None => Motion::default(),
-    };
-    s.set_motion(motion);
-    Ok((res, s, used))
 }

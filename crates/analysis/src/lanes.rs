@@ -21,8 +21,9 @@
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
 use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
+use crate::classify::{tle_of, Decide, Decision, Need};
 use crate::driver::Observer;
-use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult};
+use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{
     run_lanes, run_lanes_on, At, Dispatch, End, LaneDriver, LaneStep, Next, Stage, Start,
@@ -292,21 +293,26 @@ impl<'s, const L: usize> SimDriver<'s, '_, L> {
 
 impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L> {
     fn next_item(&mut self, l: usize) -> Option<Start<'s, MeshModel, 2>> {
-        let &(out, model, y0) = self.items.get(self.next)?;
+        let &Item {
+            out,
+            model,
+            y0,
+            t0,
+            transient,
+        } = self.items.get(self.next)?;
         self.next += 1;
-        let o = self.opts;
         self.jobs[l] = Some(Job {
             out,
             model,
-            phase: Phase::Transient(o.transient_periods),
+            phase: Phase::Transient(transient),
             rec: None,
         });
-        if o.transient_periods == 0 {
-            self.start_record(l, o.tau0);
+        if transient == 0 {
+            self.start_record(l, t0);
         }
         Some(Start {
             sys: model,
-            t0: o.tau0,
+            t0,
             y0,
             h: model.mesh_cycle_time() / self.steps_per_cycle as f64,
             period: model.excitation_period(),
@@ -411,22 +417,48 @@ pub fn lanes_apply(opts: &SimOptions) -> bool {
         && opts.transient_periods + opts.record_periods > 0
 }
 
-/// A work item: output index, model, initial state.
-type Item<'s> = (usize, &'s MeshModel, [f64; 2]);
+/// A work item: a run of `simulate` from `(t0, y0)` with `transient` periods of transient (and
+/// the options' record); `out` is its output index.
+#[derive(Clone, Copy)]
+struct Item<'s> {
+    out: usize,
+    model: &'s MeshModel,
+    y0: [f64; 2],
+    t0: f64,
+    transient: u64,
+}
 
 /// Work items grouped by phase table.
 type Groups<'s> = Vec<(MeshLanes, Vec<Item<'s>>)>;
 
-/// Groups runs by phase table (models with equal tables share lanes).
-fn group<'s>(runs: &[(&'s MeshModel, [f64; 2])], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
+/// Start time of the phase tables of a run starting at `t0` on a sweep whose runs start at
+/// `tau0`: `tau0` when `t0` is at the same phase of the excitation period to rounding (a
+/// stroboscopic instant of the sweep: the continuation of a run), so that such runs share the
+/// tables (and lanes) of the sweep; else `t0`.
+fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
+    let d = m.cycle_position(t0) - m.cycle_position(tau0);
+    let c = m.cycles_per_period() as f64;
+    let d = d - (d / c).round() * c;
+    if d.abs() < 1e-9 {
+        tau0
+    } else {
+        t0
+    }
+}
+
+/// Groups runs by phase table (models with equal tables share lanes); runs starting at a
+/// stroboscopic instant of `tau0` use the tables of `tau0` ([`table_time`]).
+fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
     let mut groups: Groups<'s> = Vec::new();
-    let mut seen: Vec<(*const MeshModel, usize)> = Vec::new();
-    for (i, &(m, y0)) in runs.iter().enumerate() {
+    let mut seen: Vec<(*const MeshModel, u64, usize)> = Vec::new();
+    for it in runs {
+        let m = it.model;
         let key = m as *const MeshModel;
-        let g = match seen.iter().find(|s| s.0 == key) {
-            Some(&(_, g)) => g,
+        let tt = table_time(m, it.t0, tau0);
+        let g = match seen.iter().find(|s| s.0 == key && s.1 == tt.to_bits()) {
+            Some(&(_, _, g)) => g,
             None => {
-                let t = MeshLanes::new(m, steps_per_cycle, tau0);
+                let t = MeshLanes::new(m, steps_per_cycle, tt);
                 let g = match groups.iter().position(|(u, _)| *u == t) {
                     Some(g) => g,
                     None => {
@@ -434,11 +466,11 @@ fn group<'s>(runs: &[(&'s MeshModel, [f64; 2])], steps_per_cycle: u32, tau0: f64
                         groups.len() - 1
                     }
                 };
-                seen.push((key, g));
+                seen.push((key, tt.to_bits(), g));
                 g
             }
         };
-        groups[g].1.push((i, m, y0));
+        groups[g].1.push(*it);
     }
     groups
 }
@@ -514,7 +546,27 @@ pub fn simulate_lane(
     y0: [f64; 2],
     opts: &SimOptions,
 ) -> Result<SimResult, SimError> {
-    simulate_lanes_on::<1>(&[(model, y0)], opts, Dispatch::Auto)
+    simulate_lane_grid(model, y0, opts, opts.tau0)
+}
+
+/// As [`simulate_lane`], on the phase tables of the runs of a sweep starting at `grid_tau0`
+/// when `opts.tau0` is a stroboscopic instant of that sweep (a continuation, as the decisions of
+/// [`decide_lanes`] run it): the result is that of the same run in [`decide_lanes`] (for tests).
+#[doc(hidden)]
+pub fn simulate_lane_grid(
+    model: &MeshModel,
+    y0: [f64; 2],
+    opts: &SimOptions,
+    grid_tau0: f64,
+) -> Result<SimResult, SimError> {
+    let item = Item {
+        out: 0,
+        model,
+        y0,
+        t0: opts.tau0,
+        transient: opts.transient_periods,
+    };
+    simulate_items(&[item], opts, grid_tau0, Dispatch::Auto, usize::MAX)
         .pop()
         .expect("one run, one result")
 }
@@ -524,43 +576,95 @@ fn simulate_lanes_on<const L: usize>(
     opts: &SimOptions,
     how: Dispatch,
 ) -> Vec<Result<SimResult, SimError>> {
+    let items: Vec<Item<'_>> = runs
+        .iter()
+        .enumerate()
+        .map(|(out, &(model, y0))| Item {
+            out,
+            model,
+            y0,
+            t0: opts.tau0,
+            transient: opts.transient_periods,
+        })
+        .collect();
+    if L == 1 {
+        simulate_items(&items, opts, opts.tau0, how, usize::MAX)
+    } else {
+        simulate_items(&items, opts, opts.tau0, how, 0)
+    }
+}
+
+/// Runs every item (output index `out` in `0..items.len()`) with the record and method of
+/// `opts`, in lanes of the tables of `tau0` ([`group`]); a group of fewer than `lone` runs runs on
+/// one-lane engines (the same results: a run's result depends on nothing but the run).
+fn simulate_items(
+    items: &[Item<'_>],
+    opts: &SimOptions,
+    tau0: f64,
+    how: Dispatch,
+    lone: usize,
+) -> Vec<Result<SimResult, SimError>> {
     let Method::Rk4 { steps_per_cycle } = opts.method else {
         panic!("simulate_lanes needs the RK4 method");
     };
     assert!(!opts.trajectory, "simulate_lanes keeps no trajectory");
     let n = steps_per_cycle.max(1);
-    let groups = group(runs, n, opts.tau0);
-    let mut work: Vec<(&MeshLanes, &[Item<'_>])> = Vec::new();
+    let groups = group(items, n, tau0);
+    let mut work: Vec<(&MeshLanes, &[Item<'_>], bool)> = Vec::new();
     for (table, items) in &groups {
-        for c in items.chunks(chunk_len(items.len(), L)) {
-            work.push((table, c));
+        if items.len() < lone {
+            for c in items.chunks(1) {
+                work.push((table, c, true));
+            }
+        } else {
+            for c in items.chunks(chunk_len(items.len(), LANES)) {
+                work.push((table, c, false));
+            }
         }
     }
     let parts: Vec<Vec<(usize, Result<SimResult, SimError>)>> = work
         .par_iter()
-        .map(|&(table, items)| {
-            let mut drv = SimDriver::<L> {
-                items,
-                next: 0,
-                opts,
-                steps_per_cycle: n,
-                jobs: std::array::from_fn(|_| None),
-                acc: Acc::new(),
-                rec_mask: 0,
-                mesh_on: items.first().is_some_and(|it| it.1.cycles_per_period() > 1),
-                out: Vec::with_capacity(items.len()),
-            };
-            run_lanes_on::<MeshLanes, _, 2, L>(how, table, &mut drv);
-            drv.out
+        .map(|&(table, items, one)| {
+            if one {
+                sim_chunk::<1>(table, items, opts, n, how)
+            } else {
+                sim_chunk::<LANES>(table, items, opts, n, how)
+            }
         })
         .collect();
-    let mut out: Vec<Option<Result<SimResult, SimError>>> = (0..runs.len()).map(|_| None).collect();
+    let mut out: Vec<Option<Result<SimResult, SimError>>> =
+        (0..items.len()).map(|_| None).collect();
     for (i, r) in parts.into_iter().flatten() {
         out[i] = Some(r);
     }
     out.into_iter()
         .map(|r| r.expect("every run has a result"))
         .collect()
+}
+
+/// The runs of one chunk on an engine of `L` lanes.
+fn sim_chunk<'s, const L: usize>(
+    table: &MeshLanes,
+    items: &[Item<'s>],
+    opts: &SimOptions,
+    n: u32,
+    how: Dispatch,
+) -> Vec<(usize, Result<SimResult, SimError>)> {
+    let mut drv = SimDriver::<L> {
+        items,
+        next: 0,
+        opts,
+        steps_per_cycle: n,
+        jobs: std::array::from_fn(|_| None),
+        acc: Acc::new(),
+        rec_mask: 0,
+        mesh_on: items
+            .first()
+            .is_some_and(|it| it.model.cycles_per_period() > 1),
+        out: Vec::with_capacity(items.len()),
+    };
+    run_lanes_on::<MeshLanes, _, 2, L>(how, table, &mut drv);
+    drv.out
 }
 
 /// Where a cell's identification stands.
@@ -810,4 +914,77 @@ where
     out.into_iter()
         .map(|o| o.expect("every cell has an outcome"))
         .collect()
+}
+
+/// Runs per thread in a round of [`decide_lanes`] below which they run on one-lane engines (in
+/// parallel) rather than sharing a 16-lane one: on one thread (C1, 512 steps per cycle) a
+/// 16-lane engine with k busy lanes took as long as k one-lane engines at k = 4, 2x longer at
+/// k = 2, half as long at k = 8.
+const LONE_RUNS: usize = 4;
+
+/// [`simulate_decided_from`](crate::classify::simulate_decided_from) of many runs of a lanes
+/// sweep at once: each `(model, first)` is a run of [`simulate_lanes`] with `opts` and its
+/// [`summarize`]; the decisions ([`Decision`](crate::classify::Decision), the code of
+/// [`simulate_decided_with`](crate::classify::simulate_decided_with)) go in rounds, each round
+/// running the TLEs asked for (scalar, in parallel) and all the integrations asked for
+/// (transient extensions, persistence checks, records again) together in the lanes. Those
+/// integrations continue a run from a stroboscopic instant and share the phase tables of the
+/// sweep ([`simulate_lane_grid`] with `opts.tau0` is the same run on one lane); results in input
+/// order, each the decision [`simulate_decided_with`](crate::classify::simulate_decided_with)
+/// reaches with [`simulate_lane_grid`].
+pub fn decide_lanes(
+    runs: Vec<(&MeshModel, (SimResult, Summary))>,
+    opts: &SimOptions,
+    how: Decide,
+) -> Vec<Result<(SimResult, Summary, SimOptions), SimError>> {
+    let mut ds: Vec<Decision<'_>> = runs
+        .into_iter()
+        .map(|(m, first)| Decision::new(m, first, opts, how))
+        .collect();
+    let models: Vec<&MeshModel> = ds.iter().map(|d| d.model()).collect();
+    loop {
+        let mut tles: Vec<(usize, f64, [f64; 2])> = Vec::new();
+        let mut sims: Vec<Item<'_>> = Vec::new();
+        let mut sim_of: Vec<usize> = Vec::new();
+        for (i, d) in ds.iter().enumerate() {
+            match d.need() {
+                Need::Tle { t, y } => tles.push((i, t, y)),
+                Need::Sim { y0, opts: o } => {
+                    sims.push(Item {
+                        out: sims.len(),
+                        model: models[i],
+                        y0,
+                        t0: o.tau0,
+                        transient: o.transient_periods,
+                    });
+                    sim_of.push(i);
+                }
+                Need::Done => {}
+            }
+        }
+        if tles.is_empty() && sims.is_empty() {
+            break;
+        }
+        // longest first, so that the lanes of a chunk retire together (the results do not
+        // depend on the order)
+        sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
+        let (tle_res, sim_res) = rayon::join(
+            || {
+                tles.par_iter()
+                    .map(|&(i, t, y)| tle_of(models[i], opts, t, y))
+                    .collect::<Vec<_>>()
+            },
+            || {
+                let lone = LONE_RUNS * rayon::current_num_threads().max(1);
+                simulate_items(&sims, opts, opts.tau0, Dispatch::Auto, lone)
+            },
+        );
+        for (&(i, ..), r) in tles.iter().zip(tle_res) {
+            ds[i].tle(r);
+        }
+        for (&i, r) in sim_of.iter().zip(sim_res) {
+            ds[i].simulated(r);
+        }
+    }
+    ds.into_iter().map(|d| d.finish()).collect()
 }

@@ -356,7 +356,7 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
         initial_state, run_once, run_sweep, Section, SweepMode, SweepOptions,
     };
     use geardyn_analysis::classify::{simulate_decided_with, Decide};
-    use geardyn_analysis::lanes::simulate_lane;
+    use geardyn_analysis::lanes::simulate_lane_grid;
     let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [
         SweepMode::Fixed,
@@ -403,17 +403,15 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
                     continue;
                 }
                 // non-periodic: exactly the decision continued from the lanes' first run, the
-                // transient extensions on a one-lane engine
+                // transient extensions on a one-lane engine with the sweep's phase tables
                 let first = simulate_lanes(&[(&m, y0)], &opts.sim).remove(0).unwrap();
                 let sum = summarize(&m, &first, &opts.sim);
-                let (res, d, used) = simulate_decided_with(
-                    &m,
-                    (first, sum),
-                    &opts.sim,
-                    Decide::default(),
-                    simulate_lane,
-                )
-                .unwrap();
+                let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| {
+                    simulate_lane_grid(m, y, o, opts.sim.tau0)
+                };
+                let (res, d, used) =
+                    simulate_decided_with(&m, (first, sum), &opts.sim, Decide::default(), grid)
+                        .unwrap();
                 assert_eq!(run.label, d.label, "omega {}", r.value);
                 assert_eq!(run.motion, d.motion);
                 assert_eq!(run.p_id, d.p_id);
@@ -429,4 +427,76 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
             }
         }
     }
+}
+
+/// The decisions of many runs together (`decide_lanes`: TLEs, transient extensions, persistence
+/// checks and records again in rounds, the integrations in the lanes) are, to the last bit, the
+/// decision of each run alone (`simulate_decided_with` on a one-lane engine with the sweep's
+/// phase tables); C1 (periodic, chaotic, extended) and the internal pair near omega = 1.84
+/// (chaotic transients landing on an orbit), start times 0 and not 0.
+#[test]
+fn decisions_in_lanes_equal_the_decision_of_each_run() {
+    use geardyn_analysis::classify::{simulate_decided_with, Decide};
+    use geardyn_analysis::lanes::{decide_lanes, simulate_lane_grid};
+    let key = |r: &SimResult| serde_json::to_string(r).unwrap();
+    let mut kinds = [0usize; 3];
+    for (preset, omegas, tau0) in [
+        ("classic", vec![0.6, 1.1, 1.25, 1.3, 1.45, 1.67, 1.9], 0.0),
+        ("classic", vec![1.2, 1.35, 1.6], 33.0),
+        ("internal", vec![1.8, 1.82, 1.84, 1.86, 1.88], 0.0),
+    ] {
+        let models: Vec<MeshModel> = omegas
+            .iter()
+            .map(|&w| {
+                let mut p = if preset == "classic" {
+                    presets::classic()
+                } else {
+                    presets::internal()
+                };
+                p.omega = w;
+                MeshModel::new(&p).unwrap()
+            })
+            .collect();
+        let opts = SimOptions {
+            method: Method::Rk4 {
+                steps_per_cycle: 64,
+            },
+            tau0,
+            transient_periods: 60,
+            record_periods: 30,
+            ..Default::default()
+        };
+        let ics = [[0.0, 0.0], [0.9, -0.5], [-1.1, 0.3]];
+        let runs: Vec<(&MeshModel, [f64; 2])> = models
+            .iter()
+            .flat_map(|m| ics.iter().map(move |&y| (m, y)))
+            .collect();
+        let firsts: Vec<_> = simulate_lanes(&runs, &opts)
+            .into_iter()
+            .zip(&runs)
+            .map(|(r, &(m, _))| {
+                let r = r.unwrap();
+                let s = summarize(m, &r, &opts);
+                (m, (r, s))
+            })
+            .collect();
+        let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
+        let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, tau0);
+        for ((m, first), b) in firsts.into_iter().zip(batched) {
+            let (res, s, used) =
+                simulate_decided_with(m, first, &opts, Decide::default(), grid).unwrap();
+            let (bres, bs, bused) = b.unwrap();
+            assert_eq!(key(&res), key(&bres), "{preset} omega {}", m.params().omega);
+            assert_eq!(s.motion, bs.motion);
+            assert_eq!(s.label, bs.label);
+            assert_eq!(used.transient_periods, bused.transient_periods);
+            let extra = used.transient_periods - opts.transient_periods;
+            kinds[0] += (extra == 0) as usize;
+            kinds[1] += (extra > 0 && s.motion.is_periodic()) as usize;
+            kinds[2] += (extra > 0 && !s.motion.is_periodic()) as usize;
+        }
+    }
+    // decided periodic after more integration (records again, extensions, persistence checks)
+    // and not periodic after more
+    assert!(kinds[1] > 0 && kinds[2] > 0, "{kinds:?}");
 }
