@@ -50,9 +50,17 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     }
     let model = scenario.model().clone();
     let p = scenario.params();
+    // this command writes no folder: what ran is printed in full
     println!(
-        "integrated: omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}",
-        p.omega, p.load, p.xi, p.c, p.d_double, p.d_single
+        "integrated: {}: omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}, contact {}",
+        a.cfg.source(),
+        p.omega,
+        p.load,
+        p.xi,
+        p.c,
+        p.d_double,
+        p.d_single,
+        serde_json::to_string(&p.contact)?
     );
     let sim = cfg.sim_options()?;
     let mut opts = LyapunovOptions {
