@@ -367,34 +367,15 @@ impl<'m> Decision<'m> {
         let strict = opts.method.period_tol();
         match self.wait {
             Wait::Persist(l, se) => {
-                self.used.transient_periods += opts.record_periods + more.transient_periods;
-                let s2 = summarize(self.model, &res2, &more);
-                self.res = res2;
-                self.s = s2;
-                self.ask(Wait::Done, Need::Done);
-                if self.runaway() {
-                    return;
+                if self.continued(res2, more, strict) {
+                    self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
                 }
-                if self.s.motion.is_periodic() {
-                    self.settle(strict);
-                    return;
-                }
-                self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
             }
             Wait::Extend(k) => {
-                self.used.transient_periods += opts.record_periods + more.transient_periods;
-                self.s = summarize(self.model, &res2, &more);
-                self.res = res2;
                 self.last_opts = more;
-                self.ask(Wait::Done, Need::Done);
-                if self.runaway() {
-                    return;
+                if self.continued(res2, more, strict) {
+                    self.extend_or_final(k + 1);
                 }
-                if self.s.motion.is_periodic() {
-                    self.settle(strict);
-                    return;
-                }
-                self.extend_or_final(k + 1);
             }
             Wait::Settle(tol) => {
                 let s2 = summarize_tol(self.model, &res2, &more, tol);
@@ -452,6 +433,23 @@ impl<'m> Decision<'m> {
             Some(e) => Err(e),
             None => Ok((self.res, self.s, self.used)),
         }
+    }
+
+    /// Takes a continuation run (`more` after the current record) as the record; `true` when it
+    /// is still undecided (neither run away nor periodic: the periodic one is settled here).
+    fn continued(&mut self, res: SimResult, more: SimOptions, strict: f64) -> bool {
+        self.used.transient_periods += self.opts.record_periods + more.transient_periods;
+        self.s = summarize(self.model, &res, &more);
+        self.res = res;
+        self.ask(Wait::Done, Need::Done);
+        if self.runaway() {
+            return false;
+        }
+        if self.s.motion.is_periodic() {
+            self.settle(strict);
+            return false;
+        }
+        true
     }
 
     fn ask(&mut self, wait: Wait, need: Need) {

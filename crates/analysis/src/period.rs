@@ -23,21 +23,26 @@ pub fn minimal_period_tol<const N: usize>(
     max_n: usize,
     rel_tol: f64,
 ) -> Option<usize> {
+    let tol = abs_tol(pts, rel_tol);
+    let len = pts.len();
+    (1..=max_n).find(|&n| len >= 3 * n && repeats(pts, n, len - 2 * n, tol))
+}
+
+/// `rel_tol * (1 + max |state|)` over `pts`.
+fn abs_tol<const N: usize>(pts: &[[f64; N]], rel_tol: f64) -> f64 {
     let scale = 1.0
         + pts
             .iter()
             .flat_map(|p| p.iter())
             .fold(0.0f64, |m, v| m.max(v.abs()));
-    let tol = rel_tol * scale;
-    let len = pts.len();
-    (1..=max_n).find(|&n| {
-        if len < 3 * n {
-            return false;
-        }
-        (len - 2 * n..len).all(|j| {
-            let d: f64 = (0..N).map(|i| (pts[j][i] - pts[j - n][i]).abs()).sum();
-            d <= tol
-        })
+    rel_tol * scale
+}
+
+/// Whether every point from index `from` on repeats the one `n` before it within `tol`.
+fn repeats<const N: usize>(pts: &[[f64; N]], n: usize, from: usize, tol: f64) -> bool {
+    (from..pts.len()).all(|j| {
+        let d: f64 = (0..N).map(|i| (pts[j][i] - pts[j - n][i]).abs()).sum();
+        d <= tol
     })
 }
 
@@ -54,17 +59,7 @@ pub fn minimal_period_tol<const N: usize>(
 /// assert!(!on_cycle_throughout(&pts, 2, 1e-9));
 /// ```
 pub fn on_cycle_throughout<const N: usize>(pts: &[[f64; N]], n: usize, rel_tol: f64) -> bool {
-    let scale = 1.0
-        + pts
-            .iter()
-            .flat_map(|p| p.iter())
-            .fold(0.0f64, |m, v| m.max(v.abs()));
-    let tol = rel_tol * scale;
-    n > 0
-        && (n..pts.len()).all(|j| {
-            let d: f64 = (0..N).map(|i| (pts[j][i] - pts[j - n][i]).abs()).sum();
-            d <= tol
-        })
+    n > 0 && repeats(pts, n, n, abs_tol(pts, rel_tol))
 }
 
 #[cfg(test)]

@@ -960,15 +960,17 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let sim = ctx.sim((40, 100), (12, 30));
     let ics = ctx.n(3, 6);
+    // the same initial states for the load sweep and the frequency scan
+    let multi = SweepMode::Multi {
+        ics,
+        seed: 7,
+        x0_range: (-1.5 * d, 1.5 * d),
+        v0_range: (-1.0, 1.0),
+    };
     let o = sweep(
         "F",
         values.clone(),
-        SweepMode::Multi {
-            ics,
-            seed: 7,
-            x0_range: (-1.5 * d, 1.5 * d),
-            v0_range: (-1.0, 1.0),
-        },
+        multi.clone(),
         sim,
         vec![Sec::Strobe, Sec::Impact],
     );
@@ -1077,18 +1079,7 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         dir,
         "omega scan at F = 0.05",
         &b.with("F", 0.05)?,
-        &sweep(
-            "omega",
-            scan_w.clone(),
-            SweepMode::Multi {
-                ics,
-                seed: 7,
-                x0_range: (-1.5 * d, 1.5 * d),
-                v0_range: (-1.0, 1.0),
-            },
-            sim,
-            vec![Sec::Strobe],
-        ),
+        &sweep("omega", scan_w.clone(), multi, sim, vec![Sec::Strobe]),
     )?;
     let wpts = classes::points(&rw, 0);
     let scan_rows: Vec<(f64, Vec<String>, bool)> = scan_w

@@ -410,23 +410,26 @@ pub fn basin_boxes(
 ) -> Result<Vec<(String, BasinResult)>> {
     let mut out = Vec::new();
     for (i, &(x, v)) in boxes.iter().enumerate() {
-        let opts = BasinOptions {
-            x: Axis {
-                min: x.0,
-                max: x.1,
-                n,
-            },
-            v: Axis {
-                min: v.0,
-                max: v.1,
-                n,
-            },
-            identify,
-        };
+        let opts = basin_options(n, x, v, identify);
         let r = ctx.basins(dir, &safe(&format!("{name}_box{i}")), model, &opts)?;
         out.push((box_text(x, v), r));
     }
     Ok(out)
+}
+
+/// An `n x n` grid on the box `x0 in x`, `x0' in v`.
+fn basin_options(
+    n: usize,
+    x: (f64, f64),
+    v: (f64, f64),
+    identify: IdentifyOptions,
+) -> BasinOptions {
+    let axis = |(min, max): (f64, f64)| Axis { min, max, n };
+    BasinOptions {
+        x: axis(x),
+        v: axis(v),
+        identify,
+    }
 }
 
 /// `x0 ∈ [a, b], x0' ∈ [c, d]` for people.
@@ -455,19 +458,7 @@ pub fn basin_figure(
     identify: IdentifyOptions,
 ) -> Result<(Figure, Table, BasinResult)> {
     let name = &safe(name);
-    let opts = BasinOptions {
-        x: Axis {
-            min: x.0,
-            max: x.1,
-            n,
-        },
-        v: Axis {
-            min: v.0,
-            max: v.1,
-            n,
-        },
-        identify,
-    };
+    let opts = basin_options(n, x, v, identify);
     let r = ctx.basins(dir, name, model, &opts)?;
     let cols = attractor_colors(r.attractors.len());
     let black = PlotColor(0, 0, 0);
