@@ -632,5 +632,11 @@ mod tests {
         c.apply_contact("power:0.5").unwrap();
         let e = c.resolve().unwrap_err().to_string();
         assert!(e.contains("exponent") && e.contains("[1, 3]"), "{e}");
+        // impact damping's factor 3(1-e)/(2e) is bounded by its smallest restitution
+        c.apply_contact("impact_damping:1:0.05").unwrap();
+        let e = c.resolve().unwrap_err().to_string();
+        assert!(e.contains("restitution") && e.contains("[0.1, 1]"), "{e}");
+        c.apply_contact("impact_damping:1:0.1").unwrap();
+        c.resolve().unwrap();
     }
 }
