@@ -893,6 +893,7 @@ def continuation(
     seed=1,
     x0_range=None,
     v0_range=(-1.5, 1.5),
+    phase=0.0,
     capture_tol=1e-4,
     early_stop=True,
     ident_rtol=1e-7,
@@ -914,6 +915,9 @@ def continuation(
         Initial states per value (the same set at every value) and their seed.
     x0_range, v0_range : (min, max)
         Box of the initial states; ``x0_range`` defaults to ``±2 D_s``.
+    phase : float
+        Phase of the initial states in ``[0, 1)`` of each value's excitation period (as
+        :func:`basins`).
     capture_tol, early_stop, ident_rtol
         As :func:`basins`.
 
@@ -935,6 +939,7 @@ def continuation(
         _count("seed", seed),
         _pair("x0_range", x0_range),
         _pair("v0_range", v0_range),
+        float(phase),
         bool(progress),
     )
     d["points"] = _table(d["points"])

@@ -6,7 +6,7 @@
 mod util;
 
 use anyhow::{bail, Context, Result};
-use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{
     detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task, TaskResult,
@@ -791,12 +791,7 @@ fn basins<'py>(
         sim.apply(&mut cfg)?;
         let scenario = cfg.resolve()?;
         let model = scenario.model();
-        if !(0.0..1.0).contains(&phase) {
-            bail!(
-                "bad --phase {}: allowed [0, 1) (fraction of the excitation period)",
-                phase
-            );
-        }
+        check_phase(phase)?;
         let d = scenario.params().d_single;
         let xa = match x {
             Some(a) => axis(a, "x")?,
@@ -854,7 +849,7 @@ fn basins<'py>(
 
 /// `geardyn continuation` without the files.
 #[pyfunction]
-#[pyo3(signature = (src, sim, ident, param, values, range, ics, seed, x0_range, v0_range, progress))]
+#[pyo3(signature = (src, sim, ident, param, values, range, ics, seed, x0_range, v0_range, phase, progress))]
 #[allow(clippy::too_many_arguments)]
 fn continuation<'py>(
     py: Python<'py>,
@@ -868,6 +863,7 @@ fn continuation<'py>(
     seed: u64,
     x0_range: Option<(f64, f64)>,
     v0_range: (f64, f64),
+    phase: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (r, cfg, opts) = util::run(py, "continuation", progress, Stop::AtTick, move |ctl| {
@@ -889,6 +885,7 @@ fn continuation<'py>(
                 None => (-2.0 * d, 2.0 * d),
             },
             v0_range: check_pair(v0_range, "v0_range")?,
+            phase: check_phase(phase)?,
             identify: identify_options(&cfg, &ident)?,
         };
         ctl.set_total(opts.values.len() as u64, 0);

@@ -261,6 +261,7 @@ def test_config_equals_show(cli, preset, sets):
         (["bifurcation", "--param", "eps", "--preset", "breakage", "--range", "1:2:3"],
          lambda: geardyn.bifurcation(param="eps", preset="breakage", range=(1, 2, 3))),
         (["basins", "--phase", "1.5"], lambda: geardyn.basins(phase=1.5)),
+        (["continuation", "--phase", "1.5"], lambda: geardyn.continuation(phase=1.5)),
         (["map2d", "--metric", "nope"], lambda: geardyn.map2d(metric="nope")),
         (["show", "--set", "pair.mu=0.1"], lambda: geardyn.config(set={"pair.mu": 0.1})),
     ],

@@ -233,6 +233,27 @@ pub const DECIDE_RECORD: u64 = 128;
 /// Points kept for a merged non-periodic attractor.
 pub const MAX_CLOUD: usize = 256;
 
+/// A section phase outside `[0, 1)`.
+#[derive(Debug, thiserror::Error)]
+#[error("bad --phase {0}: allowed [0, 1) (fraction of the excitation period)")]
+pub struct PhaseError(pub f64);
+
+/// Checks the phase of a set of initial states (a fraction of the excitation period, `[0, 1)`;
+/// NaN is refused).
+///
+/// ```
+/// use geardyn_analysis::attractor::check_phase;
+/// assert_eq!(check_phase(0.25).unwrap(), 0.25);
+/// assert!(check_phase(1.0).is_err() && check_phase(f64::NAN).is_err());
+/// ```
+pub fn check_phase(phase: f64) -> Result<f64, PhaseError> {
+    if (0.0..1.0).contains(&phase) {
+        Ok(phase)
+    } else {
+        Err(PhaseError(phase))
+    }
+}
+
 /// Tolerances and lengths of the identification.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct IdentifyOptions {

@@ -658,13 +658,35 @@ pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
     jumps
 }
 
-/// Evenly spaced values `start..=stop` (`count` of them).
+/// Evenly spaced values `start..=stop` (`count` of them), each rounded to 12 significant digits.
+///
+/// The rounding keeps a grid a person typed as decimals decimal: `0.1 + 0.1 * 3` is
+/// `0.30000000000000004` in binary, and that is what a record would print and what would run.
+/// Rounded, the value that runs is the one written (`0.3`), at most `5e-13` relative from the
+/// exact fraction of the interval.
+///
+/// ```
+/// use geardyn_analysis::bifurcation::linspace;
+/// assert_eq!(linspace(0.1, 0.5, 5), vec![0.1, 0.2, 0.3, 0.4, 0.5]);
+/// assert_eq!(linspace(0.0, 1.0, 4)[1], 0.333333333333);
+/// ```
 pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
     match count {
         0 => vec![],
         1 => vec![start],
         _ => (0..count)
-            .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
+            .map(|i| {
+                let v = start + (stop - start) * i as f64 / (count - 1) as f64;
+                decimal12(v)
+            })
             .collect(),
     }
+}
+
+/// `v` rounded to 12 significant decimal digits (non-finite values unchanged).
+fn decimal12(v: f64) -> f64 {
+    if !v.is_finite() {
+        return v;
+    }
+    format!("{v:.11e}").parse().unwrap_or(v)
 }

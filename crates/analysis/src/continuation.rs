@@ -35,6 +35,10 @@ pub struct ContinuationOptions {
     pub x0_range: (f64, f64),
     /// Range of `v0`.
     pub v0_range: (f64, f64),
+    /// Phase of the initial states, as a fraction of the excitation period in `[0, 1)`: the
+    /// runs of every value start at `phase` times that value's excitation period (the
+    /// stroboscopic section the basins share; `identify.sim.tau0` is replaced by it).
+    pub phase: f64,
     /// Identification settings.
     pub identify: IdentifyOptions,
 }
@@ -148,24 +152,20 @@ pub fn attractors_at(
 ) -> ValueAttractors {
     let k = opts.ics.max(1);
     let first = k.div_ceil(4);
+    let mut id = opts.identify;
+    id.sim.tau0 = opts.phase * model.excitation_period();
     let mut known = Vec::new();
     let mut assignment = vec![-2i64; k];
     for (lo, hi) in [(0, first), (first, k)] {
         let snapshot = known.clone();
         let outs: Vec<Outcome> = (lo..hi)
             .into_par_iter()
-            .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &opts.identify))
+            .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &id))
             .collect();
         let first_new = known.len();
-        let ids = assign(&mut known, &outs, opts.identify.match_tol);
+        let ids = assign(&mut known, &outs, id.match_tol);
         assignment[lo..hi].copy_from_slice(&ids);
-        consolidate(
-            model,
-            &mut known,
-            first_new,
-            &mut assignment,
-            &opts.identify,
-        );
+        consolidate(model, &mut known, first_new, &mut assignment, &id);
     }
     ValueAttractors {
         index,

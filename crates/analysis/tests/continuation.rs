@@ -24,6 +24,7 @@ fn copts(values: Vec<f64>) -> ContinuationOptions {
         seed: 3,
         x0_range: (-3.0, 3.0),
         v0_range: (-2.0, 2.0),
+        phase: 0.0,
         identify: IdentifyOptions {
             sim: SimOptions {
                 transient_periods: 300,
@@ -146,4 +147,43 @@ fn map_of_max_force_is_deterministic() {
         .unwrap_err()
         .to_string()
         .contains("F"));
+}
+
+#[test]
+fn continuation_phase_moves_the_section() {
+    // C1 at omega = 0.7 has one period-1 orbit; with phase 0.5 its section point is the orbit's
+    // state half an excitation period after the phase-0 section, found here by a plain run
+    let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
+    let mut o = copts(vec![0.7]);
+    o.ics = 4;
+    o.x0_range = (-0.5, 0.5);
+    o.v0_range = (-0.1, 0.1);
+    let at = |phase: f64| {
+        let mut o = o.clone();
+        o.phase = phase;
+        let r = continuation(&base, &o, &HashMap::new(), |_| {}).unwrap();
+        assert_eq!(r.points.len(), 1, "{:?}", r.points);
+        (r.points[0].x, r.points[0].v)
+    };
+    let (x0, v0) = at(0.0);
+    let (xh, vh) = at(0.5);
+    let m = base.with("omega", 0.7).unwrap();
+    let t = m.model().excitation_period();
+    let sim = SimOptions {
+        tau0: 0.5 * t,
+        transient_periods: 300,
+        record_periods: 2,
+        ..Default::default()
+    };
+    let r = geardyn_analysis::simulate::simulate(m.model(), [x0, v0], &sim).unwrap();
+    let last = r.strobe.last().unwrap();
+    assert!(
+        (last[1] - xh).abs() < 1e-5 && (last[2] - vh).abs() < 1e-5,
+        "{last:?} vs {xh} {vh}"
+    );
+    assert!(
+        (xh - x0).abs() + (vh - v0).abs() > 1e-2,
+        "phase changed nothing"
+    );
+    assert!(geardyn_analysis::attractor::check_phase(1.0).is_err());
 }

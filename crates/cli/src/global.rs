@@ -4,7 +4,7 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::{open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::linspace;
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
@@ -105,12 +105,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     a.sim.apply(&mut cfg)?;
     let scenario = cfg.resolve()?;
     let model = scenario.model();
-    if !(0.0..1.0).contains(&a.phase) {
-        bail!(
-            "bad --phase {}: allowed [0, 1) (fraction of the excitation period)",
-            a.phase
-        );
-    }
+    check_phase(a.phase)?;
     let d = scenario.params().d_single;
     let mut x = Axis {
         min: -2.0 * d,
@@ -235,6 +230,10 @@ pub struct ContinuationArgs {
     /// v0 range, MIN:MAX.
     #[arg(long, allow_hyphen_values = true, default_value = "-1.5:1.5")]
     v0_range: String,
+    /// Phase of the initial states as a fraction of the excitation period, in [0, 1) (as for
+    /// `basins`: each value's runs start at this phase of its own excitation period).
+    #[arg(long, default_value_t = 0.0)]
+    phase: f64,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/continuation")]
     out: PathBuf,
@@ -260,6 +259,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
             None => (-2.0 * d, 2.0 * d),
         },
         v0_range: parse_pair(&a.v0_range, "--v0-range")?,
+        phase: check_phase(a.phase)?,
         identify: identify_options(&cfg, &a.ident)?,
     };
     let (cp, done) =

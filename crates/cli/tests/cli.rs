@@ -104,6 +104,7 @@ fn bad_input_gives_one_line_errors() {
             "malformed",
         ),
         (vec!["show", "--config", "/nonexistent.toml"], "cannot read"),
+        (vec!["continuation", "--phase", "1"], "--phase"),
     ];
     for (args, needle) in cases {
         let (code, _, err) = geardyn(&args);

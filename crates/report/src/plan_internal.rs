@@ -1383,6 +1383,7 @@ fn continuation_opts(param: &str, values: Vec<f64>, ics: usize, d: f64) -> Conti
         seed: 1,
         x0_range: (-2.0 * d, 2.0 * d),
         v0_range: (-1.5, 1.5),
+        phase: 0.0,
         identify: identify_options(300, 32),
     }
 }
