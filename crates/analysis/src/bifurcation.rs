@@ -8,11 +8,9 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
-use crate::classify::{simulate_decided, simulate_decided_with, Decide, Motion};
+use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lyapunov::{tle_variational, LyapunovOptions};
-use crate::simulate::{
-    simulate, summarize, Amplitudes, Level, SimError, SimOptions, SimResult, Summary,
-};
+use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -367,30 +365,6 @@ fn run_of(
     }
 }
 
-/// The sweep's record of a run simulated in the lanes whose contact law the lanes do not cover
-/// (the others are decided together, [`crate::lanes::decide_lanes`]): its classification
-/// continues from the lanes' result ([`simulate_decided_with`]: period test, then TLE and
-/// transient extensions from its final state on the scalar integrator), so the run is never
-/// integrated twice; a run that failed in the lanes is redone by the scalar path
-/// ([`run_once`]), which reports the failure.
-fn run_from_lanes(
-    model: &MeshModel,
-    y0: [f64; 2],
-    ic: usize,
-    opts: &SweepOptions,
-    lanes: Result<SimResult, SimError>,
-) -> Run {
-    match lanes {
-        Ok(res) => {
-            let s = summarize(model, &res, &opts.sim);
-            let decided =
-                simulate_decided_with(model, (res, s), &opts.sim, Decide::default(), simulate);
-            run_of(model, y0, ic, opts, decided)
-        }
-        Err(_) => run_once(model, y0, ic, opts),
-    }
-}
-
 /// Runs per thread in a batch of the lanes path of [`run_sweep`].
 const BATCH_PER_THREAD: usize = 64;
 
@@ -503,52 +477,13 @@ where
                 let decide = |(items, lane_results): Simulated| -> Vec<Run> {
                     // runs whose model the lanes cover are decided together (their
                     // integrations in the lanes), the others one by one
-                    let mut batched = Vec::new();
-                    let mut single = Vec::new();
-                    for (j, (&(i, ic, y0), r)) in items.iter().zip(lane_results).enumerate() {
-                        match r {
-                            Ok(res) if crate::lanes::lanes_cover_contact(&models[i]) => {
-                                batched.push((j, i, ic, y0, res))
-                            }
-                            r => single.push((j, i, ic, y0, r)),
-                        }
-                    }
-                    let (a, b) = rayon::join(
-                        || {
-                            let firsts: Vec<(&MeshModel, (SimResult, Summary))> = batched
-                                .iter_mut()
-                                .map(|(_, i, _, _, res)| {
-                                    let m = &models[*i];
-                                    let res = std::mem::take(res);
-                                    let s = summarize(m, &res, &opts.sim);
-                                    (m, (res, s))
-                                })
-                                .collect();
-                            let decided =
-                                crate::lanes::decide_lanes(firsts, &opts.sim, Decide::default());
-                            batched
-                                .par_iter()
-                                .zip(decided)
-                                .map(|(&(j, i, ic, y0, _), d)| {
-                                    (j, run_of(&models[i], y0, ic, opts, d))
-                                })
-                                .collect::<Vec<_>>()
-                        },
-                        || {
-                            single
-                                .into_par_iter()
-                                .map(|(j, i, ic, y0, r)| {
-                                    (j, run_from_lanes(&models[i], y0, ic, opts, r))
-                                })
-                                .collect::<Vec<_>>()
-                        },
-                    );
-                    let mut runs: Vec<Option<Run>> = (0..items.len()).map(|_| None).collect();
-                    for (j, run) in a.into_iter().chain(b) {
-                        runs[j] = Some(run);
-                    }
-                    runs.into_iter()
-                        .map(|r| r.expect("every run is decided"))
+                    let runs: Vec<(&MeshModel, [f64; 2])> =
+                        items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
+                    let decided = crate::lanes::decide_lane_runs(&runs, lane_results, &opts.sim);
+                    items
+                        .par_iter()
+                        .zip(decided.into_par_iter())
+                        .map(|(&(i, ic, y0), d)| run_of(&models[i], y0, ic, opts, d))
                         .collect()
                 };
                 let mut out = Vec::with_capacity(todo.len());

@@ -158,10 +158,16 @@ pub fn attractors_at(
     let mut assignment = vec![-2i64; k];
     for (lo, hi) in [(0, first), (first, k)] {
         let snapshot = known.clone();
-        let outs: Vec<Outcome> = (lo..hi)
-            .into_par_iter()
-            .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &id))
-            .collect();
+        let outs: Vec<Outcome> = if crate::lanes::identify_lanes_apply(&id) {
+            // fixed-step RK4: the initial states in lockstep lanes (the same outcomes)
+            let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
+            crate::lanes::identify_lanes(model, &y0s, &snapshot, &id, |_, _| {})
+        } else {
+            (lo..hi)
+                .into_par_iter()
+                .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &id))
+                .collect()
+        };
         let first_new = known.len();
         let ids = assign(&mut known, &outs, id.match_tol);
         assignment[lo..hi].copy_from_slice(&ids);

@@ -988,3 +988,74 @@ pub fn decide_lanes(
     }
     ds.into_iter().map(|d| d.finish()).collect()
 }
+
+/// A decided run: the record, its summary and the settings of the record.
+pub type Decided = Result<(SimResult, Summary, SimOptions), SimError>;
+
+/// The decisions ([`simulate_decided`](crate::classify::simulate_decided)) of many runs whose
+/// first runs `first` came from [`simulate_lanes`] (`runs[i]` gave `first[i]`): the runs whose
+/// contact the lanes cover ([`lanes_cover_contact`]) are decided together ([`decide_lanes`]),
+/// the others one by one from their lanes record, and a run the lanes could not finish is
+/// decided by the scalar path from its start. Results in input order.
+pub fn decide_lane_runs(
+    runs: &[(&MeshModel, [f64; 2])],
+    first: Vec<Result<SimResult, SimError>>,
+    opts: &SimOptions,
+) -> Vec<Decided> {
+    let mut batched = Vec::new();
+    let mut single = Vec::new();
+    for (j, (&(m, y0), r)) in runs.iter().zip(first).enumerate() {
+        match r {
+            Ok(res) if lanes_cover_contact(m) => batched.push((j, m, res)),
+            r => single.push((j, m, y0, r)),
+        }
+    }
+    let (a, b) = rayon::join(
+        || {
+            let (idx, firsts): (Vec<usize>, Vec<_>) = batched
+                .into_iter()
+                .map(|(j, m, res)| {
+                    let s = summarize(m, &res, opts);
+                    (j, (m, (res, s)))
+                })
+                .unzip();
+            idx.into_iter()
+                .zip(decide_lanes(firsts, opts, Decide::default()))
+                .collect::<Vec<_>>()
+        },
+        || {
+            single
+                .into_par_iter()
+                .map(|(j, m, y0, r)| {
+                    let d = match r {
+                        Ok(res) => {
+                            let s = summarize(m, &res, opts);
+                            crate::classify::simulate_decided_from(
+                                m,
+                                (res, s),
+                                opts,
+                                Decide::default(),
+                            )
+                        }
+                        Err(_) => crate::classify::simulate_decided(m, y0, opts, Decide::default()),
+                    };
+                    (j, d)
+                })
+                .collect::<Vec<_>>()
+        },
+    );
+    let mut out: Vec<Option<Decided>> = (0..runs.len()).map(|_| None).collect();
+    for (j, d) in a.into_iter().chain(b) {
+        out[j] = Some(d);
+    }
+    out.into_iter()
+        .map(|d| d.expect("every run is decided"))
+        .collect()
+}
+
+/// [`simulate_decided`](crate::classify::simulate_decided) of every `(model, y0)` with
+/// fixed-step RK4 ([`lanes_apply`]): the first runs in lockstep lanes, then
+/// [`decide_lane_runs`]. Results in input order, the same for any thread count.
+pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<Decided> {
+    decide_lane_runs(runs, simulate_lanes(runs, opts), opts)
+}

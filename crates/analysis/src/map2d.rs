@@ -2,6 +2,7 @@
 //! over a grid of two model parameters (docs/model.md §5), in parallel, deterministic and resumable.
 
 use crate::classify::{simulate_decided, Decide, Motion};
+use crate::lanes::Decided;
 use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::SimOptions;
 use geardyn_model::MeshModel;
@@ -98,6 +99,71 @@ pub const METRICS: &[&str] = &[
     "class",
 ];
 
+/// Cells per thread in a batch of the lanes path of [`map2d`].
+const BATCH_PER_THREAD: usize = 64;
+
+/// A cell from its model (or the error building it) and the decided run of that model.
+fn cell_of(
+    index: usize,
+    (x, y): (f64, f64),
+    model: Result<&MeshModel, &ScenarioError>,
+    decided: Option<Decided>,
+    o: &MapOptions,
+) -> MapCell {
+    let mut cell = MapCell {
+        index,
+        x,
+        y,
+        label: String::new(),
+        period: 0,
+        healthy: false,
+        max_force: 0.0,
+        min_force: 0.0,
+        p_id: 0.0,
+        impacts: 0,
+        tle: None,
+        motion: Motion::default(),
+    };
+    let m = match model {
+        Err(e) => {
+            cell.label = format!("invalid: {e}");
+            return cell;
+        }
+        Ok(m) => m,
+    };
+    match decided.expect("a decided run for every valid model") {
+        Err(e) => {
+            cell.label = format!("failed: {e}");
+            cell.motion = Motion::Failed {
+                reason: e.to_string(),
+            };
+        }
+        Ok((r, s, _)) => {
+            cell.label = s.label;
+            cell.motion = s.motion;
+            cell.period = s.period;
+            cell.healthy = s.healthy;
+            cell.max_force = s.max_force;
+            cell.min_force = s.min_force;
+            cell.p_id = s.p_id;
+            cell.impacts = s.impacts;
+            if o.lyapunov {
+                let lo = LyapunovOptions {
+                    period: m.excitation_period(),
+                    transient_periods: 0,
+                    periods: o.sim.record_periods,
+                    d0: 1e-6,
+                };
+                let (t, y) = r.final_state;
+                cell.tle = tle_variational::<_, 2, 4>(m, o.sim.method.scheme(m), t, y, &lo)
+                    .ok()
+                    .map(|l| l.tle);
+            }
+        }
+    }
+    cell
+}
+
 /// The model at one map point, through the scenario's builder.
 fn model_at(base: &Scenario, o: &MapOptions, x: f64, y: f64) -> Result<MeshModel, ScenarioError> {
     base.with_all(&[(o.x_param.as_str(), x), (o.y_param.as_str(), y)])
@@ -122,63 +188,67 @@ where
     for &y in &o.y_values {
         model_at(base, o, o.x_values[0], y)?;
     }
-    let cells: Vec<MapCell> = (0..nx * ny)
-        .into_par_iter()
-        .map(|index| {
-            if let Some(c) = done.get(&index) {
-                return c.clone();
-            }
-            let (x, y) = (o.x_values[index % nx], o.y_values[index / nx]);
-            let mut cell = MapCell {
-                index,
-                x,
-                y,
-                label: String::new(),
-                period: 0,
-                healthy: false,
-                max_force: 0.0,
-                min_force: 0.0,
-                p_id: 0.0,
-                impacts: 0,
-                tle: None,
-                motion: Motion::default(),
-            };
-            match model_at(base, o, x, y) {
-                Err(e) => cell.label = format!("invalid: {e}"),
-                Ok(m) => match simulate_decided(&m, o.y0, &o.sim, Decide::default()) {
-                    Err(e) => {
-                        cell.label = format!("failed: {e}");
-                        cell.motion = Motion::Failed {
-                            reason: e.to_string(),
-                        };
-                    }
-                    Ok((r, s, _)) => {
-                        cell.label = s.label;
-                        cell.motion = s.motion;
-                        cell.period = s.period;
-                        cell.healthy = s.healthy;
-                        cell.max_force = s.max_force;
-                        cell.min_force = s.min_force;
-                        cell.p_id = s.p_id;
-                        cell.impacts = s.impacts;
-                        if o.lyapunov {
-                            let lo = LyapunovOptions {
-                                period: m.excitation_period(),
-                                transient_periods: 0,
-                                periods: o.sim.record_periods,
-                                d0: 1e-6,
-                            };
-                            let (t, y) = r.final_state;
-                            cell.tle =
-                                tle_variational::<_, 2, 4>(&m, o.sim.method.scheme(&m), t, y, &lo)
-                                    .ok()
-                                    .map(|l| l.tle);
-                        }
-                    }
-                },
-            }
-            on_done(&cell);
-            cell
+    let value = |index: usize| (o.x_values[index % nx], o.y_values[index / nx]);
+    let todo: Vec<usize> = (0..nx * ny).filter(|i| !done.contains_key(i)).collect();
+    let fresh: Vec<MapCell> = if crate::lanes::lanes_apply(&o.sim) {
+        // fixed-step RK4: the cells' runs in lockstep lanes and their decisions batched
+        // (crate::lanes::simulate_decided_lanes), in batches so that an interruption loses at
+        // most one batch
+        let batch = BATCH_PER_THREAD * rayon::current_num_threads().max(1);
+        let mut out = Vec::with_capacity(todo.len());
+        for chunk in todo.chunks(batch) {
+            let models: Vec<Result<MeshModel, ScenarioError>> = chunk
+                .par_iter()
+                .map(|&i| {
+                    let (x, y) = value(i);
+                    model_at(base, o, x, y)
+                })
+                .collect();
+            let runs: Vec<(&MeshModel, [f64; 2])> = models
+                .iter()
+                .filter_map(|m| m.as_ref().ok().map(|m| (m, o.y0)))
+                .collect();
+            let mut decided = crate::lanes::simulate_decided_lanes(&runs, &o.sim).into_iter();
+            let pairs: Vec<(usize, Result<&MeshModel, &ScenarioError>, Option<Decided>)> = chunk
+                .iter()
+                .zip(&models)
+                .map(|(&i, m)| match m {
+                    Ok(m) => (i, Ok(m), decided.next()),
+                    Err(e) => (i, Err(e), None),
+                })
+                .collect();
+            out.extend(
+                pairs
+                    .into_par_iter()
+                    .map(|(i, m, d)| {
+                        let c = cell_of(i, value(i), m, d, o);
+                        on_done(&c);
+                        c
+                    })
+                    .collect::<Vec<_>>(),
+            );
+        }
+        out
+    } else {
+        todo.par_iter()
+            .map(|&i| {
+                let (x, y) = value(i);
+                let m = model_at(base, o, x, y);
+                let d = m
+                    .as_ref()
+                    .ok()
+                    .map(|m| simulate_decided(m, o.y0, &o.sim, Decide::default()));
+                let c = cell_of(i, (x, y), m.as_ref(), d, o);
+                on_done(&c);
+                c
+            })
+            .collect()
+    };
+    let mut fresh = fresh.into_iter();
+    let cells = (0..nx * ny)
+        .map(|i| match done.get(&i) {
+            Some(c) => c.clone(),
+            None => fresh.next().expect("every cell computed"),
         })
         .collect();
     Ok(cells)

@@ -500,3 +500,119 @@ fn decisions_in_lanes_equal_the_decision_of_each_run() {
     // and not periodic after more
     assert!(kinds[1] > 0 && kinds[2] > 0, "{kinds:?}");
 }
+
+/// A map with fixed-step RK4 runs its cells in the lanes (`simulate_decided_lanes`): each cell
+/// is, to the bit, the decision of its run alone on the lanes' path (a chaotic transient may end
+/// elsewhere than on the scalar path: a 1e-16 difference grows), a periodic cell the scalar RK4
+/// decision to 1e-9; the same for any thread count, and an interrupted map resumes to the same
+/// cells.
+#[test]
+fn map_in_lanes_equals_the_scalar_decisions() {
+    use geardyn_analysis::classify::{simulate_decided, simulate_decided_with, Decide};
+    use geardyn_analysis::lanes::simulate_lane_grid;
+    use geardyn_analysis::map2d::{map2d, MapOptions};
+    use std::collections::HashMap;
+    let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
+    let o = MapOptions {
+        x_param: "omega".into(),
+        x_values: vec![0.7, 1.0, 1.3, 1.8],
+        y_param: "F".into(),
+        y_values: vec![0.1, 0.15, 0.2],
+        sim: SimOptions {
+            method: Method::Rk4 {
+                steps_per_cycle: 128,
+            },
+            transient_periods: 150,
+            record_periods: 24,
+            ..Default::default()
+        },
+        y0: [0.0, 0.0],
+        lyapunov: false,
+    };
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let a = pool(2).install(|| map2d(&scenario, &o, &HashMap::new(), |_| {}).unwrap());
+    let b = pool(1).install(|| map2d(&scenario, &o, &HashMap::new(), |_| {}).unwrap());
+    assert_eq!(
+        serde_json::to_string(&a).unwrap(),
+        serde_json::to_string(&b).unwrap()
+    );
+    let mut periodic = 0;
+    for c in &a {
+        let s = scenario.with_all(&[("omega", c.x), ("F", c.y)]).unwrap();
+        let m = s.model();
+        // the decision continued from the lanes' first run, on a one-lane engine with the
+        // map's phase tables: the cell to the last bit
+        let first = simulate_lanes(&[(m, o.y0)], &o.sim).remove(0).unwrap();
+        let sum = summarize(m, &first, &o.sim);
+        let grid =
+            |m: &MeshModel, y: [f64; 2], so: &SimOptions| simulate_lane_grid(m, y, so, o.sim.tau0);
+        let (_, d, _) =
+            simulate_decided_with(m, (first, sum), &o.sim, Decide::default(), grid).unwrap();
+        assert_eq!(c.label, d.label, "{} {}", c.x, c.y);
+        assert_eq!(c.motion, d.motion);
+        assert_eq!(c.max_force, d.max_force);
+        assert_eq!(c.p_id, d.p_id);
+        if c.period > 0 {
+            // and a periodic cell is the scalar RK4 decision to rounding
+            periodic += 1;
+            let (_, e, _) = simulate_decided(m, o.y0, &o.sim, Decide::default()).unwrap();
+            assert_eq!(c.label, e.label, "{} {}", c.x, c.y);
+            assert!((c.max_force - e.max_force).abs() < 1e-9);
+        }
+    }
+    assert!(periodic >= 6, "{a:?}");
+    // resume: half of the cells done, the rest computed
+    let done: HashMap<usize, _> = a.iter().take(5).map(|c| (c.index, c.clone())).collect();
+    let r = map2d(&scenario, &o, &done, |_| {}).unwrap();
+    assert_eq!(
+        serde_json::to_string(&a).unwrap(),
+        serde_json::to_string(&r).unwrap()
+    );
+}
+
+/// A continuation with fixed-step RK4 identifies its initial states in the lanes: the same
+/// attractors, points and basin assignments as the continuation with the adaptive DP5 (scalar
+/// identification), C1 at omega = 1.8 (two coexisting orbits).
+#[test]
+fn continuation_in_lanes_agrees_with_the_scalar_identification() {
+    use geardyn_analysis::attractor::IdentifyOptions;
+    use geardyn_analysis::continuation::{attractors_at, ContinuationOptions};
+    let mut p = presets::classic();
+    p.omega = 1.8;
+    let m = MeshModel::new(&p).unwrap();
+    let mut identify_opts = IdentifyOptions::default();
+    identify_opts.sim.transient_periods = 150;
+    identify_opts.sim.record_periods = 32;
+    let mut o = ContinuationOptions {
+        param: "omega".into(),
+        values: vec![1.8],
+        ics: 16,
+        seed: 5,
+        x0_range: (-2.0, 2.0),
+        v0_range: (-1.5, 1.5),
+        phase: 0.0,
+        identify: identify_opts,
+    };
+    let dopri = attractors_at(&m, 0, 1.8, &o);
+    o.identify.sim.method = Method::Rk4 {
+        steps_per_cycle: 512,
+    };
+    let rk4 = attractors_at(&m, 0, 1.8, &o);
+    assert!(dopri.attractors.len() >= 2, "{:?}", dopri.attractors);
+    assert_eq!(dopri.attractors.len(), rk4.attractors.len());
+    for (a, b) in dopri.attractors.iter().zip(&rk4.attractors) {
+        assert_eq!(a.label, b.label);
+        assert!(a.period > 0);
+        let (p, q) = (a.points[0], b.points[0]);
+        assert!(
+            (p[0] - q[0]).abs() < 1e-4 && (p[1] - q[1]).abs() < 1e-4,
+            "{p:?} {q:?}"
+        );
+    }
+    assert_eq!(dopri.assignment, rk4.assignment);
+}
