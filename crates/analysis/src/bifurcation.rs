@@ -9,7 +9,7 @@
 //! listed as done are skipped, which makes long sweeps resumable.
 
 use crate::classify::{simulate_decided, Decide, Motion};
-use crate::lyapunov::{tle_variational, LyapunovOptions};
+use crate::lanes::Decided;
 use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
@@ -260,22 +260,42 @@ fn model_at(
 
 /// Simulates one run and extracts what a sweep records.
 pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions) -> Run {
-    run_of(
-        model,
-        y0,
-        ic,
-        opts,
-        simulate_decided(model, y0, &opts.sim, Decide::default()),
-    )
+    let decided = simulate_decided(model, y0, &opts.sim, Decide::default());
+    let tle = record_tles(opts, &[(model, &decided)]).pop().flatten();
+    run_of(y0, ic, opts, decided, tle)
+}
+
+/// The exponents `--lyapunov` asks for ([`SweepOptions::lyapunov`]): over the recorded periods
+/// from the end of each decided record, all together ([`crate::lanes_tle::tle_many`]: in the
+/// lanes with fixed-step RK4); `None` for a failed run or without `--lyapunov`.
+fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Option<f64>> {
+    let mut out = vec![None; runs.len()];
+    if !opts.lyapunov {
+        return out;
+    }
+    let (idx, starts): (Vec<usize>, Vec<crate::lanes_tle::TleStart<'_>>) = runs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (m, d))| {
+            d.as_ref()
+                .ok()
+                .map(|(r, _, _)| (i, (*m, r.final_state.0, r.final_state.1)))
+        })
+        .unzip();
+    let tles = crate::lanes_tle::tle_many(&starts, &opts.sim, opts.sim.record_periods);
+    for (i, r) in idx.into_iter().zip(tles) {
+        out[i] = r.map(|r| r.tle);
+    }
+    out
 }
 
 /// What a sweep records of a decided run.
 fn run_of(
-    model: &MeshModel,
     y0: [f64; 2],
     ic: usize,
     opts: &SweepOptions,
     decided: Result<(SimResult, Summary, SimOptions), SimError>,
+    tle: Option<f64>,
 ) -> Run {
     match decided {
         Err(e) => Run {
@@ -322,26 +342,7 @@ fn run_of(
                     ),
                 }
             }
-            let (t_end, y_end) = res.final_state;
-            let tle = if opts.lyapunov {
-                let lo = LyapunovOptions {
-                    period: model.excitation_period(),
-                    transient_periods: 0,
-                    periods: opts.sim.record_periods,
-                    d0: 1e-6,
-                };
-                tle_variational::<_, 2, 4>(
-                    model.clone(),
-                    opts.sim.method.scheme(model),
-                    t_end,
-                    y_end,
-                    &lo,
-                )
-                .ok()
-                .map(|r| r.tle)
-            } else {
-                None
-            };
+            let (_, y_end) = res.final_state;
             Run {
                 ic,
                 y0,
@@ -480,10 +481,13 @@ where
                     let runs: Vec<(&MeshModel, [f64; 2])> =
                         items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
                     let decided = crate::lanes::decide_lane_runs(&runs, lane_results, &opts.sim);
+                    let with: Vec<(&MeshModel, &Decided)> =
+                        runs.iter().zip(&decided).map(|(r, d)| (r.0, d)).collect();
+                    let tles = record_tles(opts, &with);
                     items
                         .par_iter()
-                        .zip(decided.into_par_iter())
-                        .map(|(&(i, ic, y0), d)| run_of(&models[i], y0, ic, opts, d))
+                        .zip(decided.into_par_iter().zip(tles))
+                        .map(|(&(_, ic, y0), (d, tle))| run_of(y0, ic, opts, d, tle))
                         .collect()
                 };
                 let mut out = Vec::with_capacity(todo.len());

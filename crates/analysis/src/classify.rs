@@ -18,7 +18,6 @@
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
-use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::period::on_cycle_throughout;
 use crate::simulate::{
     simulate, summarize, summarize_tol, SimError, SimOptions, SimResult, Summary,
@@ -169,18 +168,22 @@ impl Default for Decide {
 /// TLE of the motion continuing from `(t, y)` and its standard error, or `None` if it cannot be
 /// computed: the exponent [`Need::Tle`] asks for.
 pub fn tle_of(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
-    tle_from(model, opts, t, y)
+    tles_of(&[(model, t, y)], opts).pop().flatten()
 }
 
-fn tle_from(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
-    let lo = LyapunovOptions {
-        period: model.excitation_period(),
-        transient_periods: 0,
-        periods: opts.record_periods.max(TLE_PERIODS),
-        d0: 1e-6,
-    };
-    let r = tle_variational::<_, 2, 4>(model.clone(), opts.method.scheme(model), t, y, &lo).ok()?;
-    (r.tle.is_finite() && r.spread.is_finite()).then_some((r.tle, r.spread))
+/// [`tle_of`] of every `(model, t, y)`, in input order ([`crate::lanes_tle::tle_many`]: with
+/// fixed-step RK4 in lockstep lanes, the same result for a run alone or among others).
+pub fn tles_of(
+    runs: &[crate::lanes_tle::TleStart<'_>],
+    opts: &SimOptions,
+) -> Vec<Option<(f64, f64)>> {
+    crate::lanes_tle::tle_many(runs, opts, opts.record_periods.max(TLE_PERIODS))
+        .into_iter()
+        .map(|r| {
+            r.filter(|r| r.tle.is_finite() && r.spread.is_finite())
+                .map(|r| (r.tle, r.spread))
+        })
+        .collect()
 }
 
 fn significantly_positive(tle: f64, se: f64) -> bool {
@@ -236,7 +239,7 @@ pub fn simulate_decided_with(
     loop {
         match d.need() {
             Need::Sim { y0, opts } => d.simulated(sim(model, y0, &opts)),
-            Need::Tle { t, y } => d.tle(tle_from(model, opts, t, y)),
+            Need::Tle { t, y } => d.tle(tle_of(model, opts, t, y)),
             Need::Done => return d.finish(),
         }
     }

@@ -21,7 +21,7 @@
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
 use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
-use crate::classify::{tle_of, Decide, Decision, Need};
+use crate::classify::{tles_of, Decide, Decision, Need};
 use crate::driver::Observer;
 use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -435,7 +435,7 @@ type Groups<'s> = Vec<(MeshLanes, Vec<Item<'s>>)>;
 /// `tau0`: `tau0` when `t0` is at the same phase of the excitation period to rounding (a
 /// stroboscopic instant of the sweep: the continuation of a run), so that such runs share the
 /// tables (and lanes) of the sweep; else `t0`.
-fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
+pub(crate) fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
     let d = m.cycle_position(t0) - m.cycle_position(tau0);
     let c = m.cycles_per_period() as f64;
     let d = d - (d / c).round() * c;
@@ -477,7 +477,7 @@ fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
 
 /// Chunk length: whole lane loads, at least eight chunks per thread (rayon balances them; within
 /// a chunk, retired lanes refill at once).
-fn chunk_len(items: usize, lanes: usize) -> usize {
+pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
     let threads = rayon::current_num_threads().max(1);
     let loads = items.div_ceil(lanes);
     lanes * loads.div_ceil(threads * 8).max(1)
@@ -970,9 +970,9 @@ pub fn decide_lanes(
         sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
         let (tle_res, sim_res) = rayon::join(
             || {
-                tles.par_iter()
-                    .map(|&(i, t, y)| tle_of(models[i], opts, t, y))
-                    .collect::<Vec<_>>()
+                let runs: Vec<crate::lanes_tle::TleStart<'_>> =
+                    tles.iter().map(|&(i, t, y)| (models[i], t, y)).collect();
+                tles_of(&runs, opts)
             },
             || {
                 let lone = LONE_RUNS * rayon::current_num_threads().max(1);

@@ -12,6 +12,7 @@ pub mod continuation;
 pub mod driver;
 pub mod generic;
 pub mod lanes;
+pub mod lanes_tle;
 pub mod lyapunov;
 pub mod map2d;
 pub mod period;

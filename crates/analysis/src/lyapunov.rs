@@ -190,7 +190,7 @@ const BLOCKS: u64 = 10;
 /// Running TLE estimate over an announced number of intervals: the running history and the sums
 /// of ten blocks of equal length (the remainder `n mod 10` in no block), without keeping the
 /// per-interval logarithms.
-struct Accumulator {
+pub(crate) struct Accumulator {
     period: f64,
     blocks: u64,
     per: u64,
@@ -201,7 +201,7 @@ struct Accumulator {
 }
 
 impl Accumulator {
-    fn new(period: f64, intervals: u64) -> Self {
+    pub(crate) fn new(period: f64, intervals: u64) -> Self {
         let blocks = BLOCKS.min(intervals.max(1));
         Accumulator {
             period,
@@ -215,7 +215,7 @@ impl Accumulator {
     }
 
     /// The log growth of one interval.
-    fn push(&mut self, l: f64) {
+    pub(crate) fn push(&mut self, l: f64) {
         if let Some(b) = self.n.checked_div(self.per) {
             if b < self.blocks {
                 self.block_sums[b as usize] += l;
@@ -226,7 +226,7 @@ impl Accumulator {
         self.history.push(self.sum / (self.n as f64 * self.period));
     }
 
-    fn finish(self, annihilated: u64) -> LyapunovResult {
+    pub(crate) fn finish(self, annihilated: u64) -> LyapunovResult {
         let (n, period, blocks, per) = (self.n, self.period, self.blocks, self.per);
         let tle = if n > 0 {
             self.sum / (n as f64 * period)
@@ -258,7 +258,7 @@ impl Accumulator {
 
 /// Smallest tangent norm treated as non-zero: below it the perturbation was annihilated (an orbit
 /// sticking to a stop); it is restarted and the interval counts `ln(TINY)`.
-const TINY: f64 = 1e-300;
+pub(crate) const TINY: f64 = 1e-300;
 
 /// TLE by the variational equation with saltation matrices.
 ///

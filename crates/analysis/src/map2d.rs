@@ -3,7 +3,6 @@
 
 use crate::classify::{simulate_decided, Decide, Motion};
 use crate::lanes::Decided;
-use crate::lyapunov::{tle_variational, LyapunovOptions};
 use crate::simulate::SimOptions;
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
@@ -148,15 +147,10 @@ fn cell_of(
             cell.p_id = s.p_id;
             cell.impacts = s.impacts;
             if o.lyapunov {
-                let lo = LyapunovOptions {
-                    period: m.excitation_period(),
-                    transient_periods: 0,
-                    periods: o.sim.record_periods,
-                    d0: 1e-6,
-                };
                 let (t, y) = r.final_state;
-                cell.tle = tle_variational::<_, 2, 4>(m, o.sim.method.scheme(m), t, y, &lo)
-                    .ok()
+                cell.tle = crate::lanes_tle::tle_many(&[(m, t, y)], &o.sim, o.sim.record_periods)
+                    .pop()
+                    .flatten()
                     .map(|l| l.tle);
             }
         }

@@ -667,6 +667,47 @@ impl MeshLanes {
     }
 }
 
+impl MeshLanes {
+    /// Coefficients of the linearised field of every lane at `stage` of step `j` (the tangent
+    /// `(dx, dv)` of a lane obeys `dx' = dv`, `dv' = a dx + b dv`), as [`MeshModel`]'s
+    /// `jacobian` gives them for the lanes' law (linear, no hysteresis): `a = -h k`, `b = -h c`
+    /// in contact, zero when separated or when a unilateral force is clamped. Coefficients from
+    /// the tables at the times `at.t`, as [`Lockstep::rhs`] takes them.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn tangent_coefficients<const L: usize>(
+        &self,
+        j: usize,
+        stage: Stage,
+        at: &At<L>,
+        ln: &MeshLaneBlock<L>,
+        y: &Soa<2, L>,
+        a: &mut [f64; L],
+        b: &mut [f64; L],
+    ) {
+        let r = &self.rows[j];
+        let st = stage as usize;
+        let (hd, hb) = (r.hd[st], r.hb[st]);
+        let d = r.d;
+        for l in 0..L {
+            let (_, k) = self.cos_k(r, st, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
+            let hf = ln.sd[l] * hd + ln.sb[l] * hb;
+            let contact = ln.sd[l] + ln.sb[l] > 0.0;
+            let clamped = self.unilateral && contact && {
+                let off = (ln.sd[l] - ln.sb[l]) * d;
+                clamp(k * (y[0][l] - off) + ln.c[l] * y[1][l], ln.lo[l], ln.hi[l]) == 0.0
+            };
+            if contact && !clamped {
+                a[l] = -hf * k;
+                b[l] = -hf * ln.c[l];
+            } else {
+                a[l] = 0.0;
+                b[l] = 0.0;
+            }
+        }
+    }
+}
+
 impl<const L: usize> Lockstep<2, L> for MeshLanes {
     type Sys = MeshModel;
     type Lanes = MeshLaneBlock<L>;

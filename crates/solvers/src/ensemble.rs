@@ -330,6 +330,12 @@ pub trait LaneDriver<'s, B: Lockstep<N, L>, const N: usize, const L: usize> {
     }
     /// The stroboscopic instant `t` of lane `lane`; says what the lane does next.
     fn on_strobe(&mut self, lane: usize, t: f64, y: &[f64; N]) -> Next;
+    /// As [`LaneDriver::on_strobe`], and the driver may replace the lane's state there, keeping
+    /// its mode (renormalising the tangent part of an augmented state, as
+    /// [`crate::Integrator::set_state`] does for one integrator). Default: `on_strobe`.
+    fn on_strobe_set(&mut self, lane: usize, t: f64, y: &mut [f64; N]) -> Next {
+        self.on_strobe(lane, t, y)
+    }
     /// The item of lane `lane` ended.
     fn on_end(&mut self, lane: usize, end: End<N>);
 }
@@ -710,7 +716,17 @@ where
             for i in 0..N {
                 y[i] = self.y[self.cur][i][l];
             }
-            match drv.on_strobe(l, self.t[l], &y) {
+            let before = y;
+            let next = drv.on_strobe_set(l, self.t[l], &mut y);
+            if (0..N).any(|i| y[i].to_bits() != before[i].to_bits()) {
+                // a replaced state: its derivative is recomputed before the next step
+                for i in 0..N {
+                    self.y[self.cur][i][l] = y[i];
+                }
+                self.stale |= (1 << l) & self.lockable;
+                self.progressed |= 1 << l;
+            }
+            match next {
                 Next::Continue => {}
                 Next::Segment => {
                     self.tseg[l] = self.t[l];

@@ -1,0 +1,337 @@
+//! Top Lyapunov exponents of many runs in lockstep lanes: the variational equation rides with
+//! the state (`x, x', dx, dx'`) in the lanes of [`geardyn_solvers::ensemble`], exactly as
+//! [`tle_variational`](crate::lyapunov::tle_variational) integrates it with fixed-step RK4.
+//!
+//! A lane steps the state and its tangent on the grid of the run's phase tables
+//! ([`MeshLanes`]; the tangent's coefficients from [`MeshLanes::tangent_coefficients`]); every
+//! step that may hold an event — where the tangent jumps by the saltation matrix — goes to the
+//! scalar integrator of the augmented system ([`Tangent`]), which locates the event and applies
+//! the jump, as it does for one run. At every stroboscopic instant the tangent is renormalised
+//! and its log growth accumulated, as in the scalar function. Covered: the models whose contact
+//! the lanes step themselves ([`lanes_cover_contact`](crate::lanes::lanes_cover_contact)).
+
+// lane loops over several arrays read clearer (and vectorise as intended) with an index
+#![allow(clippy::needless_range_loop)]
+
+use crate::lanes::{chunk_len, lanes_cover_contact, table_time, LANES};
+use crate::lyapunov::{
+    tle_variational, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
+};
+use crate::simulate::{Method, SimOptions};
+use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
+use geardyn_solvers::ensemble::{
+    run_lanes, At, End, LaneDriver, Lockstep, Next, Soa, Stage, Start,
+};
+use rayon::prelude::*;
+
+/// The state and tangent of a mesh model in lanes: [`MeshLanes`] for the state, its
+/// linearisation for the tangent. Guards depend on the state only.
+pub struct TangentLanes<'a> {
+    base: &'a MeshLanes,
+}
+
+impl<const L: usize> Lockstep<4, L> for TangentLanes<'_> {
+    type Sys = Tangent<MeshModel>;
+    type Lanes = MeshLaneBlock<L>;
+    const GUARD_DIMS: usize = 2;
+
+    fn steps_per_period(&self) -> usize {
+        Lockstep::<2, L>::steps_per_period(self.base)
+    }
+
+    #[inline(always)]
+    fn scalar_phase(&self, j: usize) -> bool {
+        Lockstep::<2, L>::scalar_phase(self.base, j)
+    }
+
+    fn set_lane(
+        &self,
+        lanes: &mut MeshLaneBlock<L>,
+        l: usize,
+        sys: &Tangent<MeshModel>,
+        mode: &MeshMode,
+    ) -> bool {
+        sys.saltation && Lockstep::<2, L>::set_lane(self.base, lanes, l, &sys.sys, mode)
+    }
+
+    fn idle_lanes(&self) -> MeshLaneBlock<L> {
+        Lockstep::<2, L>::idle_lanes(self.base)
+    }
+
+    fn set_idle(&self, lanes: &mut MeshLaneBlock<L>, l: usize) {
+        Lockstep::<2, L>::set_idle(self.base, lanes, l)
+    }
+
+    #[inline(always)]
+    fn rhs(
+        &self,
+        j: usize,
+        stage: Stage,
+        at: &At<L>,
+        ln: &MeshLaneBlock<L>,
+        y: &Soa<4, L>,
+        dy: &mut Soa<4, L>,
+    ) {
+        let ys: Soa<2, L> = [y[0], y[1]];
+        let mut f = [[0.0; L]; 2];
+        Lockstep::<2, L>::rhs(self.base, j, stage, at, ln, &ys, &mut f);
+        let (mut a, mut b) = ([0.0; L], [0.0; L]);
+        self.base
+            .tangent_coefficients(j, stage, at, ln, &ys, &mut a, &mut b);
+        for l in 0..L {
+            dy[0][l] = f[0][l];
+            dy[1][l] = f[1][l];
+            // (the scalar Tangent sums J[i][k] * dy[k] from 0: J = [[0, 1], [a, b]])
+            dy[2][l] = 0.0 + 0.0 * y[2][l] + 1.0 * y[3][l];
+            dy[3][l] = 0.0 + a[l] * y[2][l] + b[l] * y[3][l];
+        }
+    }
+
+    #[inline(always)]
+    fn clear(
+        &self,
+        j: usize,
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<4, L>,
+        y1: &Soa<4, L>,
+        dev: &[f64; L],
+    ) -> u32 {
+        Lockstep::<2, L>::clear(self.base, j, ln, &[y0[0], y0[1]], &[y1[0], y1[1]], dev)
+    }
+}
+
+/// Where an exponent starts: the model, the time and the state.
+pub type TleStart<'m> = (&'m MeshModel, f64, [f64; 2]);
+
+/// One exponent to compute: the augmented system, its start and output index.
+struct Item {
+    out: usize,
+    sys: Tangent<MeshModel>,
+    t: f64,
+    y: [f64; 4],
+}
+
+/// One lane's exponent in progress.
+struct Job {
+    out: usize,
+    acc: Accumulator,
+    done: u64,
+    annihilated: u64,
+}
+
+struct TleDriver<'s, const L: usize> {
+    items: &'s [Item],
+    next: usize,
+    periods: u64,
+    steps_per_cycle: u32,
+    jobs: [Option<Job>; L],
+    out: Vec<(usize, Option<LyapunovResult>)>,
+}
+
+/// Tangent components start (and restart after an annihilation) at this value.
+const UNIT: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 4, L> for TleDriver<'s, L> {
+    fn next_item(&mut self, l: usize) -> Option<Start<'s, Tangent<MeshModel>, 4>> {
+        let it = self.items.get(self.next)?;
+        self.next += 1;
+        let m = &it.sys.sys;
+        self.jobs[l] = Some(Job {
+            out: it.out,
+            acc: Accumulator::new(m.excitation_period(), self.periods),
+            done: 0,
+            annihilated: 0,
+        });
+        Some(Start {
+            sys: &it.sys,
+            t0: it.t,
+            y0: it.y,
+            h: m.mesh_cycle_time() / self.steps_per_cycle as f64,
+            period: m.excitation_period(),
+        })
+    }
+
+    fn on_step(
+        &mut self,
+        _l: usize,
+        _sys: &Tangent<MeshModel>,
+        _step: &geardyn_solvers::Step<4>,
+        _before: &MeshMode,
+        _stop: geardyn_solvers::Stop,
+        _after: &MeshMode,
+        _y: &[f64; 4],
+    ) {
+    }
+
+    fn on_strobe(&mut self, _l: usize, _t: f64, _y: &[f64; 4]) -> Next {
+        unreachable!("the TLE driver renormalises at every strobe (on_strobe_set)")
+    }
+
+    fn on_strobe_set(&mut self, l: usize, _t: f64, y: &mut [f64; 4]) -> Next {
+        let job = self.jobs[l].as_mut().expect("busy lane");
+        // as tle_variational: log growth of the tangent over the period, then renormalised
+        let norm = (y[2] * y[2] + y[3] * y[3]).sqrt();
+        if norm > TINY && norm.is_finite() {
+            job.acc.push(norm.ln());
+            y[2] /= norm;
+            y[3] /= norm;
+        } else {
+            job.annihilated += 1;
+            job.acc.push(TINY.ln());
+            y[2] = UNIT;
+            y[3] = UNIT;
+        }
+        job.done += 1;
+        if job.done >= self.periods {
+            Next::Finish
+        } else {
+            Next::Continue
+        }
+    }
+
+    fn on_end(&mut self, l: usize, end: End<4>) {
+        let job = self.jobs[l].take().expect("busy lane");
+        let r = match end {
+            End::Done { .. } if job.done >= self.periods => Some(job.acc.finish(job.annihilated)),
+            _ => None,
+        };
+        self.out.push((job.out, r));
+    }
+}
+
+/// The top Lyapunov exponent of every `(model, t, y)` over `periods` excitation periods from
+/// `(t, y)`, with fixed-step RK4 of `steps_per_cycle` steps per mesh cycle: the result of
+/// [`tle_variational`](crate::lyapunov::tle_variational) (no transient, the tangent starting at
+/// `(1, 1)/sqrt 2`) to rounding, in lanes of the phase tables of `tau0` (a start at a
+/// stroboscopic instant of `tau0` uses the tables of the runs of a sweep starting there).
+/// `None` where the integration failed or ended early. Results in input order; the models'
+/// contact must be covered by the lanes
+/// ([`lanes_cover_contact`](crate::lanes::lanes_cover_contact)), else their steps in contact go
+/// to the scalar integrator. The same results for any thread count.
+pub fn tle_lanes(
+    runs: &[TleStart<'_>],
+    periods: u64,
+    steps_per_cycle: u32,
+    tau0: f64,
+) -> Vec<Option<LyapunovResult>> {
+    tle_lanes_with::<LANES>(runs, periods, steps_per_cycle, tau0)
+}
+
+/// As [`tle_lanes`], on engines of `L` lanes (one lane: the same results, for a lone exponent).
+pub fn tle_lanes_with<const L: usize>(
+    runs: &[TleStart<'_>],
+    periods: u64,
+    steps_per_cycle: u32,
+    tau0: f64,
+) -> Vec<Option<LyapunovResult>> {
+    let n = steps_per_cycle.max(1);
+    // group by phase table (models and start phases with equal tables share lanes)
+    let mut groups: Vec<(MeshLanes, Vec<Item>)> = Vec::new();
+    for (out, &(m, t, y)) in runs.iter().enumerate() {
+        let table = MeshLanes::new(m, n, table_time(m, t, tau0));
+        let item = Item {
+            out,
+            sys: Tangent {
+                sys: m.clone(),
+                saltation: true,
+            },
+            t,
+            y: [y[0], y[1], UNIT, UNIT],
+        };
+        match groups.iter_mut().find(|(u, _)| *u == table) {
+            Some((_, items)) => items.push(item),
+            None => groups.push((table, vec![item])),
+        }
+    }
+    let mut work: Vec<(&MeshLanes, &[Item])> = Vec::new();
+    for (table, items) in &groups {
+        for c in items.chunks(chunk_len(items.len(), L)) {
+            work.push((table, c));
+        }
+    }
+    let parts: Vec<Vec<(usize, Option<LyapunovResult>)>> = work
+        .par_iter()
+        .map(|&(table, items)| {
+            let batch = TangentLanes { base: table };
+            let mut drv = TleDriver::<L> {
+                items,
+                next: 0,
+                periods: periods.max(1),
+                steps_per_cycle: n,
+                jobs: std::array::from_fn(|_| None),
+                out: Vec::with_capacity(items.len()),
+            };
+            run_lanes::<TangentLanes<'_>, _, 4, L>(&batch, &mut drv);
+            drv.out
+        })
+        .collect();
+    let mut out: Vec<Option<LyapunovResult>> = (0..runs.len()).map(|_| None).collect();
+    for (i, r) in parts.into_iter().flatten() {
+        out[i] = r;
+    }
+    out
+}
+
+/// Runs below which the exponents of [`tle_many`] run on one-lane engines (in parallel) rather
+/// than sharing 16-lane ones (the same results either way).
+const LONE_TLES: usize = 4;
+
+/// The top Lyapunov exponent of every `(model, t, y)` over `periods` excitation periods from
+/// `(t, y)` with the integrator of `sim`: with fixed-step RK4 the models whose contact the lanes
+/// cover run in lockstep lanes ([`tle_lanes`], on the phase tables of `sim.tau0`; the same
+/// result for a run alone or among others), the others by
+/// [`tle_variational`](crate::lyapunov::tle_variational) one by one, in parallel. `None` where
+/// the integration failed. Results in input order, the same for any thread count.
+pub fn tle_many(
+    runs: &[TleStart<'_>],
+    sim: &SimOptions,
+    periods: u64,
+) -> Vec<Option<LyapunovResult>> {
+    let scalar = |&(m, t, y): &TleStart<'_>| {
+        let lo = LyapunovOptions {
+            period: m.excitation_period(),
+            transient_periods: 0,
+            periods,
+            d0: 1e-6,
+        };
+        tle_variational::<_, 2, 4>(m.clone(), sim.method.scheme(m), t, y, &lo).ok()
+    };
+    let Method::Rk4 { steps_per_cycle } = sim.method else {
+        return runs.par_iter().map(scalar).collect();
+    };
+    let (lanes, other): (Vec<usize>, Vec<usize>) =
+        (0..runs.len()).partition(|&i| lanes_cover_contact(runs[i].0));
+    let covered: Vec<TleStart<'_>> = lanes.iter().map(|&i| runs[i]).collect();
+    let (a, b) = rayon::join(
+        || {
+            if covered.len() < LONE_TLES * rayon::current_num_threads().max(1) {
+                covered
+                    .par_iter()
+                    .map(|r| {
+                        tle_lanes_with::<1>(
+                            std::slice::from_ref(r),
+                            periods,
+                            steps_per_cycle,
+                            sim.tau0,
+                        )
+                        .pop()
+                        .flatten()
+                    })
+                    .collect::<Vec<_>>()
+            } else {
+                tle_lanes(&covered, periods, steps_per_cycle, sim.tau0)
+            }
+        },
+        || {
+            other
+                .par_iter()
+                .map(|&i| scalar(&runs[i]))
+                .collect::<Vec<_>>()
+        },
+    );
+    let mut out: Vec<Option<LyapunovResult>> = (0..runs.len()).map(|_| None).collect();
+    for (&i, r) in lanes.iter().zip(a).chain(other.iter().zip(b)) {
+        out[i] = r;
+    }
+    out
+}
