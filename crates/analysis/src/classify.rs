@@ -18,7 +18,7 @@
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
-use crate::period::on_cycle_throughout;
+use crate::period::{approaches_lower_period, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, SimError, SimOptions, SimResult, Summary,
 };
@@ -282,6 +282,8 @@ enum Wait {
     TleLast,
     /// The record again of a periodic run (at tolerance `tol`).
     Settle(f64),
+    /// A longer transient for a periodic run still approaching an orbit of lower period.
+    Approach,
     /// Nothing: decided.
     Done,
 }
@@ -302,6 +304,8 @@ pub struct Decision<'m> {
     wait: Wait,
     need: Need,
     err: Option<SimError>,
+    /// Records again and longer transients taken by [`Decision::settle`] (bounded).
+    settles: u32,
 }
 
 impl<'m> Decision<'m> {
@@ -326,6 +330,7 @@ impl<'m> Decision<'m> {
             wait: Wait::Done,
             need: Need::Done,
             err: None,
+            settles: 0,
         };
         if d.runaway() {
             return d;
@@ -382,12 +387,22 @@ impl<'m> Decision<'m> {
             }
             Wait::Settle(tol) => {
                 let s2 = summarize_tol(self.model, &res2, &more, tol);
+                self.ask(Wait::Done, Need::Done);
                 if s2.motion.is_periodic() {
                     self.used.transient_periods += opts.record_periods;
                     self.res = res2;
                     self.s = s2;
+                    // the new record may still hold the end of a slow approach
+                    self.settle(tol);
                 }
-                self.ask(Wait::Done, Need::Done);
+            }
+            Wait::Approach => {
+                self.last_opts = more;
+                if self.continued(res2, more, strict) {
+                    // no longer periodic at the strict tolerance: decide it as a non-periodic
+                    // run after its extensions
+                    self.extend_or_final(MAX_EXTENSIONS);
+                }
             }
             Wait::TleFirst | Wait::TleLast | Wait::Done => panic!("no run was asked for"),
         }
@@ -474,15 +489,38 @@ impl<'m> Decision<'m> {
         }
     }
 
-    /// A periodic record whose head is still transient (the orbit was reached inside the record)
-    /// would give the orbit the forces, P_ID and health of its transient: record again from the
-    /// final state, which is on the orbit. Once, so the cost stays bounded.
+    /// A periodic record is taken as the orbit only when it is one:
+    /// * still approaching an orbit of lower period (a slowly decaying flip mode makes a period-1
+    ///   motion pass the period-2 test: [`approaches_lower_period`]), the transient is extended
+    ///   (doubling, as for undecided runs);
+    /// * with its head still transient (the orbit was reached inside the record), it would give
+    ///   the orbit the forces, P_ID and health of its approach: it is recorded again from the
+    ///   final state, until a record lies on the cycle throughout.
+    ///
+    /// At most [`MAX_EXTENSIONS`] such runs in all, so the cost stays bounded; after them the
+    /// record at hand stands.
     fn settle(&mut self, tol: f64) {
-        let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-        if on_cycle_throughout(&pts, self.s.period, tol) {
-            self.ask(Wait::Done, Need::Done);
+        self.ask(Wait::Done, Need::Done);
+        if self.settles >= MAX_EXTENSIONS {
             return;
         }
+        let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        if self.how.extend && approaches_lower_period(&pts, self.s.period) {
+            let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << self.settles;
+            self.settles += 1;
+            let (t, y0) = self.res.final_state;
+            let more = SimOptions {
+                tau0: t,
+                transient_periods: extra,
+                ..self.opts
+            };
+            self.ask(Wait::Approach, Need::Sim { y0, opts: more });
+            return;
+        }
+        if on_cycle_throughout(&pts, self.s.period, tol) {
+            return;
+        }
+        self.settles += 1;
         let (t, y) = self.res.final_state;
         let again = SimOptions {
             tau0: t,

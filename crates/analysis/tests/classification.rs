@@ -272,3 +272,49 @@ fn a_periodic_record_describes_the_orbit_not_its_approach() {
     let (_, s2, _) = simulate_decided(&m, y0, &near_saddle, Decide::default()).unwrap();
     assert_eq!(s2.label, "1-1-0-1-0");
 }
+
+fn internal_preset(omega: f64) -> MeshModel {
+    let mut spec = geardyn_scenario::ScenarioSpec::preset("internal").unwrap();
+    spec.set("omega", omega).unwrap();
+    spec.resolve().unwrap().model().clone()
+}
+
+#[test]
+fn a_slowly_converging_period_1_is_not_period_2() {
+    // internal preset at omega = 1.7: a period-1 orbit whose flip mode decays by ~1.5 % per
+    // period; after the default transient the points two periods apart agree within the
+    // tolerance while neighbours still alternate by ~1e-5, and the record had read
+    // "period 2: 2-2-0-2-0" (a 5000-period transient gives 1-1-0-1-0, points equal to 1e-10)
+    let m = internal_preset(1.7);
+    let (_, s, used) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
+    assert!(used.transient_periods > SimOptions::default().transient_periods);
+    let long = SimOptions {
+        transient_periods: 5000,
+        ..Default::default()
+    };
+    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
+    assert_eq!(s.label, s_long.label);
+}
+
+#[test]
+fn a_record_is_taken_again_until_it_lies_on_the_orbit() {
+    // internal preset, 100 + 50 periods: the period-3 orbit is reached during the record and
+    // the record taken again from its end still held the end of the approach (1e-2 at its head),
+    // so P_ID and forces mixed approach and orbit
+    let m = internal_preset(1.4);
+    let opts = SimOptions {
+        transient_periods: 100,
+        record_periods: 50,
+        ..Default::default()
+    };
+    let (res, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert_eq!(s.period, 3, "{}", s.label);
+    let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+    assert!(geardyn_analysis::period::on_cycle_throughout(
+        &pts,
+        3,
+        opts.method.period_tol()
+    ));
+}
