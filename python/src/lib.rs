@@ -961,6 +961,7 @@ fn map2d<'py>(
             y0: [cfg.simulation.x0, cfg.simulation.v0],
             lyapunov: metric == "tle",
         };
+        opts.check_axes()?;
         ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
         let done = HashMap::new();
         let cells = run_map2d(&scenario, &opts, &done, |_| ctl.tick())?;

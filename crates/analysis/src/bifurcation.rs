@@ -608,6 +608,7 @@ pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
 /// use geardyn_analysis::bifurcation::linspace;
 /// assert_eq!(linspace(0.1, 0.5, 5), vec![0.1, 0.2, 0.3, 0.4, 0.5]);
 /// assert_eq!(linspace(0.0, 1.0, 4)[1], 0.333333333333);
+/// assert_eq!(linspace(-0.1, 0.2, 4), vec![-0.1, 0.0, 0.1, 0.2]);
 /// ```
 pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
     match count {
@@ -616,7 +617,13 @@ pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
         _ => (0..count)
             .map(|i| {
                 let v = start + (stop - start) * i as f64 / (count - 1) as f64;
-                decimal12(v)
+                // a value that is zero but for the rounding of the sum (a grid through zero)
+                let zero = v.abs() <= 1e-12 * start.abs().max(stop.abs());
+                if zero {
+                    0.0
+                } else {
+                    decimal12(v)
+                }
             })
             .collect(),
     }

@@ -98,6 +98,40 @@ pub const METRICS: &[&str] = &[
     "class",
 ];
 
+/// Most cells of a map (each is a decided simulation: a million take hours already).
+pub const MAX_CELLS: usize = 1_000_000;
+
+/// Why a map cannot be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum MapError {
+    /// A parameter value the scenario's builder refuses.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// Axes that do not make a map.
+    #[error("{0}")]
+    Axes(String),
+}
+
+impl MapOptions {
+    /// Checks the axes: two different parameters, at least one value each, at most
+    /// [`MAX_CELLS`] cells.
+    pub fn check_axes(&self) -> Result<(), MapError> {
+        let (nx, ny) = (self.x_values.len(), self.y_values.len());
+        if self.x_param == self.y_param {
+            return Err(MapError::Axes(format!(
+                "--x and --y both sweep '{}': a map needs two different parameters (use bifurcation for one)",
+                self.x_param
+            )));
+        }
+        if nx == 0 || ny == 0 || nx.saturating_mul(ny) > MAX_CELLS {
+            return Err(MapError::Axes(format!(
+                "a map of {nx} x {ny} cells: allowed 1 to {MAX_CELLS} cells in all"
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// Cells per thread in a batch of the lanes path of [`map2d`].
 const BATCH_PER_THREAD: usize = 64;
 
@@ -164,17 +198,19 @@ fn model_at(base: &Scenario, o: &MapOptions, x: f64, y: f64) -> Result<MeshModel
         .map(|s| s.model().clone())
 }
 
-/// Computes the map. Parameter values are validated along both axes before any work; `done`
+/// Computes the map. The axes ([`MapOptions::check_axes`]) and the parameter values along both
+/// are validated before any work; `done`
 /// holds cells of an interrupted run, `on_done` receives each newly finished cell.
 pub fn map2d<F>(
     base: &Scenario,
     o: &MapOptions,
     done: &HashMap<usize, MapCell>,
     on_done: F,
-) -> Result<Vec<MapCell>, ScenarioError>
+) -> Result<Vec<MapCell>, MapError>
 where
     F: Fn(&MapCell) + Sync,
 {
+    o.check_axes()?;
     let (nx, ny) = (o.x_values.len(), o.y_values.len());
     for &x in &o.x_values {
         model_at(base, o, x, o.y_values[0])?;

@@ -84,7 +84,7 @@ pub const APPROACH_RATIO: f64 = 1.1;
 /// ```
 pub fn approaches_lower_period<const N: usize>(pts: &[[f64; N]], n: usize) -> bool {
     let len = pts.len();
-    (1..n).filter(|d| n % d == 0).any(|d| {
+    (1..n).filter(|d| n.is_multiple_of(*d)).any(|d| {
         let diffs: Vec<f64> = (d..len)
             .map(|j| (0..N).map(|i| (pts[j][i] - pts[j - d][i]).abs()).sum())
             .collect();

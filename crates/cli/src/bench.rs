@@ -1,5 +1,5 @@
 //! `geardyn bench`: integrator speed on case C1 (docs/model.md §6), printed as figures, with the
-//! numba yardstick (`../shared/bench/c1_numba_rk4.py`) run in the same command for ratios.
+//! numba yardstick (`crates/cli/bench/c1_numba_rk4.py`, built in) run in the same command for ratios.
 //!
 //! Figures: ns per RK4 step (scalar, and per lane-step of the lockstep ensemble on one thread),
 //! workload W1 (the C1 bifurcation diagram: 200 values of omega in [0.5, 2], 300 + 100 periods,
@@ -67,9 +67,29 @@ pub struct BenchArgs {
     /// Python interpreter with numba (default: $GEARDYN_NUMBA_PYTHON, else python3).
     #[arg(long)]
     numba_python: Option<String>,
-    /// The yardstick script.
-    #[arg(long, default_value = "../shared/bench/c1_numba_rk4.py")]
-    numba_script: PathBuf,
+    /// The yardstick script (default: the copy built into geardyn, `crates/cli/bench/`, written
+    /// to the temporary directory).
+    #[arg(long)]
+    numba_script: Option<PathBuf>,
+}
+
+/// The numba yardstick of W1 (plain fixed-step RK4 of C1, parallel over omega, no event location),
+/// the project's reference script, shipped with the binary.
+const YARDSTICK: &str = include_str!("../bench/c1_numba_rk4.py");
+
+/// The yardstick script to run: `given`, or the built-in copy written to a fixed temporary path
+/// (fixed so that numba's compilation cache beside it is reused between runs).
+fn yardstick_path(given: &Option<PathBuf>) -> Result<PathBuf> {
+    if let Some(p) = given {
+        return Ok(p.clone());
+    }
+    let dir = std::env::temp_dir().join("geardyn-bench");
+    let path = dir.join("c1_numba_rk4.py");
+    if std::fs::read_to_string(&path).ok().as_deref() != Some(YARDSTICK) {
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        std::fs::write(&path, YARDSTICK).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(path)
 }
 
 /// Runs the numba yardstick once; its compute time in seconds.
@@ -155,7 +175,11 @@ pub fn run(a: BenchArgs) -> Result<()> {
             .clone()
             .or_else(|| std::env::var("GEARDYN_NUMBA_PYTHON").ok())
             .unwrap_or_else(|| "python3".into()),
-        script: a.numba_script.clone(),
+        script: if num {
+            yardstick_path(&a.numba_script)?
+        } else {
+            PathBuf::new()
+        },
         times: Vec::new(),
     };
     if num {

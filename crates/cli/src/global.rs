@@ -398,6 +398,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         y0: [cfg.simulation.x0, cfg.simulation.v0],
         lyapunov: a.metric == "tle",
     };
+    opts.check_axes()?;
     let (cp, done) = open_checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts, a.sim.force)?;
     let total = xv.len() * yv.len();
     let done: HashMap<usize, MapCell> = done

@@ -105,6 +105,14 @@ fn bad_input_gives_one_line_errors() {
         ),
         (vec!["show", "--config", "/nonexistent.toml"], "cannot read"),
         (vec!["continuation", "--phase", "1"], "--phase"),
+        (
+            vec!["map2d", "--x", "xi:0:0.3:3", "--y", "xi:0:0.2:3"],
+            "two different",
+        ),
+        (
+            vec!["map2d", "--x", "xi:0:0.3:100000", "--y", "F:0:0.2:100000"],
+            "cells",
+        ),
     ];
     for (args, needle) in cases {
         let (code, _, err) = geardyn(&args);
@@ -399,4 +407,23 @@ fn basins_continuation_and_map_commands() {
     let (code, _, err) = geardyn(&["map2d", "--metric", "nope", "--out", m.to_str().unwrap()]);
     assert_ne!(code, 0);
     assert!(err.contains("max_force"), "{err}");
+}
+
+#[test]
+fn the_built_in_numba_yardstick_is_the_project_one() {
+    // the copy bench runs by default must be the shared reference script, byte for byte (when
+    // the shared folder sits beside the checkout, as in CI)
+    let here = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ours = std::fs::read_to_string(here.join("bench/c1_numba_rk4.py")).unwrap();
+    assert!(ours.contains("def bifurcation_rk4"));
+    let shared = here.join("../../../shared/bench/c1_numba_rk4.py");
+    match std::fs::read_to_string(&shared) {
+        Ok(s) => assert_eq!(
+            ours,
+            s,
+            "crates/cli/bench/c1_numba_rk4.py differs from {}",
+            shared.display()
+        ),
+        Err(_) => eprintln!("{} not present: compared nothing", shared.display()),
+    }
 }
