@@ -2,9 +2,11 @@
 //!
 //! At every value, the same `K` seeded initial states are integrated and their attractors
 //! identified ([`crate::attractor`]); the values are independent and run in parallel. Attractors
-//! of consecutive values are then matched into branches by **basin overlap** — how many of the
-//! same initial states go to the old and to the new attractor — and only where no initial state
-//! is shared, by descriptor distance. Events between consecutive values are reported: an
+//! of consecutive values are then matched into branches: a periodic orbit described at both values
+//! (same label, points within ten times the matching tolerance) continues its branch; the others
+//! by **basin overlap** — how many of the same initial states go to the old and to the new
+//! attractor, pairs that keep their periodic label first — and only where no initial state is
+//! shared, by descriptor distance. Events between consecutive values are reported: an
 //! attractor appears while others persist (incomplete bifurcation), disappears, doubles its
 //! period, turns chaotic, or several merge into one chaotic attractor.
 
@@ -235,18 +237,43 @@ pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> Conti
                     overlap[*now as usize][*before as usize] += 1;
                 }
             }
-            // greedy by decreasing overlap; a branch continues at most once
-            let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+            // a periodic orbit described at both values (the same label, every point near one
+            // of the other) continues its branch whatever the basin overlap: its initial states
+            // may all have moved to a neighbouring attractor
+            let mut taken_old = vec![false; pv.attractors.len()];
+            for a in 0..n {
+                let d = &va.attractors[a];
+                if d.period == 0 {
+                    continue;
+                }
+                if let Some(b) = (0..pv.attractors.len()).find(|&b| {
+                    let o = &pv.attractors[b];
+                    !taken_old[b] && o.label == d.label && o.matches(d, 10.0 * match_tol)
+                }) {
+                    branch[a] = prev_branch[b];
+                    taken_old[b] = true;
+                }
+            }
+            // then greedy by basin overlap, pairs of the same periodic label first (an orbit
+            // that kept its label and some of its initial states has not turned into another);
+            // a branch continues at most once
+            let mut pairs: Vec<(bool, usize, usize, usize)> = Vec::new();
             for (a, row) in overlap.iter().enumerate() {
                 for (b, &o) in row.iter().enumerate() {
                     if o > 0 {
-                        pairs.push((o, a, b));
+                        let (d, e) = (&va.attractors[a], &pv.attractors[b]);
+                        let same = d.period > 0 && d.label == e.label;
+                        pairs.push((same, o, a, b));
                     }
                 }
             }
-            pairs.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
-            let mut taken_old = vec![false; pv.attractors.len()];
-            for &(_, a, b) in &pairs {
+            pairs.sort_by(|x, y| {
+                y.0.cmp(&x.0)
+                    .then(y.1.cmp(&x.1))
+                    .then(x.2.cmp(&y.2))
+                    .then(x.3.cmp(&y.3))
+            });
+            for &(_, _, a, b) in &pairs {
                 if branch[a] == usize::MAX && !taken_old[b] {
                     branch[a] = prev_branch[b];
                     taken_old[b] = true;

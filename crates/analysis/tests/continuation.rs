@@ -187,3 +187,43 @@ fn continuation_phase_moves_the_section() {
     );
     assert!(geardyn_analysis::attractor::check_phase(1.0).is_err());
 }
+
+#[test]
+fn an_orbit_described_at_both_values_keeps_its_branch() {
+    use geardyn_analysis::attractor::Descriptor;
+    use geardyn_analysis::continuation::{link, ValueAttractors};
+    // C1 near omega = 1.8 (the audit's case): the period-1 orbit moves by 0.003 between the
+    // values while its initial states all go to the period-3 one and vice versa; by basin
+    // overlap alone the branches swapped labels (3-1-1 -> 1-1-0 "period change", and an
+    // "appearance" and a "disappearance")
+    let p1 = |x: f64| Descriptor::new(1, "1-1-0".into(), true, &[[x, -0.025]], 0.3, 0.4);
+    let p3 = |pts: &[[f64; 2]]| Descriptor::new(3, "3-1-1".into(), false, pts, 0.7, 0.6);
+    let a = ValueAttractors {
+        index: 0,
+        value: 1.8,
+        attractors: vec![p3(&[[1.32, -1.0], [0.5, 1.2], [-1.0, 0.3]]), p1(1.3164)],
+        assignment: vec![0, 0, 0, 1, 1],
+    };
+    // at 1.9 the period-3 orbit is recorded from another of its points (and moved a little);
+    // the initial states of each orbit now reach the other
+    let b = ValueAttractors {
+        index: 1,
+        value: 1.9,
+        attractors: vec![
+            p1(1.3137),
+            p3(&[[0.502, 1.203], [-1.001, 0.302], [1.318, -1.0]]),
+        ],
+        assignment: vec![0, 0, 0, 1, 1],
+    };
+    let r = link("omega", &[a, b], 1e-3);
+    let branch_of = |value: f64, label: &str| {
+        r.points
+            .iter()
+            .find(|p| p.value == value && p.label == label)
+            .unwrap()
+            .branch
+    };
+    assert_eq!(branch_of(1.8, "1-1-0"), branch_of(1.9, "1-1-0"));
+    assert_eq!(branch_of(1.8, "3-1-1"), branch_of(1.9, "3-1-1"));
+    assert!(r.events.is_empty(), "{:?}", r.events);
+}
