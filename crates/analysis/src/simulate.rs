@@ -271,7 +271,8 @@ pub struct Summary {
     /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`) of a periodic motion; otherwise the class and
     /// the mean crossings per excitation period as rates, e.g. `chaotic (0.84-0.31 per period)`.
     pub label: String,
-    /// Counts `p, q, r, s` over one motion period (per excitation period, rounded, if `n = 0`).
+    /// Counts `p, q, r, s` over one motion period; if `n = 0` (not periodic) their totals over the
+    /// recorded periods (the label gives them per period).
     pub counts: [u32; 4],
     /// Periodic without back-side contact or impact.
     pub healthy: bool,
@@ -686,11 +687,11 @@ pub fn summarize_tol(
         }
         c
     } else {
-        let n = res.counts_per_period.len().max(1) as f64;
+        // not periodic: totals over the record (the label gives them per period); rounded
+        // per-period means would read 0 for a crossing every third period
         let mut c = [0u32; 4];
         for i in 0..4 {
-            let tot: u32 = res.counts_per_period.iter().map(|r| r[i]).sum();
-            c[i] = (tot as f64 / n).round() as u32;
+            c[i] = res.counts_per_period.iter().map(|r| r[i]).sum();
         }
         c
     };

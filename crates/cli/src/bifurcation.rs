@@ -103,11 +103,12 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "bifurcation", a.sim.force)?;
     let elapsed = t.elapsed().as_secs_f64();
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_run_record(
+    run_record::write_sweep_record(
         &a.out,
         "bifurcation",
         &cfg,
         &scenario,
+        &[run_record::Swept::of(&a.param, &opts.values)],
         started,
         run_record::now_unix_s() - started,
     )?;
@@ -170,11 +171,12 @@ pub fn response(a: ResponseArgs) -> Result<()> {
     };
     let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.sim.force)?;
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_run_record(
+    run_record::write_sweep_record(
         &a.out,
         "response",
         &cfg,
         &scenario,
+        &[run_record::Swept::of(&a.param, &opts.values)],
         started,
         run_record::now_unix_s() - started,
     )?;

@@ -273,11 +273,12 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     let r = continuation(&scenario, &opts, &done, |v| rec.record(v))?;
     rec.finish()?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_run_record(
+    run_record::write_sweep_record(
         &a.out,
         "continuation",
         &cfg,
         &scenario,
+        &[run_record::Swept::of(&a.param, &opts.values)],
         started,
         run_record::now_unix_s() - started,
     )?;
@@ -411,11 +412,15 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
     let cells = map2d(&scenario, &opts, &done, |c| rec.record(c))?;
     rec.finish()?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_run_record(
+    run_record::write_sweep_record(
         &a.out,
         "map2d",
         &cfg,
         &scenario,
+        &[
+            run_record::Swept::of(&xp, &xv),
+            run_record::Swept::of(&yp, &yv),
+        ],
         started,
         run_record::now_unix_s() - started,
     )?;

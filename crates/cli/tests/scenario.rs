@@ -83,6 +83,29 @@ fn every_command_integrates_the_operating_point_that_was_set() {
             }
             assert_eq!(r["c"], 0.0321, "{cmd} {preset}: {r}");
             assert_eq!(r["D_s"], 1.11, "{cmd} {preset}: {r}");
+            // and the record names what the sweep varied, with its values
+            let text = std::fs::read_to_string(dir.join("run.json")).unwrap();
+            let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+            let swept: Vec<(String, f64, f64)> = v["swept"]
+                .as_array()
+                .map(|a| {
+                    a.iter()
+                        .map(|s| {
+                            (
+                                s["param"].as_str().unwrap().to_string(),
+                                s["from"].as_f64().unwrap(),
+                                s["to"].as_f64().unwrap(),
+                            )
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            let expected: Vec<(String, f64, f64)> = match cmd {
+                "bifurcation" | "response" | "continuation" => vec![("omega".into(), 0.9, 1.1)],
+                "map2d" => vec![("xi".into(), 0.1, 0.2), ("F".into(), 0.05, 0.1)],
+                _ => vec![],
+            };
+            assert_eq!(swept, expected, "{cmd} {preset}");
             let _ = std::fs::remove_dir_all(&dir);
         }
     }

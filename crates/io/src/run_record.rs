@@ -21,14 +21,44 @@ pub struct RunRecord {
     pub command: Vec<String>,
     /// The configuration used (inputs of the builder and simulation settings).
     pub config: serde_json::Value,
-    /// The dimensionless parameters that were integrated.
+    /// The dimensionless parameters that were integrated; for a sweep or a map, the base point
+    /// (each swept parameter takes the values in `swept` instead; every value's own resolved
+    /// parameters are in the sweep's results).
     pub resolved: ResolvedRecord,
+    /// The parameters a sweep or map varied, with their values (empty for a single run).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub swept: Vec<Swept>,
     /// Worker threads.
     pub threads: usize,
     /// Start time (seconds since the Unix epoch, UTC).
     pub started_unix_s: f64,
     /// Elapsed wall time (s).
     pub elapsed_s: f64,
+}
+
+/// A swept parameter and its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Swept {
+    /// The parameter (a `--set` name).
+    pub param: String,
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Number of values.
+    pub count: usize,
+}
+
+impl Swept {
+    /// `param` over `values` (in order).
+    pub fn of(param: &str, values: &[f64]) -> Self {
+        Swept {
+            param: param.to_string(),
+            from: values.first().copied().unwrap_or(f64::NAN),
+            to: values.last().copied().unwrap_or(f64::NAN),
+            count: values.len(),
+        }
+    }
 }
 
 /// Errors of the folder rules.
@@ -120,7 +150,7 @@ pub fn prepare_folder(
     Ok(())
 }
 
-/// Writes `run.json` into `out`.
+/// Writes `run.json` into `out` (a run at one point: nothing swept).
 pub fn write_run_record(
     out: &Path,
     kind: &str,
@@ -129,7 +159,22 @@ pub fn write_run_record(
     started_unix_s: f64,
     elapsed_s: f64,
 ) -> Result<(), OutputError> {
+    write_sweep_record(out, kind, cfg, scenario, &[], started_unix_s, elapsed_s)
+}
+
+/// Writes `run.json` of a sweep or map into `out`: `scenario` is the base point, `swept` the
+/// parameters it varied.
+pub fn write_sweep_record(
+    out: &Path,
+    kind: &str,
+    cfg: &Config,
+    scenario: &Scenario,
+    swept: &[Swept],
+    started_unix_s: f64,
+    elapsed_s: f64,
+) -> Result<(), OutputError> {
     let rec = RunRecord {
+        swept: swept.to_vec(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         git_commit: option_env!("GEARDYN_GIT_COMMIT").map(String::from),
         kind: kind.to_string(),
