@@ -19,7 +19,9 @@ pub struct SimulateArgs {
     /// Transient excitation periods discarded first (default: simulation.transient_periods).
     #[arg(long)]
     transient: Option<u64>,
-    /// Excitation periods (the last ones recorded) kept in trajectory.csv and the plots.
+    /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
+    /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
+    /// period holds several mesh cycles).
     #[arg(long, default_value_t = 10)]
     trajectory_periods: u64,
     /// Output directory.

@@ -8,7 +8,7 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// File system error.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}")]
     Io {
         /// Path.
         path: String,
@@ -16,7 +16,7 @@ pub enum OutputError {
         source: std::io::Error,
     },
     /// CSV error.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}")]
     Csv {
         /// Path.
         path: String,
