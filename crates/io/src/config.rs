@@ -443,8 +443,8 @@ impl Config {
                 Err(ConfigError::Simulation {
                     field,
                     value: geardyn_model::error::num(v),
-                    allowed: if max > 1e7 {
-                        "a whole number in [0, 1e9]"
+                    allowed: if max >= 1e7 {
+                        "a whole number in [0, 1e7] (1e7 excitation periods already take hours)"
                     } else {
                         "a whole number in [8, 1000000]"
                     },
@@ -460,8 +460,8 @@ impl Config {
             "steps_per_cycle" => {
                 s.steps_per_cycle = as_count("steps_per_cycle", value, 1e6)? as u32
             }
-            "transient_periods" => s.transient_periods = as_count("transient_periods", value, 1e9)?,
-            "record_periods" => s.record_periods = as_count("record_periods", value, 1e9)?,
+            "transient_periods" => s.transient_periods = as_count("transient_periods", value, 1e7)?,
+            "record_periods" => s.record_periods = as_count("record_periods", value, 1e7)?,
             _ => {
                 let mut spec = self.spec();
                 spec.set(name, value).map_err(|e| match e {
@@ -541,11 +541,11 @@ impl Config {
                 allowed: "[-1e9, 1e9] (the time resolution of f64 must resolve a mesh cycle)",
             });
         }
-        if s.transient_periods > 1_000_000_000 || s.record_periods > 1_000_000_000 {
+        if s.transient_periods > 10_000_000 || s.record_periods > 10_000_000 {
             return Err(ConfigError::Simulation {
                 field: "transient_periods/record_periods",
                 value: format!("{}/{}", s.transient_periods, s.record_periods),
-                allowed: "<= 1e9 each",
+                allowed: "<= 1e7 each (1e7 excitation periods already take hours)",
             });
         }
         if s.record_periods == 0 {
