@@ -389,11 +389,21 @@ impl<'m> Decision<'m> {
                 let s2 = summarize_tol(self.model, &res2, &more, tol);
                 self.ask(Wait::Done, Need::Done);
                 if s2.motion.is_periodic() {
-                    self.used.transient_periods += opts.record_periods;
+                    self.used.transient_periods +=
+                        self.res.strobe.len() as u64 + more.transient_periods;
+                    self.used.record_periods = more.record_periods;
                     self.res = res2;
                     self.s = s2;
                     // the new record may still hold the end of a slow approach
                     self.settle(tol);
+                } else {
+                    // the period seen at the end of the record did not persist: it was a passage
+                    // near an orbit (a saddle, or a window of a chaotic transient), not the
+                    // motion; decide the run on as an undecided one
+                    self.last_opts = more;
+                    if self.continued(res2, more, strict) {
+                        self.extend_or_final(0);
+                    }
                 }
             }
             Wait::Approach => {
@@ -456,7 +466,7 @@ impl<'m> Decision<'m> {
     /// Takes a continuation run (`more` after the current record) as the record; `true` when it
     /// is still undecided (neither run away nor periodic: the periodic one is settled here).
     fn continued(&mut self, res: SimResult, more: SimOptions, strict: f64) -> bool {
-        self.used.transient_periods += self.opts.record_periods + more.transient_periods;
+        self.used.transient_periods += self.res.strobe.len() as u64 + more.transient_periods;
         self.s = summarize(self.model, &res, &more);
         self.res = res;
         self.ask(Wait::Done, Need::Done);
@@ -517,14 +527,32 @@ impl<'m> Decision<'m> {
             self.ask(Wait::Approach, Need::Sim { y0, opts: more });
             return;
         }
-        if on_cycle_throughout(&pts, self.s.period, tol) {
+        let n = self.s.period as u64;
+        let len = pts.len() as u64;
+        let on_cycle = on_cycle_throughout(&pts, self.s.period, tol);
+        if on_cycle && (n == 0 || len.is_multiple_of(n)) {
             return;
         }
+        // record again from the final state (on the orbit); a record of whole orbit periods
+        // (the requested length rounded up to a multiple of the period), so that time fractions
+        // (P_ID, durations) and counts are the orbit's and do not depend on where it was cut
+        // the first time straight from the final state; if that record still held an approach
+        // (the orbit seen at the end of a long chaotic transient), after a transient doubling as
+        // the extensions of rule 3 do
+        let transient = match self.settles {
+            0 => 0,
+            k => (self.opts.transient_periods.max(MIN_EXTENSION)) << (k - 1),
+        };
         self.settles += 1;
         let (t, y) = self.res.final_state;
         let again = SimOptions {
             tau0: t,
-            transient_periods: 0,
+            transient_periods: transient,
+            record_periods: if n > 0 {
+                self.opts.record_periods.div_ceil(n) * n
+            } else {
+                self.opts.record_periods
+            },
             ..self.opts
         };
         self.ask(Wait::Settle(tol), Need::Sim { y0: y, opts: again });

@@ -263,6 +263,8 @@ struct Job<'s> {
     model: &'s MeshModel,
     phase: Phase,
     rec: Option<Recorder<'s>>,
+    /// Periods to record.
+    record: u64,
 }
 
 /// Lane driver of many [`simulate`](crate::simulate::simulate) runs.
@@ -282,11 +284,11 @@ impl<'s, const L: usize> SimDriver<'s, '_, L> {
     fn start_record(&mut self, l: usize, t: f64) {
         let o = self.opts;
         let job = self.jobs[l].as_mut().expect("busy lane");
-        let traj_from = o.record_periods.saturating_sub(o.trajectory_periods);
+        let traj_from = job.record.saturating_sub(o.trajectory_periods);
         let rec = Recorder::new(job.model, false, o.samples_per_cycle, t, traj_from);
         self.acc.load(l, &rec);
         job.rec = Some(rec);
-        job.phase = Phase::Record(o.record_periods);
+        job.phase = Phase::Record(job.record);
         self.rec_mask |= 1 << l;
     }
 }
@@ -299,6 +301,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             y0,
             t0,
             transient,
+            record,
         } = self.items.get(self.next)?;
         self.next += 1;
         self.jobs[l] = Some(Job {
@@ -306,6 +309,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             model,
             phase: Phase::Transient(transient),
             rec: None,
+            record,
         });
         if transient == 0 {
             self.start_record(l, t0);
@@ -369,7 +373,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
         }
         // end of the transient: the record is a new run of periods from here
         self.start_record(l, t);
-        if self.opts.record_periods == 0 {
+        if self.jobs[l].as_ref().is_some_and(|j| j.record == 0) {
             Next::Finish
         } else {
             Next::Segment
@@ -426,6 +430,7 @@ struct Item<'s> {
     y0: [f64; 2],
     t0: f64,
     transient: u64,
+    record: u64,
 }
 
 /// Work items grouped by phase table.
@@ -565,6 +570,7 @@ pub fn simulate_lane_grid(
         y0,
         t0: opts.tau0,
         transient: opts.transient_periods,
+        record: opts.record_periods,
     };
     simulate_items(&[item], opts, grid_tau0, Dispatch::Auto, usize::MAX)
         .pop()
@@ -585,6 +591,7 @@ fn simulate_lanes_on<const L: usize>(
             y0,
             t0: opts.tau0,
             transient: opts.transient_periods,
+            record: opts.record_periods,
         })
         .collect();
     if L == 1 {
@@ -956,6 +963,7 @@ pub fn decide_lanes(
                         y0,
                         t0: o.tau0,
                         transient: o.transient_periods,
+                        record: o.record_periods,
                     });
                     sim_of.push(i);
                 }

@@ -318,3 +318,32 @@ fn a_record_is_taken_again_until_it_lies_on_the_orbit() {
         opts.method.period_tol()
     ));
 }
+
+#[test]
+fn a_periodic_record_holds_whole_orbit_periods() {
+    // internal preset, period 3: 100 (or 50) recorded periods are 33 1/3 (16 2/3) orbit periods,
+    // and P_ID, a time fraction, depended on where the record was cut (0.6826 / 0.6866 / 0.6882
+    // for one orbit); recorded over whole orbit periods it is the orbit's, whatever the lengths
+    let m = internal_preset(1.4);
+    let mut p_ids = Vec::new();
+    for (transient, record) in [(300, 100), (100, 50), (2000, 100), (600, 31)] {
+        let opts = SimOptions {
+            transient_periods: transient,
+            record_periods: record,
+            ..Default::default()
+        };
+        let (res, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        assert_eq!(s.period, 3, "{}", s.label);
+        assert_eq!(
+            used.record_periods % 3,
+            0,
+            "{transient} + {record}: {used:?}"
+        );
+        assert!(used.record_periods >= record);
+        assert_eq!(res.strobe.len() as u64, used.record_periods);
+        p_ids.push(s.p_id);
+    }
+    for p in &p_ids {
+        assert!((p - p_ids[0]).abs() < 1e-6, "{p_ids:?}");
+    }
+}
