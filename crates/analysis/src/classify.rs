@@ -386,13 +386,16 @@ impl<'m> Decision<'m> {
                 }
             }
             Wait::Settle(tol) => {
-                let s2 = summarize_tol(self.model, &res2, &more, tol);
+                // the record again of a motion found periodic: read at the tolerance of the
+                // on-orbit check (ten times the period test's), so that the integrator's noise
+                // does not turn an orbit seen twice into an undecided run
+                let mut s2 = summarize_tol(self.model, &res2, &more, tol);
+                if !s2.motion.is_periodic() {
+                    s2 = summarize_tol(self.model, &res2, &more, 10.0 * tol);
+                }
                 self.ask(Wait::Done, Need::Done);
                 if s2.motion.is_periodic() {
-                    self.used.transient_periods +=
-                        self.res.strobe.len() as u64 + more.transient_periods;
-                    self.used.record_periods = more.record_periods;
-                    self.res = res2;
+                    self.take(res2, &more);
                     self.s = s2;
                     // the new record may still hold the end of a slow approach
                     self.settle(tol);
@@ -466,9 +469,8 @@ impl<'m> Decision<'m> {
     /// Takes a continuation run (`more` after the current record) as the record; `true` when it
     /// is still undecided (neither run away nor periodic: the periodic one is settled here).
     fn continued(&mut self, res: SimResult, more: SimOptions, strict: f64) -> bool {
-        self.used.transient_periods += self.res.strobe.len() as u64 + more.transient_periods;
         self.s = summarize(self.model, &res, &more);
-        self.res = res;
+        self.take(res, &more);
         self.ask(Wait::Done, Need::Done);
         if self.runaway() {
             return false;
@@ -478,6 +480,16 @@ impl<'m> Decision<'m> {
             return false;
         }
         true
+    }
+
+    /// Takes `res` (a continuation run with `more`) as the record: the replaced record becomes
+    /// transient, the record length is the new run's, and the work counters add up.
+    fn take(&mut self, mut res: SimResult, more: &SimOptions) {
+        self.used.transient_periods += self.res.strobe.len() as u64 + more.transient_periods;
+        self.used.record_periods = more.record_periods;
+        res.steps += self.res.steps;
+        res.rhs_evals += self.res.rhs_evals;
+        self.res = res;
     }
 
     fn ask(&mut self, wait: Wait, need: Need) {
@@ -515,7 +527,7 @@ impl<'m> Decision<'m> {
             return;
         }
         let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
-        if self.how.extend && approaches_lower_period(&pts, self.s.period) {
+        if self.how.extend && approaches_lower_period(&pts, self.s.period, tol) {
             let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << self.settles;
             self.settles += 1;
             let (t, y0) = self.res.final_state;
@@ -529,7 +541,9 @@ impl<'m> Decision<'m> {
         }
         let n = self.s.period as u64;
         let len = pts.len() as u64;
-        let on_cycle = on_cycle_throughout(&pts, self.s.period, tol);
+        // a head off the orbit by more than the integrator's noise (ten times the period
+        // tolerance, as the mesh-cycle clock is checked): an approach, not noise
+        let on_cycle = on_cycle_throughout(&pts, self.s.period, 10.0 * tol);
         if on_cycle && (n == 0 || len.is_multiple_of(n)) {
             return;
         }

@@ -65,25 +65,28 @@ pub fn on_cycle_throughout<const N: usize>(pts: &[[f64; N]], n: usize, rel_tol: 
 /// Ratio of the mean lag-`d` difference over the first part of a record to that over its last
 /// part above which a period-`n` record is still approaching an orbit of period `d` (a settled
 /// period-`n` orbit keeps its lag-`d` differences constant: the ratio is 1 to rounding).
-pub const APPROACH_RATIO: f64 = 1.1;
+pub const APPROACH_RATIO: f64 = 1.05;
 
 /// Whether the sequence `pts`, periodic with minimal period `n` at its end, is still approaching
 /// an orbit of a proper divisor `d` of `n`: a slowly decaying flip (or other) mode makes points
 /// `d` apart differ by a shrinking amount that is still above the tolerance, while points `n`
 /// apart already agree. Detected when the mean lag-`d` difference over the first third of the
-/// record (whole cycles of `n`) exceeds [`APPROACH_RATIO`] times that over the last third.
+/// record (whole cycles of `n`) exceeds [`APPROACH_RATIO`] times that over the last third, and
+/// is above ten times the period-test tolerance `rel_tol (1 + max |state|)` (smaller
+/// differences are the integrator's noise, not an approach).
 ///
 /// ```
 /// use geardyn_analysis::period::approaches_lower_period;
 /// // a period-1 point with a flip mode decaying by 1.5 % per period
 /// let flip: Vec<[f64; 1]> = (0..120).map(|j| [1.0 + 1e-3 * (-0.985f64).powi(j)]).collect();
-/// assert!(approaches_lower_period(&flip, 2));
+/// assert!(approaches_lower_period(&flip, 2, 1e-6));
 /// // a settled period-2 orbit
 /// let p2: Vec<[f64; 1]> = (0..120).map(|j| [(j % 2) as f64]).collect();
-/// assert!(!approaches_lower_period(&p2, 2));
+/// assert!(!approaches_lower_period(&p2, 2, 1e-6));
 /// ```
-pub fn approaches_lower_period<const N: usize>(pts: &[[f64; N]], n: usize) -> bool {
+pub fn approaches_lower_period<const N: usize>(pts: &[[f64; N]], n: usize, rel_tol: f64) -> bool {
     let len = pts.len();
+    let tol = abs_tol(pts, rel_tol);
     (1..n).filter(|d| n.is_multiple_of(*d)).any(|d| {
         let diffs: Vec<f64> = (d..len)
             .map(|j| (0..N).map(|i| (pts[j][i] - pts[j - d][i]).abs()).sum())
@@ -95,7 +98,7 @@ pub fn approaches_lower_period<const N: usize>(pts: &[[f64; N]], n: usize) -> bo
         let w = k * n;
         let first: f64 = diffs[..w].iter().sum();
         let last: f64 = diffs[diffs.len() - w..].iter().sum();
-        last > 0.0 && first > APPROACH_RATIO * last
+        last > 0.0 && first > APPROACH_RATIO * last && first > 10.0 * tol * w as f64
     })
 }
 

@@ -662,6 +662,17 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
     Ok(res)
 }
 
+fn lcm(a: usize, b: usize) -> usize {
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    a / gcd(a, b) * b
+}
+
 /// Period, label, healthy flag and P_ID of a simulation.
 pub fn summarize(model: &MeshModel, res: &SimResult, opts: &SimOptions) -> Summary {
     summarize_tol(model, res, opts, opts.method.period_tol())
@@ -678,6 +689,47 @@ pub fn summarize_tol(
 ) -> Summary {
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
     let period = minimal_period_tol(&pts, opts.max_period, period_tol).unwrap_or(0);
+    let cycles = model.cycles_per_period() as usize;
+    // The excitation strobe is exact (integrator stops); the mesh-cycle strobe is interpolated.
+    // The mesh period is the smallest divisor m of period*cycles at which the mesh strobe
+    // repeats to ten times the period tolerance (the interpolant's accuracy), so the two clocks
+    // never contradict each other.
+    let mesh_period = if cycles > 1 && period > 0 {
+        let whole = period * cycles;
+        let pts = &res.mesh_strobe;
+        let scale = 1.0
+            + pts
+                .iter()
+                .flat_map(|p| p.iter())
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+        let tol = 10.0 * opts.method.period_tol() * scale;
+        (1..=whole)
+            .filter(|&m| whole.is_multiple_of(m))
+            .find(|&m| {
+                pts.len() >= 2 * m
+                    && (m..pts.len()).all(|j| {
+                        (pts[j][0] - pts[j - m][0]).abs() + (pts[j][1] - pts[j - m][1]).abs() <= tol
+                    })
+            })
+            .or(Some(whole))
+    } else {
+        None
+    };
+    // The two clocks agree: a mesh strobe that repeats after m mesh cycles repeats the excitation
+    // strobe after lcm(m, cycles) / cycles periods. When that is a proper divisor of the period
+    // found, the excitation strobe test failed the shorter period on the integrator's noise
+    // (many events per period, as on the breakage pair) and the shorter one is the period.
+    let period = match mesh_period {
+        Some(m) if period > 0 => {
+            let p = lcm(m, cycles) / cycles;
+            if p < period && period.is_multiple_of(p) {
+                p
+            } else {
+                period
+            }
+        }
+        _ => period,
+    };
     let counts = if period > 0 && res.counts_per_period.len() >= period {
         let mut c = [0u32; 4];
         for row in &res.counts_per_period[res.counts_per_period.len() - period..] {
@@ -714,32 +766,6 @@ pub fn summarize_tol(
     let [t_drive, t_sep, t_back] = res.durations;
     let total = t_drive + t_sep + t_back;
     let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
-    let cycles = model.cycles_per_period() as usize;
-    // The excitation strobe is exact (integrator stops); the mesh-cycle strobe is interpolated.
-    // The mesh period is the smallest divisor m of period*cycles at which the mesh strobe
-    // repeats to ten times the period tolerance (the interpolant's accuracy), so the two clocks
-    // never contradict each other.
-    let mesh_period = if cycles > 1 && period > 0 {
-        let whole = period * cycles;
-        let pts = &res.mesh_strobe;
-        let scale = 1.0
-            + pts
-                .iter()
-                .flat_map(|p| p.iter())
-                .fold(0.0f64, |m, v| m.max(v.abs()));
-        let tol = 10.0 * opts.method.period_tol() * scale;
-        (1..=whole)
-            .filter(|&m| whole.is_multiple_of(m))
-            .find(|&m| {
-                pts.len() >= 2 * m
-                    && (m..pts.len()).all(|j| {
-                        (pts[j][0] - pts[j - m][0]).abs() + (pts[j][1] - pts[j - m][1]).abs() <= tol
-                    })
-            })
-            .or(Some(whole))
-    } else {
-        None
-    };
     Summary {
         period,
         mesh_period,

@@ -347,3 +347,26 @@ fn a_periodic_record_holds_whole_orbit_periods() {
         assert!((p - p_ids[0]).abs() < 1e-6, "{p_ids:?}");
     }
 }
+
+#[test]
+fn the_revolution_and_mesh_cycle_clocks_agree() {
+    // breakage pair, omega = 1.1, 20 recorded revolutions: the strict revolution test passed
+    // period 6 only (points 3 apart differ by 2.6e-6 of noise, the tolerance is 1.8e-6) while
+    // the mesh-cycle strobe repeats after 6 mesh cycles, i.e. after 3 revolutions (40 cycles
+    // each): the label said "period 6" beside "mesh period 6 cycles"
+    let mut spec = geardyn_scenario::ScenarioSpec::preset("breakage").unwrap();
+    spec.set("omega", 1.1).unwrap();
+    let m = spec.resolve().unwrap().model().clone();
+    let cycles = m.cycles_per_period() as usize;
+    let opts = SimOptions {
+        record_periods: 20,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let mp = s.mesh_period.expect("a mesh-cycle period");
+    let lcm = (1..=mp * cycles)
+        .find(|k| k % mp == 0 && k % cycles == 0)
+        .unwrap();
+    assert_eq!(s.period, lcm / cycles, "{} (mesh period {mp})", s.label);
+    assert_eq!(s.period, 3, "{}", s.label);
+}

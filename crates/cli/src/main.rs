@@ -64,6 +64,18 @@ enum Command {
     Bench(bench::BenchArgs),
 }
 
+/// Ctrl-C: say what is kept before leaving (a checkpointed command has its finished items on
+/// disk already, one line each), then exit with the conventional status 130.
+#[cfg(unix)]
+extern "C" fn on_interrupt(_: libc::c_int) {
+    const MSG: &[u8] = b"\ninterrupted: sweeps, basins, continuations, maps and reports keep their finished work; run the same command again to resume\n";
+    // SAFETY: write and _exit are async-signal-safe.
+    unsafe {
+        libc::write(2, MSG.as_ptr().cast(), MSG.len());
+        libc::_exit(130);
+    }
+}
+
 fn main() {
     // Piping into `head` closes stdout early: end quietly like other Unix tools instead of
     // panicking on a failed print.
@@ -71,6 +83,15 @@ fn main() {
     // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    #[cfg(unix)]
+    // SAFETY: installed before any thread starts; the handler only calls async-signal-safe
+    // functions (write, _exit).
+    unsafe {
+        libc::signal(
+            libc::SIGINT,
+            on_interrupt as extern "C" fn(libc::c_int) as libc::sighandler_t,
+        );
     }
     let cli = Cli::parse();
     let result = match cli.command {
