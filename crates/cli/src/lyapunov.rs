@@ -52,15 +52,11 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     let p = scenario.params();
     // this command writes no folder: what ran is printed in full
     println!(
-        "integrated: {}: omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}, contact {}",
+        "integrated: {}: {}, contact {}, back side {}",
         a.cfg.source(),
-        p.omega,
-        p.load,
-        p.xi,
-        p.c,
-        p.d_double,
-        p.d_single,
-        serde_json::to_string(&p.contact)?
+        geardyn_io::describe::operating_point(&scenario),
+        serde_json::to_string(&p.contact)?,
+        serde_json::to_string(&p.back_side)?
     );
     let sim = cfg.sim_options()?;
     let mut opts = LyapunovOptions {

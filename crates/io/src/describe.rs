@@ -6,6 +6,16 @@ use geardyn_physics::pair::Dimensionless;
 use geardyn_scenario::Scenario;
 use std::fmt::Write;
 
+/// The operating point that is integrated, in one line:
+/// `omega = .., F = .., xi = .., c = .., D_d = .., D_s = ..` (dimensionless).
+pub fn operating_point(sc: &Scenario) -> String {
+    let p = sc.params();
+    format!(
+        "omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}",
+        p.omega, p.load, p.xi, p.c, p.d_double, p.d_single
+    )
+}
+
 /// Derived quantities as `# ` comment lines.
 pub fn describe(sc: &Scenario) -> Result<String, ConfigError> {
     let mut s = String::new();
@@ -20,22 +30,21 @@ pub fn describe(sc: &Scenario) -> Result<String, ConfigError> {
         model.cycles_per_period(),
         model.excitation_period()
     );
-    let _ =
-        writeln!(
+    let _ = writeln!(
         s,
-        "# integrated (dimensionless): omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}{}",
-        p.omega,
-        p.load,
-        p.xi,
-        p.c,
-        p.d_double,
-        p.d_single,
+        "# integrated (dimensionless): {}{}",
+        operating_point(sc),
         if sc.spec().overrides.is_empty() {
             String::new()
         } else {
             format!(
                 " ({} set explicitly over the pair's physical operating point)",
-                sc.spec().overrides.keys().cloned().collect::<Vec<_>>().join(", ")
+                sc.spec()
+                    .overrides
+                    .keys()
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )
         }
     );
