@@ -227,8 +227,11 @@ pub fn tle_lanes_with<const L: usize>(
     let n = steps_per_cycle.max(1);
     // group by phase table (models and start phases with equal tables share lanes)
     let mut groups: Vec<(MeshLanes, Vec<Item>)> = Vec::new();
+    // a table per model and start phase, built once (runs of one model share it)
+    let mut seen: Vec<(*const MeshModel, u64, usize)> = Vec::new();
     for (out, &(m, t, y)) in runs.iter().enumerate() {
-        let table = MeshLanes::new(m, n, table_time(m, t, tau0));
+        let tt = table_time(m, t, tau0);
+        let key = (m as *const MeshModel, tt.to_bits());
         let item = Item {
             out,
             sys: Tangent {
@@ -238,10 +241,22 @@ pub fn tle_lanes_with<const L: usize>(
             t,
             y: [y[0], y[1], UNIT, UNIT],
         };
-        match groups.iter_mut().find(|(u, _)| *u == table) {
-            Some((_, items)) => items.push(item),
-            None => groups.push((table, vec![item])),
-        }
+        let g = match seen.iter().find(|s| (s.0, s.1) == key) {
+            Some(&(_, _, g)) => g,
+            None => {
+                let table = MeshLanes::new(m, n, tt);
+                let g = groups
+                    .iter()
+                    .position(|(u, _)| *u == table)
+                    .unwrap_or_else(|| {
+                        groups.push((table, Vec::new()));
+                        groups.len() - 1
+                    });
+                seen.push((key.0, key.1, g));
+                g
+            }
+        };
+        groups[g].1.push(item);
     }
     let mut work: Vec<(&MeshLanes, &[Item])> = Vec::new();
     for (table, items) in &groups {
