@@ -15,7 +15,7 @@ fn main() {
         periods: 5000,
         d0: 1e-6,
     };
-    let var = tle_variational::<_, 3, 6>(sys, Scheme::dopri_default(), 0.0, [1.0, 1.0, 1.0], &opts)
+    let var = tle_variational::<_, 3, 7>(sys, Scheme::dopri_default(), 0.0, [1.0, 1.0, 1.0], &opts)
         .expect("integration");
     let two = tle_two_trajectory(sys, Scheme::dopri_default(), 0.0, [1.0, 1.0, 1.0], &opts)
         .expect("integration");

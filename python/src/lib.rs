@@ -496,7 +496,7 @@ fn lyapunov<'py>(
                     out["variational"] = serde_json::to_value(&c.result)?;
                 }
             } else if method != "two-trajectory" {
-                let r = tle_variational::<_, 2, 4>(model.clone(), scheme, t0, y0, &opts)?;
+                let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
                 out["variational"] = serde_json::to_value(&r)?;
             }
             out["periods"] = opts.periods.into();

@@ -1,5 +1,5 @@
 //! Top Lyapunov exponents of many runs in lockstep lanes: the variational equation rides with
-//! the state (`x, x', dx, dx'`) in the lanes of [`geardyn_solvers::ensemble`], exactly as
+//! the state (`x, x', dx, dx', dchi`) in the lanes of [`geardyn_solvers::ensemble`], exactly as
 //! [`tle_variational`](crate::lyapunov::tle_variational) integrates it with fixed-step RK4.
 //!
 //! A lane steps the state and its tangent on the grid of the run's phase tables
@@ -30,7 +30,7 @@ pub struct TangentLanes<'a> {
     base: &'a MeshLanes,
 }
 
-impl<const L: usize> Lockstep<4, L> for TangentLanes<'_> {
+impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     type Sys = Tangent<MeshModel>;
     type Lanes = MeshLaneBlock<L>;
     const GUARD_DIMS: usize = 2;
@@ -69,8 +69,8 @@ impl<const L: usize> Lockstep<4, L> for TangentLanes<'_> {
         stage: Stage,
         at: &At<L>,
         ln: &MeshLaneBlock<L>,
-        y: &Soa<4, L>,
-        dy: &mut Soa<4, L>,
+        y: &Soa<5, L>,
+        dy: &mut Soa<5, L>,
     ) {
         let ys: Soa<2, L> = [y[0], y[1]];
         let mut f = [[0.0; L]; 2];
@@ -84,6 +84,8 @@ impl<const L: usize> Lockstep<4, L> for TangentLanes<'_> {
             // (the scalar Tangent sums J[i][k] * dy[k] from 0: J = [[0, 1], [a, b]])
             dy[2][l] = 0.0 + 0.0 * y[2][l] + 1.0 * y[3][l];
             dy[3][l] = 0.0 + a[l] * y[2][l] + b[l] * y[3][l];
+            // the lanes run laws without memory: the hysteresis perturbation stays 0
+            dy[4][l] = 0.0;
         }
     }
 
@@ -92,8 +94,8 @@ impl<const L: usize> Lockstep<4, L> for TangentLanes<'_> {
         &self,
         j: usize,
         ln: &MeshLaneBlock<L>,
-        y0: &Soa<4, L>,
-        y1: &Soa<4, L>,
+        y0: &Soa<5, L>,
+        y1: &Soa<5, L>,
         dev: &[f64; L],
     ) -> u32 {
         Lockstep::<2, L>::clear(self.base, j, ln, &[y0[0], y0[1]], &[y1[0], y1[1]], dev)
@@ -108,7 +110,7 @@ struct Item {
     out: usize,
     sys: Tangent<MeshModel>,
     t: f64,
-    y: [f64; 4],
+    y: [f64; 5],
 }
 
 /// One lane's exponent in progress.
@@ -131,8 +133,8 @@ struct TleDriver<'s, const L: usize> {
 /// Tangent components start (and restart after an annihilation) at this value.
 const UNIT: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 4, L> for TleDriver<'s, L> {
-    fn next_item(&mut self, l: usize) -> Option<Start<'s, Tangent<MeshModel>, 4>> {
+impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 5, L> for TleDriver<'s, L> {
+    fn next_item(&mut self, l: usize) -> Option<Start<'s, Tangent<MeshModel>, 5>> {
         let it = self.items.get(self.next)?;
         self.next += 1;
         let m = &it.sys.sys;
@@ -155,31 +157,34 @@ impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 4, L> for TleDrive
         &mut self,
         _l: usize,
         _sys: &Tangent<MeshModel>,
-        _step: &geardyn_solvers::Step<4>,
+        _step: &geardyn_solvers::Step<5>,
         _before: &MeshMode,
         _stop: geardyn_solvers::Stop,
         _after: &MeshMode,
-        _y: &[f64; 4],
+        _y: &[f64; 5],
     ) {
     }
 
-    fn on_strobe(&mut self, _l: usize, _t: f64, _y: &[f64; 4]) -> Next {
+    fn on_strobe(&mut self, _l: usize, _t: f64, _y: &[f64; 5]) -> Next {
         unreachable!("the TLE driver renormalises at every strobe (on_strobe_set)")
     }
 
-    fn on_strobe_set(&mut self, l: usize, _t: f64, y: &mut [f64; 4]) -> Next {
+    fn on_strobe_set(&mut self, l: usize, _t: f64, y: &mut [f64; 5]) -> Next {
         let job = self.jobs[l].as_mut().expect("busy lane");
         // as tle_variational: log growth of the tangent over the period, then renormalised
-        let norm = (y[2] * y[2] + y[3] * y[3]).sqrt();
+        // (summed from 0 in the scalar function's order)
+        let norm = (0.0 + y[2] * y[2] + y[3] * y[3] + y[4] * y[4]).sqrt();
         if norm > TINY && norm.is_finite() {
             job.acc.push(norm.ln());
             y[2] /= norm;
             y[3] /= norm;
+            y[4] /= norm;
         } else {
             job.annihilated += 1;
             job.acc.push(TINY.ln());
             y[2] = UNIT;
             y[3] = UNIT;
+            y[4] = 0.0;
         }
         job.done += 1;
         if job.done >= self.periods {
@@ -189,7 +194,7 @@ impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 4, L> for TleDrive
         }
     }
 
-    fn on_end(&mut self, l: usize, end: End<4>) {
+    fn on_end(&mut self, l: usize, end: End<5>) {
         let job = self.jobs[l].take().expect("busy lane");
         let r = match end {
             End::Done { .. } if job.done >= self.periods => Some(job.acc.finish(job.annihilated)),
@@ -239,7 +244,7 @@ pub fn tle_lanes_with<const L: usize>(
                 saltation: true,
             },
             t,
-            y: [y[0], y[1], UNIT, UNIT],
+            y: [y[0], y[1], UNIT, UNIT, 0.0],
         };
         let g = match seen.iter().find(|s| (s.0, s.1) == key) {
             Some(&(_, _, g)) => g,
@@ -276,7 +281,7 @@ pub fn tle_lanes_with<const L: usize>(
                 jobs: std::array::from_fn(|_| None),
                 out: Vec::with_capacity(items.len()),
             };
-            run_lanes::<TangentLanes<'_>, _, 4, L>(&batch, &mut drv);
+            run_lanes::<TangentLanes<'_>, _, 5, L>(&batch, &mut drv);
             drv.out
         })
         .collect();
@@ -309,7 +314,7 @@ pub fn tle_many(
             periods,
             d0: 1e-6,
         };
-        tle_variational::<_, 2, 4>(m.clone(), sim.method.scheme(m), t, y, &lo).ok()
+        tle_variational::<_, 2, 5>(m.clone(), sim.method.scheme(m), t, y, &lo).ok()
     };
     let Method::Rk4 { steps_per_cycle } = sim.method else {
         return runs.par_iter().map(scalar).collect();

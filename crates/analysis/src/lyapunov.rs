@@ -16,13 +16,15 @@
 //! of ten block means.
 
 use crate::driver::{run_periods, Discard};
-use geardyn_solvers::variational::saltation;
+use geardyn_solvers::variational::{memory_saltation, saltation};
 use geardyn_solvers::{
     EventAction, Guards, HybridSystem, Integrator, Scheme, SolverError, Stop, Variational,
 };
 use serde::Serialize;
 
-/// A hybrid system augmented with one tangent vector: state `[y, dy]`.
+/// A hybrid system augmented with one tangent vector: state `[y, dy, dp]` (`2N + 1`
+/// components), `dp` the perturbation of the mode's memory parameter
+/// ([`Variational::memory_slope`]; 0 for systems without memory).
 #[derive(Clone, Debug)]
 pub struct Tangent<S> {
     /// The underlying system.
@@ -61,14 +63,25 @@ macro_rules! tangent_impl {
                 self.sys.rhs(t, tt, &ys, mode, &mut f);
                 let mut j = [[0.0; $n]; $n];
                 self.sys.jacobian(t, tt, &ys, mode, &mut j);
+                let dp = y[2 * $n];
+                // (a memory-free step adds nothing: its bits equal the plain tangent's)
+                let fp = if dp != 0.0 {
+                    self.sys.memory_slope(t, tt, &ys, mode)
+                } else {
+                    [0.0; $n]
+                };
                 for i in 0..$n {
                     dy[i] = f[i];
                     let mut s = 0.0;
                     for k in 0..$n {
                         s += j[i][k] * y[$n + k];
                     }
+                    if dp != 0.0 {
+                        s += fp[i] * dp;
+                    }
                     dy[$n + i] = s;
                 }
+                dy[2 * $n] = 0.0;
             }
             #[inline(always)]
             fn guards(&self, t: f64, y: &[f64; $m], mode: &S::Mode, g: &mut Guards) {
@@ -87,6 +100,7 @@ macro_rules! tangent_impl {
                 self.sys.rhs(t, &tt, &y_minus, mode, &mut f_minus);
                 let (g_y, g_t) = self.sys.guard_gradient(t, &y_minus, mode, index);
                 let r_y = self.sys.reset_jacobian(t, &y_minus, mode, index);
+                let before = *mode;
                 let mut y_plus = y_minus;
                 let action = self.sys.on_event(t, &mut y_plus, mode, index);
                 let mut f_plus = [0.0; $n];
@@ -96,14 +110,26 @@ macro_rules! tangent_impl {
                 } else {
                     r_y
                 };
+                let (p_y, p_p) = self
+                    .sys
+                    .memory_reset(t, &y_minus, &before, mode, Some(index));
+                let (s_y, s_p) = if self.saltation {
+                    memory_saltation(&p_y, p_p, &f_minus, &g_y, g_t)
+                } else {
+                    (p_y, p_p)
+                };
                 let mut d = [0.0; $n];
+                let mut dp = 0.0;
                 for i in 0..$n {
                     for k in 0..$n {
                         d[i] += s[i][k] * y[$n + k];
                     }
+                    dp += s_y[i] * y[$n + i];
                 }
+                dp += s_p * y[2 * $n];
                 y[..$n].copy_from_slice(&y_plus);
-                y[$n..].copy_from_slice(&d);
+                y[$n..2 * $n].copy_from_slice(&d);
+                y[2 * $n] = dp;
                 action
             }
             fn next_breakpoint(&self, t: f64, mode: &S::Mode) -> f64 {
@@ -111,8 +137,18 @@ macro_rules! tangent_impl {
             }
             fn on_breakpoint(&self, t: f64, y: &mut [f64; $m], mode: &mut S::Mode) {
                 let mut ys = head::<$n, $m>(y);
+                let before = *mode;
                 self.sys.on_breakpoint(t, &mut ys, mode);
+                // the switching time does not depend on the state: dp+ = P_y dy + P_p dp
+                let (p_y, p_p) = self
+                    .sys
+                    .memory_reset(t, &head::<$n, $m>(y), &before, mode, None);
+                let mut dp = p_p * y[2 * $n];
+                for i in 0..$n {
+                    dp += p_y[i] * y[$n + i];
+                }
                 y[..$n].copy_from_slice(&ys);
+                y[2 * $n] = dp;
             }
             fn max_step(&self) -> f64 {
                 self.sys.max_step()
@@ -135,6 +171,15 @@ macro_rules! tangent_impl {
                 y[..$n].copy_from_slice(&ys);
                 ended
             }
+            fn memory(&self, mode: &S::Mode) -> f64 {
+                self.sys.memory(mode)
+            }
+            fn with_memory(&self, mode: &S::Mode, p: f64) -> S::Mode {
+                self.sys.with_memory(mode, p)
+            }
+            fn same_regime(&self, a: &S::Mode, b: &S::Mode) -> bool {
+                self.sys.same_regime(a, b)
+            }
         }
     };
 }
@@ -146,10 +191,10 @@ fn head<const N: usize, const M: usize>(y: &[f64; M]) -> [f64; N] {
     h
 }
 
-tangent_impl!(1, 2);
-tangent_impl!(2, 4);
-tangent_impl!(3, 6);
-tangent_impl!(4, 8);
+tangent_impl!(1, 3);
+tangent_impl!(2, 5);
+tangent_impl!(3, 7);
+tangent_impl!(4, 9);
 
 /// Settings of a TLE computation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -269,7 +314,7 @@ pub(crate) const TINY: f64 = 1e-300;
 /// // a damped linear oscillator: TLE = -delta/2
 /// let sys = Duffing { delta: 0.2, alpha: 1.0, beta: 0.0, gamma: 0.0, omega: 1.0 };
 /// let opts = LyapunovOptions { period: 1.0, transient_periods: 0, periods: 400, d0: 1e-8 };
-/// let r = tle_variational::<_, 2, 4>(sys, Scheme::dopri_default(), 0.0, [1.0, 0.0], &opts).unwrap();
+/// let r = tle_variational::<_, 2, 5>(sys, Scheme::dopri_default(), 0.0, [1.0, 0.0], &opts).unwrap();
 /// assert!((r.tle + 0.1).abs() < 5e-3);
 /// ```
 pub fn tle_variational<S, const N: usize, const M: usize>(
@@ -301,15 +346,15 @@ where
 {
     assert_eq!(
         M,
-        2 * N,
-        "Tangent<S> of an N-dimensional system has dimension 2N"
+        2 * N + 1,
+        "Tangent<S> of an N-dimensional system has dimension 2N + 1"
     );
     let mut base = Integrator::new(sys.clone(), scheme, t0, y0)?;
     run_periods(&mut base, opts.period, opts.transient_periods, &mut Discard)?;
     let mut z = [0.0; M];
     z[..N].copy_from_slice(base.y());
     let unit = 1.0 / (N as f64).sqrt();
-    for v in z[N..].iter_mut() {
+    for v in z[N..2 * N].iter_mut() {
         *v = unit;
     }
     let tan = Tangent {
@@ -338,9 +383,10 @@ where
         } else {
             annihilated += 1;
             acc.push(TINY.ln());
-            for v in z[N..].iter_mut() {
+            for v in z[N..2 * N].iter_mut() {
                 *v = unit;
             }
+            z[2 * N] = 0.0;
         }
         it.set_state(z);
     }
@@ -381,18 +427,30 @@ where
             }
         }
         let (ya, yb) = (*a.y(), *b.y());
-        let d = ya
+        // the memory of the mode belongs to the state where both runs are in the same mode
+        let sys = a.system();
+        let (ma, mb) = (*a.mode(), *b.mode());
+        let (pa, pb) = (sys.memory(&ma), sys.memory(&mb));
+        let dp = if sys.same_regime(&ma, &mb) {
+            pb - pa
+        } else {
+            0.0
+        };
+        let d = (ya
             .iter()
             .zip(&yb)
             .map(|(p, q)| (p - q) * (p - q))
             .sum::<f64>()
+            + dp * dp)
             .sqrt();
         let mut y_new = ya;
+        let mut p_new = pa;
         if d > 0.0 && d.is_finite() {
             acc.push((d / opts.d0).ln());
             for i in 0..N {
                 y_new[i] += opts.d0 * (yb[i] - ya[i]) / d;
             }
+            p_new += opts.d0 * dp / d;
         } else {
             acc.push((f64::EPSILON / opts.d0).ln());
             for v in y_new.iter_mut() {
@@ -400,6 +458,12 @@ where
             }
         }
         b.reset(a.t(), y_new)?;
+        // a restart in the reference run's mode takes its memory (an impact in progress keeps
+        // its hysteresis), moved by the perturbation
+        let mb = *b.mode();
+        if sys.same_regime(&ma, &mb) {
+            b.set_mode(sys.with_memory(&mb, p_new));
+        }
     }
     Ok(acc.finish(0))
 }
@@ -444,7 +508,7 @@ mod tests {
         let scheme = Scheme::Rk4 { h: 0.01 };
         let r = tle_two_trajectory(Doomed, scheme, 0.0, [0.0], &opts);
         assert!(matches!(r, Err(SolverError::NonFinite { .. })), "{r:?}");
-        let r = tle_variational::<_, 1, 2>(Doomed, scheme, 0.0, [0.0], &opts);
+        let r = tle_variational::<_, 1, 3>(Doomed, scheme, 0.0, [0.0], &opts);
         assert!(matches!(r, Err(SolverError::NonFinite { .. })), "{r:?}");
     }
 

@@ -72,7 +72,7 @@ pub fn tle_converged<S>(
 ) -> Result<ConvergedTle, SolverError>
 where
     S: Variational<2> + Clone,
-    crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<4>,
+    crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
 {
     let mut n = conv.start_periods.max(20);
     let mut rounds = Vec::new();
@@ -81,7 +81,7 @@ where
             periods: n,
             ..*opts
         };
-        let r = tle_variational::<_, 2, 4>(sys.clone(), scheme, t0, y0, &o)?;
+        let r = tle_variational::<_, 2, 5>(sys.clone(), scheme, t0, y0, &o)?;
         let half = r
             .history
             .get(r.history.len() / 2 - 1)

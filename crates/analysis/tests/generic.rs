@@ -51,7 +51,7 @@ fn duffing_period_doubling_cascade() {
         periods: 800,
         d0: 1e-6,
     };
-    let r = tle_variational::<_, 2, 4>(
+    let r = tle_variational::<_, 2, 5>(
         Forcing.at(0.3),
         Scheme::dopri_default(),
         0.0,

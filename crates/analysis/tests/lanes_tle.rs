@@ -52,7 +52,7 @@ fn c1_exponents_equal_the_scalar_variational_integration() {
             d0: 1e-6,
         };
         let h = m.mesh_cycle_time() / n as f64;
-        let s = tle_variational::<_, 2, 4>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap();
+        let s = tle_variational::<_, 2, 5>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap();
         eprintln!(
             "omega {}: lanes {} ± {}, scalar {} ± {}",
             omegas[i], a.tle, a.spread, s.tle, s.spread

@@ -18,7 +18,7 @@ fn lorenz_matches_the_published_exponent() {
         periods: 3000,
         d0: 1e-6,
     };
-    let r = tle_variational::<_, 3, 6>(
+    let r = tle_variational::<_, 3, 7>(
         Lorenz::default(),
         Scheme::dopri_default(),
         0.0,
@@ -56,7 +56,7 @@ fn c1_opts(m: &MeshModel, periods: u64) -> LyapunovOptions {
 #[test]
 fn c1_is_stable_at_0_8_and_chaotic_at_1_3() {
     let m = c1(0.8);
-    let r = tle_variational::<_, 2, 4>(
+    let r = tle_variational::<_, 2, 5>(
         m.clone(),
         Scheme::dopri_default(),
         0.0,
@@ -66,7 +66,7 @@ fn c1_is_stable_at_0_8_and_chaotic_at_1_3() {
     .unwrap();
     assert!(r.tle < -0.01, "period-1 orbit: {}", r.tle);
     let m = c1(1.3);
-    let r = tle_variational::<_, 2, 4>(
+    let r = tle_variational::<_, 2, 5>(
         m.clone(),
         Scheme::dopri_default(),
         0.0,
@@ -89,7 +89,7 @@ fn methods_agree_on_c1() {
         let m = c1(omega);
         let opts = c1_opts(&m, 800);
         let var =
-            tle_variational::<_, 2, 4>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
+            tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
                 .unwrap();
         let two =
             tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
@@ -120,12 +120,12 @@ fn saltation_is_needed_for_the_gear_impact_model() {
     let m = MeshModel::new(&p).unwrap();
     let opts = c1_opts(&m, 400);
     let var =
-        tle_variational::<_, 2, 4>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
+        tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
             .unwrap();
     let two =
         tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
     let bare =
-        tle_variational_with::<_, 2, 4>(m, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts, false)
+        tle_variational_with::<_, 2, 5>(m, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts, false)
             .unwrap();
     assert!(
         (var.tle - two.tle).abs() < 1e-3,
@@ -161,9 +161,9 @@ fn impact_oscillator_exponent_from_saltation_matches_two_trajectories() {
         d0: 1e-9,
     };
     let var =
-        tle_variational::<_, 2, 4>(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
+        tle_variational::<_, 2, 5>(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
     let two = tle_two_trajectory(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare = tle_variational_with::<_, 2, 4>(
+    let bare = tle_variational_with::<_, 2, 5>(
         sys,
         Scheme::dopri_default(),
         0.0,

@@ -231,6 +231,36 @@ impl ContactLaw {
         a / v * (r4 / (1.0 + r4))
     }
 
+    /// Slope `d chi / d v_in` of [`ContactLaw::entry_hysteresis`] with respect to the signed
+    /// entry speed (the factor depends on `|v_in|`): with `chi = a v^3/(v_q^4 + v^4)`, `v = |v_in|`,
+    /// `d chi/d v = a v^2 (3 v_q^4 - v^4)/(v_q^4 + v^4)^2`. The tangent of a Lyapunov exponent
+    /// carries it from a perturbed entry speed into the contact's damping.
+    ///
+    /// ```
+    /// use geardyn_model::ContactLaw;
+    /// let ln = ContactLaw::LankaraniNikravesh { exponent: 1.5, restitution: 0.8 };
+    /// let (v, vq, h) = (-0.3, 0.1, 1e-6);
+    /// let fd = (ln.entry_hysteresis(v + h, vq) - ln.entry_hysteresis(v - h, vq)) / (2.0 * h);
+    /// assert!((ln.entry_hysteresis_slope(v, vq) - fd).abs() < 1e-6 * fd.abs());
+    /// ```
+    #[inline]
+    pub fn entry_hysteresis_slope(&self, v_in: f64, v_q: f64) -> f64 {
+        let a = self.hysteresis_coefficient();
+        let v = v_in.abs();
+        if a == 0.0 || !(v > 0.0) {
+            return 0.0;
+        }
+        let r2 = (v / v_q) * (v / v_q);
+        let r4 = r2 * r2;
+        // in units of v_q: chi = a/v_q * r^3/(1 + r^4), d chi/d v = a/v_q^2 * r^2 (3 - r^4)/(1 + r^4)^2
+        let slope = if r4.is_finite() {
+            a / (v_q * v_q) * r2 * (3.0 - r4) / ((1.0 + r4) * (1.0 + r4))
+        } else {
+            -a / (v * v)
+        };
+        slope * v_in.signum()
+    }
+
     /// Whether the law carries hysteresis damping.
     pub fn is_dissipative(&self) -> bool {
         matches!(

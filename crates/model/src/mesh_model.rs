@@ -1020,6 +1020,21 @@ impl HybridSystem<2> for MeshModel {
         self.cycle_time / 16.0
     }
 
+    /// The hysteresis factor `chi` of the current impact.
+    fn memory(&self, mode: &MeshMode) -> f64 {
+        mode.chi
+    }
+
+    fn with_memory(&self, mode: &MeshMode, p: f64) -> MeshMode {
+        MeshMode { chi: p, ..*mode }
+    }
+
+    /// The field depends on the contact state and the segment (and `chi`), not on the period
+    /// counter (which a single-segment model does not advance).
+    fn same_regime(&self, a: &MeshMode, b: &MeshMode) -> bool {
+        a.contact == b.contact && a.seg == b.seg
+    }
+
     /// Contact guards are `x -+ D` with `D` constant within a segment, the end-of-impact guard is
     /// `x'` (unit Lipschitz constant); the release guard of a tooth resting on the stop depends on
     /// time.
@@ -1112,6 +1127,49 @@ impl Variational<2> for MeshModel {
                 }
             }
             _ => [[1.0, 0.0], [0.0, 1.0]],
+        }
+    }
+
+    /// The hysteresis factor `chi` is the mode's memory: `d x''/d chi = -h k g(delta) x'` in
+    /// contact (either flank), 0 elsewhere and where a unilateral force is clamped.
+    fn memory_slope(&self, t: f64, cos_wt: &f64, y: &[f64; 2], mode: &MeshMode) -> [f64; 2] {
+        if mode.chi == 0.0 {
+            return [0.0, 0.0];
+        }
+        let seg = &self.segs[mode.seg as usize];
+        let (delta, h) = match mode.contact {
+            ContactState::Drive => (y[0] - seg.d, self.h_of(seg, t, mode.period).0),
+            ContactState::Back => (-y[0] - seg.d, self.h_of(seg, t, mode.period).1),
+            ContactState::Separated | ContactState::Stuck => return [0.0, 0.0],
+        };
+        if self.unilateral && self.force_in(seg, t, *cos_wt, y, mode) == 0.0 {
+            return [0.0, 0.0];
+        }
+        let k = self.k_of(seg, t, *cos_wt, mode.period);
+        [0.0, -h * k * self.law.elastic(delta) * y[1]]
+    }
+
+    /// `chi` is set at an entry through the contact surface from the entry speed
+    /// ([`ContactLaw::entry_hysteresis`]), cleared at the end of an impact, an exit and a contact
+    /// change at a zone border, and kept otherwise.
+    fn memory_reset(
+        &self,
+        _t: f64,
+        y: &[f64; 2],
+        before: &MeshMode,
+        after: &MeshMode,
+        index: Option<usize>,
+    ) -> ([f64; 2], f64) {
+        if after.chi == 0.0 {
+            return ([0.0, 0.0], 0.0);
+        }
+        let entry = index.is_some()
+            && before.contact == ContactState::Separated
+            && matches!(after.contact, ContactState::Drive | ContactState::Back);
+        if entry {
+            ([0.0, self.law.entry_hysteresis_slope(y[1], self.v_q)], 0.0)
+        } else {
+            ([0.0, 0.0], 1.0)
         }
     }
 }

@@ -227,6 +227,27 @@ pub trait HybridSystem<const N: usize> {
     ) -> bool {
         false
     }
+
+    /// Memory parameter of `mode`: a quantity the field depends on that stays constant between
+    /// events and is set at events from the state (a contact law's hysteresis factor, set from an
+    /// impact's entry speed). It belongs to the full state: a perturbed run differs in it too.
+    /// Default: none (0).
+    fn memory(&self, _mode: &Self::Mode) -> f64 {
+        0.0
+    }
+
+    /// `mode` with its memory parameter replaced by `p`. Default: `mode` (no memory).
+    fn with_memory(&self, mode: &Self::Mode, _p: f64) -> Self::Mode {
+        *mode
+    }
+
+    /// Whether the fields of modes `a` and `b` differ at most by their memory parameters (a
+    /// state perturbed from a run in mode `a` and restarted in `b` then takes `a`'s memory).
+    /// Default: `b` with `a`'s memory equals `a`; override where a mode also carries bookkeeping
+    /// that does not change the field (a period counter, say).
+    fn same_regime(&self, a: &Self::Mode, b: &Self::Mode) -> bool {
+        self.with_memory(b, self.memory(a)) == *a
+    }
 }
 
 /// A shared reference to a system is a system: many integrators (one per basin cell, say) can
@@ -273,5 +294,17 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
     #[inline(always)]
     fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool {
         (**self).zeno_fallback(t, y, mode, index)
+    }
+    #[inline(always)]
+    fn memory(&self, mode: &S::Mode) -> f64 {
+        (**self).memory(mode)
+    }
+    #[inline(always)]
+    fn with_memory(&self, mode: &S::Mode, p: f64) -> S::Mode {
+        (**self).with_memory(mode, p)
+    }
+    #[inline(always)]
+    fn same_regime(&self, a: &S::Mode, b: &S::Mode) -> bool {
+        (**self).same_regime(a, b)
     }
 }

@@ -449,6 +449,16 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         self.last.r[0] = y;
     }
 
+    /// Replaces the mode at the current time, keeping the state (for setting a mode's memory
+    /// parameter, [`HybridSystem::with_memory`]; the caller keeps the mode consistent with the
+    /// state).
+    pub fn set_mode(&mut self, mode: S::Mode) {
+        self.mode = mode;
+        self.f0_valid = false;
+        self.g0_valid = false;
+        self.next_bp = self.sys.next_breakpoint(self.t, &self.mode);
+    }
+
     /// Replaces the options.
     pub fn with_options(mut self, opts: Options) -> Self {
         self.opts = opts;
