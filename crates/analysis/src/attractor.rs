@@ -746,7 +746,12 @@ pub fn identify_in<S: Recordable>(
         if !(y[0].abs() < opts.divergence && y[1].abs() < opts.divergence) {
             return Ok(Outcome::Diverged);
         }
-        Ok(Outcome::Recorded(sys.describe(it.t(), y, &opts.sim)?))
+        // the record continues the run (an impact in progress keeps its hysteresis)
+        let sim = SimOptions {
+            start_memory: sys.memory(it.mode()),
+            ..opts.sim
+        };
+        Ok(Outcome::Recorded(sys.describe(it.t(), y, &sim)?))
     };
     match run() {
         Ok(o) => o,

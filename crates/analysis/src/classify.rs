@@ -434,6 +434,7 @@ impl<'m> Decision<'m> {
                             // and look again
                             let more = SimOptions {
                                 tau0: self.res.final_state.0,
+                                start_memory: self.res.final_memory,
                                 transient_periods: self
                                     .opts
                                     .transient_periods
@@ -533,6 +534,7 @@ impl<'m> Decision<'m> {
             let (t, y0) = self.res.final_state;
             let more = SimOptions {
                 tau0: t,
+                start_memory: self.res.final_memory,
                 transient_periods: extra,
                 ..self.opts
             };
@@ -561,6 +563,7 @@ impl<'m> Decision<'m> {
         let (t, y) = self.res.final_state;
         let again = SimOptions {
             tau0: t,
+            start_memory: self.res.final_memory,
             transient_periods: transient,
             record_periods: if n > 0 {
                 self.opts.record_periods.div_ceil(n) * n
@@ -580,6 +583,7 @@ impl<'m> Decision<'m> {
             let (t, y0) = self.res.final_state;
             let more = SimOptions {
                 tau0: t,
+                start_memory: self.res.final_memory,
                 transient_periods: extra,
                 ..self.opts
             };

@@ -300,6 +300,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             model,
             y0,
             t0,
+            memory,
             transient,
             record,
         } = self.items.get(self.next)?;
@@ -318,6 +319,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             sys: model,
             t0,
             y0,
+            memory,
             h: model.mesh_cycle_time() / self.steps_per_cycle as f64,
             period: model.excitation_period(),
         })
@@ -389,7 +391,12 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
         self.rec_mask &= !bit;
         let r = match end {
             End::Failed(e) => Err(SimError::Solver(e)),
-            End::Done { t, y, stats } => {
+            End::Done {
+                t,
+                y,
+                memory,
+                stats,
+            } => {
                 let mut res = match job.rec.as_mut() {
                     Some(rec) => {
                         if recording {
@@ -406,6 +413,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
                 res.steps = stats.steps;
                 res.rhs_evals = stats.rhs_evals;
                 res.final_state = (t, y);
+                res.final_memory = memory;
                 Ok(res)
             }
         };
@@ -429,6 +437,7 @@ struct Item<'s> {
     model: &'s MeshModel,
     y0: [f64; 2],
     t0: f64,
+    memory: f64,
     transient: u64,
     record: u64,
 }
@@ -569,6 +578,7 @@ pub fn simulate_lane_grid(
         model,
         y0,
         t0: opts.tau0,
+        memory: opts.start_memory,
         transient: opts.transient_periods,
         record: opts.record_periods,
     };
@@ -590,6 +600,7 @@ fn simulate_lanes_on<const L: usize>(
             model,
             y0,
             t0: opts.tau0,
+            memory: opts.start_memory,
             transient: opts.transient_periods,
             record: opts.record_periods,
         })
@@ -720,6 +731,7 @@ where
             sys: self.model,
             t0: o.sim.tau0,
             y0,
+            memory: o.sim.start_memory,
             h: self.model.mesh_cycle_time() / self.steps_per_cycle as f64,
             period: self.model.excitation_period(),
         })
@@ -817,7 +829,15 @@ where
         let outcome = match (end, phase) {
             (End::Failed(e), _) => Outcome::Failed(e.to_string()),
             (End::Done { .. }, IdPhase::Decided(o)) => o,
-            (End::Done { t, y, stats }, IdPhase::Record { t0, mut rec, .. }) => {
+            (
+                End::Done {
+                    t,
+                    y,
+                    memory,
+                    stats,
+                },
+                IdPhase::Record { t0, mut rec, .. },
+            ) => {
                 if recording {
                     self.acc.store(l, &mut rec);
                 }
@@ -829,6 +849,7 @@ where
                 res.steps = stats.steps;
                 res.rhs_evals = stats.rhs_evals;
                 res.final_state = (t, y);
+                res.final_memory = memory;
                 let rec_opts = SimOptions {
                     transient_periods: 0,
                     tau0: t0,
@@ -962,6 +983,7 @@ pub fn decide_lanes(
                         model: models[i],
                         y0,
                         t0: o.tau0,
+                        memory: o.start_memory,
                         transient: o.transient_periods,
                         record: o.record_periods,
                     });

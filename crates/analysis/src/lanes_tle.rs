@@ -148,6 +148,7 @@ impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 5, L> for TleDrive
             sys: &it.sys,
             t0: it.t,
             y0: it.y,
+            memory: 0.0,
             h: m.mesh_cycle_time() / self.steps_per_cycle as f64,
             period: m.excitation_period(),
         })

@@ -7,7 +7,7 @@ use crate::classify::Motion;
 use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period_tol;
 use geardyn_model::{ContactState, EventKind, MeshMode, MeshModel};
-use geardyn_solvers::{Integrator, Scheme, SolverError, Step, Stop};
+use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError, Step, Stop};
 use serde::Serialize;
 
 /// Integrator choice in model terms.
@@ -92,6 +92,15 @@ pub struct SimOptions {
     pub tau0: f64,
     /// Largest period searched by period detection.
     pub max_period: usize,
+    /// Memory of the start mode ([`HybridSystem::memory`]: the hysteresis factor of a
+    /// dissipative contact law's impact in progress): that of the run this one continues
+    /// ([`SimResult::final_memory`]), 0 for a fresh start (a start in contact is no impact).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub start_memory: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for SimOptions {
@@ -105,6 +114,7 @@ impl Default for SimOptions {
             trajectory_periods: u64::MAX,
             tau0: 0.0,
             max_period: 32,
+            start_memory: 0.0,
         }
     }
 }
@@ -216,6 +226,9 @@ pub struct SimResult {
     pub x_range: (f64, f64),
     /// Final time and state (for continuation).
     pub final_state: (f64, [f64; 2]),
+    /// Memory of the final mode (the hysteresis factor of an impact in progress at the end, 0
+    /// otherwise): a continuation starts with it ([`SimOptions::start_memory`]).
+    pub final_memory: f64,
     /// Solver work counters.
     pub steps: u64,
     /// Right-hand-side evaluations.
@@ -639,6 +652,10 @@ pub enum SimError {
 /// ```
 pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<SimResult, SimError> {
     let mut integ = Integrator::new(model, opts.method.scheme(model), opts.tau0, y0)?;
+    if opts.start_memory != 0.0 {
+        let m = *integ.mode();
+        integ.set_mode(model.with_memory(&m, opts.start_memory));
+    }
     let period = model.excitation_period();
     run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
     let traj_from = opts.record_periods.saturating_sub(opts.trajectory_periods);
@@ -659,6 +676,7 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
     res.steps = st.steps;
     res.rhs_evals = st.rhs_evals;
     res.final_state = (integ.t(), *integ.y());
+    res.final_memory = model.memory(integ.mode());
     Ok(res)
 }
 

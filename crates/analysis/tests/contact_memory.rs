@@ -99,3 +99,46 @@ fn impacting_orbit_is_reached_from_different_starts() {
         }
     }
 }
+
+#[test]
+fn a_continuation_inside_an_impact_keeps_its_hysteresis() {
+    // internal preset (its dissipative law), omega = 1.2: about a third of the strobe instants
+    // fall inside an impact. A run continued from the final state of another must follow the
+    // run integrated in one piece: the hysteresis factor of the impact in progress goes with the
+    // state (before, the continuation restarted the contact without it, a jump of ~1e-3)
+    let mut p = presets::internal();
+    p.set("omega", 1.2).unwrap();
+    let m = MeshModel::new(&p).unwrap();
+    let whole = SimOptions {
+        transient_periods: 0,
+        record_periods: 60,
+        ..Default::default()
+    };
+    let a = simulate(&m, [0.0, 0.0], &whole).unwrap();
+    let mut checked = 0;
+    for cut in 20..40 {
+        let head = SimOptions {
+            record_periods: cut,
+            ..whole
+        };
+        let h = simulate(&m, [0.0, 0.0], &head).unwrap();
+        if h.final_memory == 0.0 {
+            continue;
+        }
+        checked += 1;
+        let (t, y) = h.final_state;
+        let tail = SimOptions {
+            tau0: t,
+            record_periods: 3,
+            start_memory: h.final_memory,
+            ..whole
+        };
+        let b = simulate(&m, y, &tail).unwrap();
+        for (k, pb) in b.strobe.iter().enumerate() {
+            let pa = a.strobe[cut as usize + k];
+            let d = (pa[1] - pb[1]).abs().max((pa[2] - pb[2]).abs());
+            assert!(d < 1e-6, "cut {cut}, strobe {k}: {d:e}");
+        }
+    }
+    assert!(checked >= 3, "cuts inside an impact: {checked}");
+}

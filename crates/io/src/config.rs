@@ -564,6 +564,7 @@ impl Config {
             trajectory_periods: u64::MAX,
             tau0: s.tau0,
             max_period: 32,
+            start_memory: 0.0,
         })
     }
 }

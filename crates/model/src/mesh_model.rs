@@ -1025,8 +1025,13 @@ impl HybridSystem<2> for MeshModel {
         mode.chi
     }
 
+    /// `chi = p` in contact; outside contact there is no impact and `chi` stays 0.
     fn with_memory(&self, mode: &MeshMode, p: f64) -> MeshMode {
-        MeshMode { chi: p, ..*mode }
+        let chi = match mode.contact {
+            ContactState::Drive | ContactState::Back => p,
+            ContactState::Separated | ContactState::Stuck => 0.0,
+        };
+        MeshMode { chi, ..*mode }
     }
 
     /// The field depends on the contact state and the segment (and `chi`), not on the period

@@ -267,6 +267,9 @@ pub struct Start<'s, S, const N: usize> {
     pub t0: f64,
     /// Initial state (projected by [`HybridSystem::initial_mode`]).
     pub y0: [f64; N],
+    /// Memory parameter of the initial mode ([`HybridSystem::memory`]): that of the run this
+    /// one continues, 0 for a fresh start.
+    pub memory: f64,
     /// RK4 grid step (`period / steps_per_period`).
     pub h: f64,
     /// Strobe period.
@@ -281,7 +284,8 @@ pub enum Next {
     /// Integrate another period; strobe instants count from now (a new `run_periods` call).
     Segment,
     /// Start afresh from the current time and state: a new integrator (grid origin here, mode from
-    /// [`HybridSystem::initial_mode`]), strobe instants counted from now.
+    /// [`HybridSystem::initial_mode`] with the current mode's memory), strobe instants counted
+    /// from now.
     Restart,
     /// The item is finished: the lane retires.
     Finish,
@@ -296,6 +300,8 @@ pub enum End<const N: usize> {
         t: f64,
         /// Final state.
         y: [f64; N],
+        /// Memory parameter of the final mode ([`HybridSystem::memory`]).
+        memory: f64,
         /// Work: steps (lockstep and scalar) and right-hand-side evaluations.
         stats: Stats,
     },
@@ -450,6 +456,16 @@ where
         slot.sys = None;
     }
 
+    /// Memory parameter of lane `l`'s mode (its scalar integrator holds the mode: lockstep steps
+    /// change no mode).
+    fn memory(&self, l: usize) -> f64 {
+        let slot = &self.slots[l];
+        match (slot.sys, slot.integ.as_ref()) {
+            (Some(sys), Some(integ)) => sys.memory(integ.mode()),
+            _ => 0.0,
+        }
+    }
+
     fn stats(&self, l: usize) -> Stats {
         let slot = &self.slots[l];
         let mut s = slot.integ.as_ref().map(|i| i.stats()).unwrap_or_default();
@@ -471,10 +487,15 @@ where
         sys: &'s B::Sys,
         t0: f64,
         y0: [f64; N],
+        memory: f64,
         h: f64,
     ) -> bool {
         match Integrator::new(sys, Scheme::Rk4 { h }, t0, y0) {
-            Ok(integ) => {
+            Ok(mut integ) => {
+                if memory != 0.0 {
+                    let m = *integ.mode();
+                    integ.set_mode(sys.with_memory(&m, memory));
+                }
                 let slot = &mut self.slots[l];
                 if let Some(old) = slot.integ.take() {
                     let s = old.stats();
@@ -512,7 +533,7 @@ where
                 self.lock_steps[l] = 0;
                 self.slots[l].lock_rhs = 0;
                 self.slots[l].prior = Stats::default();
-                self.begin(batch, drv, l, st.sys, st.t0, st.y0, st.h);
+                self.begin(batch, drv, l, st.sys, st.t0, st.y0, st.memory, st.h);
             }
         }
     }
@@ -561,7 +582,16 @@ where
                         Stop::Terminated { .. } => {
                             let (t, y) = (integ.t(), *integ.y());
                             let stats = self.stats(l);
-                            drv.on_end(l, End::Done { t, y, stats });
+                            let memory = self.memory(l);
+                            drv.on_end(
+                                l,
+                                End::Done {
+                                    t,
+                                    y,
+                                    memory,
+                                    stats,
+                                },
+                            );
                             self.retire(batch, l);
                             return;
                         }
@@ -735,15 +765,18 @@ where
                 Next::Restart => {
                     let sys = self.slots[l].sys.expect("busy lane");
                     let (t, h) = (self.t[l], self.h[l]);
-                    self.begin(batch, drv, l, sys, t, y, h);
+                    let memory = self.memory(l);
+                    self.begin(batch, drv, l, sys, t, y, memory, h);
                 }
                 Next::Finish => {
                     let stats = self.stats(l);
+                    let memory = self.memory(l);
                     drv.on_end(
                         l,
                         End::Done {
                             t: self.t[l],
                             y,
+                            memory,
                             stats,
                         },
                     );
