@@ -277,9 +277,10 @@ fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Opti
         .iter()
         .enumerate()
         .filter_map(|(i, (m, d))| {
-            d.as_ref()
-                .ok()
-                .map(|(r, _, _)| (i, (*m, r.final_state.0, r.final_state.1)))
+            d.as_ref().ok().map(|(r, _, _)| {
+                let (t, y) = r.final_state;
+                (i, (*m, t, y, r.final_memory))
+            })
         })
         .unzip();
     let tles = crate::lanes_tle::tle_many(&starts, &opts.sim, opts.sim.record_periods);

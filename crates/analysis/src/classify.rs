@@ -167,8 +167,14 @@ impl Default for Decide {
 
 /// TLE of the motion continuing from `(t, y)` and its standard error, or `None` if it cannot be
 /// computed: the exponent [`Need::Tle`] asks for.
-pub fn tle_of(model: &MeshModel, opts: &SimOptions, t: f64, y: [f64; 2]) -> Option<(f64, f64)> {
-    tles_of(&[(model, t, y)], opts).pop().flatten()
+pub fn tle_of(
+    model: &MeshModel,
+    opts: &SimOptions,
+    t: f64,
+    y: [f64; 2],
+    memory: f64,
+) -> Option<(f64, f64)> {
+    tles_of(&[(model, t, y, memory)], opts).pop().flatten()
 }
 
 /// [`tle_of`] of every `(model, t, y)`, in input order ([`crate::lanes_tle::tle_many`]: with
@@ -239,7 +245,7 @@ pub fn simulate_decided_with(
     loop {
         match d.need() {
             Need::Sim { y0, opts } => d.simulated(sim(model, y0, &opts)),
-            Need::Tle { t, y } => d.tle(tle_of(model, opts, t, y)),
+            Need::Tle { t, y, memory } => d.tle(tle_of(model, opts, t, y, memory)),
             Need::Done => return d.finish(),
         }
     }
@@ -264,6 +270,8 @@ pub enum Need {
         t: f64,
         /// Start state.
         y: [f64; 2],
+        /// Memory of the start mode ([`SimResult::final_memory`] of the run it continues).
+        memory: f64,
     },
     /// Decided: [`Decision::finish`].
     Done,
@@ -341,7 +349,8 @@ impl<'m> Decision<'m> {
         }
         if how.lyapunov {
             let (t, y) = d.res.final_state;
-            d.ask(Wait::TleFirst, Need::Tle { t, y });
+            let memory = d.res.final_memory;
+            d.ask(Wait::TleFirst, Need::Tle { t, y, memory });
         } else {
             d.extend_or_final(0);
         }
@@ -592,7 +601,8 @@ impl<'m> Decision<'m> {
         }
         if self.how.extend && self.how.lyapunov {
             let (t, y) = self.res.final_state;
-            self.ask(Wait::TleLast, Need::Tle { t, y });
+            let memory = self.res.final_memory;
+            self.ask(Wait::TleLast, Need::Tle { t, y, memory });
             return;
         }
         self.conclude();

@@ -971,12 +971,12 @@ pub fn decide_lanes(
         .collect();
     let models: Vec<&MeshModel> = ds.iter().map(|d| d.model()).collect();
     loop {
-        let mut tles: Vec<(usize, f64, [f64; 2])> = Vec::new();
+        let mut tles: Vec<(usize, f64, [f64; 2], f64)> = Vec::new();
         let mut sims: Vec<Item<'_>> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();
         for (i, d) in ds.iter().enumerate() {
             match d.need() {
-                Need::Tle { t, y } => tles.push((i, t, y)),
+                Need::Tle { t, y, memory } => tles.push((i, t, y, memory)),
                 Need::Sim { y0, opts: o } => {
                     sims.push(Item {
                         out: sims.len(),
@@ -1000,8 +1000,10 @@ pub fn decide_lanes(
         sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
         let (tle_res, sim_res) = rayon::join(
             || {
-                let runs: Vec<crate::lanes_tle::TleStart<'_>> =
-                    tles.iter().map(|&(i, t, y)| (models[i], t, y)).collect();
+                let runs: Vec<crate::lanes_tle::TleStart<'_>> = tles
+                    .iter()
+                    .map(|&(i, t, y, p)| (models[i], t, y, p))
+                    .collect();
                 tles_of(&runs, opts)
             },
             || {

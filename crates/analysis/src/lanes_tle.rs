@@ -15,7 +15,7 @@
 
 use crate::lanes::{chunk_len, lanes_cover_contact, table_time, LANES};
 use crate::lyapunov::{
-    tle_variational, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
+    tle_variational_continued, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
 };
 use crate::simulate::{Method, SimOptions};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -102,8 +102,12 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     }
 }
 
-/// Where an exponent starts: the model, the time and the state.
-pub type TleStart<'m> = (&'m MeshModel, f64, [f64; 2]);
+/// Where an exponent starts: the model, the time, the state and the memory of its mode (the
+/// hysteresis factor of an impact in progress, [`SimResult::final_memory`] of the run it
+/// continues; 0 for a fresh start).
+///
+/// [`SimResult::final_memory`]: crate::simulate::SimResult::final_memory
+pub type TleStart<'m> = (&'m MeshModel, f64, [f64; 2], f64);
 
 /// One exponent to compute: the augmented system, its start and output index.
 struct Item {
@@ -235,7 +239,8 @@ pub fn tle_lanes_with<const L: usize>(
     let mut groups: Vec<(MeshLanes, Vec<Item>)> = Vec::new();
     // a table per model and start phase, built once (runs of one model share it)
     let mut seen: Vec<(*const MeshModel, u64, usize)> = Vec::new();
-    for (out, &(m, t, y)) in runs.iter().enumerate() {
+    // (the models the lanes cover have no memory: their starts carry 0)
+    for (out, &(m, t, y, _)) in runs.iter().enumerate() {
         let tt = table_time(m, t, tau0);
         let key = (m as *const MeshModel, tt.to_bits());
         let item = Item {
@@ -308,14 +313,15 @@ pub fn tle_many(
     sim: &SimOptions,
     periods: u64,
 ) -> Vec<Option<LyapunovResult>> {
-    let scalar = |&(m, t, y): &TleStart<'_>| {
+    let scalar = |&(m, t, y, memory): &TleStart<'_>| {
         let lo = LyapunovOptions {
             period: m.excitation_period(),
             transient_periods: 0,
             periods,
             d0: 1e-6,
         };
-        tle_variational::<_, 2, 5>(m.clone(), sim.method.scheme(m), t, y, &lo).ok()
+        tle_variational_continued::<_, 2, 5>(m.clone(), sim.method.scheme(m), t, y, memory, &lo)
+            .ok()
     };
     let Method::Rk4 { steps_per_cycle } = sim.method else {
         return runs.par_iter().map(scalar).collect();

@@ -344,13 +344,63 @@ where
     S: Variational<N> + Clone,
     Tangent<S>: HybridSystem<M>,
 {
+    variational(sys, scheme, t0, y0, 0.0, opts, use_saltation)
+}
+
+/// As [`tle_variational`], continuing a run whose mode at `(t0, y0)` holds the memory `memory`
+/// ([`HybridSystem::memory`]: the hysteresis factor of an impact in progress).
+pub fn tle_variational_continued<S, const N: usize, const M: usize>(
+    sys: S,
+    scheme: Scheme,
+    t0: f64,
+    y0: [f64; N],
+    memory: f64,
+    opts: &LyapunovOptions,
+) -> Result<LyapunovResult, SolverError>
+where
+    S: Variational<N> + Clone,
+    Tangent<S>: HybridSystem<M>,
+{
+    variational(sys, scheme, t0, y0, memory, opts, true)
+}
+
+/// A start in the mode of `(t0, y0)` with the memory `memory`.
+fn start_with_memory<S: HybridSystem<N>, const N: usize>(
+    sys: S,
+    scheme: Scheme,
+    t0: f64,
+    y0: [f64; N],
+    memory: f64,
+) -> Result<Integrator<S, N>, SolverError> {
+    let mut it = Integrator::new(sys, scheme, t0, y0)?;
+    if memory != 0.0 {
+        let m = it.system().with_memory(it.mode(), memory);
+        it.set_mode(m);
+    }
+    Ok(it)
+}
+
+fn variational<S, const N: usize, const M: usize>(
+    sys: S,
+    scheme: Scheme,
+    t0: f64,
+    y0: [f64; N],
+    memory: f64,
+    opts: &LyapunovOptions,
+    use_saltation: bool,
+) -> Result<LyapunovResult, SolverError>
+where
+    S: Variational<N> + Clone,
+    Tangent<S>: HybridSystem<M>,
+{
     assert_eq!(
         M,
         2 * N + 1,
         "Tangent<S> of an N-dimensional system has dimension 2N + 1"
     );
-    let mut base = Integrator::new(sys.clone(), scheme, t0, y0)?;
+    let mut base = start_with_memory(sys.clone(), scheme, t0, y0, memory)?;
     run_periods(&mut base, opts.period, opts.transient_periods, &mut Discard)?;
+    let memory = sys.memory(base.mode());
     let mut z = [0.0; M];
     z[..N].copy_from_slice(base.y());
     let unit = 1.0 / (N as f64).sqrt();
@@ -362,7 +412,8 @@ where
         saltation: use_saltation,
     };
     let t_start = base.t();
-    let mut it = Integrator::new(tan, scheme, t_start, z)?;
+    // the tangent run continues the base run (an impact in progress keeps its hysteresis)
+    let mut it = start_with_memory(tan, scheme, t_start, z, memory)?;
     let mut acc = Accumulator::new(opts.period, opts.periods);
     let mut annihilated = 0;
     for j in 1..=opts.periods {
@@ -414,7 +465,14 @@ where
     for v in yb.iter_mut() {
         *v += opts.d0 * unit;
     }
+    // the perturbed run starts inside the reference run's impact, if any, with its hysteresis
+    let ma = *a.mode();
     let mut b = Integrator::new(sys, scheme, t_start, yb)?;
+    let mb = *b.mode();
+    if b.system().same_regime(&ma, &mb) {
+        let m = b.system().with_memory(&mb, b.system().memory(&ma));
+        b.set_mode(m);
+    }
     let mut acc = Accumulator::new(opts.period, opts.periods);
     for j in 1..=opts.periods {
         let t_stop = t_start + j as f64 * opts.period;

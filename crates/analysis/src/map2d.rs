@@ -182,7 +182,8 @@ fn cell_of(
             cell.impacts = s.impacts;
             if o.lyapunov {
                 let (t, y) = r.final_state;
-                cell.tle = crate::lanes_tle::tle_many(&[(m, t, y)], &o.sim, o.sim.record_periods)
+                let start = (m, t, y, r.final_memory);
+                cell.tle = crate::lanes_tle::tle_many(&[start], &o.sim, o.sim.record_periods)
                     .pop()
                     .flatten()
                     .map(|l| l.tle);

@@ -30,18 +30,18 @@ fn c1_exponents_equal_the_scalar_variational_integration() {
         record_periods: 1,
         ..Default::default()
     };
-    let starts: Vec<(&MeshModel, f64, [f64; 2])> = models
+    let starts: Vec<(&MeshModel, f64, [f64; 2], f64)> = models
         .iter()
         .map(|m| {
             let r = simulate(m, [0.0, 0.0], &sim).unwrap();
-            (m, r.final_state.0, r.final_state.1)
+            (m, r.final_state.0, r.final_state.1, r.final_memory)
         })
         .collect();
     let lanes = tle_lanes(&starts, periods, n, 0.0);
     let one = tle_lanes_with::<1>(&starts, periods, n, 0.0);
     let mut chaotic = 0;
     let mut periodic = 0;
-    for (i, &(m, t, y)) in starts.iter().enumerate() {
+    for (i, &(m, t, y, _)) in starts.iter().enumerate() {
         let a = lanes[i].as_ref().unwrap();
         let b = one[i].as_ref().unwrap();
         assert_eq!(a.tle.to_bits(), b.tle.to_bits(), "omega {}", omegas[i]);

@@ -121,3 +121,64 @@ fn both_methods_agree_on_chaos_with_a_dissipative_law() {
         t.spread
     );
 }
+
+#[test]
+fn an_exponent_continued_inside_an_impact_equals_the_one_of_the_whole_run() {
+    // internal preset (its dissipative law), omega = 1.4: a stable period-3 orbit, some strobe
+    // instants inside an impact. The exponent of the run continued from such an instant (as the
+    // classification asks for it) equals that of the run integrated in one piece.
+    use geardyn_analysis::lyapunov::tle_variational_continued;
+    use geardyn_analysis::simulate::{simulate, SimOptions};
+    let m = MeshModel::new(&presets::internal()).unwrap();
+    let mut checked = 0;
+    for k in 300..330u64 {
+        let head = SimOptions {
+            transient_periods: 0,
+            record_periods: k,
+            ..Default::default()
+        };
+        let h = simulate(&m, [0.0, 0.0], &head).unwrap();
+        if h.final_memory == 0.0 {
+            continue;
+        }
+        checked += 1;
+        let lo = LyapunovOptions {
+            period: m.excitation_period(),
+            transient_periods: 0,
+            periods: 60,
+            d0: 1e-6,
+        };
+        let whole = LyapunovOptions {
+            transient_periods: k,
+            ..lo
+        };
+        let a =
+            tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &whole)
+                .unwrap();
+        let (t, y) = h.final_state;
+        let b = tle_variational_continued::<_, 2, 5>(
+            m.clone(),
+            Scheme::dopri_default(),
+            t,
+            y,
+            h.final_memory,
+            &lo,
+        )
+        .unwrap();
+        let c = tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), t, y, &lo).unwrap();
+        eprintln!(
+            "k {k}: whole {} continued {} without memory {}",
+            a.tle, b.tle, c.tle
+        );
+        assert!(
+            (a.tle - b.tle).abs() < 1e-6,
+            "k {k}: {} against {}",
+            a.tle,
+            b.tle
+        );
+        if checked == 3 {
+            break;
+        }
+    }
+    assert_eq!(checked, 3);
+}
