@@ -364,22 +364,6 @@ where
     variational(sys, scheme, t0, y0, memory, opts, true)
 }
 
-/// A start in the mode of `(t0, y0)` with the memory `memory`.
-fn start_with_memory<S: HybridSystem<N>, const N: usize>(
-    sys: S,
-    scheme: Scheme,
-    t0: f64,
-    y0: [f64; N],
-    memory: f64,
-) -> Result<Integrator<S, N>, SolverError> {
-    let mut it = Integrator::new(sys, scheme, t0, y0)?;
-    if memory != 0.0 {
-        let m = it.system().with_memory(it.mode(), memory);
-        it.set_mode(m);
-    }
-    Ok(it)
-}
-
 fn variational<S, const N: usize, const M: usize>(
     sys: S,
     scheme: Scheme,
@@ -398,7 +382,7 @@ where
         2 * N + 1,
         "Tangent<S> of an N-dimensional system has dimension 2N + 1"
     );
-    let mut base = start_with_memory(sys.clone(), scheme, t0, y0, memory)?;
+    let mut base = Integrator::new(sys.clone(), scheme, t0, y0)?.with_memory(memory);
     run_periods(&mut base, opts.period, opts.transient_periods, &mut Discard)?;
     let memory = sys.memory(base.mode());
     let mut z = [0.0; M];
@@ -413,7 +397,7 @@ where
     };
     let t_start = base.t();
     // the tangent run continues the base run (an impact in progress keeps its hysteresis)
-    let mut it = start_with_memory(tan, scheme, t_start, z, memory)?;
+    let mut it = Integrator::new(tan, scheme, t_start, z)?.with_memory(memory);
     let mut acc = Accumulator::new(opts.period, opts.periods);
     let mut annihilated = 0;
     for j in 1..=opts.periods {

@@ -651,11 +651,8 @@ pub enum SimError {
 /// assert_eq!(summarize(&model, &res, &opts).period, 1);
 /// ```
 pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<SimResult, SimError> {
-    let mut integ = Integrator::new(model, opts.method.scheme(model), opts.tau0, y0)?;
-    if opts.start_memory != 0.0 {
-        let m = *integ.mode();
-        integ.set_mode(model.with_memory(&m, opts.start_memory));
-    }
+    let mut integ = Integrator::new(model, opts.method.scheme(model), opts.tau0, y0)?
+        .with_memory(opts.start_memory);
     let period = model.excitation_period();
     run_periods(&mut integ, period, opts.transient_periods, &mut Discard)?;
     let traj_from = opts.record_periods.saturating_sub(opts.trajectory_periods);

@@ -218,17 +218,24 @@ impl ContactLaw {
     /// ```
     #[inline]
     pub fn entry_hysteresis(&self, v_in: f64, v_q: f64) -> f64 {
+        match self.entry_speed_ratio(v_in, v_q) {
+            None => 0.0,
+            Some((a, v, _, r4)) if !r4.is_finite() => a / v,
+            Some((a, v, _, r4)) => a / v * (r4 / (1.0 + r4)),
+        }
+    }
+
+    /// `(a, |v_in|, r^2, r^4)` with `r = |v_in|/v_q` for a law with hysteresis and a moving
+    /// entry; `None` otherwise (no hysteresis).
+    #[inline]
+    fn entry_speed_ratio(&self, v_in: f64, v_q: f64) -> Option<(f64, f64, f64, f64)> {
         let a = self.hysteresis_coefficient();
         let v = v_in.abs();
         if a == 0.0 || !(v > 0.0) {
-            return 0.0;
+            return None;
         }
         let r2 = (v / v_q) * (v / v_q);
-        let r4 = r2 * r2;
-        if !r4.is_finite() {
-            return a / v;
-        }
-        a / v * (r4 / (1.0 + r4))
+        Some((a, v, r2, r2 * r2))
     }
 
     /// Slope `d chi / d v_in` of [`ContactLaw::entry_hysteresis`] with respect to the signed
@@ -245,13 +252,9 @@ impl ContactLaw {
     /// ```
     #[inline]
     pub fn entry_hysteresis_slope(&self, v_in: f64, v_q: f64) -> f64 {
-        let a = self.hysteresis_coefficient();
-        let v = v_in.abs();
-        if a == 0.0 || !(v > 0.0) {
+        let Some((a, v, r2, r4)) = self.entry_speed_ratio(v_in, v_q) else {
             return 0.0;
-        }
-        let r2 = (v / v_q) * (v / v_q);
-        let r4 = r2 * r2;
+        };
         // in units of v_q: chi = a/v_q * r^3/(1 + r^4), d chi/d v = a/v_q^2 * r^2 (3 - r^4)/(1 + r^4)^2
         let slope = if r4.is_finite() {
             a / (v_q * v_q) * r2 * (3.0 - r4) / ((1.0 + r4) * (1.0 + r4))

@@ -491,11 +491,8 @@ where
         h: f64,
     ) -> bool {
         match Integrator::new(sys, Scheme::Rk4 { h }, t0, y0) {
-            Ok(mut integ) => {
-                if memory != 0.0 {
-                    let m = *integ.mode();
-                    integ.set_mode(sys.with_memory(&m, memory));
-                }
+            Ok(integ) => {
+                let integ = integ.with_memory(memory);
                 let slot = &mut self.slots[l];
                 if let Some(old) = slot.integ.take() {
                     let s = old.stats();

@@ -459,6 +459,17 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
         self.next_bp = self.sys.next_breakpoint(self.t, &self.mode);
     }
 
+    /// The start mode with the memory parameter `memory` ([`HybridSystem::with_memory`]; 0
+    /// leaves it as [`HybridSystem::initial_mode`] chose it): a run that continues another
+    /// starts with that run's memory (the hysteresis factor of an impact in progress).
+    pub fn with_memory(mut self, memory: f64) -> Self {
+        if memory != 0.0 {
+            let m = self.sys.with_memory(&self.mode, memory);
+            self.set_mode(m);
+        }
+        self
+    }
+
     /// Replaces the options.
     pub fn with_options(mut self, opts: Options) -> Self {
         self.opts = opts;
