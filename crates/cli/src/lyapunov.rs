@@ -9,11 +9,20 @@ use geardyn_analysis::lyapunov::{
 };
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
 
+/// `+- spread`, or why there is none (one period: no blocks to compare).
+fn spread_text(spread: f64) -> String {
+    if spread.is_finite() {
+        format!("+- {spread:.6}")
+    } else {
+        "(no standard error: it needs at least 2 periods)".to_string()
+    }
+}
+
 fn print_variational(r: &LyapunovResult, periods: u64) {
     println!(
-        "TLE (variational, saltation): {:.6} +- {:.6} per unit tau over {} periods{}",
+        "TLE (variational, saltation): {:.6} {} per unit tau over {} periods{}",
         r.tle,
-        r.spread,
+        spread_text(r.spread),
         periods,
         if r.annihilated > 0 {
             format!(" ({} sticking intervals)", r.annihilated)
@@ -113,11 +122,14 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     if a.method != "variational" {
         let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
         println!(
-            "TLE (two-trajectory, d0 = {:e}): {:.6} +- {:.6} per unit tau",
-            a.d0, r.tle, r.spread
+            "TLE (two-trajectory, d0 = {:e}): {:.6} {} per unit tau",
+            a.d0,
+            r.tle,
+            spread_text(r.spread)
         );
         if let Some((v, sv)) = variational {
-            disagree = (v - r.tle).abs() > 3.0 * (sv + r.spread) + 1e-3;
+            // (a missing spread counts as none: f64::max drops the NaN)
+            disagree = (v - r.tle).abs() > 3.0 * (sv.max(0.0) + r.spread.max(0.0)) + 1e-3;
             if disagree {
                 println!(
                     "WARNING: the two methods disagree ({v:.4} against {:.4}): see the notes below and docs/analyses.md, section \"Top Lyapunov exponent (TLE)\"",
@@ -128,7 +140,7 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     }
     if disagree {
         println!(
-            "note: the two-trajectory exponent is biased where the flow depends discontinuously on the state (the two runs on either side of an impact or of a contact switched by a backlash jump at a zone border) and where d0 is near the integration error: it then measures jumps or noise, and its value moves with --d0; the variational exponent is the primary one"
+            "note: the two-trajectory exponent is biased where the flow depends discontinuously on the state (the two runs on either side of an impact or a grazing contact) and where d0 is near the integration error: it then measures jumps or noise, and its value moves with --d0. The two methods may also follow different attractors when several coexist. The classification uses the variational exponent"
         );
     }
     Ok(())

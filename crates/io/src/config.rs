@@ -436,18 +436,28 @@ impl Config {
     /// the pair states becomes an override under `[set]`, a key the pair computes is refused.
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ConfigError> {
         let s = &mut self.simulation;
-        let as_count = |field: &'static str, v: f64, max: f64| -> Result<u64, ConfigError> {
-            if v >= 0.0 && v.fract() == 0.0 && v <= max {
+        // (the same ranges sim_options checks: a record of at least one period)
+        let as_count = |field: &'static str, v: f64| -> Result<u64, ConfigError> {
+            let (min, max, allowed) = match field {
+                "steps_per_cycle" => (8.0, 1e6, "a whole number in [8, 1000000]"),
+                "record_periods" => (
+                    1.0,
+                    1e7,
+                    "a whole number in [1, 1e7] (1e7 excitation periods already take hours)",
+                ),
+                _ => (
+                    0.0,
+                    1e7,
+                    "a whole number in [0, 1e7] (1e7 excitation periods already take hours)",
+                ),
+            };
+            if v >= min && v.fract() == 0.0 && v <= max {
                 Ok(v as u64)
             } else {
                 Err(ConfigError::Simulation {
                     field,
                     value: geardyn_model::error::num(v),
-                    allowed: if max >= 1e7 {
-                        "a whole number in [0, 1e7] (1e7 excitation periods already take hours)"
-                    } else {
-                        "a whole number in [8, 1000000]"
-                    },
+                    allowed,
                 })
             }
         };
@@ -457,11 +467,9 @@ impl Config {
             "tau0" => s.tau0 = value,
             "rtol" => s.rtol = value,
             "atol" => s.atol = value,
-            "steps_per_cycle" => {
-                s.steps_per_cycle = as_count("steps_per_cycle", value, 1e6)? as u32
-            }
-            "transient_periods" => s.transient_periods = as_count("transient_periods", value, 1e7)?,
-            "record_periods" => s.record_periods = as_count("record_periods", value, 1e7)?,
+            "steps_per_cycle" => s.steps_per_cycle = as_count("steps_per_cycle", value)? as u32,
+            "transient_periods" => s.transient_periods = as_count("transient_periods", value)?,
+            "record_periods" => s.record_periods = as_count("record_periods", value)?,
             _ => {
                 let mut spec = self.spec();
                 spec.set(name, value).map_err(|e| match e {

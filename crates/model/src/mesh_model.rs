@@ -1034,10 +1034,12 @@ impl HybridSystem<2> for MeshModel {
         MeshMode { chi, ..*mode }
     }
 
-    /// The field depends on the contact state and the segment (and `chi`), not on the period
-    /// counter (which a single-segment model does not advance).
+    /// An impact in progress is a matter of the contact state alone: two states in the same
+    /// contact are in the same impact whatever segment their clocks put them in (a run restarted
+    /// at a period boundary may start in the last segment of the period before, another one
+    /// advanced to the first segment of the next).
     fn same_regime(&self, a: &MeshMode, b: &MeshMode) -> bool {
-        a.contact == b.contact && a.seg == b.seg
+        a.contact == b.contact
     }
 
     /// Contact guards are `x -+ D` with `D` constant within a segment, the end-of-impact guard is
