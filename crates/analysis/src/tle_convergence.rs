@@ -74,6 +74,24 @@ where
     S: Variational<2> + Clone,
     crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
 {
+    tle_converged_with(sys, scheme, t0, y0, opts, conv, |_| {})
+}
+
+/// As [`tle_converged`], handing every round to `on_round` as soon as it is done (a long run
+/// shows its progress).
+pub fn tle_converged_with<S>(
+    sys: S,
+    scheme: Scheme,
+    t0: f64,
+    y0: [f64; 2],
+    opts: &LyapunovOptions,
+    conv: &Convergence,
+    mut on_round: impl FnMut(&Round),
+) -> Result<ConvergedTle, SolverError>
+where
+    S: Variational<2> + Clone,
+    crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
+{
     let mut n = conv.start_periods.max(20);
     let mut rounds = Vec::new();
     loop {
@@ -94,6 +112,7 @@ where
             half,
             stderr: r.spread,
         });
+        on_round(rounds.last().expect("just pushed"));
         let done = (r.tle - half).abs() <= tol && r.spread <= tol;
         if done || n >= conv.max_periods || !r.tle.is_finite() {
             return Ok(ConvergedTle {

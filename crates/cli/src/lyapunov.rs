@@ -7,7 +7,7 @@ use clap::Args;
 use geardyn_analysis::lyapunov::{
     tle_two_trajectory, tle_variational, LyapunovOptions, LyapunovResult,
 };
-use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_analysis::tle_convergence::{tle_converged_with, Convergence};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
 fn spread_text(spread: f64) -> String {
@@ -90,13 +90,16 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
             max_periods: a.max_periods,
             ..Default::default()
         };
-        let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
-        for r in &c.rounds {
+        println!(
+            "variational TLE over {} transient periods, then runs of doubling length until converged (each printed when done):",
+            opts.transient_periods
+        );
+        let c = tle_converged_with(model.clone(), scheme, t0, y0, &opts, &conv, |r| {
             println!(
                 "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
                 r.periods, r.tle, r.half, r.stderr
             );
-        }
+        })?;
         opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
         if c.converged {
             println!(
@@ -114,12 +117,20 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
             variational = Some((c.result.tle, c.result.spread));
         }
     } else if a.method != "two-trajectory" {
+        println!(
+            "variational TLE over {} transient + {} periods ...",
+            opts.transient_periods, opts.periods
+        );
         let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
         print_variational(&r, opts.periods);
         variational = Some((r.tle, r.spread));
     }
     let mut disagree = false;
     if a.method != "variational" {
+        println!(
+            "two-trajectory TLE over {} transient + {} periods ...",
+            opts.transient_periods, opts.periods
+        );
         let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
         println!(
             "TLE (two-trajectory, d0 = {:e}): {:.6} {} per unit tau",
