@@ -125,7 +125,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     )?;
     let runs: usize = results.iter().map(|r| r.runs.len()).sum();
     println!(
-        "{} values x {} runs of {}+{} periods in {:.2} s -> {}",
+        "{} values, {} runs in all, of {}+{} periods in {:.2} s -> {}",
         n,
         runs,
         opts.sim.transient_periods,

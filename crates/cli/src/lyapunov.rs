@@ -151,7 +151,7 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     }
     if disagree {
         println!(
-            "note: the two-trajectory exponent is biased where the flow depends discontinuously on the state (the two runs on either side of an impact or a grazing contact) and where d0 is near the integration error: it then measures jumps or noise, and its value moves with --d0. The two methods may also follow different attractors when several coexist. The classification uses the variational exponent"
+            "note: the two-trajectory exponent measures the integrator's noise where d0 is not far above it: with the adaptive integrator the two runs take different steps, and their difference carries an error of about rtol per step (a pair with many events per period, such as the broken pair, needs more than the default d0); rerun with --integrator rk4 (both runs on the same grid) or a larger --d0. It is also biased where the flow depends discontinuously on the state (the two runs on either side of an impact or a grazing contact). The classification uses the variational exponent"
         );
     }
     Ok(())
