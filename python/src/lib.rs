@@ -487,7 +487,7 @@ fn lyapunov<'py>(
                     max_periods,
                     ..Default::default()
                 };
-                let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv)?;
+                let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |_| {})?;
                 opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
                 out["converged"] = c.converged.into();
                 out["tol"] = c.tol.into();

@@ -15,7 +15,7 @@
 
 use crate::lanes::{chunk_len, lanes_cover_contact, table_time, LANES};
 use crate::lyapunov::{
-    tle_variational_continued, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
+    tle_variational_with, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
 };
 use crate::simulate::{Method, SimOptions};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -320,7 +320,7 @@ pub fn tle_many(
             periods,
             d0: 1e-6,
         };
-        tle_variational_continued::<_, 2, 5>(m.clone(), sim.method.scheme(m), t, y, memory, &lo)
+        tle_variational_with::<_, 2, 5>(m.clone(), sim.method.scheme(m), t, y, memory, &lo, true)
             .ok()
     };
     let Method::Rk4 { steps_per_cycle } = sim.method else {

@@ -328,43 +328,13 @@ where
     S: Variational<N> + Clone,
     Tangent<S>: HybridSystem<M>,
 {
-    tle_variational_with(sys, scheme, t0, y0, opts, true)
-}
-
-/// As [`tle_variational`], optionally without the saltation correction (to show its effect).
-pub fn tle_variational_with<S, const N: usize, const M: usize>(
-    sys: S,
-    scheme: Scheme,
-    t0: f64,
-    y0: [f64; N],
-    opts: &LyapunovOptions,
-    use_saltation: bool,
-) -> Result<LyapunovResult, SolverError>
-where
-    S: Variational<N> + Clone,
-    Tangent<S>: HybridSystem<M>,
-{
-    variational(sys, scheme, t0, y0, 0.0, opts, use_saltation)
+    tle_variational_with(sys, scheme, t0, y0, 0.0, opts, true)
 }
 
 /// As [`tle_variational`], continuing a run whose mode at `(t0, y0)` holds the memory `memory`
-/// ([`HybridSystem::memory`]: the hysteresis factor of an impact in progress).
-pub fn tle_variational_continued<S, const N: usize, const M: usize>(
-    sys: S,
-    scheme: Scheme,
-    t0: f64,
-    y0: [f64; N],
-    memory: f64,
-    opts: &LyapunovOptions,
-) -> Result<LyapunovResult, SolverError>
-where
-    S: Variational<N> + Clone,
-    Tangent<S>: HybridSystem<M>,
-{
-    variational(sys, scheme, t0, y0, memory, opts, true)
-}
-
-fn variational<S, const N: usize, const M: usize>(
+/// ([`HybridSystem::memory`]: the hysteresis factor of an impact in progress; 0 for a fresh
+/// start), and optionally without the saltation correction (to show its effect).
+pub fn tle_variational_with<S, const N: usize, const M: usize>(
     sys: S,
     scheme: Scheme,
     t0: f64,

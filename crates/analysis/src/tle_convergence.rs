@@ -61,25 +61,9 @@ pub struct ConvergedTle {
     pub tol: f64,
 }
 
-/// Variational TLE (with saltation) doubling the run length until converged.
+/// Variational TLE (with saltation) doubling the run length until converged; every round is
+/// handed to `on_round` as soon as it is done (a long run shows its progress).
 pub fn tle_converged<S>(
-    sys: S,
-    scheme: Scheme,
-    t0: f64,
-    y0: [f64; 2],
-    opts: &LyapunovOptions,
-    conv: &Convergence,
-) -> Result<ConvergedTle, SolverError>
-where
-    S: Variational<2> + Clone,
-    crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
-{
-    tle_converged_with(sys, scheme, t0, y0, opts, conv, |_| {})
-}
-
-/// As [`tle_converged`], handing every round to `on_round` as soon as it is done (a long run
-/// shows its progress).
-pub fn tle_converged_with<S>(
     sys: S,
     scheme: Scheme,
     t0: f64,
@@ -154,6 +138,7 @@ mod tests {
             [1.0, 0.0],
             &opts,
             &Convergence::default(),
+            |_| {},
         )
         .unwrap();
         assert!(c.converged);

@@ -115,7 +115,16 @@ fn default_lyapunov_run_matches_the_floquet_exponent_of_c1_at_omega_0_7() {
         d0: 1e-6,
     };
     let scheme = sim.method.scheme(&m);
-    let c = tle_converged(&m, scheme, 0.0, [0.0, 0.0], &opts, &Convergence::default()).unwrap();
+    let c = tle_converged(
+        &m,
+        scheme,
+        0.0,
+        [0.0, 0.0],
+        &opts,
+        &Convergence::default(),
+        |_| {},
+    )
+    .unwrap();
     assert!(c.converged);
     assert!(
         (c.result.tle - exact).abs() < 5e-4,

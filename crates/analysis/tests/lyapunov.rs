@@ -124,9 +124,16 @@ fn saltation_is_needed_for_the_gear_impact_model() {
             .unwrap();
     let two =
         tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare =
-        tle_variational_with::<_, 2, 5>(m, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts, false)
-            .unwrap();
+    let bare = tle_variational_with::<_, 2, 5>(
+        m,
+        Scheme::dopri_default(),
+        0.0,
+        [0.0, 0.0],
+        0.0,
+        &opts,
+        false,
+    )
+    .unwrap();
     assert!(
         (var.tle - two.tle).abs() < 1e-3,
         "{} vs {}",
@@ -168,6 +175,7 @@ fn impact_oscillator_exponent_from_saltation_matches_two_trajectories() {
         Scheme::dopri_default(),
         0.0,
         [0.0, 0.0],
+        0.0,
         &opts,
         false,
     )

@@ -130,7 +130,7 @@ fn an_exponent_continued_inside_an_impact_equals_the_one_of_the_whole_run() {
     // internal preset (its dissipative law), omega = 1.4: a stable period-3 orbit, some strobe
     // instants inside an impact. The exponent of the run continued from such an instant (as the
     // classification asks for it) equals that of the run integrated in one piece.
-    use geardyn_analysis::lyapunov::tle_variational_continued;
+    use geardyn_analysis::lyapunov::tle_variational_with;
     use geardyn_analysis::simulate::{simulate, SimOptions};
     let m = MeshModel::new(&presets::internal()).unwrap();
     let mut checked = 0;
@@ -159,13 +159,14 @@ fn an_exponent_continued_inside_an_impact_equals_the_one_of_the_whole_run() {
             tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &whole)
                 .unwrap();
         let (t, y) = h.final_state;
-        let b = tle_variational_continued::<_, 2, 5>(
+        let b = tle_variational_with::<_, 2, 5>(
             m.clone(),
             Scheme::dopri_default(),
             t,
             y,
             h.final_memory,
             &lo,
+            true,
         )
         .unwrap();
         let c = tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), t, y, &lo).unwrap();

@@ -7,7 +7,7 @@ use clap::Args;
 use geardyn_analysis::lyapunov::{
     tle_two_trajectory, tle_variational, LyapunovOptions, LyapunovResult,
 };
-use geardyn_analysis::tle_convergence::{tle_converged_with, Convergence};
+use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
 fn spread_text(spread: f64) -> String {
@@ -94,7 +94,7 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
             "variational TLE over {} transient periods, then runs of doubling length until converged (each printed when done):",
             opts.transient_periods
         );
-        let c = tle_converged_with(model.clone(), scheme, t0, y0, &opts, &conv, |r| {
+        let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |r| {
             println!(
                 "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
                 r.periods, r.tle, r.half, r.stderr
