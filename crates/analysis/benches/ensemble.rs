@@ -16,6 +16,7 @@ const L: usize = 8;
 
 #[inline(always)]
 fn kernel_loop(t: &MeshLanes, lanes: &MeshLaneBlock<L>, n: usize, h: f64) -> f64 {
+    let work = <MeshLanes as Lockstep<2, L>>::new_work(t);
     let mut y = [[0.5f64; L]; 2];
     let mut f = [[0.1f64; L]; 2];
     let mut t0 = [0.0f64; L];
@@ -31,7 +32,7 @@ fn kernel_loop(t: &MeshLanes, lanes: &MeshLaneBlock<L>, n: usize, h: f64) -> f64
         let mut y1 = [[0.0; L]; 2];
         let mut f1 = [[0.0; L]; 2];
         acc = acc.wrapping_add(<MeshLanes as Lockstep<2, L>>::step(
-            t, j, &t0, &t1, &grid, lanes, &y, &f, &mut y1, &mut f1,
+            t, j, &t0, &t1, &grid, lanes, &work, &y, &f, &mut y1, &mut f1,
         ));
         (y, f, t0) = (y1, f1, t1);
         for g in grid.iter_mut() {
@@ -64,7 +65,7 @@ fn main() {
     let mut p = presets::classic();
     p.omega = 1.3;
     let m = MeshModel::new(&p).unwrap();
-    let table = MeshLanes::new(&m, 512, 0.0);
+    let table = MeshLanes::new(&m, 512, 0.0).exact();
     let mut lanes = <MeshLanes as Lockstep<2, L>>::idle_lanes(&table);
     for l in 0..L {
         let contact = if l % 2 == 0 {

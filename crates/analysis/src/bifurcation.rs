@@ -8,7 +8,7 @@
 //! thread count. Finished tasks are handed to a callback (the caller checkpoints them) and tasks
 //! listed as done are skipped, which makes long sweeps resumable.
 
-use crate::classify::{simulate_decided, Decide, Motion};
+use crate::classify::{simulate_decided, Decide, Motion, TLE_PERIODS};
 use crate::lanes::Decided;
 use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
@@ -266,8 +266,10 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
 }
 
 /// The exponents `--lyapunov` asks for ([`SweepOptions::lyapunov`]): over the recorded periods
-/// from the end of each decided record, all together ([`crate::lanes_tle::tle_many`]: in the
-/// lanes with fixed-step RK4); `None` for a failed run or without `--lyapunov`.
+/// (at least [`TLE_PERIODS`]: a shorter window reads a slowly converging orbit's exponent as
+/// noise of either sign) from the end of each decided record, all together
+/// ([`crate::lanes_tle::tle_many`]: in the lanes with fixed-step RK4); `None` for a failed run
+/// or without `--lyapunov`.
 fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Option<f64>> {
     let mut out = vec![None; runs.len()];
     if !opts.lyapunov {
@@ -283,7 +285,8 @@ fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Opti
             })
         })
         .unzip();
-    let tles = crate::lanes_tle::tle_many(&starts, &opts.sim, opts.sim.record_periods);
+    let periods = opts.sim.record_periods.max(TLE_PERIODS);
+    let tles = crate::lanes_tle::tle_many(&starts, &opts.sim, periods);
     for (i, r) in idx.into_iter().zip(tles) {
         out[i] = r.map(|r| r.tle);
     }

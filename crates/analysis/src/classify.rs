@@ -9,8 +9,14 @@
 //!
 //! Two more checks keep transients out of the verdict:
 //! * a positive exponent is followed [`PERSIST_CYCLES`] more mesh cycles (or one transient, if
-//!   longer) before the motion is called chaotic: a chaotic transient that lands on a periodic
-//!   orbit (internal pair, omega = 1.84: 400–700 periods of transient chaos) is then periodic;
+//!   longer) and measured again there; only if it is still significantly positive is the motion
+//!   called chaotic (with that second exponent): a chaotic transient that lands on a periodic
+//!   orbit (internal pair, omega = 1.84: 400–700 periods of transient chaos) is then periodic,
+//!   and one that lands near a slowly attracting orbit (not yet periodic at the end of the
+//!   persistence run, exponent no longer positive) is decided on as an undecided run;
+//! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
+//!   lengthened to that for the transient extensions of an undecided run: a period-3 orbit read
+//!   on 8 recorded periods is not "not periodic";
 //! * a periodic record whose first points are still transient (the orbit was reached inside the
 //!   record) is recorded again from its final state, so that forces, P_ID and health describe
 //!   the orbit and not the approach to it.
@@ -282,8 +288,10 @@ pub enum Need {
 enum Wait {
     /// The TLE after the first record.
     TleFirst,
-    /// The persistence run of a positive exponent `(tle, stderr)`.
-    Persist(f64, f64),
+    /// The persistence run of a positive exponent.
+    Persist,
+    /// The TLE after the persistence run: chaos only if it is still significantly positive.
+    TlePersist,
     /// Transient extension `k`.
     Extend(u32),
     /// The TLE after the last extension.
@@ -383,9 +391,14 @@ impl<'m> Decision<'m> {
         let opts = self.opts;
         let strict = opts.method.period_tol();
         match self.wait {
-            Wait::Persist(l, se) => {
+            Wait::Persist => {
                 if self.continued(res2, more, strict) {
-                    self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                    // the exponent of the motion *after* the persistence run decides: a chaotic
+                    // transient that has landed near a slowly attracting orbit no longer shows
+                    // a positive one
+                    let (t, y) = self.res.final_state;
+                    let memory = self.res.final_memory;
+                    self.ask(Wait::TlePersist, Need::Tle { t, y, memory });
                 }
             }
             Wait::Extend(k) => {
@@ -426,7 +439,9 @@ impl<'m> Decision<'m> {
                     self.extend_or_final(MAX_EXTENSIONS);
                 }
             }
-            Wait::TleFirst | Wait::TleLast | Wait::Done => panic!("no run was asked for"),
+            Wait::TleFirst | Wait::TlePersist | Wait::TleLast | Wait::Done => {
+                panic!("no run was asked for")
+            }
         }
     }
 
@@ -451,7 +466,7 @@ impl<'m> Decision<'m> {
                                 ..self.opts
                             };
                             let y0 = self.res.final_state.1;
-                            self.ask(Wait::Persist(l, se), Need::Sim { y0, opts: more });
+                            self.ask(Wait::Persist, Need::Sim { y0, opts: more });
                         } else {
                             self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
                             self.ask(Wait::Done, Need::Done);
@@ -461,6 +476,14 @@ impl<'m> Decision<'m> {
                 }
                 self.extend_or_final(0);
             }
+            Wait::TlePersist => match tle {
+                Some((l, se)) if significantly_positive(l, se) => {
+                    self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                    self.ask(Wait::Done, Need::Done);
+                }
+                // no longer positive: undecided, decided on as such (longer transients)
+                _ => self.extend_or_final(0),
+            },
             Wait::TleLast => self.conclude(),
             _ => panic!("no TLE was asked for"),
         }
@@ -594,6 +617,7 @@ impl<'m> Decision<'m> {
                 tau0: t,
                 start_memory: self.res.final_memory,
                 transient_periods: extra,
+                record_periods: self.opts.record_periods.max(self.full_record()),
                 ..self.opts
             };
             self.ask(Wait::Extend(k), Need::Sim { y0, opts: more });
@@ -606,6 +630,12 @@ impl<'m> Decision<'m> {
             return;
         }
         self.conclude();
+    }
+
+    /// Record length (excitation periods) that shows every period up to `max_period` three
+    /// times: the least record of an extension.
+    fn full_record(&self) -> u64 {
+        3 * self.opts.max_period as u64
     }
 
     /// The verdict from the TLE at hand.
@@ -639,7 +669,7 @@ impl<'m> Decision<'m> {
                 if how.extend
                     && l.abs() <= TLE_POSITIVE
                     && se <= TLE_POSITIVE
-                    && opts.record_periods >= 3 * opts.max_period as u64 =>
+                    && self.last_opts.record_periods >= self.full_record() =>
             {
                 Motion::QuasiPeriodic { tle: l, stderr: se }
             }

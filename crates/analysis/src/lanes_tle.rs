@@ -33,7 +33,10 @@ pub struct TangentLanes<'a> {
 impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     type Sys = Tangent<MeshModel>;
     type Lanes = MeshLaneBlock<L>;
+    type Work = ();
     const GUARD_DIMS: usize = 2;
+
+    fn new_work(&self) {}
 
     fn steps_per_period(&self) -> usize {
         Lockstep::<2, L>::steps_per_period(self.base)
@@ -47,11 +50,20 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     fn set_lane(
         &self,
         lanes: &mut MeshLaneBlock<L>,
+        _work: &mut (),
         l: usize,
         sys: &Tangent<MeshModel>,
         mode: &MeshMode,
+        _h: f64,
     ) -> bool {
-        sys.saltation && Lockstep::<2, L>::set_lane(self.base, lanes, l, &sys.sys, mode)
+        // (the tangent lanes compose `rhs`: they need no step tables)
+        match self.base.lane_of(&sys.sys, mode) {
+            Some(ln) if sys.saltation => {
+                lanes.set(l, &ln);
+                true
+            }
+            _ => false,
+        }
     }
 
     fn idle_lanes(&self) -> MeshLaneBlock<L> {

@@ -68,7 +68,7 @@ enum Command {
 /// disk already, one line each), then exit with the conventional status 130.
 #[cfg(unix)]
 extern "C" fn on_interrupt(_: libc::c_int) {
-    const MSG: &[u8] = b"\ninterrupted: sweeps, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate, lyapunov and response start over\n";
+    const MSG: &[u8] = b"\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate and lyapunov start over\n";
     // SAFETY: write and _exit are async-signal-safe.
     unsafe {
         libc::write(2, MSG.as_ptr().cast(), MSG.len());

@@ -10,8 +10,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Integrator settings as written in a config file.
+///
+/// Every key is optional: a missing one takes its default ([`SimulationConfig::default`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct SimulationConfig {
     /// `"dopri"` (adaptive Dormand–Prince 5(4)) or `"rk4"` (fixed step).
     pub method: String,
@@ -589,6 +591,26 @@ mod tests {
             assert_eq!(c, back, "{name}");
             back.resolve().unwrap();
         }
+    }
+
+    #[test]
+    fn a_partial_simulation_table_takes_the_defaults_of_the_missing_keys() {
+        let mut c = Config::preset("classic").unwrap();
+        c.simulation = SimulationConfig::default();
+        let text = c.to_toml();
+        let start = text.find("[simulation]").unwrap();
+        let end = text[start + 1..]
+            .find("\n[")
+            .map_or(text.len(), |e| start + 1 + e);
+        let partial = format!(
+            "{}[simulation]\nmethod = \"rk4\"\n{}",
+            &text[..start],
+            &text[end..]
+        );
+        let back = Config::from_toml(&partial).unwrap();
+        assert_eq!(back.simulation.method, "rk4");
+        assert_eq!(back.simulation.rtol, SimulationConfig::default().rtol);
+        assert_eq!(back.simulation.record_periods, 100);
     }
 
     #[test]

@@ -18,17 +18,36 @@
 //! stepped by the scalar integrator (the engine hands such lanes over), as is every step that may
 //! hold a segment border (a time breakpoint) — those steps are flagged in the table.
 //!
-//! Arithmetic: each lane evaluates exactly the expressions of [`MeshModel`]'s `rhs` and
-//! `mesh_force` (`exc - h*(k*(x -+ D) + c*x')`), with the coefficients taken from the tables. The
-//! scalar model evaluates the excitation (and a harmonic stiffness) at the *rounded* time
-//! `t0 + k*h`, whose phase differs from the exact grid phase by up to ~ulp(t) — at `t ~ 10^4`
-//! about 1e-12, which a lightly damped gear pair amplifies. The lanes therefore correct the
-//! tabulated cosine to first order by that difference (a table of its derivative), computed
-//! exactly from the lane's time as the scalar model computes its phase; they then follow the scalar
-//! path to rounding, not to ulp(t). Piecewise-linear stiffness and friction tables are taken at the
-//! exact phase (their rounded-time difference is below 1e-13 relative).
+//! Two arithmetics:
+//! * **Affine map** (the default where it applies: linear contact law, bilateral force, equal
+//!   friction factors on both flanks — no friction, as in case C1 —, at most
+//!   `AFFINE_MAX_STEPS` steps per period). Inside one contact state the equation is linear and
+//!   periodically forced, so one RK4 step is an affine map `y1 = P y0 + q` fixed by the step
+//!   phase and the state: `P` and the forcing responses are tabulated per lane when the lane's
+//!   constants change ([`AffineTables`], built from the RK4 stages at the exact grid phases) and a
+//!   step becomes a 2 x 2 multiply-add (separated lanes take the closed form of the RK4 step of
+//!   `x'' = F + xi omega^2 cos`). The same RK4 step in exact arithmetic, rounded differently:
+//!   equal to the stage-by-stage step to ~1e-15 relative (test `mesh_lanes_affine`), and periodic
+//!   orbits equal to the scalar RK4 path to its own rounding floor (~1e-12), while chaotic runs
+//!   diverge from it as any two roundings of a chaotic orbit do. About three times fewer
+//!   operations per lane-step than the stages.
+//! * **RK4 stages** (every other model, and any table after [`MeshLanes::exact`]): each lane
+//!   evaluates exactly the expressions of [`MeshModel`]'s `rhs` and `mesh_force`
+//!   (`exc - h*(k*(x -+ D) + c*x')`), with the coefficients taken from the tables. The scalar
+//!   model evaluates the excitation (and a harmonic stiffness) at the *rounded* time `t0 + k*h`,
+//!   whose phase differs from the exact grid phase by up to ~ulp(t) — at `t ~ 10^4` about 1e-12,
+//!   which a lightly damped gear pair amplifies. The lanes therefore correct the tabulated cosine
+//!   to first order by that difference (a table of its derivative), computed exactly from the
+//!   lane's time as the scalar model computes its phase; they then follow the scalar path to
+//!   rounding, not to ulp(t) (to the bit in the tests). Piecewise-linear stiffness and friction
+//!   tables are taken at the exact phase (their rounded-time difference is below 1e-13
+//!   relative).
 //!
-//! Layout of the fused step ([`Lockstep::step`] here), written out by hand rather than composed
+//! Events are decided the same way by both: the interior bound of the Hermite interpolant of the
+//! step and, near a surface, the scalar integrator's own midpoint test; a step that may hold an
+//! event is taken by the scalar integrator.
+//!
+//! Layout of the fused RK4-stage step ([`Lockstep::step`] here), written out by hand rather than composed
 //! from `rhs` because the composition left the lanes waiting on each other: the tables are one
 //! row per step (read once per step), the kernel is compiled once per contact clamp and
 //! stiffness form (no per-lane branches), and it runs stage by stage over chunks of up to
@@ -70,6 +89,27 @@ pub struct MeshLanes {
     /// Some stiffness derivative is nonzero (harmonic stiffness): the stiffness takes the
     /// first-order time correction; otherwise `k + 0 * delta == k` and the kernel skips it.
     harmonic: bool,
+    /// Steps are taken by the affine map of each lane's tables ([`AffineTables`]) instead of
+    /// the RK4 stages (see the module doc).
+    affine: bool,
+}
+
+/// Largest table (steps per strobe period) stepped by the affine map: 8 coefficients per lane
+/// and step must stay in the core's cache (16 lanes x 1024 steps x 64 bytes = 1 MiB).
+const AFFINE_MAX_STEPS: usize = 1024;
+
+/// Per-engine tables of the affine step ([`MeshLanes`] with the affine map): for every step `j`
+/// and lane `l`, the RK4 step of the lane's linear contact equation as `y1 = P y0 + q_e + s q_o`
+/// (`s = +1` in drive contact, `-1` in back contact): `tab[j][c][l]` with `c` = `P00, P01, P10,
+/// P11, q_e0, q_e1, q_o0, q_o1` (`q_e` the response to the excitation and load, `q_o` to the
+/// backlash offset). Each lane's column is built when the lane's constants or step change
+/// ([`Lockstep::set_lane`]).
+#[derive(Clone, Debug)]
+pub struct AffineTables<const L: usize> {
+    /// The constants each lane's column was built for (`omega`, `c`, `F`, `xi omega^2`, `h`);
+    /// NaN: none.
+    key: [[f64; 5]; L],
+    tab: Vec<[[f64; L]; 8]>,
 }
 
 /// Lanes the fused kernel advances stage by stage together ([`MeshLanes::kernel`]). On the C1
@@ -282,6 +322,10 @@ impl MeshLanes {
         }
         let harmonic = rows.iter().any(|r| r.dk.iter().any(|&x| x != 0.0));
         let p = model.params();
+        let linear = model.contact_law().exponent() == 1.0;
+        // one matrix for both flanks: equal friction factors (no friction, or symmetric)
+        let symmetric = rows.iter().all(|r| r.hd == r.hb);
+        let affine = linear && !p.unilateral && symmetric && steps <= AFFINE_MAX_STEPS;
         MeshLanes {
             n,
             cycles,
@@ -289,10 +333,77 @@ impl MeshLanes {
             steps,
             inv_n: 1.0 / n as f64,
             rows,
-            linear: model.contact_law().exponent() == 1.0,
+            linear,
             unilateral: p.unilateral,
             harmonic,
+            affine,
         }
+    }
+
+    /// The same tables with the lanes' steps taken by the RK4 stages even where the affine map
+    /// applies: every lane then follows the scalar integrator's RK4 path to the bit (see the
+    /// module doc).
+    pub fn exact(mut self) -> Self {
+        self.affine = false;
+        self
+    }
+
+    /// Whether the lanes' steps are taken by the affine map (see the module doc).
+    pub fn is_affine(&self) -> bool {
+        self.affine
+    }
+
+    /// Builds lane `l`'s column of the affine tables for the constants `ln` and step `h`: per
+    /// step, the RK4 step of `x' = v`, `v' = a x + b v + g` (`a = -h_f k`, `b = -h_f c` at the
+    /// start, middle and end of the step, from the tables at the exact grid phases) applied to
+    /// the unit states (the columns of `P`), and to the zero state with the forcing
+    /// `g = F + xi omega^2 cos` (`q_e`) and `g = h_f k D` (`q_o`, the backlash offset).
+    fn build_column<const L: usize>(
+        &self,
+        w: &mut AffineTables<L>,
+        l: usize,
+        ln: &MeshLane,
+        h: f64,
+    ) {
+        for (j, r) in self.rows.iter().enumerate() {
+            let mut a = [0.0; 3];
+            let mut b = [0.0; 3];
+            let mut ge = [0.0; 3];
+            let mut go = [0.0; 3];
+            for s in 0..3 {
+                let hf = r.hd[s];
+                a[s] = -hf * r.k[s];
+                b[s] = -hf * ln.c;
+                ge[s] = ln.load + ln.xiw2 * r.cos[s];
+                go[s] = hf * r.k[s] * r.d;
+            }
+            let rk4 = |x0: f64, v0: f64, g: [f64; 3]| {
+                let acc = |s: usize, x: f64, v: f64| a[s] * x + b[s] * v + g[s];
+                let (k1x, k1v) = (v0, acc(0, x0, v0));
+                let (x2, v2) = (x0 + 0.5 * h * k1x, v0 + 0.5 * h * k1v);
+                let (k2x, k2v) = (v2, acc(1, x2, v2));
+                let (x3, v3) = (x0 + 0.5 * h * k2x, v0 + 0.5 * h * k2v);
+                let (k3x, k3v) = (v3, acc(1, x3, v3));
+                let (x4, v4) = (x0 + h * k3x, v0 + h * k3v);
+                let (k4x, k4v) = (v4, acc(2, x4, v4));
+                (
+                    x0 + h / 6.0 * (k1x + 2.0 * (k2x + k3x) + k4x),
+                    v0 + h / 6.0 * (k1v + 2.0 * (k2v + k3v) + k4v),
+                )
+            };
+            let (p00, p10) = rk4(1.0, 0.0, [0.0; 3]);
+            let (p01, p11) = rk4(0.0, 1.0, [0.0; 3]);
+            let (qe0, qe1) = rk4(0.0, 0.0, ge);
+            let (qo0, qo1) = rk4(0.0, 0.0, go);
+            let e = &mut w.tab[j];
+            for (c, v) in [p00, p01, p10, p11, qe0, qe1, qo0, qo1]
+                .into_iter()
+                .enumerate()
+            {
+                e[c][l] = v;
+            }
+        }
+        w.key[l] = [ln.w, ln.c, ln.load, ln.xiw2, h];
     }
 
     /// Steps per mesh cycle.
@@ -637,6 +748,77 @@ impl MeshLanes {
         }
     }
 
+    /// The affine step of every lane (see [`MeshLanes::kernel`] for the returned bits): in
+    /// contact `y1 = P y0 + q_e + s q_o` from the lane's column of `w`, when separated the RK4
+    /// step of `x'' = F + xi omega^2 cos` in closed form (`x0 + h v0 + h^2 (e0 + 2 em) / 6`,
+    /// `v0 + h (e0 + 4 em + ee) / 6`); then the end field and the interior bound as in the
+    /// RK4 kernel. Coefficients at the exact grid phases (no rounded-time correction).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn affine_kernel<const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        w: &AffineTables<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &mut Soa<2, L>,
+        f1: &mut Soa<2, L>,
+    ) -> u64 {
+        let r = &self.rows[j];
+        let e = &w.tab[j];
+        let [c0, cm, ce] = r.cos;
+        let (kke, hde, d) = (r.k[2], r.hd[2], r.d);
+        let mut ok = [false; L];
+        let mut fin = [false; L];
+        for l in 0..L {
+            let (x0, v0) = (y0[0][l], y0[1][l]);
+            let (sd, sb) = (ln.sd[l], ln.sb[l]);
+            let s = sd - sb;
+            let xc = e[0][l] * x0 + e[1][l] * v0 + (e[4][l] + s * e[6][l]);
+            let vc = e[2][l] * x0 + e[3][l] * v0 + (e[5][l] + s * e[7][l]);
+            let h = t1[l] - t0[l];
+            let (load, xiw2) = (ln.load[l], ln.xiw2[l]);
+            let (e0, em, ee) = (load + xiw2 * c0, load + xiw2 * cm, load + xiw2 * ce);
+            let xs = x0 + h * v0 + h * h * (1.0 / 6.0) * (e0 + 2.0 * em);
+            let vs = v0 + h * (1.0 / 6.0) * (e0 + 4.0 * em + ee);
+            let contact = sd + sb > 0.0;
+            let x1 = if contact { xc } else { xs };
+            let v1 = if contact { vc } else { vs };
+            let fm = kke * (x1 - s * d) + ln.c[l] * v1;
+            let a1 = ee - (sd + sb) * hde * fm;
+            y1[0][l] = x1;
+            y1[1][l] = v1;
+            f1[0][l] = v1;
+            f1[1][l] = a1;
+            // interior bound of the Hermite interpolant, as in `chunk`
+            let dx = x1 - x0;
+            let r2x = h * f0[0][l] - dx;
+            let r3x = dx - h * v1 - r2x;
+            let dv = v1 - v0;
+            let r2v = h * f0[1][l] - dv;
+            let r3v = dv - h * a1 - r2v;
+            let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
+            let finite = (x1.abs() < f64::INFINITY)
+                & (v1.abs() < f64::INFINITY)
+                & (a1.abs() < f64::INFINITY);
+            let margin = 0.25 * dev;
+            let (ga0, ga1) = (x0 - d, x1 - d);
+            let (gb0, gb1) = (x0 + d, x1 + d);
+            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
+            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
+            ok[l] = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
+            fin[l] = finite;
+        }
+        let mut bits = 0u64;
+        for l in 0..L {
+            bits |= ((ok[l] as u64) << l) | ((fin[l] as u64) << (32 + l));
+        }
+        bits
+    }
+
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as
     /// [`MeshModel::mesh_force`] computes it at the times `at.t`.
     #[inline(always)]
@@ -711,7 +893,19 @@ impl MeshLanes {
 impl<const L: usize> Lockstep<2, L> for MeshLanes {
     type Sys = MeshModel;
     type Lanes = MeshLaneBlock<L>;
+    type Work = AffineTables<L>;
     const GUARD_DIMS: usize = 2;
+
+    fn new_work(&self) -> AffineTables<L> {
+        AffineTables {
+            key: [[f64::NAN; 5]; L],
+            tab: if self.affine {
+                vec![[[0.0; L]; 8]; self.steps]
+            } else {
+                Vec::new()
+            },
+        }
+    }
 
     fn steps_per_period(&self) -> usize {
         self.steps
@@ -725,12 +919,17 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
     fn set_lane(
         &self,
         lanes: &mut MeshLaneBlock<L>,
+        work: &mut AffineTables<L>,
         l: usize,
         sys: &MeshModel,
         mode: &MeshMode,
+        h: f64,
     ) -> bool {
         match self.lane_of(sys, mode) {
             Some(ln) => {
+                if self.affine && work.key[l] != [ln.w, ln.c, ln.load, ln.xiw2, h] {
+                    self.build_column(work, l, &ln, h);
+                }
                 lanes.set(l, &ln);
                 true
             }
@@ -798,16 +997,20 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         t1: &[f64; L],
         grid: &[f64; L],
         ln: &MeshLaneBlock<L>,
+        work: &AffineTables<L>,
         y0: &Soa<2, L>,
         f0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
-        let bits = match (self.unilateral, self.harmonic) {
-            (false, false) => self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+        let bits = match (self.affine, self.unilateral, self.harmonic) {
+            (true, _, _) => self.affine_kernel::<L>(j, t0, t1, ln, work, y0, f0, y1, f1),
+            (_, false, false) => {
+                self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1)
+            }
+            (_, false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (_, true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (_, true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
         };
         let mut mask = bits as u32;
         // lanes near a surface without a sign change at the ends: the scalar integrator's

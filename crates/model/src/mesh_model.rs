@@ -202,11 +202,22 @@ impl MeshModel {
                 "[0.001, 1000] (dimensionless mesh frequency omega_h/omega_n)",
             ));
         }
-        if finite("F", p.load)? < 0.0 {
-            return Err(inv("F", p.load, "[0, inf)"));
+        // F and xi are in units of k b_c: beyond 1e3 the static deflection or the error
+        // amplitude is a thousand backlash widths, far outside any gear pair, and a run only
+        // overflows
+        if !(0.0..=1e3).contains(&finite("F", p.load)?) {
+            return Err(inv(
+                "F",
+                p.load,
+                "[0, 1000] (static load in units of k b_c)",
+            ));
         }
-        if finite("xi", p.xi)? < 0.0 {
-            return Err(inv("xi", p.xi, "[0, inf)"));
+        if !(0.0..=1e3).contains(&finite("xi", p.xi)?) {
+            return Err(inv(
+                "xi",
+                p.xi,
+                "[0, 1000] (transmission error amplitude in units of b_c)",
+            ));
         }
         // c = 2 zeta: beyond zeta = 10 the mesh is a rigid dashpot and the adaptive step
         // collapses; no gear pair is damped like that
@@ -223,7 +234,15 @@ impl MeshModel {
             ));
         }
         if !(finite("D_s", p.d_single)? >= p.d_double && p.d_single <= 1e3) {
-            return Err(inv("D_s", p.d_single, "[D_d, 1000] (D_s >= D_d)"));
+            return Err(inv(
+                "D_s",
+                p.d_single,
+                &format!(
+                    "[D_d, 1000] with D_d = {} (the single-tooth half backlash is at least the \
+                     double-tooth one; D sets both)",
+                    crate::error::num(p.d_double)
+                ),
+            ));
         }
         let eps = finite("eps", p.eps)?;
         if !(eps > 1.0 && eps < 2.0) {

@@ -286,33 +286,6 @@ impl PairSpec {
                 ));
             }
         }
-        if let Some(t) = &self.thermal {
-            if !(t.temperature_rise_k >= 0.0 && t.temperature_rise_k < 500.0) {
-                return Err(bad(
-                    "thermal.temperature_rise_k",
-                    t.temperature_rise_k,
-                    "[0, 500) K",
-                ));
-            }
-            if !(t.expansion_per_k > 0.0 && t.expansion_per_k < 1e-3) {
-                return Err(bad(
-                    "thermal.expansion_per_k",
-                    t.expansion_per_k,
-                    "(0, 1e-3) 1/K",
-                ));
-            }
-            if t.temperature_rise_k > 0.0 && self.operating.is_none_or(|o| o.torque_nm <= 0.0) {
-                return Err(bad("thermal", t.temperature_rise_k, "a temperature rise needs pair.operating.torque_nm > 0 (thermal stiffness = load / thermal deformation)"));
-            }
-        }
-        if let Some(k) = self.mean_stiffness_n_per_m {
-            pos("mean_stiffness_n_per_m", k, "(0, inf) N/m")?;
-        }
-        if let Some(z) = self.damping_ratio {
-            if !(z >= 0.0 && z < 1.0) {
-                return Err(bad("damping_ratio", z, "[0, 1)"));
-            }
-        }
         if let Some(op) = &self.operating {
             pos("operating.speed_rpm", op.speed_rpm, "(0, inf) rpm")?;
             if !(op.torque_nm >= 0.0 && op.torque_nm.is_finite()) {
@@ -330,6 +303,37 @@ impl PairSpec {
                 op.half_backlash_um,
                 "(0, inf) um (backlash must be positive)",
             )?;
+        }
+        if let Some(t) = &self.thermal {
+            if !(t.temperature_rise_k >= 0.0 && t.temperature_rise_k < 500.0) {
+                return Err(bad(
+                    "thermal.temperature_rise_k",
+                    t.temperature_rise_k,
+                    "[0, 500) K",
+                ));
+            }
+            if !(t.expansion_per_k > 0.0 && t.expansion_per_k < 1e-3) {
+                return Err(bad(
+                    "thermal.expansion_per_k",
+                    t.expansion_per_k,
+                    "(0, 1e-3) 1/K",
+                ));
+            }
+            if t.temperature_rise_k > 0.0 {
+                match &self.operating {
+                    None => return Err(bad("thermal", t.temperature_rise_k, "a temperature rise needs pair.operating with torque_nm > 0 (thermal stiffness = load / thermal deformation)")),
+                    Some(o) if o.torque_nm <= 0.0 => return Err(bad("operating.torque_nm", o.torque_nm, "(0, inf) N m while [pair.thermal] sets a temperature rise (thermal stiffness = load / thermal deformation); or set pair.thermal.temperature_rise_k = 0")),
+                    _ => {}
+                }
+            }
+        }
+        if let Some(k) = self.mean_stiffness_n_per_m {
+            pos("mean_stiffness_n_per_m", k, "(0, inf) N/m")?;
+        }
+        if let Some(z) = self.damping_ratio {
+            if !(z >= 0.0 && z < 1.0) {
+                return Err(bad("damping_ratio", z, "[0, 1)"));
+            }
         }
         for (f, v) in [
             ("inertia_pinion_kgm2", self.inertia_pinion_kgm2),

@@ -198,11 +198,17 @@ impl ScenarioSpec {
         if !value.is_finite() {
             return Err(key_err(&name, format!("{value} is not a finite number")));
         }
+        if field == "mu" && pair.lubrication.is_some() {
+            return Err(key_err(
+                &name,
+                "has no effect on this pair: its friction follows [pair.lubrication] (film \
+                 thickness and regime along the path); set pair.lubrication.boundary_mu (the \
+                 boundary-regime coefficient) or remove [pair.lubrication] for a constant mu",
+            ));
+        }
         let mut v = toml::Value::try_from(pair).expect("pair serialises");
         let parts: Vec<&str> = field.split('.').collect();
-        if !set_path(&mut v, &parts, value) {
-            return Err(key_err(&name, "not a numeric field of [pair]"));
-        }
+        set_path(&mut v, &parts, value).map_err(|why| key_err(&name, why))?;
         let spec: PairSpec = v
             .try_into()
             .map_err(|e: toml::de::Error| key_err(&name, e.message().to_string()))?;
@@ -256,13 +262,46 @@ impl ScenarioSpec {
 
     fn resolve_cached(&self, cached: Option<&Arc<PairModel>>) -> Result<Scenario, ScenarioError> {
         let (params, pair_model) = self.resolve_params(cached)?;
-        let model = MeshModel::new(&params)?;
+        let model = MeshModel::new(&params).map_err(|e| self.name_the_source(e))?;
         Ok(Scenario {
             spec: self.clone(),
             pair_model,
             params,
             model,
         })
+    }
+}
+
+impl ScenarioSpec {
+    /// A range error on an operating-point value the pair computed (not set by the user): names
+    /// the `pair.*` fields it came from, which are what the user can change.
+    fn name_the_source(&self, e: ModelError) -> ScenarioError {
+        let ModelError::Invalid {
+            field,
+            value,
+            allowed,
+        } = &e
+        else {
+            return e.into();
+        };
+        let from = match field.as_str() {
+            "omega" => "pair.operating.speed_rpm",
+            "F" => "pair.operating.torque_nm",
+            "xi" => "pair.operating.error_amplitude_um",
+            "c" => "pair.damping_ratio",
+            "D_d" | "D_s" => "pair.operating.half_backlash_um (and the thermal state)",
+            _ => return e.into(),
+        };
+        if !self.pair_states(field) || self.overrides.contains_key(field.as_str()) {
+            return e.into();
+        }
+        key_err(
+            from,
+            format!(
+                "gives {field} = {} (dimensionless), allowed {allowed}",
+                geardyn_model::error::num(*value)
+            ),
+        )
     }
 }
 
@@ -392,23 +431,30 @@ pub struct ResolvedRecord {
 
 /// Sets `value` at a dotted path of a TOML table, creating intermediate tables; integers stay
 /// integers when the value is whole.
-fn set_path(v: &mut toml::Value, parts: &[&str], value: f64) -> bool {
+fn set_path(v: &mut toml::Value, parts: &[&str], value: f64) -> Result<(), &'static str> {
     let Some(table) = v.as_table_mut() else {
-        return false;
+        return Err("not a numeric field of [pair]");
     };
     match parts {
-        [] => false,
+        [] => Err("not a numeric field of [pair]"),
         [last] => {
             let new = match table.get(*last) {
                 Some(toml::Value::Integer(_)) if value.fract() == 0.0 && value.abs() < 9e15 => {
                     toml::Value::Integer(value as i64)
                 }
-                Some(toml::Value::Integer(_)) => return false,
-                Some(toml::Value::Table(_)) | Some(toml::Value::String(_)) => return false,
+                Some(toml::Value::Integer(_)) => return Err("must be a whole number"),
+                Some(toml::Value::Table(_)) => {
+                    return Err(
+                        "a table, not a number (set one of its fields: pair.FIELD.SUBFIELD)",
+                    )
+                }
+                Some(toml::Value::String(_)) => {
+                    return Err("a name, not a number (set it in a configuration file)")
+                }
                 _ => toml::Value::Float(value),
             };
             table.insert(last.to_string(), new);
-            true
+            Ok(())
         }
         [first, rest @ ..] => {
             let child = table

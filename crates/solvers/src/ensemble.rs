@@ -24,9 +24,10 @@
 //! * Time is kept per lane exactly as the scalar integrator keeps it: grid points are
 //!   `t_origin + k*h`, stroboscopic instants `t_segment + p*T` (merged with the grid point they
 //!   coincide with), and each RK4 step has the length `t1 - t0` of those rounded times. A lane
-//!   therefore follows the scalar RK4 path; the only difference is that its periodic
-//!   coefficients come from the phase tables instead of being evaluated at the rounded time
-//!   (a few ulps).
+//!   therefore follows the scalar RK4 path; the differences are that its periodic coefficients
+//!   come from the phase tables instead of being evaluated at the rounded time (a few ulps),
+//!   and that a model may take the same RK4 step with fewer operations (a tabulated affine map
+//!   of a linear field), rounded differently.
 //! * Work arrives from a [`LaneDriver`]: a lane is filled with a work item at a strobe instant
 //!   (phase 0), runs whole strobe periods, and retires when its driver says so (a sweep value
 //!   finished, a basin cell captured early); the freed lane takes the next item at once. The
@@ -68,6 +69,10 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// Per-lane constants of the lanes' systems in their current modes (contact selectors,
     /// amplitudes, damping, ...), as a structure of arrays over the `L` lanes.
     type Lanes: Copy;
+    /// Per-engine working storage of the batched field (e.g. tables that depend on a lane's own
+    /// constants), created once per engine ([`Lockstep::new_work`]), updated by
+    /// [`Lockstep::set_lane`] and read by [`Lockstep::step`]; `()` when a model needs none.
+    type Work;
     /// Guards depend on the state components `0..GUARD_DIMS` only (the interior bound is taken
     /// over those).
     const GUARD_DIMS: usize = N;
@@ -77,15 +82,20 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
     /// Whether the step at phase `j` must be taken by the scalar integrator in every lane (it may
     /// hold a time breakpoint).
     fn scalar_phase(&self, j: usize) -> bool;
-    /// Sets lane `l`'s constants to those of `sys` in `mode`; `false` when the batched field does
-    /// not cover that mode (the lane then steps with the scalar integrator until its mode is
-    /// covered again).
+    /// The working storage of one engine.
+    fn new_work(&self) -> Self::Work;
+    /// Sets lane `l`'s constants to those of `sys` in `mode` on its grid of step `h`; `false`
+    /// when the batched field does not cover that mode (the lane then steps with the scalar
+    /// integrator until its mode is covered again).
+    #[allow(clippy::too_many_arguments)]
     fn set_lane(
         &self,
         lanes: &mut Self::Lanes,
+        work: &mut Self::Work,
         l: usize,
         sys: &Self::Sys,
         mode: &<Self::Sys as HybridSystem<N>>::Mode,
+        h: f64,
     ) -> bool;
     /// Constants of idle lanes (values that keep the arithmetic finite).
     fn idle_lanes(&self) -> Self::Lanes;
@@ -118,6 +128,7 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
         t1: &[f64; L],
         grid: &[f64; L],
         lanes: &Self::Lanes,
+        _work: &Self::Work,
         y0: &Soa<N, L>,
         f0: &Soa<N, L>,
         y1: &mut Soa<N, L>,
@@ -373,6 +384,7 @@ where
     kseg: [f64; L],
     period: [f64; L],
     lanes: B::Lanes,
+    work: B::Work,
     lock_steps: [u64; L],
     /// busy lanes, lanes the batched field covers, lanes whose `f` must be recomputed
     active: u32,
@@ -400,6 +412,7 @@ where
             kseg: [0.0; L],
             period: [0.0; L],
             lanes: batch.idle_lanes(),
+            work: batch.new_work(),
             lock_steps: [0; L],
             active: 0,
             lockable: 0,
@@ -426,9 +439,11 @@ where
         let bit = 1u32 << l;
         if batch.set_lane(
             &mut self.lanes,
+            &mut self.work,
             l,
             slot.sys.expect("busy lane"),
             integ.mode(),
+            self.h[l],
         ) {
             self.lockable |= bit;
             self.stale |= bit;
@@ -679,7 +694,18 @@ where
             let c = self.cur;
             let (y0, y1) = pair(&mut self.y, c);
             let (f0, f1) = pair(&mut self.f, c);
-            let clear = batch.step(j, &self.t, &t1, &self.idx, &self.lanes, y0, f0, y1, f1);
+            let clear = batch.step(
+                j,
+                &self.t,
+                &t1,
+                &self.idx,
+                &self.lanes,
+                &self.work,
+                y0,
+                f0,
+                y1,
+                f1,
+            );
             let ok = self.active & self.lockable & clear;
             if ok != 0 {
                 let st = LaneStep {
