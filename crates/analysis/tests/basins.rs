@@ -226,3 +226,42 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
     );
     assert!(one.attractors.len() >= 2);
 }
+
+#[test]
+fn an_orbit_still_approaching_a_lower_period_is_not_a_second_attractor() {
+    // internal preset at omega = 0.7: one healthy period-2 orbit (2-2-0-2-0, checked by a
+    // 3000-period transient, classification.rs) with a slowly decaying mode; the cells that had
+    // not settled when recorded had made a "period-4 attractor" of 99.94 % of the grid beside it
+    let mut spec = geardyn_scenario::ScenarioSpec::preset("internal").unwrap();
+    spec.set("omega", 0.7).unwrap();
+    let m = spec.resolve().unwrap().model().clone();
+    let opts = BasinOptions {
+        x: Axis {
+            min: -2.0,
+            max: 2.0,
+            n: 16,
+        },
+        v: Axis {
+            min: -1.5,
+            max: 1.5,
+            n: 16,
+        },
+        identify: IdentifyOptions {
+            sim: SimOptions {
+                method: geardyn_analysis::simulate::Method::Dopri {
+                    rtol: 1e-7,
+                    atol: 1e-10,
+                },
+                ..IdentifyOptions::default().sim
+            },
+            ..Default::default()
+        },
+    };
+    let r = basins(&m, &opts, &HashMap::new(), |_, _| {});
+    let labels: Vec<&str> = r
+        .attractors
+        .iter()
+        .map(|a| a.descriptor.label.as_str())
+        .collect();
+    assert_eq!(labels, ["2-2-0-2-0"], "{:?}", r.attractors);
+}

@@ -379,3 +379,64 @@ fn the_revolution_and_mesh_cycle_clocks_agree() {
     assert_eq!(s.period, lcm / cycles, "{} (mesh period {mp})", s.label);
     assert_eq!(s.period, 3, "{}", s.label);
 }
+
+#[test]
+fn a_slower_approach_to_period_2_is_not_period_4() {
+    // internal preset at omega = 0.7: lag-2 differences of 7.7e-6 falling to 2.7e-6 over the
+    // record (at the rate of the exponent, -0.00137: a decaying mode, above the period-test
+    // tolerance but below ten times it) had read as "period 4: 4-4-0-4-0"; a 3000-period
+    // transient gives 2-2-0-2-0 with points equal to 1e-8 (audit, independent run)
+    let m = internal_preset(0.7);
+    let (_, s, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let long = SimOptions {
+        transient_periods: 3000,
+        ..Default::default()
+    };
+    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
+    assert_eq!(s_long.label, "2-2-0-2-0");
+    assert_eq!(s.label, s_long.label);
+}
+
+#[test]
+fn chaos_needs_a_positive_exponent_after_the_persistence_run() {
+    // C1 at omega = 1.22 from this initial state: the first exponent (after a chaotic transient)
+    // is +0.084, but the motion lands near a slowly attracting period-8 orbit; the record after
+    // the persistence run is not yet periodic, and the motion had been called chaotic on the
+    // first exponent. A 3000-period transient gives 8-3-1 (points equal to 7e-11) with a
+    // negative exponent (audit: -0.0025 variational, -0.0023 two-trajectory).
+    let m = c1(&[("omega", 1.22)]);
+    let y0 = [-0.733_863_727_012_124_2, 0.585_864_555_014_703_9];
+    let (_, s, _) = simulate_decided(&m, y0, &SimOptions::default(), Decide::default()).unwrap();
+    assert!(!s.motion.is_chaotic(), "{}", s.label);
+    let long = SimOptions {
+        transient_periods: 3000,
+        ..Default::default()
+    };
+    let (_, s_long, _) = simulate_decided(&m, y0, &long, Decide::default()).unwrap();
+    assert_eq!(
+        s_long.motion,
+        Motion::Periodic { period: 8 },
+        "{}",
+        s_long.label
+    );
+    assert_eq!(s.label, s_long.label);
+}
+
+#[test]
+fn a_record_too_short_for_a_period_is_lengthened_not_called_aperiodic() {
+    // C1 at omega = 0.8, 2 recorded periods: no period test can pass on 2 points; the run had
+    // been "unsettled" with a clearly negative exponent. The same run recorded over 100 periods
+    // is period 1 (1-1-0).
+    let m = c1(&[("omega", 0.8)]);
+    let short = SimOptions {
+        transient_periods: 50,
+        record_periods: 2,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
+    let (_, s_ref, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    assert_eq!(s_ref.motion, Motion::Periodic { period: 1 });
+    assert_eq!(s.motion, s_ref.motion, "{}", s.label);
+}
