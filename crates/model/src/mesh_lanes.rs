@@ -771,8 +771,10 @@ impl MeshLanes {
         let e = &w.tab[j];
         let [c0, cm, ce] = r.cos;
         let (kke, hde, d) = (r.k[2], r.hd[2], r.d);
-        let mut ok = [false; L];
-        let mut fin = [false; L];
+        // verdicts as 0/1 numbers, not bools: a bool array was stored as bytes and reloaded as
+        // wider words, a store-forwarding stall on every step
+        let mut ok = [0.0f64; L];
+        let mut fin = [0.0f64; L];
         for l in 0..L {
             let (x0, v0) = (y0[0][l], y0[1][l]);
             let (sd, sb) = (ln.sd[l], ln.sb[l]);
@@ -809,14 +811,19 @@ impl MeshLanes {
             let (gb0, gb1) = (x0 + d, x1 + d);
             let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
             let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
-            ok[l] = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
-            fin[l] = finite;
+            ok[l] = if finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb) {
+                1.0
+            } else {
+                0.0
+            };
+            fin[l] = if finite { 1.0 } else { 0.0 };
         }
-        let mut bits = 0u64;
+        let (mut okm, mut finm) = (0u64, 0u64);
         for l in 0..L {
-            bits |= ((ok[l] as u64) << l) | ((fin[l] as u64) << (32 + l));
+            okm |= u64::from(ok[l] != 0.0) << l;
+            finm |= u64::from(fin[l] != 0.0) << l;
         }
-        bits
+        okm | (finm << 32)
     }
 
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as

@@ -684,9 +684,7 @@ where
                 t1[l] = self.tseg[l] + (self.kseg[l] + 1.0) * self.period[l];
             }
         } else {
-            for l in 0..L {
-                t1[l] = self.origin[l] + (self.idx[l] + 1.0) * self.h[l];
-            }
+            grid_times(&mut t1, &self.origin, &self.idx, &self.h);
         }
         let mut scalar = self.active;
         if !batch.scalar_phase(j) {
@@ -807,6 +805,33 @@ where
                 }
             }
         }
+    }
+}
+
+/// `t1 = origin + (idx + 1) h` lane by lane, in whole vector blocks of 8 lanes (the times of a
+/// grid step as the scalar integrator computes them). Written as blocks because the plain lane
+/// loop was vectorised in odd pieces (8 + 4 + 1 + 2 + 1 lanes) whose loads could not be
+/// forwarded from the previous step's stores: a tenth of the engine's time went to that stall.
+#[inline(always)]
+fn grid_times<const L: usize>(t1: &mut [f64; L], origin: &[f64; L], idx: &[f64; L], h: &[f64; L]) {
+    const B: usize = 8;
+    let mut t = t1.chunks_exact_mut(B);
+    let mut o = origin.chunks_exact(B);
+    let mut k = idx.chunks_exact(B);
+    let mut hh = h.chunks_exact(B);
+    for (((t, o), k), hh) in (&mut t).zip(&mut o).zip(&mut k).zip(&mut hh) {
+        for i in 0..B {
+            t[i] = o[i] + (k[i] + 1.0) * hh[i];
+        }
+    }
+    let (t, o, k, hh) = (
+        t.into_remainder(),
+        o.remainder(),
+        k.remainder(),
+        hh.remainder(),
+    );
+    for i in 0..t.len() {
+        t[i] = o[i] + (k[i] + 1.0) * hh[i];
     }
 }
 
