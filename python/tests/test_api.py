@@ -106,7 +106,7 @@ def test_bifurcation_shapes():
     assert r.runs["value"].shape == (6,)
     assert r.runs["healthy"].dtype == np.bool_
     assert np.isnan(r.runs["tle"]).all()
-    assert set(r.points["branch"]) == {"fixed"}
+    assert set(r.points["branch"]) == {"none"}
     np.testing.assert_array_equal(r.values, [0.8, 1.2, 1.6])
     # each run records 8 strobe points
     assert (r.points["section"] == "strobe").sum() == 6 * 8

@@ -124,12 +124,13 @@ pub struct Task {
 }
 
 impl Task {
-    /// Branch name.
+    /// Branch name: `up` and `down` for the two continuation chains, `none` otherwise (fixed and
+    /// multi-initial sweeps have no branches).
     pub fn branch_name(&self) -> &'static str {
         match self.branch {
             1 => "up",
             2 => "down",
-            _ => "fixed",
+            _ => "none",
         }
     }
 }

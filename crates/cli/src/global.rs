@@ -117,11 +117,20 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         max: 1.5,
         n: 200,
     };
+    let (mut has_x, mut has_v) = (false, false);
     for g in &a.grid {
         match parse_axis(g)? {
-            ('x', ax) => x = ax,
-            (_, ax) => v = ax,
+            ('x', ax) => (x, has_x) = (ax, true),
+            (_, ax) => (v, has_v) = (ax, true),
         }
+    }
+    // one axis given: say what the other is, rather than silently running N x 200
+    if has_x != has_v {
+        let (name, ax) = if has_x { ("v", v) } else { ("x", x) };
+        eprintln!(
+            "note: no --grid {name}: {name} takes its default, [{}, {}] in {} cells",
+            ax.min, ax.max, ax.n
+        );
     }
     let mut ident = identify_options(&cfg, &a.ident)?;
     ident.sim.tau0 = a.phase * model.excitation_period();

@@ -22,7 +22,7 @@ pub struct SimulateArgs {
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
     trajectory_periods: u64,
     /// Output directory.
     #[arg(long, default_value = "out/simulate")]
@@ -42,7 +42,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let model = scenario.model();
     let mut opts = cfg.sim_options()?;
     opts.trajectory = true;
-    opts.trajectory_periods = args.trajectory_periods.max(1);
+    opts.trajectory_periods = args.trajectory_periods;
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
     let out = &args.out;

@@ -23,7 +23,7 @@
 //! assert!(s.with("eps", 1.7).unwrap_err().to_string().contains("[pair]"));
 //! ```
 
-use geardyn_model::{presets, Friction, MeshModel, ModelError, ModelParams};
+use geardyn_model::{presets, BackSide, ContactLaw, Friction, MeshModel, ModelError, ModelParams};
 use geardyn_physics::{PairModel, PairSpec, PhysicsError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -387,8 +387,8 @@ impl Scenario {
             eps: p.eps,
             eps_b: p.breakage.map(|b| b.eps_b),
             cycles_per_period: p.cycles_per_period(),
-            contact: format!("{:?}", p.contact),
-            back_side: format!("{:?}", p.back_side),
+            contact: p.contact,
+            back_side: p.back_side,
             physical_pair: self.spec.pair.is_some(),
             overrides: self.spec.overrides.clone(),
         }
@@ -419,10 +419,10 @@ pub struct ResolvedRecord {
     pub eps_b: Option<f64>,
     /// Mesh cycles per excitation period.
     pub cycles_per_period: u32,
-    /// Contact law.
-    pub contact: String,
-    /// Back-side model.
-    pub back_side: String,
+    /// Contact law (as in the configuration's `[model.contact]`).
+    pub contact: ContactLaw,
+    /// Back-side model (as in the configuration's `[model.back_side]`).
+    pub back_side: BackSide,
     /// Whether a physical pair supplied the tables.
     pub physical_pair: bool,
     /// Dimensionless values set explicitly over the pair's physical operating point.
