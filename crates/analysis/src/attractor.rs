@@ -436,8 +436,7 @@ impl Descriptor {
 }
 
 /// Makes one attractor of one motion (see module doc): decides the descriptors from
-/// `first_new` on that are not periodic yet or have a period above 1 ([`Recordable::decide`]),
-/// merges matching
+/// `first_new` on ([`Recordable::decide`]), merges matching
 /// descriptors of `known` (the earliest index survives) and renumbers `ids` (entries `< 0` are
 /// left alone). Deterministic: sequential, in index order.
 pub fn consolidate<S: Recordable>(
@@ -448,13 +447,14 @@ pub fn consolidate<S: Recordable>(
     opts: &IdentifyOptions,
 ) {
     for d in known.iter_mut().skip(first_new) {
-        // a non-periodic record is decided; so is a periodic one of period 2 or more, whose
-        // record may still be the slow approach to an orbit of a lower period (a decaying flip
-        // mode read as a doubled period: the internal pair at omega = 0.7 had shown 99.94 % of
-        // its basin as a period-4 "attractor" beside the period-2 orbit it was approaching)
-        if d.period != 1 {
-            *d = sys.decide(d, &opts.sim);
-        }
+        // every new attractor is decided as `simulate` decides a run: a non-periodic record, and
+        // a periodic one too, whose record may still be the slow approach to an orbit of a lower
+        // period (a decaying flip mode read as a doubled period: the internal pair at
+        // omega = 0.7 had shown 99.94 % of its basin as a period-4 "attractor" beside the
+        // period-2 orbit it was approaching) or hold the end of the approach (forces and health
+        // of the transient: the broken pair at omega = 1.43 had listed its healthy period-1
+        // motion also as "non-healthy, max force 1.49")
+        *d = sys.decide(d, &opts.sim);
     }
     merge_all(known, ids, opts.match_tol);
     // an attractor persists: a non-periodic one is followed for PERSIST_FACTOR transients more,
