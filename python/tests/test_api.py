@@ -56,13 +56,16 @@ def test_simulate_all_trajectory_and_integrator():
 def test_breakage_has_mesh_strobe():
     r = geardyn.simulate(preset="breakage", periods=2, transient=2)
     cyc = r.summary["parameters"]["cycles_per_period"]
-    assert cyc > 1 and r.mesh_strobe.shape == (2 * cyc, 2)
+    # a record too short to decide is lengthened (at least three orbit periods when periodic)
+    assert cyc > 1 and r.strobe.shape[0] >= 2
+    assert r.mesh_strobe.shape == (r.strobe.shape[0] * cyc, 2)
 
 
 def test_config_round_trips(tmp_path):
-    cfg = geardyn.config(preset="internal", set={"pair.mu": 0.1}, omega=1.8)
-    assert cfg["pair"]["mu"] == 0.1 and cfg["set"]["omega"] == 1.8
-    a = geardyn.simulate(preset="internal", set={"pair.mu": 0.1}, omega=1.8, periods=3, transient=5)
+    sets = {"pair.lubrication.boundary_mu": 0.12}
+    cfg = geardyn.config(preset="internal", set=sets, omega=1.8)
+    assert cfg["pair"]["lubrication"]["boundary_mu"] == 0.12 and cfg["set"]["omega"] == 1.8
+    a = geardyn.simulate(preset="internal", set=sets, omega=1.8, periods=3, transient=5)
     b = geardyn.simulate(config=cfg, periods=3, transient=5)
     np.testing.assert_array_equal(a.strobe, b.strobe)
     path = tmp_path / "my.toml"
@@ -108,8 +111,13 @@ def test_bifurcation_shapes():
     assert np.isnan(r.runs["tle"]).all()
     assert set(r.points["branch"]) == {"none"}
     np.testing.assert_array_equal(r.values, [0.8, 1.2, 1.6])
-    # each run records 8 strobe points
-    assert (r.points["section"] == "strobe").sum() == 6 * 8
+    # each run records at least the 8 strobe points asked for (more where 8 could not decide
+    # the motion: whole orbit periods, at least three, or the lengthened record of an undecided
+    # run)
+    strobe = r.points["section"] == "strobe"
+    for value, ic in zip(r.runs["value"], r.runs["ic"]):
+        mine = strobe & (r.points["value"] == value) & (r.points["ic"] == ic)
+        assert mine.sum() >= 8, (value, ic)
 
 
 def test_range_is_the_cli_linspace():
@@ -208,7 +216,8 @@ def test_ctrl_c_interrupts_a_long_call(sigint):
     assert time.monotonic() - t < 15
     timer.cancel()
     # the package still works afterwards
-    assert geardyn.simulate(omega=0.8, periods=2, transient=10).strobe.shape == (2, 3)
+    # (2 recorded periods cannot show a period: the decided period-1 orbit is recorded over 3)
+    assert geardyn.simulate(omega=0.8, periods=2, transient=10).strobe.shape == (3, 3)
 
 
 def test_long_calls_release_the_gil():

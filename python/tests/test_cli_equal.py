@@ -48,7 +48,7 @@ def assert_same(a, b):
         ("classic", {"omega": 0.8}, 20, 100),
         ("classic", {"omega": 1.3, "F": 0.05}, 20, 100),
         ("breakage", {}, 3, 5),
-        ("internal", {"omega": 1.8, "pair.mu": 0.1}, 5, 20),
+        ("internal", {"omega": 1.8, "pair.lubrication.boundary_mu": 0.12}, 5, 20),
     ],
 )
 def test_simulate_equals_cli(cli, out, preset, sets, periods, transient):
@@ -150,11 +150,13 @@ def test_bifurcation_equals_cli(cli, out, mode, extra):
 
 def test_bifurcation_lyapunov_and_pair_param_equal_cli(cli, out):
     cli(
-        "bifurcation", "--preset", "internal", "--param", "pair.mu", "--range", "0.02:0.1:3",
+        "bifurcation", "--preset", "internal", "--param", "pair.lubrication.boundary_mu",
+        "--range", "0.02:0.1:3",
         "--periods", "8", "--transient", "20", "--lyapunov", "--out", out,
     )
     r = geardyn.bifurcation(
-        preset="internal", param="pair.mu", range=(0.02, 0.1, 3), periods=8, transient=20,
+        preset="internal", param="pair.lubrication.boundary_mu", range=(0.02, 0.1, 3), periods=8,
+        transient=20,
         lyapunov=True,
     )
     assert_same(r.runs["tle"], column(out / "runs.csv", "tle"))
@@ -235,7 +237,7 @@ def test_stiffness_equals_cli(cli, out, preset):
 
 
 @pytest.mark.skipif(tomllib is None, reason="tomllib needs Python 3.11")
-@pytest.mark.parametrize("preset,sets", [("classic", {"omega": 1.3}), ("internal", {"omega": 2.0, "pair.mu": 0.1})])
+@pytest.mark.parametrize("preset,sets", [("classic", {"omega": 1.3}), ("internal", {"omega": 2.0, "pair.lubrication.boundary_mu": 0.12})])
 def test_config_equals_show(cli, preset, sets):
     args = ["show", "--preset", preset]
     for k, v in sets.items():

@@ -16,7 +16,8 @@
 //!   persistence run, exponent no longer positive) is decided on as an undecided run;
 //! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
 //!   lengthened to that for the transient extensions of an undecided run: a period-3 orbit read
-//!   on 8 recorded periods is not "not periodic";
+//!   on 8 recorded periods is not "not periodic"; a motion found periodic that way is recorded
+//!   again over the requested length (whole orbit periods, at least three);
 //! * a periodic record whose first points are still transient (the orbit was reached inside the
 //!   record) is recorded again from its final state, so that forces, P_ID and health describe
 //!   the orbit and not the approach to it.
@@ -578,7 +579,14 @@ impl<'m> Decision<'m> {
         // a head off the orbit by more than the integrator's noise (ten times the period
         // tolerance, as the mesh-cycle clock is checked): an approach, not noise
         let on_cycle = on_cycle_throughout(&pts, self.s.period, 10.0 * tol);
-        if on_cycle && (n == 0 || len.is_multiple_of(n)) {
+        // the record asked for, in whole orbit periods and at least three (the least that shows
+        // the period); a longer one (an extension's, lengthened to decide) is recorded again
+        let want = if n > 0 {
+            self.opts.record_periods.div_ceil(n).max(3) * n
+        } else {
+            self.opts.record_periods
+        };
+        if on_cycle && (n == 0 || len.is_multiple_of(n)) && len <= want {
             return;
         }
         // record again from the final state (on the orbit); a record of whole orbit periods
@@ -597,11 +605,7 @@ impl<'m> Decision<'m> {
             tau0: t,
             start_memory: self.res.final_memory,
             transient_periods: transient,
-            record_periods: if n > 0 {
-                self.opts.record_periods.div_ceil(n) * n
-            } else {
-                self.opts.record_periods
-            },
+            record_periods: want,
             ..self.opts
         };
         self.ask(Wait::Settle(tol), Need::Sim { y0: y, opts: again });
