@@ -119,9 +119,16 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     };
     let (mut has_x, mut has_v) = (false, false);
     for g in &a.grid {
-        match parse_axis(g)? {
-            ('x', ax) => (x, has_x) = (ax, true),
-            (_, ax) => (v, has_v) = (ax, true),
+        let (name, ax) = parse_axis(g)?;
+        let seen = if name == 'x' { &mut has_x } else { &mut has_v };
+        if *seen {
+            bail!("--grid {name} given twice: give each axis once (x and v)");
+        }
+        *seen = true;
+        if name == 'x' {
+            x = ax;
+        } else {
+            v = ax;
         }
     }
     // one axis given: say what the other is, rather than silently running N x 200

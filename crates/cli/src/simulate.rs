@@ -19,6 +19,13 @@ pub struct SimulateArgs {
     /// Transient excitation periods discarded first (default: simulation.transient_periods).
     #[arg(long)]
     transient: Option<u64>,
+    /// Integrator (default: simulation.method of the config, dopri): dopri (adaptive) or rk4
+    /// (fixed step, --steps-per-cycle per mesh cycle).
+    #[arg(long, value_parser = ["dopri", "rk4"])]
+    integrator: Option<String>,
+    /// RK4 steps per mesh cycle (default: simulation.steps_per_cycle).
+    #[arg(long)]
+    steps_per_cycle: Option<u32>,
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
@@ -37,6 +44,12 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     }
     if let Some(t) = args.transient {
         cfg.set("transient_periods", t as f64)?;
+    }
+    if let Some(m) = &args.integrator {
+        cfg.simulation.method = m.clone();
+    }
+    if let Some(n) = args.steps_per_cycle {
+        cfg.set("steps_per_cycle", n as f64)?;
     }
     let scenario = cfg.resolve().context("configuration rejected")?;
     let model = scenario.model();

@@ -21,10 +21,10 @@ pub struct SimArgs {
     /// Transient excitation periods discarded per run.
     #[arg(long)]
     pub transient: Option<u64>,
-    /// Integrator: dopri (adaptive, error-controlled; the default of every command: at its
-    /// accuracy, classified sweeps and basins take about as long as with rk4, because deciding
-    /// the motion and capturing basin cells dominate) or rk4 (fixed step, --steps-per-cycle per
-    /// mesh cycle; sweeps and basins advance it in 16 lockstep lanes).
+    /// Integrator: dopri (adaptive, error-controlled, the default of every command) or rk4
+    /// (fixed step, --steps-per-cycle per mesh cycle; sweeps, basins, maps and continuations
+    /// advance it in 16 lockstep lanes: the classified C1 sweep of `geardyn bench
+    /// --bifurcation` runs about twice as fast as with dopri).
     #[arg(long, value_parser = ["dopri", "rk4"])]
     pub integrator: Option<String>,
     /// RK4 steps per mesh cycle.

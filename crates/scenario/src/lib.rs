@@ -143,6 +143,13 @@ impl ScenarioSpec {
         }
         if self.pair.is_some() {
             if let Some((_, instead)) = PAIR_DERIVED_KEYS.iter().find(|(k, _)| *k == name) {
+                // a lubricated pair takes its friction from the film, not from pair.mu
+                let lubricated = self.pair.as_ref().is_some_and(|p| p.lubrication.is_some());
+                let instead = if name == "mu" && lubricated {
+                    "pair.lubrication.boundary_mu (the friction follows [pair.lubrication])"
+                } else {
+                    instead
+                };
                 return Err(key_err(
                     name,
                     format!("computed from the physical [pair] of this configuration; set {instead} instead"),
