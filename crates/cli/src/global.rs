@@ -176,7 +176,13 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         }),
     )?;
     npy::write_i64(&a.out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
-    write_json(&a.out.join("attractors.json"), &r)?;
+    // the cells are in basins.npy and basins.csv: a third copy in JSON made a 1000 x 1000
+    // basin's attractors.json 7 MB
+    let mut summary = serde_json::to_value(&r)?;
+    if let Some(m) = summary.as_object_mut() {
+        m.remove("cells");
+    }
+    write_json(&a.out.join("attractors.json"), &summary)?;
     let title = {
         let p = scenario.params();
         format!(
