@@ -197,6 +197,13 @@ pub fn plot_bifurcation(
         order.iter().map(|n| (n.clone(), vec![])).collect();
     let colored = figure::categorical(flat, &order, &fixed_color);
     let color_of = |n: &str| colored.iter().find(|c| c.0 == n).map_or(OTHER, |c| c.1);
+    // dots as large as the columns of values leave room for: single pixels vanish (and their
+    // colours cannot be told apart) on a sweep of a few values
+    let radius = match results.len() {
+        0..=40 => 3,
+        41..=150 => 2,
+        _ => 1,
+    };
     let layers = |get: figure::PointsOf| -> Vec<Layer> {
         order
             .iter()
@@ -204,7 +211,7 @@ pub fn plot_bifurcation(
             .filter_map(|n| {
                 get(n).map(|points| Layer {
                     points,
-                    style: Style::Dots(1),
+                    style: Style::Dots(radius),
                     color: color_of(n),
                 })
             })
