@@ -230,6 +230,41 @@ fn clamp(f: f64, lo: f64, hi: f64) -> f64 {
     }
 }
 
+/// The verdict of one lane's step from `y0` (field `f0`) to `y1` (field `f1`) of length `h`:
+/// `(clear, finite)`, `clear` when the step is finite and both armed guards (`x - D` unless in
+/// back contact, `x + D` unless in drive contact) keep their sign at the ends and stay farther
+/// from zero than the interior bound of the Hermite interpolant lets them move (the rigorous
+/// bound of the scalar integrator: `0.25 max(|r2| + |r3|)` over `x` and `x'`).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn verdict(
+    y0: [f64; 2],
+    f0: [f64; 2],
+    y1: [f64; 2],
+    f1: [f64; 2],
+    h: f64,
+    d: f64,
+    sd: f64,
+    sb: f64,
+) -> (bool, bool) {
+    let dx = y1[0] - y0[0];
+    let r2x = h * f0[0] - dx;
+    let r3x = dx - h * f1[0] - r2x;
+    let dv = y1[1] - y0[1];
+    let r2v = h * f0[1] - dv;
+    let r3v = dv - h * f1[1] - r2v;
+    let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
+    let finite = (y1[0].abs() < f64::INFINITY)
+        & (y1[1].abs() < f64::INFINITY)
+        & (f1[1].abs() < f64::INFINITY);
+    let margin = 0.25 * dev;
+    let (ga0, ga1) = (y0[0] - d, y1[0] - d);
+    let (gb0, gb1) = (y0[0] + d, y1[0] + d);
+    let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
+    let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
+    (finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb), finite)
+}
+
 /// `a.max(b)` for a non-NaN `a` (then equal to `f64::max` for any `b`, NaN included; one
 /// instruction instead of three).
 #[inline(always)]
@@ -724,26 +759,16 @@ impl MeshLanes {
         }
         for i in 0..CH {
             let l = c0 + i;
-            let (x1, v1) = (y1[0][l], y1[1][l]);
-            let (b1x, b1v) = (f1[0][l], f1[1][l]);
-            // interior bound of the Hermite interpolant (max over x, x' of |r2| + |r3|)
-            let dx = x1 - x0[l];
-            let r2x = h[i] * a0x[l] - dx;
-            let r3x = dx - h[i] * b1x - r2x;
-            let dv = v1 - v0[l];
-            let r2v = h[i] * a0v[l] - dv;
-            let r3v = dv - h[i] * b1v - r2v;
-            let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
-            let finite = (x1.abs() < f64::INFINITY)
-                & (v1.abs() < f64::INFINITY)
-                & (b1v.abs() < f64::INFINITY);
-            let margin = 0.25 * dev;
-            let (ga0, ga1) = (x0[l] - d, x1 - d);
-            let (gb0, gb1) = (x0[l] + d, x1 + d);
-            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
-            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
-            let (sd, sb) = (ln.sd[l], ln.sb[l]);
-            let ok = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
+            let (ok, finite) = verdict(
+                [x0[l], v0[l]],
+                [a0x[l], a0v[l]],
+                [y1[0][l], y1[1][l]],
+                [f1[0][l], f1[1][l]],
+                h[i],
+                d,
+                ln.sd[l],
+                ln.sb[l],
+            );
             bits[l] = ((ok as u64) << l) | ((finite as u64) << (32 + l));
         }
     }
@@ -795,27 +820,17 @@ impl MeshLanes {
             y1[1][l] = v1;
             f1[0][l] = v1;
             f1[1][l] = a1;
-            // interior bound of the Hermite interpolant, as in `chunk`
-            let dx = x1 - x0;
-            let r2x = h * f0[0][l] - dx;
-            let r3x = dx - h * v1 - r2x;
-            let dv = v1 - v0;
-            let r2v = h * f0[1][l] - dv;
-            let r3v = dv - h * a1 - r2v;
-            let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
-            let finite = (x1.abs() < f64::INFINITY)
-                & (v1.abs() < f64::INFINITY)
-                & (a1.abs() < f64::INFINITY);
-            let margin = 0.25 * dev;
-            let (ga0, ga1) = (x0 - d, x1 - d);
-            let (gb0, gb1) = (x0 + d, x1 + d);
-            let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
-            let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
-            ok[l] = if finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb) {
-                1.0
-            } else {
-                0.0
-            };
+            let (clear, finite) = verdict(
+                [x0, v0],
+                [f0[0][l], f0[1][l]],
+                [x1, v1],
+                [v1, a1],
+                h,
+                d,
+                sd,
+                sb,
+            );
+            ok[l] = if clear { 1.0 } else { 0.0 };
             fin[l] = if finite { 1.0 } else { 0.0 };
         }
         let (mut okm, mut finm) = (0u64, 0u64);
