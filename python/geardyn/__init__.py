@@ -350,12 +350,13 @@ class SweepResult(Result):
     ----------
     points : dict of ndarray
         One entry per section point (bifurcation.csv): ``value`` (float64), ``branch``
-        (``fixed``, ``up``, ``down``), ``ic`` (int64), ``section``, ``x``, ``v`` (float64),
+        (``none``, ``up``, ``down``), ``ic`` (int64), ``section``, ``x``, ``v`` (float64),
         ``label``.
     runs : dict of ndarray
         One entry per simulation (runs.csv): ``value, branch, ic, x0, v0, label, period (int64),
-        healthy (bool), p_id, max_force, min_force, impacts (int64), max_impact_force, mean_x,
-        rms_x, p2p_x, mean_force, rms_force, p2p_force, tle`` (NaN when not computed),
+        mesh_period`` (int64, mesh cycles; 0 where runs.csv leaves it empty), ``healthy (bool),
+        p_id, max_force, min_force, impacts (int64), max_impact_force, mean_x, rms_x, p2p_x,
+        mean_force, rms_force, p2p_force, tle`` (NaN when not computed),
         ``motion`` (periodic, chaotic, quasi-periodic, unsettled, failed), ``transient_used``
         (int64), ``final_x, final_v``.
     impact_force : dict of ndarray

@@ -298,7 +298,12 @@ fn simulate<'py>(
             let model = scenario.model();
             let mut opts = cfg.sim_options()?;
             opts.trajectory = true;
-            opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX).max(1);
+            if let Some(n) = trajectory_periods {
+                if !(1..=1_000_000).contains(&n) {
+                    anyhow::bail!("trajectory_periods = {n}: allowed 1 ..= 1000000");
+                }
+            }
+            opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
             let y0 = [cfg.simulation.x0, cfg.simulation.v0];
             let t = std::time::Instant::now();
             let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
@@ -573,6 +578,14 @@ fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound
     rc.i64(
         "period",
         runs.iter().map(|(_, run)| run.period as i64).collect(),
+    )?;
+    // mesh-cycle period (0: none, the excitation period is one mesh cycle or the motion is not
+    // periodic), as runs.csv (empty there)
+    rc.i64(
+        "mesh_period",
+        runs.iter()
+            .map(|(_, run)| run.mesh_period.map_or(0, |m| m as i64))
+            .collect(),
     )?;
     rc.boolean("healthy", runs.iter().map(|(_, run)| run.healthy).collect())?;
     rc.f64("p_id", f(&|_, run| run.p_id))?;

@@ -42,7 +42,9 @@ pub fn write_bifurcation(
     write_csv(path, &header, rows)
 }
 
-/// `runs.csv`: one row per simulation with its label, P_ID, forces, amplitudes and TLE.
+/// `runs.csv`: one row per simulation with its label, period (and mesh-cycle period on a pair
+/// whose excitation period holds several mesh cycles; empty otherwise), P_ID, forces,
+/// amplitudes and TLE.
 pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<(), OutputError> {
     let header = [
         param,
@@ -52,6 +54,7 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
         "v0",
         "label",
         "period",
+        "mesh_period",
         "healthy",
         "p_id",
         "max_force",
@@ -76,6 +79,7 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
                 num(run.y0[1]),
                 run.label.clone(),
                 run.period.to_string(),
+                run.mesh_period.map_or(String::new(), |m| m.to_string()),
                 run.healthy.to_string(),
                 num(run.p_id),
                 num(run.max_force),

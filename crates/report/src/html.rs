@@ -123,7 +123,7 @@ pub fn page(info: &PageInfo) -> String {
         s.push_str(&format!(
             "<p><b>{} claims:</b> {}.</p>\n<p class=\"small\">One row per statement; where the seeds state a thing twice differently, each statement has its own row. \
              <i>partly</i>: the main part holds, a detail differs; <i>seed inconsistent</i>: the statement contradicts another statement of the seeds and the data side with the other. \
-             Every verdict uses the decided classification of each run (periodic by the period test, chaotic only with a significantly positive TLE); a single value at a bifurcation point does not decide a verdict.</p>\n",
+             Every verdict uses the decided classification of each run (periodic by the period test, chaotic only with a significantly positive TLE); shares and counts take every value as decided; ranges and label sequences pass over a single value between two equal neighbours (a bifurcation point), and say so.</p>\n",
             claims.len(),
             Verdict::ALL
                 .iter()

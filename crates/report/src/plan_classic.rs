@@ -178,7 +178,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         )?;
         Ok(Section {
             id: "basins".into(),
-            title: "C1: basins of attraction in the hysteresis window".into(),
+            title: "C1: basins of attraction at omega = 1.8, where two attractors coexist".into(),
             seed_ref: String::new(),
             parameters: format!("omega = 1.8, {nb} x {nb} initial states"),
             method: "Automatic attractor identification with early capture.".into(),

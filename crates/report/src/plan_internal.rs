@@ -398,7 +398,15 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         id: "mechanism".into(),
         title: "Mechanism of separation: the mesh force jumps twice".into(),
         seed_ref: "003 §3.2; 004 §4.2 (Fig. 4.3), §6(2)".into(),
-        parameters: format!("{} (linear contact law; the seed names no point — the first of a few candidates that shows both exits was taken)", sets(&c)),
+        parameters: format!(
+            "{} (linear contact law; the seed names no point — {})",
+            sets(&c),
+            if ok {
+                format!("the first of {} candidates that shows both exits", candidates.len())
+            } else {
+                format!("none of the {} candidates shows both exits; the last one is shown", candidates.len())
+            }
+        ),
         method: "Dormand–Prince 5(4) with exact event location; drive-side exits located at x = D_s and x = D_d; tensile force = F_m < 0 in contact within 0.05 time units before the exit.".into(),
         figures: vec![fig],
         readings: vec![format!("D_d = {}, D_s = {}; exits with a tensile force before them: {ns} at D_s, {nd} at D_d.", f(dd), f(ds))],
@@ -661,7 +669,7 @@ fn backlash(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         Claim::new("A period doubling (B) to 4-2-2-2-2", format!("{B004} §4.3 (point B)"), "4-2-2-2-2", match (&b4, &any4) { (Some(v), _) => format!("4-2-2-2-2 at D = {}", f(*v)), (None, Some((v, n))) => format!("period 4 ({n}) at D = {}", f(*v)), _ => "no period 4".into() }, if b4.is_some() { Verdict::Reproduced } else if any4.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, "No period-4 motion from the fixed initial state at these parameters: 2-1-1-1-1 turns chaotic directly (see the sensitivity table for other loads and backlash steps)."),
         Claim::new("... leading to 4-1-1-1-1", format!("{B003} §3.3"), "4-1-1-1-1", b4b.map_or("not found".into(), |v| format!("at D = {}", f(v))), if b4b.is_some() { Verdict::Reproduced } else { Verdict::SeedInconsistent }, "A period doubling of 2-1-1-1-1 doubles the crossing counts (4-2-2-2-2, as the thesis writes); the summary's 4-1-1-1-1 contradicts it."),
         Claim::new("A reverse doubling (C) back to period 2", format!("{B004} §4.3 (point C)"), "4 → 2", format!("period 4 followed by period 2: {rev}"), Verdict::of(rev), "Needs the period-4 stage: without it (row above) there is no reverse doubling."),
-        Claim::new("Chaos (D) with a positive TLE", format!("{B003} §3.3; {B004} §4.3 (point D)"), "chaos, TLE > 0", format!("chaos for D in {}; TLE > 0 at {pos_chaos} chaotic values; sign agrees with the class at {agree} of {with_tle}", ranges_text(&chaos_all)), if chaos_band && pos_chaos > 0 { Verdict::Reproduced } else if pos_chaos > 0 { Verdict::Partly } else { Verdict::NotReproduced }, if chaos_band { "TLE by the variational equation with saltation matrices." } else { "TLE by the variational equation with saltation matrices. Chaos appears only at isolated values of the grid (no two neighbours chaotic), not as the seed's chaotic region." }),
+        Claim::new("Chaos (D) with a positive TLE", format!("{B003} §3.3; {B004} §4.3 (point D)"), "chaos, TLE > 0", format!("chaos for D in {}; TLE > 0 at {pos_chaos} chaotic values; sign agrees with the class at {agree} of {with_tle}", ranges_text(&chaos_all)), if chaos_band && pos_chaos > 0 { Verdict::Reproduced } else if pos_chaos > 0 { Verdict::Partly } else { Verdict::NotReproduced }, if chaos_band { "TLE by the variational equation with saltation matrices.".to_string() } else if chaos_all.is_empty() { "TLE by the variational equation with saltation matrices. No value of the D grid is chaotic.".to_string() } else { "TLE by the variational equation with saltation matrices. Chaos appears only at isolated values of the grid (no two neighbours chaotic), not as the seed's chaotic region.".to_string() }),
         Claim::new("The chaos degenerates (E) to a period-3 window", format!("{B003} §3.3; {B004} §4.3 (point E)"), "period 3 after chaos", p3_after.map_or("none".into(), |v| format!("period 3 from D = {}", f(v))), Verdict::of(p3_after.is_some()), "Fixed initial state."),
         Claim::new("Chaos returns after the period-3 window (F)", format!("{B003} §3.3; {B004} §4.3 (point F)"), "chaos again", format!("chaotic ranges: {}", ranges_text(&chaos)), Verdict::of(chaos_after_p3), "At these parameters the period-3 motion persists up to D = 2 (see the sensitivity table)."),
         Claim::new("Eventually a long-period motion emerges", format!("{B003} §3.3"), "long period", long_period.as_ref().map_or("none".into(), |(v, n)| format!("{n} at D = {}", f(*v))), if long_in_order { Verdict::Reproduced } else if long_period.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, format!("Long = period ≥ 5 (the last one over D). The summary places it after the return of chaos; chaos after the period-3 window: {}.", chaos_back.map_or("none (row above)".into(), |c| format!("from D = {}", f(c))))),
@@ -2097,7 +2105,7 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         "12-4-4-4-4 → 6-2-2-2-2 → 3-1-1-1-1",
         seq.iter().zip(&found).map(|(n, v)| format!("{n}: {}", v.map_or("not found".into(), |v| format!("F = {}", f(v))))).collect::<Vec<_>>().join("; "),
         Verdict::of_parts(&found.iter().map(|v| v.is_some()).collect::<Vec<_>>()),
-        "Labels among all runs of the multi-initial sweep over F (12 initial states per value); the long-period labels, if they exist at these parameters, occupy windows narrower than the grid step or other initial states.",
+        format!("Labels among all runs of the multi-initial sweep over F ({ics} initial states per value); the long-period labels, if they exist at these parameters, occupy windows narrower than the grid step or other initial states."),
     ));
     let distinct = |lo: f64, hi: f64| {
         let mut vals: Vec<f64> = pts

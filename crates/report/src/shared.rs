@@ -29,7 +29,18 @@ pub const POINTS_PER_RUN: usize = 150;
 /// The same for each of several initial states per value.
 pub const POINTS_PER_RUN_MULTI: usize = 40;
 
-/// A number for CSV files: six significant digits.
+/// A parameter value or initial state for CSV files: the shortest form that reads back to the
+/// same number (`1.4152542372881356`, not `1.41525`), so that a row can be rerun exactly; empty
+/// for NaN.
+pub fn exact(v: f64) -> String {
+    if v.is_nan() {
+        String::new()
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A measured number for CSV files: six significant digits.
 pub fn g(v: f64) -> String {
     if !v.is_finite() {
         return if v.is_nan() {
@@ -162,7 +173,7 @@ pub fn sweep_figure(
                     let y = if s == Sec::Strobe { x } else { v };
                     g_.entry(sec).or_default().push((r.value, y));
                     point_rows.push(vec![
-                        g(r.value),
+                        exact(r.value),
                         r.task.branch_name().into(),
                         run.ic.to_string(),
                         s.name().into(),
@@ -198,7 +209,7 @@ pub fn sweep_figure(
                             .push((r.value, fi));
                     }
                     impact_rows.push(vec![
-                        g(r.value),
+                        exact(r.value),
                         r.task.branch_name().into(),
                         run.ic.to_string(),
                         j.to_string(),
@@ -207,11 +218,11 @@ pub fn sweep_figure(
                 }
             }
             run_rows.push(vec![
-                g(r.value),
+                exact(r.value),
                 r.task.branch_name().into(),
                 run.ic.to_string(),
-                g(run.y0[0]),
-                g(run.y0[1]),
+                exact(run.y0[0]),
+                exact(run.y0[1]),
                 run.motion.word().into(),
                 nm.clone(),
                 run.period.to_string(),
@@ -538,10 +549,13 @@ pub fn basin_figure(
     write_csv(
         &cells_csv,
         &["x0", "v0", "attractor"],
-        r.cells
-            .iter()
-            .enumerate()
-            .map(|(i, c)| vec![g(r.x.value(i % n)), g(r.v.value(i / n)), c.to_string()]),
+        r.cells.iter().enumerate().map(|(i, c)| {
+            vec![
+                exact(r.x.value(i % n)),
+                exact(r.v.value(i / n)),
+                c.to_string(),
+            ]
+        }),
     )?;
     let rows: Vec<Vec<String>> = r
         .attractors
@@ -625,15 +639,15 @@ pub fn continuation_figure(
         ],
         c.points.iter().map(|p| {
             vec![
-                g(p.value),
+                exact(p.value),
                 p.branch.to_string(),
                 p.label.clone(),
                 p.period.to_string(),
                 p.healthy.to_string(),
                 g(p.fraction),
                 g(p.max_force),
-                g(p.x),
-                g(p.v),
+                exact(p.x),
+                exact(p.v),
             ]
         }),
     )?;
@@ -832,8 +846,8 @@ fn write_map_csv(path: &Path, axes: (&str, &str), cells: &[MapCell]) -> Result<(
         ],
         cells.iter().map(|c| {
             vec![
-                g(c.x),
-                g(c.y),
+                exact(c.x),
+                exact(c.y),
                 c.motion.word().into(),
                 if c.motion.is_periodic() {
                     c.label.clone()
