@@ -291,6 +291,27 @@ pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> Conti
                     }
                 }
             }
+            // last: a periodic attractor left without a branch whose label is that of exactly
+            // one old attractor left without a successor (and of no other new one) is that orbit,
+            // moved farther than the match tolerance over a coarse step (classic, omega 1.8 ->
+            // 2.0: one 3-1-1 orbit had been reported as one branch disappearing and another
+            // appearing)
+            for a in 0..n {
+                let d = &va.attractors[a];
+                if branch[a] != usize::MAX || d.period == 0 {
+                    continue;
+                }
+                let olds: Vec<usize> = (0..pv.attractors.len())
+                    .filter(|&b| !taken_old[b] && pv.attractors[b].label == d.label)
+                    .collect();
+                let news = (0..n)
+                    .filter(|&k| branch[k] == usize::MAX && va.attractors[k].label == d.label)
+                    .count();
+                if let ([b], 1) = (olds.as_slice(), news) {
+                    branch[a] = prev_branch[*b];
+                    taken_old[*b] = true;
+                }
+            }
             let persisting = branch.iter().filter(|b| **b != usize::MAX).count();
             for a in 0..n {
                 if branch[a] == usize::MAX {

@@ -227,3 +227,45 @@ fn an_orbit_described_at_both_values_keeps_its_branch() {
     assert_eq!(branch_of(1.8, "3-1-1"), branch_of(1.9, "3-1-1"));
     assert!(r.events.is_empty(), "{:?}", r.events);
 }
+
+#[test]
+fn an_orbit_that_moved_far_over_a_coarse_step_keeps_its_branch() {
+    use geardyn_analysis::attractor::Descriptor;
+    use geardyn_analysis::continuation::{link, ValueAttractors};
+    // C1, omega 1.8 -> 2.0 with 8 initial states (audit): the 3-1-1 orbit moves by ~0.3 between
+    // the values, no initial state reaches it at both, and it had been reported as one branch
+    // disappearing and another appearing; the 1-1-0 orbit keeps its basin
+    let p1 = |x: f64| Descriptor::new(1, "1-1-0".into(), true, &[[x, -0.025]], 0.3, 0.4);
+    let p3 = |pts: &[[f64; 2]]| Descriptor::new(3, "3-1-1".into(), false, pts, 0.7, 0.6);
+    let a = ValueAttractors {
+        index: 0,
+        value: 1.8,
+        attractors: vec![
+            p1(1.3164),
+            p3(&[[1.93, 0.19], [-1.36, 0.92], [-0.75, -0.87]]),
+        ],
+        assignment: vec![0, 0, 0, 0, 0, 1, 0, 0],
+    };
+    let b = ValueAttractors {
+        index: 1,
+        value: 2.0,
+        attractors: vec![p1(1.25), p3(&[[2.13, 0.52], [-1.81, 1.06], [-0.51, -1.15]])],
+        assignment: vec![0, 1, 0, 0, 0, 0, 0, 0],
+    };
+    let r = link("omega", &[a.clone(), b.clone()], 1e-3);
+    let branch_of = |r: &geardyn_analysis::continuation::ContinuationResult, v: f64, l: &str| {
+        r.points
+            .iter()
+            .find(|p| p.value == v && p.label == l)
+            .unwrap()
+            .branch
+    };
+    assert_eq!(branch_of(&r, 1.8, "3-1-1"), branch_of(&r, 2.0, "3-1-1"));
+    assert!(r.events.is_empty(), "{:?}", r.events);
+    // two new orbits of that label: which one continues is not decided by the label alone
+    let mut c = b;
+    c.attractors.push(p3(&[[0.1, 0.1], [0.2, 0.2], [0.3, 0.3]]));
+    c.assignment[2] = 2;
+    let r = link("omega", &[a, c], 1e-3);
+    assert!(!r.events.is_empty());
+}
