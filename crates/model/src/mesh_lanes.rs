@@ -1007,10 +1007,12 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         }
     }
 
-    /// The RK4 step of the default method, fused into one pass per lane (the whole step of a lane
-    /// lives in registers; the loop over lanes vectorises): the same operations in the same
-    /// order, so the same results. Dispatches once per step to a copy of the kernel specialised
-    /// for the table's contact clamp and stiffness form (`MeshLanes::kernel`).
+    /// The RK4 step of every lane: the tabulated affine map where the table takes it
+    /// (`MeshLanes::affine_kernel`), else the RK4 stages fused into one pass per lane (the whole
+    /// step of a lane lives in registers; the loop over lanes vectorises) with the scalar
+    /// model's operations in its order, so its results. Dispatches once per step to a copy of
+    /// the stage kernel specialised for the table's contact clamp and stiffness form
+    /// (`MeshLanes::kernel`).
     #[inline(always)]
     fn step(
         &self,
