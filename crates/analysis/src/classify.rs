@@ -25,9 +25,10 @@
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
+use crate::period::lag_split;
 use crate::period::{approaches_lower_period, on_cycle_throughout};
 use crate::simulate::{
-    simulate, summarize, summarize_tol, SimError, SimOptions, SimResult, Summary,
+    simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
 use geardyn_model::MeshModel;
 use serde::{Deserialize, Serialize};
@@ -301,6 +302,9 @@ enum Wait {
     Settle(f64),
     /// A longer transient for a periodic run still approaching an orbit of lower period.
     Approach,
+    /// The record again at a tighter integrator tolerance, for a period that may be the
+    /// integrator's noise doubling a lower one (the period test's tolerance `tol`).
+    Noise(f64),
     /// Nothing: decided.
     Done,
 }
@@ -323,6 +327,8 @@ pub struct Decision<'m> {
     err: Option<SimError>,
     /// Records again and longer transients taken by [`Decision::settle`] (bounded).
     settles: u32,
+    /// A periodic verdict's near-degenerate divisor already checked at a tighter tolerance.
+    noise_checked: bool,
 }
 
 impl<'m> Decision<'m> {
@@ -348,6 +354,7 @@ impl<'m> Decision<'m> {
             need: Need::Done,
             err: None,
             settles: 0,
+            noise_checked: false,
         };
         if d.runaway() {
             return d;
@@ -439,6 +446,18 @@ impl<'m> Decision<'m> {
                     // run after its extensions
                     self.extend_or_final(MAX_EXTENSIONS);
                 }
+            }
+            Wait::Noise(tol) => {
+                // the tighter record decides between the period and its divisor; its numbers are
+                // the more accurate ones either way, so it is the record when it shows the lower
+                // period, and the run goes on as it was otherwise
+                let s2 = summarize_tol(self.model, &res2, &more, tol);
+                self.ask(Wait::Done, Need::Done);
+                if s2.motion.is_periodic() && s2.period < self.s.period {
+                    self.take(res2, &more);
+                    self.s = s2;
+                }
+                self.settle(tol);
             }
             Wait::TleFirst | Wait::TlePersist | Wait::TleLast | Wait::Done => {
                 panic!("no run was asked for")
@@ -573,6 +592,38 @@ impl<'m> Decision<'m> {
             };
             self.ask(Wait::Approach, Need::Sim { y0, opts: more });
             return;
+        }
+        // a divisor whose points differ by more than the tolerance but less than the loose one
+        // (ATTRACTING_PERIOD_TOL_FACTOR), without decaying: either a genuine period with a small
+        // split (just past a doubling) or the adaptive integrator's error repeating with the
+        // doubled period (event-rich records; internal pair at omega = 0.8667: 14-6-0-6-0 at the
+        // default rtol, 7-3-0-3-0 at rtol 1e-12 and with RK4 at 2048 steps per cycle). A second
+        // record at a hundred times tighter tolerance tells them apart (fixed-step RK4 has no
+        // such noise: its error does not depend on where the steps fall)
+        let strict = tol == self.opts.method.period_tol();
+        if let (false, true, true, Method::Dopri { rtol, atol }) = (
+            self.noise_checked,
+            self.how.extend,
+            strict,
+            self.opts.method,
+        ) {
+            if lag_split(&pts, self.s.period, tol, ATTRACTING_PERIOD_TOL_FACTOR * tol) {
+                self.noise_checked = true;
+                let (t, y) = self.res.final_state;
+                let tight = SimOptions {
+                    tau0: t,
+                    start_memory: self.res.final_memory,
+                    transient_periods: 0,
+                    record_periods: pts.len() as u64,
+                    method: Method::Dopri {
+                        rtol: rtol / 100.0,
+                        atol: atol / 100.0,
+                    },
+                    ..self.opts
+                };
+                self.ask(Wait::Noise(tol), Need::Sim { y0: y, opts: tight });
+                return;
+            }
         }
         let n = self.s.period as u64;
         let len = pts.len() as u64;

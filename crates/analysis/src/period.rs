@@ -119,6 +119,39 @@ pub fn approaches_lower_period<const N: usize>(pts: &[[f64; N]], n: usize, rel_t
     })
 }
 
+/// Whether the points of a sequence periodic with minimal period `n` at its end differ, at some
+/// proper divisor `d` of `n`, by more than `rel_tol (1 + max |state|)` but at most
+/// `rel_loose` times that scale over the last `2n` points: a near-degenerate divisor (a small
+/// split of a genuine period `n`, or integration error repeating with period `n`).
+///
+/// ```
+/// use geardyn_analysis::period::lag_split;
+/// // a period-1 point with a period-2 wobble of 4e-6: split between 1e-6 and 1e-4
+/// let p: Vec<[f64; 1]> = (0..60).map(|j| [1.0 + 4e-6 * ((j % 2) as f64)]).collect();
+/// assert!(lag_split(&p, 2, 1e-6, 1e-4));
+/// // a clear period 2
+/// let q: Vec<[f64; 1]> = (0..60).map(|j| [(j % 2) as f64]).collect();
+/// assert!(!lag_split(&q, 2, 1e-6, 1e-4));
+/// ```
+pub fn lag_split<const N: usize>(pts: &[[f64; N]], n: usize, rel_tol: f64, rel_loose: f64) -> bool {
+    let len = pts.len();
+    if n < 2 || len < 2 * n + 1 {
+        return false;
+    }
+    let (tol, loose) = (abs_tol(pts, rel_tol), abs_tol(pts, rel_loose));
+    (1..n).filter(|d| n.is_multiple_of(*d)).any(|d| {
+        let worst = (len - 2 * n..len)
+            .filter(|&j| j >= d)
+            .map(|j| {
+                (0..N)
+                    .map(|i| (pts[j][i] - pts[j - d][i]).abs())
+                    .sum::<f64>()
+            })
+            .fold(0.0f64, f64::max);
+        worst > tol && worst <= loose
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -440,3 +440,23 @@ fn a_record_too_short_for_a_period_is_lengthened_not_called_aperiodic() {
     assert_eq!(s_ref.motion, Motion::Periodic { period: 1 });
     assert_eq!(s.motion, s_ref.motion, "{}", s.label);
 }
+
+#[test]
+fn integrator_noise_does_not_double_a_period() {
+    // internal preset at omega = 0.8667: at the default rtol the points 7 periods apart differ by
+    // a fixed 2e-6..1e-5 pattern that repeats every 14 periods (the adaptive integrator's error
+    // on an event-rich record), and the run had read "14-6-0-6-0"; at rtol 1e-12 and with RK4 at
+    // 2048 steps per cycle (independent integrations, audit) it is 7-3-0-3-0
+    let m = internal_preset(0.8667);
+    let (_, s, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let rk4 = SimOptions {
+        method: geardyn_analysis::simulate::Method::Rk4 {
+            steps_per_cycle: 2048,
+        },
+        ..Default::default()
+    };
+    let (_, s_rk4, _) = simulate_decided(&m, [0.0, 0.0], &rk4, Decide::default()).unwrap();
+    assert_eq!(s_rk4.label, "7-3-0-3-0");
+    assert_eq!(s.label, s_rk4.label);
+}
