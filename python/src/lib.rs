@@ -703,7 +703,7 @@ fn bifurcation<'py>(
             "sweep" => SweepMode::Sweep,
             "multi" => {
                 if ics == 0 || ics > 100_000 {
-                    bail!("bad --ics {}: allowed 1 ..= 100000", ics);
+                    bail!("ics = {}: allowed 1 ..= 100000", ics);
                 }
                 SweepMode::Multi {
                     ics,
@@ -886,7 +886,7 @@ fn continuation<'py>(
         let scenario = cfg.resolve()?;
         let values = values_of(values, range)?;
         if ics == 0 || ics > 100_000 {
-            bail!("bad --ics {}: allowed 1 ..= 100000", ics);
+            bail!("ics = {}: allowed 1 ..= 100000", ics);
         }
         let d = scenario.params().d_single;
         let opts = ContinuationOptions {
@@ -961,7 +961,7 @@ fn map2d<'py>(
         let scenario = cfg.resolve()?;
         if !METRICS.contains(&metric.as_str()) {
             bail!(
-                "unknown --metric '{}': allowed {}",
+                "unknown metric '{}': allowed {}",
                 metric,
                 METRICS.join(", ")
             );

@@ -405,7 +405,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
     let scenario = cfg.resolve()?;
     if !METRICS.contains(&a.metric.as_str()) {
         bail!(
-            "unknown --metric '{}': allowed {}",
+            "unknown metric '{}': allowed {}",
             a.metric,
             METRICS.join(", ")
         );

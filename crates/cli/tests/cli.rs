@@ -104,7 +104,7 @@ fn bad_input_gives_one_line_errors() {
             "malformed",
         ),
         (vec!["show", "--config", "/nonexistent.toml"], "cannot read"),
-        (vec!["continuation", "--phase", "1"], "--phase"),
+        (vec!["continuation", "--phase", "1"], "bad phase 1"),
         (
             vec!["map2d", "--x", "xi:0:0.3:3", "--y", "xi:0:0.2:3"],
             "two different",
