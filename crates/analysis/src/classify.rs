@@ -25,8 +25,7 @@
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
-use crate::period::lag_split;
-use crate::period::{approaches_lower_period, on_cycle_throughout};
+use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
@@ -456,6 +455,10 @@ impl<'m> Decision<'m> {
                 if s2.motion.is_periodic() && s2.period < self.s.period {
                     self.take(res2, &more);
                     self.s = s2;
+                    // the rest of the decision (a record again of whole orbit periods) runs at
+                    // the tolerance that showed the orbit, and the summary says so
+                    self.opts.method = more.method;
+                    self.used.method = more.method;
                 }
                 self.settle(tol);
             }

@@ -4,6 +4,7 @@ use crate::run_config::ConfigArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_analysis::classify::{simulate_decided, Decide};
+use geardyn_analysis::simulate::Method;
 use geardyn_io::plot::{decimate, xy_chart, Chart, Mark, Series, PALETTE};
 use geardyn_io::{output, run_record};
 use std::path::PathBuf;
@@ -80,7 +81,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             "transient_requested": opts.transient_periods,
             "record_periods": used.record_periods,
             "record_requested": opts.record_periods,
-            "method": opts.method,
+            "method": used.method,
+            "method_requested": opts.method,
             "steps": res.steps,
             "rhs_evals": res.rhs_evals,
             "wall_time_s": elapsed,
@@ -121,13 +123,18 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         summary.min_force,
         summary.max_force,
         summary.impacts,
-        if used.transient_periods > opts.transient_periods {
-            format!(
-                "; transient extended to {} periods to decide",
-                used.transient_periods
-            )
-        } else {
-            String::new()
+        {
+            let mut how = String::new();
+            if used.transient_periods > opts.transient_periods {
+                how += &format!(
+                    "; transient extended to {} periods to decide",
+                    used.transient_periods
+                );
+            }
+            if let (Method::Dopri { rtol, .. }, true) = (used.method, used.method != opts.method) {
+                how += &format!("; recorded at rtol {rtol:.0e} to tell its period from the integrator's noise");
+            }
+            how
         },
         res.steps,
         elapsed,
