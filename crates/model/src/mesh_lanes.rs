@@ -253,15 +253,18 @@ fn verdict(
     let dv = y1[1] - y0[1];
     let r2v = h * f0[1] - dv;
     let r3v = dv - h * f1[1] - r2v;
-    let dev = max_fast(max_fast(0.0, r2x.abs() + r3x.abs()), r2v.abs() + r3v.abs());
-    let finite = (y1[0].abs() < f64::INFINITY)
-        & (y1[1].abs() < f64::INFINITY)
-        & (f1[1].abs() < f64::INFINITY);
+    // (a NaN sum gives a NaN margin: no lane with a NaN is clear; `finite` says which)
+    let dev = max_fast(r2x.abs() + r3x.abs(), r2v.abs() + r3v.abs());
+    // all three finite (a sum of finite values that overflows is called non-finite: the
+    // scalar integrator then takes the step, which is always allowed)
+    let finite = (y1[0] + y1[1] + f1[1]).abs() < f64::INFINITY;
     let margin = 0.25 * dev;
-    let (ga0, ga1) = (y0[0] - d, y1[0] - d);
-    let (gb0, gb1) = (y0[0] + d, y1[0] + d);
-    let ca = ((ga0 > 0.0) == (ga1 > 0.0)) & (min_fast(ga0.abs(), ga1.abs()) > margin);
-    let cb = ((gb0 > 0.0) == (gb1 > 0.0)) & (min_fast(gb0.abs(), gb1.abs()) > margin);
+    // A guard x -+ D keeps its sign at both ends and stays farther than the margin from zero
+    // exactly when the smaller end value exceeds the margin or the larger one is below minus
+    // it; rounding is monotone, so min(x0, x1) - D is the smaller of x0 - D and x1 - D.
+    let (lo, hi) = (min_fast(y0[0], y1[0]), max_fast(y0[0], y1[0]));
+    let ca = (lo - d > margin) | (hi - d < -margin);
+    let cb = (lo + d > margin) | (hi + d < -margin);
     (finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb), finite)
 }
 
@@ -796,10 +799,8 @@ impl MeshLanes {
         let e = &w.tab[j];
         let [c0, cm, ce] = r.cos;
         let (kke, hde, d) = (r.k[2], r.hd[2], r.d);
-        // verdicts as 0/1 numbers, not bools: a bool array was stored as bytes and reloaded as
-        // wider words, a store-forwarding stall on every step
-        let mut ok = [0.0f64; L];
-        let mut fin = [0.0f64; L];
+        // verdicts as lane bits, OR-reduced (as in the RK4 kernel): stays in registers
+        let mut bits = [0u64; L];
         for l in 0..L {
             let (x0, v0) = (y0[0][l], y0[1][l]);
             let (sd, sb) = (ln.sd[l], ln.sb[l]);
@@ -830,15 +831,9 @@ impl MeshLanes {
                 sd,
                 sb,
             );
-            ok[l] = if clear { 1.0 } else { 0.0 };
-            fin[l] = if finite { 1.0 } else { 0.0 };
+            bits[l] = ((clear as u64) << l) | ((finite as u64) << (32 + l));
         }
-        let (mut okm, mut finm) = (0u64, 0u64);
-        for l in 0..L {
-            okm |= u64::from(ok[l] != 0.0) << l;
-            finm |= u64::from(fin[l] != 0.0) << l;
-        }
-        okm | (finm << 32)
+        bits.iter().fold(0, |m, b| m | b)
     }
 
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as
@@ -1080,5 +1075,116 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
             mask |= (ok[l] as u32) << l;
         }
         mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::verdict;
+
+    /// The verdict as the scalar integrator states it: each armed guard keeps its sign at both
+    /// ends and both end values are farther from zero than the margin.
+    #[allow(clippy::too_many_arguments)]
+    fn direct(
+        y0: [f64; 2],
+        f0: [f64; 2],
+        y1: [f64; 2],
+        f1: [f64; 2],
+        h: f64,
+        d: f64,
+        sd: f64,
+        sb: f64,
+    ) -> bool {
+        let mut dev = 0.0f64;
+        for i in 0..2 {
+            let r1 = y1[i] - y0[i];
+            let r2 = h * f0[i] - r1;
+            let r3 = r1 - h * f1[i] - r2;
+            dev = dev.max(r2.abs() + r3.abs());
+        }
+        let m = 0.25 * dev;
+        let keeps = |a: f64, b: f64| ((a > 0.0) == (b > 0.0)) && a.abs().min(b.abs()) > m;
+        let finite = y1.iter().chain(f1.iter()).all(|v| v.is_finite());
+        finite
+            && (sb != 0.0 || keeps(y0[0] - d, y1[0] - d))
+            && (sd != 0.0 || keeps(y0[0] + d, y1[0] + d))
+    }
+
+    #[test]
+    fn verdict_equals_the_direct_statement() {
+        // a small deterministic generator (values near the surfaces, exact zeros, signed zeros)
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let d = 1.0;
+        let picks = [
+            -1.0,
+            1.0,
+            -0.0,
+            0.0,
+            1.0 + 1e-12,
+            -1.0 - 1e-12,
+            0.999_999,
+            2.5,
+            -3.0,
+        ];
+        let mut checked = 0;
+        for _ in 0..200_000 {
+            let mut v = [0.0; 8];
+            for x in v.iter_mut() {
+                let r = next();
+                *x = if r % 3 == 0 {
+                    picks[(r >> 8) as usize % picks.len()]
+                } else {
+                    ((r >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 4.0
+                };
+            }
+            let (sd, sb) = match next() % 3 {
+                0 => (1.0, 0.0),
+                1 => (0.0, 1.0),
+                _ => (0.0, 0.0),
+            };
+            let h = 1e-2 * (1 + next() % 4) as f64;
+            let (y0, f0, y1, f1) = ([v[0], v[1]], [v[2], v[3]], [v[4], v[5]], [v[6], v[7]]);
+            assert_eq!(
+                verdict(y0, f0, y1, f1, h, d, sd, sb).0,
+                direct(y0, f0, y1, f1, h, d, sd, sb),
+                "{y0:?} {f0:?} {y1:?} {f1:?} {h} {sd} {sb}"
+            );
+            checked += 1;
+        }
+        assert_eq!(checked, 200_000);
+        // a non-finite end is never clear
+        let nan = f64::NAN;
+        assert!(
+            !verdict(
+                [0.0, 0.0],
+                [0.0, 0.0],
+                [nan, 0.0],
+                [0.0, 0.0],
+                0.01,
+                d,
+                0.0,
+                0.0
+            )
+            .0
+        );
+        assert!(
+            !verdict(
+                [0.0, 0.0],
+                [0.0, 0.0],
+                [0.0, 0.0],
+                [0.0, f64::INFINITY],
+                0.01,
+                d,
+                0.0,
+                0.0
+            )
+            .1
+        );
     }
 }
