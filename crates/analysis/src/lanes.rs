@@ -461,30 +461,47 @@ pub(crate) fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
 }
 
 /// Groups runs by phase table (models with equal tables share lanes); runs starting at a
-/// stroboscopic instant of `tau0` use the tables of `tau0` ([`table_time`]).
+/// stroboscopic instant of `tau0` use the tables of `tau0` ([`table_time`]). The tables of the
+/// distinct (model, start) pairs are built in parallel (a sweep over omega has a model per value:
+/// building them one by one was a fiftieth of a sweep's time), then compared in input order.
 fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
-    let mut groups: Groups<'s> = Vec::new();
-    let mut seen: Vec<(*const MeshModel, u64, usize)> = Vec::new();
+    let key = |it: &Item<'s>| {
+        let tt = table_time(it.model, it.t0, tau0);
+        (it.model as *const MeshModel, tt.to_bits(), tt)
+    };
+    // distinct (model, table time) pairs in order of first appearance
+    let mut firsts: Vec<(*const MeshModel, u64, f64, &'s MeshModel)> = Vec::new();
+    let mut of_run = Vec::with_capacity(runs.len());
     for it in runs {
-        let m = it.model;
-        let key = m as *const MeshModel;
-        let tt = table_time(m, it.t0, tau0);
-        let g = match seen.iter().find(|s| s.0 == key && s.1 == tt.to_bits()) {
-            Some(&(_, _, g)) => g,
+        let (p, bits, tt) = key(it);
+        let k = match firsts.iter().position(|f| f.0 == p && f.1 == bits) {
+            Some(k) => k,
             None => {
-                let t = MeshLanes::new(m, steps_per_cycle, tt);
-                let g = match groups.iter().position(|(u, _)| *u == t) {
-                    Some(g) => g,
-                    None => {
-                        groups.push((t, Vec::new()));
-                        groups.len() - 1
-                    }
-                };
-                seen.push((key, tt.to_bits(), g));
-                g
+                firsts.push((p, bits, tt, it.model));
+                firsts.len() - 1
             }
         };
-        groups[g].1.push(*it);
+        of_run.push(k);
+    }
+    let builds: Vec<(f64, &MeshModel)> = firsts.iter().map(|f| (f.2, f.3)).collect();
+    let tables: Vec<MeshLanes> = builds
+        .par_iter()
+        .map(|&(tt, m)| MeshLanes::new(m, steps_per_cycle, tt))
+        .collect();
+    let mut groups: Groups<'s> = Vec::new();
+    let mut group_of: Vec<usize> = Vec::with_capacity(tables.len());
+    for t in tables {
+        let g = match groups.iter().position(|(u, _)| *u == t) {
+            Some(g) => g,
+            None => {
+                groups.push((t, Vec::new()));
+                groups.len() - 1
+            }
+        };
+        group_of.push(g);
+    }
+    for (it, k) in runs.iter().zip(of_run) {
+        groups[group_of[k]].1.push(*it);
     }
     groups
 }
