@@ -3,7 +3,10 @@
 //! [`tle_variational`](crate::lyapunov::tle_variational) integrates it with fixed-step RK4.
 //!
 //! A lane steps the state and its tangent on the grid of the run's phase tables
-//! ([`MeshLanes`]; the tangent's coefficients from [`MeshLanes::tangent_coefficients`]); every
+//! ([`MeshLanes`]): on an affine table (linear, bilateral, frictionless law: C1) the state takes
+//! its tabulated affine step and the tangent that step's linear part
+//! ([`MeshLanes::tangent_affine_step`]); otherwise both take the RK4 stages (the tangent's
+//! coefficients from [`MeshLanes::tangent_coefficients`]). Every
 //! step that may hold an event — where the tangent jumps by the saltation matrix — goes to the
 //! scalar integrator of the augmented system ([`Tangent`]), which locates the event and applies
 //! the jump, as it does for one run. At every stroboscopic instant the tangent is renormalised
@@ -18,9 +21,10 @@ use crate::lyapunov::{
     tle_variational_with, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
 };
 use crate::simulate::{Method, SimOptions};
+use geardyn_model::mesh_lanes::AffineTables;
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{
-    run_lanes, At, End, LaneDriver, Lockstep, Next, Soa, Stage, Start,
+    compose_step, run_lanes, At, End, LaneDriver, Lockstep, Next, Soa, Stage, Start,
 };
 use rayon::prelude::*;
 
@@ -33,10 +37,13 @@ pub struct TangentLanes<'a> {
 impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     type Sys = Tangent<MeshModel>;
     type Lanes = MeshLaneBlock<L>;
-    type Work = ();
+    /// The state's affine step tables (used when the base table is affine).
+    type Work = AffineTables<L>;
     const GUARD_DIMS: usize = 2;
 
-    fn new_work(&self) {}
+    fn new_work(&self) -> AffineTables<L> {
+        Lockstep::<2, L>::new_work(self.base)
+    }
 
     fn steps_per_period(&self) -> usize {
         Lockstep::<2, L>::steps_per_period(self.base)
@@ -50,20 +57,13 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     fn set_lane(
         &self,
         lanes: &mut MeshLaneBlock<L>,
-        _work: &mut (),
+        work: &mut AffineTables<L>,
         l: usize,
         sys: &Tangent<MeshModel>,
         mode: &MeshMode,
-        _h: f64,
+        h: f64,
     ) -> bool {
-        // (the tangent lanes compose `rhs`: they need no step tables)
-        match self.base.lane_of(&sys.sys, mode) {
-            Some(ln) if sys.saltation => {
-                lanes.set(l, &ln);
-                true
-            }
-            _ => false,
-        }
+        sys.saltation && Lockstep::<2, L>::set_lane(self.base, lanes, work, l, &sys.sys, mode, h)
     }
 
     fn idle_lanes(&self) -> MeshLaneBlock<L> {
@@ -99,6 +99,76 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
             // the lanes run laws without memory: the hysteresis perturbation stays 0
             dy[4][l] = 0.0;
         }
+    }
+
+    /// On an affine table the state takes its affine step ([`MeshLanes`]'s own, with its
+    /// verdict) and the tangent the same step's linear part
+    /// ([`MeshLanes::tangent_affine_step`]): a few operations instead of four evaluations of the
+    /// five-component field. Otherwise the composed RK4 step.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn step(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        work: &AffineTables<L>,
+        y0: &Soa<5, L>,
+        f0: &Soa<5, L>,
+        y1: &mut Soa<5, L>,
+        f1: &mut Soa<5, L>,
+    ) -> u32 {
+        if !self.base.is_affine() {
+            return compose_step(self, j, t0, t1, grid, ln, y0, f0, y1, f1);
+        }
+        let mut s1 = [[0.0; L]; 2];
+        let mut g1 = [[0.0; L]; 2];
+        let mut mask = Lockstep::<2, L>::step(
+            self.base,
+            j,
+            t0,
+            t1,
+            grid,
+            ln,
+            work,
+            &[y0[0], y0[1]],
+            &[f0[0], f0[1]],
+            &mut s1,
+            &mut g1,
+        );
+        let (mut dx, mut dv) = ([0.0; L], [0.0; L]);
+        let (mut a, mut b) = ([0.0; L], [0.0; L]);
+        self.base.tangent_affine_step(
+            j,
+            t0,
+            t1,
+            ln,
+            work,
+            [&y0[2], &y0[3]],
+            [&mut dx, &mut dv],
+            [&mut a, &mut b],
+        );
+        let mut fin = [0u32; L];
+        for l in 0..L {
+            y1[0][l] = s1[0][l];
+            y1[1][l] = s1[1][l];
+            y1[2][l] = dx[l];
+            y1[3][l] = dv[l];
+            // the lanes run laws without memory: the hysteresis perturbation stays 0
+            y1[4][l] = y0[4][l];
+            f1[0][l] = g1[0][l];
+            f1[1][l] = g1[1][l];
+            // (as `rhs`: the scalar Tangent sums J[i][k] * dy[k] from 0, J = [[0, 1], [a, b]])
+            f1[2][l] = 0.0 + 0.0 * dx[l] + 1.0 * dv[l];
+            f1[3][l] = 0.0 + a[l] * dx[l] + b[l] * dv[l];
+            f1[4][l] = 0.0;
+            // a tangent that overflowed goes to the scalar integrator
+            fin[l] = u32::from((dx[l] + dv[l] + f1[3][l]).abs() < f64::INFINITY) << l;
+        }
+        mask &= fin.iter().fold(0, |m, b| m | b);
+        mask
     }
 
     #[inline(always)]

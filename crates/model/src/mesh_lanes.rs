@@ -836,6 +836,44 @@ impl MeshLanes {
         bits.iter().fold(0, |m, b| m | b)
     }
 
+    /// The RK4 step of the tangent `(dx, dx')` of every lane on an affine table (see
+    /// [`MeshLanes::is_affine`]): the variational equation `dx' = dx'`, `dx'' = a dx + b dx'` of
+    /// a linear law is the state equation without its forcing, so in contact its RK4 step is the
+    /// linear part `P` of the state's affine step (the same table column); when separated it is
+    /// `(dx + h dx', dx')`. Also the end coefficients `(a, b)` (`-h_f k`, `-h_f c` in contact,
+    /// zero when separated; `h_f` the friction factor), as the affine state step takes them.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn tangent_affine_step<const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        w: &AffineTables<L>,
+        d0: [&[f64; L]; 2],
+        d1: [&mut [f64; L]; 2],
+        ab: [&mut [f64; L]; 2],
+    ) {
+        debug_assert!(self.affine, "tangent_affine_step needs an affine table");
+        let r = &self.rows[j];
+        let e = &w.tab[j];
+        let (kke, hde) = (r.k[2], r.hd[2]);
+        let [dx1, dv1] = d1;
+        let [a, b] = ab;
+        for l in 0..L {
+            let (dx, dv) = (d0[0][l], d0[1][l]);
+            let contact = ln.sd[l] + ln.sb[l] > 0.0;
+            let h = t1[l] - t0[l];
+            let (xc, vc) = (e[0][l] * dx + e[1][l] * dv, e[2][l] * dx + e[3][l] * dv);
+            dx1[l] = if contact { xc } else { dx + h * dv };
+            dv1[l] = if contact { vc } else { dv };
+            let hf = (ln.sd[l] + ln.sb[l]) * hde;
+            a[l] = -hf * kke;
+            b[l] = -hf * ln.c[l];
+        }
+    }
+
     /// Mesh force `F_m` of every lane at `stage` of step `j` (0 when separated), as
     /// [`MeshModel::mesh_force`] computes it at the times `at.t`.
     #[inline(always)]

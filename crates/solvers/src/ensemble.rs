@@ -134,72 +134,7 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
         y1: &mut Soa<N, L>,
         f1: &mut Soa<N, L>,
     ) -> u32 {
-        let mut h = [0.0; L];
-        let mut h2 = [0.0; L];
-        let mut h6 = [0.0; L];
-        let mut mid = At {
-            t: [0.0; L],
-            grid: [0.0; L],
-        };
-        let mut end = mid;
-        for l in 0..L {
-            h[l] = t1[l] - t0[l];
-            h2[l] = 0.5 * h[l];
-            h6[l] = h[l] * (1.0 / 6.0);
-            mid.t[l] = t0[l] + h2[l];
-            end.t[l] = t0[l] + h[l];
-            mid.grid[l] = grid[l] + 0.5;
-            end.grid[l] = grid[l] + 1.0;
-        }
-        let y = y0;
-        let mut yt = [[0.0; L]; N];
-        let mut k2 = [[0.0; L]; N];
-        let mut k3 = [[0.0; L]; N];
-        let mut k4 = [[0.0; L]; N];
-        for i in 0..N {
-            for l in 0..L {
-                yt[i][l] = y[i][l] + h2[l] * f0[i][l];
-            }
-        }
-        self.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k2);
-        for i in 0..N {
-            for l in 0..L {
-                yt[i][l] = y[i][l] + h2[l] * k2[i][l];
-            }
-        }
-        self.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k3);
-        for i in 0..N {
-            for l in 0..L {
-                yt[i][l] = y[i][l] + h[l] * k3[i][l];
-            }
-        }
-        self.rhs(j, Stage::End, &end, lanes, &yt, &mut k4);
-        for i in 0..N {
-            for l in 0..L {
-                y1[i][l] = y[i][l] + h6[l] * (f0[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
-            }
-        }
-        self.rhs(j, Stage::End, &end, lanes, y1, f1);
-        // interior bound of the Hermite interpolant over the guard components, and finiteness
-        let mut dev = [0.0f64; L];
-        let mut finite = [true; L];
-        for i in 0..N {
-            for l in 0..L {
-                let d = y1[i][l] - y[i][l];
-                let r2 = h[l] * f0[i][l] - d;
-                let r3 = d - h[l] * f1[i][l] - r2;
-                if i < Self::GUARD_DIMS {
-                    dev[l] = dev[l].max(r2.abs() + r3.abs());
-                }
-                finite[l] &= (y1[i][l].abs() < f64::INFINITY) & (f1[i][l].abs() < f64::INFINITY);
-            }
-        }
-        let mut fin = 0u32;
-        for l in 0..L {
-            fin |= (finite[l] as u32) << l;
-        }
-        let clear = self.clear(j, lanes, y, y1, &dev);
-        clear & fin
+        compose_step(self, j, t0, t1, grid, lanes, y0, f0, y1, f1)
     }
 
     /// Bit `l` set when lane `l`'s step from `y0` to `y1` provably holds no event: no armed guard
@@ -215,6 +150,91 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
         y1: &Soa<N, L>,
         dev: &[f64; L],
     ) -> u32;
+}
+
+/// The RK4 step of [`Lockstep::step`] composed from [`Lockstep::rhs`] and [`Lockstep::clear`]
+/// exactly as the scalar RK4 step does (the trait's default, for models that take the composed
+/// step in some cases and their own in others).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn compose_step<B: Lockstep<N, L> + ?Sized, const N: usize, const L: usize>(
+    b: &B,
+    j: usize,
+    t0: &[f64; L],
+    t1: &[f64; L],
+    grid: &[f64; L],
+    lanes: &B::Lanes,
+    y0: &Soa<N, L>,
+    f0: &Soa<N, L>,
+    y1: &mut Soa<N, L>,
+    f1: &mut Soa<N, L>,
+) -> u32 {
+    let mut h = [0.0; L];
+    let mut h2 = [0.0; L];
+    let mut h6 = [0.0; L];
+    let mut mid = At {
+        t: [0.0; L],
+        grid: [0.0; L],
+    };
+    let mut end = mid;
+    for l in 0..L {
+        h[l] = t1[l] - t0[l];
+        h2[l] = 0.5 * h[l];
+        h6[l] = h[l] * (1.0 / 6.0);
+        mid.t[l] = t0[l] + h2[l];
+        end.t[l] = t0[l] + h[l];
+        mid.grid[l] = grid[l] + 0.5;
+        end.grid[l] = grid[l] + 1.0;
+    }
+    let y = y0;
+    let mut yt = [[0.0; L]; N];
+    let mut k2 = [[0.0; L]; N];
+    let mut k3 = [[0.0; L]; N];
+    let mut k4 = [[0.0; L]; N];
+    for i in 0..N {
+        for l in 0..L {
+            yt[i][l] = y[i][l] + h2[l] * f0[i][l];
+        }
+    }
+    b.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k2);
+    for i in 0..N {
+        for l in 0..L {
+            yt[i][l] = y[i][l] + h2[l] * k2[i][l];
+        }
+    }
+    b.rhs(j, Stage::Mid, &mid, lanes, &yt, &mut k3);
+    for i in 0..N {
+        for l in 0..L {
+            yt[i][l] = y[i][l] + h[l] * k3[i][l];
+        }
+    }
+    b.rhs(j, Stage::End, &end, lanes, &yt, &mut k4);
+    for i in 0..N {
+        for l in 0..L {
+            y1[i][l] = y[i][l] + h6[l] * (f0[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
+        }
+    }
+    b.rhs(j, Stage::End, &end, lanes, y1, f1);
+    // interior bound of the Hermite interpolant over the guard components, and finiteness
+    let mut dev = [0.0f64; L];
+    let mut finite = [true; L];
+    for i in 0..N {
+        for l in 0..L {
+            let d = y1[i][l] - y[i][l];
+            let r2 = h[l] * f0[i][l] - d;
+            let r3 = d - h[l] * f1[i][l] - r2;
+            if i < B::GUARD_DIMS {
+                dev[l] = dev[l].max(r2.abs() + r3.abs());
+            }
+            finite[l] &= (y1[i][l].abs() < f64::INFINITY) & (f1[i][l].abs() < f64::INFINITY);
+        }
+    }
+    let mut fin = 0u32;
+    for l in 0..L {
+        fin |= (finite[l] as u32) << l;
+    }
+    let clear = b.clear(j, lanes, y, y1, &dev);
+    clear & fin
 }
 
 /// Where each lane evaluates a field: its time (as the scalar integrator computes it: the step
