@@ -187,7 +187,6 @@ impl<const L: usize> Acc<L> {
         batch.force(st.j, Stage::Start, &a0, st.lanes, &x0, &v0, &mut f0);
         batch.force(st.j, Stage::Mid, &am, st.lanes, &xm, &vm, &mut fm);
         batch.force(st.j, Stage::End, &a1, st.lanes, &x1, &v1, &mut f1);
-        const W: [f64; 3] = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
         for l in 0..L {
             let on = upd & (1 << l) != 0;
             let ln = st.lanes;
@@ -211,15 +210,18 @@ impl<const L: usize> Acc<L> {
                 self.int[3][l],
             ];
             for k in 0..3 {
-                xmin = xmin.min(xs[k]);
-                xmax = xmax.max(xs[k]);
-                fmax = fmax.max(fs[k]);
-                fmin = fmin.min(fs[k]);
-                int[0] += W[k] * d * xs[k];
-                int[1] += W[k] * d * xs[k] * xs[k];
-                int[2] += W[k] * d * fs[k];
-                int[3] += W[k] * d * fs[k] * fs[k];
+                // (samples of a finite step: no NaN, so the one-instruction min/max)
+                xmin = if xs[k] < xmin { xs[k] } else { xmin };
+                xmax = if xs[k] > xmax { xs[k] } else { xmax };
+                fmax = if fs[k] > fmax { fs[k] } else { fmax };
+                fmin = if fs[k] < fmin { fs[k] } else { fmin };
             }
+            // Simpson's rule over the step
+            let d6 = d * (1.0 / 6.0);
+            int[0] += d6 * (xs[0] + 4.0 * xs[1] + xs[2]);
+            int[1] += d6 * (xs[0] * xs[0] + 4.0 * (xs[1] * xs[1]) + xs[2] * xs[2]);
+            int[2] += d6 * (fs[0] + 4.0 * fs[1] + fs[2]);
+            int[3] += d6 * (fs[0] * fs[0] + 4.0 * (fs[1] * fs[1]) + fs[2] * fs[2]);
             // parabola through the three samples around an extreme middle one
             let (a, b, c) = (xs[0], xs[1], xs[2]);
             let curv = a - 2.0 * b + c;
