@@ -486,7 +486,7 @@ fn lyapunov<'py>(
                 "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
             });
             if sim.periods.is_none() {
-                if !(20..=10_000_000).contains(&max_periods) {
+                if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&max_periods) {
                     bail!("bad --max-periods {}: allowed 20 ..= 10000000", max_periods);
                 }
                 let conv = Convergence {

@@ -31,6 +31,13 @@ pub enum Method {
 /// Default RK4 steps per mesh cycle.
 pub const DEFAULT_RK4_STEPS_PER_CYCLE: u32 = 512;
 
+/// RK4 steps per mesh cycle a run accepts (the one home of this range: configuration, `--set`,
+/// `geardyn bench` and Python check it here).
+pub const RK4_STEPS_PER_CYCLE: std::ops::RangeInclusive<u32> = 8..=1_000_000;
+
+/// Most excitation periods of one run's transient or record (1e7 periods already take hours).
+pub const MAX_PERIODS: u64 = 10_000_000;
+
 impl Default for Method {
     fn default() -> Self {
         Method::Dopri {

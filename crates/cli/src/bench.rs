@@ -160,7 +160,45 @@ fn load() -> String {
         .unwrap_or_else(|| "?".into())
 }
 
+/// Refuses settings outside what a run accepts (each names the flag and its range).
+fn check(a: &BenchArgs) -> Result<()> {
+    use geardyn_analysis::simulate::{MAX_PERIODS, RK4_STEPS_PER_CYCLE};
+    use geardyn_solvers::integrator::MAX_GRAZING_SAMPLES;
+    let steps = &RK4_STEPS_PER_CYCLE;
+    for (flag, n) in [
+        ("--steps-per-cycle", a.steps_per_cycle),
+        ("--basin-steps", a.basin_steps),
+    ] {
+        if !steps.contains(&n) {
+            bail!(
+                "bad {flag} {n}: allowed a whole number in [{}, {}]",
+                steps.start(),
+                steps.end()
+            );
+        }
+    }
+    if !(1..=MAX_PERIODS).contains(&a.periods) {
+        bail!(
+            "bad --periods {}: allowed a whole number in [1, {MAX_PERIODS}]",
+            a.periods
+        );
+    }
+    if !(1..=1000).contains(&a.repeat) {
+        bail!(
+            "bad --repeat {}: allowed a whole number in [1, 1000]",
+            a.repeat
+        );
+    }
+    if let Some(g) = a.grazing {
+        if g > MAX_GRAZING_SAMPLES {
+            bail!("bad --grazing {g}: allowed a whole number in [0, {MAX_GRAZING_SAMPLES}]");
+        }
+    }
+    Ok(())
+}
+
 pub fn run(a: BenchArgs) -> Result<()> {
+    check(&a)?;
     let (bif, bas, num) = (a.bifurcation || a.all, a.basins || a.all, a.numba || a.all);
     println!(
         "geardyn bench: {} threads, ensemble {} lanes, {} dispatch, load average {}",

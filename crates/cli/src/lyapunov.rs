@@ -80,7 +80,7 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     let mut variational = None;
     if a.sim.periods.is_none() {
         // no explicit length: run until converged (the two-trajectory check uses the same length)
-        if !(a.max_periods >= 20 && a.max_periods <= 10_000_000) {
+        if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&a.max_periods) {
             anyhow::bail!(
                 "bad --max-periods {}: allowed 20 ..= 10000000",
                 a.max_periods

@@ -113,6 +113,16 @@ fn bad_input_gives_one_line_errors() {
             vec!["map2d", "--x", "xi:0:0.3:100000", "--y", "F:0:0.2:100000"],
             "cells",
         ),
+        // bench: every length and count it takes is bounded (0 periods printed "inf ns/step",
+        // 1e8 steps per cycle ran for hours)
+        (vec!["bench", "--periods", "0"], "--periods 0"),
+        (vec!["bench", "--repeat", "0"], "--repeat 0"),
+        (
+            vec!["bench", "--steps-per-cycle", "100000000"],
+            "[8, 1000000]",
+        ),
+        (vec!["bench", "--basin-steps", "4"], "--basin-steps 4"),
+        (vec!["bench", "--grazing", "9"], "--grazing 9"),
     ];
     for (args, needle) in cases {
         let (code, _, err) = geardyn(&args);

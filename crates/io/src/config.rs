@@ -440,16 +440,22 @@ impl Config {
         let s = &mut self.simulation;
         // (the same ranges sim_options checks: a record of at least one period)
         let as_count = |field: &'static str, v: f64| -> Result<u64, ConfigError> {
+            let steps = &geardyn_analysis::simulate::RK4_STEPS_PER_CYCLE;
+            let periods = geardyn_analysis::simulate::MAX_PERIODS as f64;
             let (min, max, allowed) = match field {
-                "steps_per_cycle" => (8.0, 1e6, "a whole number in [8, 1000000]"),
+                "steps_per_cycle" => (
+                    *steps.start() as f64,
+                    *steps.end() as f64,
+                    "a whole number in [8, 1000000]",
+                ),
                 "record_periods" => (
                     1.0,
-                    1e7,
+                    periods,
                     "a whole number in [1, 1e7] (1e7 excitation periods already take hours)",
                 ),
                 _ => (
                     0.0,
-                    1e7,
+                    periods,
                     "a whole number in [0, 1e7] (1e7 excitation periods already take hours)",
                 ),
             };
@@ -516,7 +522,7 @@ impl Config {
                 }
             }
             "rk4" => {
-                if !(8..=1_000_000).contains(&s.steps_per_cycle) {
+                if !geardyn_analysis::simulate::RK4_STEPS_PER_CYCLE.contains(&s.steps_per_cycle) {
                     return Err(ConfigError::Simulation {
                         field: "steps_per_cycle",
                         value: s.steps_per_cycle.to_string(),
@@ -551,7 +557,8 @@ impl Config {
                 allowed: "[-1e9, 1e9] (the time resolution of f64 must resolve a mesh cycle)",
             });
         }
-        if s.transient_periods > 10_000_000 || s.record_periods > 10_000_000 {
+        let most = geardyn_analysis::simulate::MAX_PERIODS;
+        if s.transient_periods > most || s.record_periods > most {
             return Err(ConfigError::Simulation {
                 field: "transient_periods/record_periods",
                 value: format!("{}/{}", s.transient_periods, s.record_periods),
