@@ -625,7 +625,8 @@ def lyapunov(
     steps_per_cycle : int, optional
         RK4 steps per mesh cycle.
     max_periods : int
-        Largest run length while converging (20 ..= 10000000).
+        Largest run length while converging (at least 20, at most the longest run geardyn
+        accepts; a value outside is refused with the allowed range).
     d0 : float
         Initial distance of the two-trajectory method, in (0, 0.01).
 

@@ -487,7 +487,11 @@ fn lyapunov<'py>(
             });
             if sim.periods.is_none() {
                 if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&max_periods) {
-                    bail!("bad --max-periods {}: allowed 20 ..= 10000000", max_periods);
+                    bail!(
+                        "bad --max-periods {}: allowed 20 ..= {}",
+                        max_periods,
+                        geardyn_analysis::simulate::MAX_PERIODS
+                    );
                 }
                 let conv = Convergence {
                     max_periods,

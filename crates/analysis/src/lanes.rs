@@ -7,8 +7,9 @@
 //! scalar integrator takes for a lane (events, breakpoints, impacts, sticking) go to that
 //! recorder as they are; a lockstep step is recorded by a vectorised copy of the recorder's
 //! per-step arithmetic (durations, Simpson integrals, ranges and force extrema with their
-//! parabola refinement) on running totals kept per lane, in the same order, so the totals are those
-//! of the scalar recorder. A lockstep step with anything rarer — a section level crossed, a
+//! parabola refinement) on running totals kept per lane: the same samples and extrema as the
+//! scalar recorder, the integrals to rounding (Simpson's rule written as one expression per
+//! step). A lockstep step with anything rarer — a section level crossed, a
 //! mesh-cycle strobe instant, a step longer than two trajectory samples — is handed to the scalar
 //! recorder as the scalar integrator would report it.
 //!

@@ -78,3 +78,56 @@ fn c1_exponents_equal_the_scalar_variational_integration() {
         "{periodic} periodic, {chaotic} chaotic"
     );
 }
+
+/// A law the affine table does not take (the breakage preset: friction makes the drive and back
+/// flanks' factors differ), so the lanes compose the RK4 stages of state and tangent: on its
+/// periodic orbits the exponent equals the scalar variational integration to rounding.
+#[test]
+fn composed_lanes_equal_the_scalar_variational_integration() {
+    let n = 256;
+    let periods = 60;
+    let omegas = [0.9, 0.95];
+    let models: Vec<MeshModel> = omegas
+        .iter()
+        .map(|&w| {
+            let mut p = presets::breakage();
+            p.omega = w;
+            MeshModel::new(&p).unwrap()
+        })
+        .collect();
+    let sim = SimOptions {
+        method: Method::Rk4 { steps_per_cycle: n },
+        transient_periods: 100,
+        record_periods: 1,
+        ..Default::default()
+    };
+    let starts: Vec<(&MeshModel, f64, [f64; 2], f64)> = models
+        .iter()
+        .map(|m| {
+            assert!(geardyn_analysis::lanes::lanes_cover_contact(m));
+            let r = simulate(m, [0.0, 0.0], &sim).unwrap();
+            (m, r.final_state.0, r.final_state.1, r.final_memory)
+        })
+        .collect();
+    let lanes = tle_lanes(&starts, periods, n, 0.0);
+    for (i, &(m, t, y, _)) in starts.iter().enumerate() {
+        let a = lanes[i].as_ref().unwrap();
+        let lo = LyapunovOptions {
+            period: m.excitation_period(),
+            transient_periods: 0,
+            periods,
+            d0: 1e-6,
+        };
+        let h = m.mesh_cycle_time() / n as f64;
+        let s = tle_variational::<_, 2, 5>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap();
+        eprintln!("omega {}: lanes {}, scalar {}", omegas[i], a.tle, s.tle);
+        assert!(s.tle < 0.0, "omega {}: a periodic value", omegas[i]);
+        assert!(
+            (a.tle - s.tle).abs() < 1e-9 * s.tle.abs().max(1.0),
+            "omega {}: {} vs {}",
+            omegas[i],
+            a.tle,
+            s.tle
+        );
+    }
+}

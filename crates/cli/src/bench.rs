@@ -160,6 +160,11 @@ fn load() -> String {
         .unwrap_or_else(|| "?".into())
 }
 
+/// Longest ns/step run of `geardyn bench` (excitation periods).
+const MAX_BENCH_PERIODS: u64 = 100_000;
+/// Most repetitions of the ns/step figures.
+const MAX_BENCH_REPEAT: u32 = 100;
+
 /// Refuses settings outside what a run accepts (each names the flag and its range).
 fn check(a: &BenchArgs) -> Result<()> {
     use geardyn_analysis::simulate::{MAX_PERIODS, RK4_STEPS_PER_CYCLE};
@@ -177,17 +182,25 @@ fn check(a: &BenchArgs) -> Result<()> {
             );
         }
     }
-    if !(1..=MAX_PERIODS).contains(&a.periods) {
+    // a benchmark, not a study: bounded so that the ns/step figures take minutes at most
+    let periods = MAX_BENCH_PERIODS.min(MAX_PERIODS);
+    if !(1..=periods).contains(&a.periods) {
         bail!(
-            "bad --periods {}: allowed a whole number in [1, {MAX_PERIODS}]",
+            "bad --periods {}: allowed a whole number in [1, {periods}]",
             a.periods
         );
     }
-    if !(1..=1000).contains(&a.repeat) {
+    if !(1..=MAX_BENCH_REPEAT).contains(&a.repeat) {
         bail!(
-            "bad --repeat {}: allowed a whole number in [1, 1000]",
+            "bad --repeat {}: allowed a whole number in [1, {MAX_BENCH_REPEAT}]",
             a.repeat
         );
+    }
+    // the model's own range, under the flag's name
+    let mut p = presets::classic();
+    p.omega = a.omega;
+    if let Err(e) = MeshModel::new(&p) {
+        bail!("bad --omega {}: {e}", a.omega);
     }
     if let Some(g) = a.grazing {
         if g > MAX_GRAZING_SAMPLES {

@@ -82,8 +82,9 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         // no explicit length: run until converged (the two-trajectory check uses the same length)
         if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&a.max_periods) {
             anyhow::bail!(
-                "bad --max-periods {}: allowed 20 ..= 10000000",
-                a.max_periods
+                "bad --max-periods {}: allowed 20 ..= {}",
+                a.max_periods,
+                geardyn_analysis::simulate::MAX_PERIODS
             );
         }
         let conv = Convergence {

@@ -6,6 +6,7 @@ use geardyn_model::{presets, ContactLaw, ModelError, ModelParams};
 use geardyn_physics::{PairSpec, PhysicsError};
 use geardyn_scenario::{Scenario, ScenarioError, ScenarioSpec};
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -120,7 +121,7 @@ pub enum ConfigError {
         /// Value.
         value: String,
         /// Allowed values.
-        allowed: &'static str,
+        allowed: Cow<'static, str>,
     },
     /// A model parameter error.
     #[error(transparent)]
@@ -426,7 +427,7 @@ impl Config {
                 return Err(ConfigError::Simulation {
                     field,
                     value: geardyn_model::error::num(v),
-                    allowed: "|value| <= 1000 max(D_s, 1) (the model's length scale)",
+                    allowed: "|value| <= 1000 max(D_s, 1) (the model's length scale)".into(),
                 });
             }
         }
@@ -441,31 +442,25 @@ impl Config {
         // (the same ranges sim_options checks: a record of at least one period)
         let as_count = |field: &'static str, v: f64| -> Result<u64, ConfigError> {
             let steps = &geardyn_analysis::simulate::RK4_STEPS_PER_CYCLE;
-            let periods = geardyn_analysis::simulate::MAX_PERIODS as f64;
-            let (min, max, allowed) = match field {
-                "steps_per_cycle" => (
-                    *steps.start() as f64,
-                    *steps.end() as f64,
-                    "a whole number in [8, 1000000]",
-                ),
-                "record_periods" => (
-                    1.0,
-                    periods,
-                    "a whole number in [1, 1e7] (1e7 excitation periods already take hours)",
-                ),
-                _ => (
-                    0.0,
-                    periods,
-                    "a whole number in [0, 1e7] (1e7 excitation periods already take hours)",
-                ),
+            let most = geardyn_analysis::simulate::MAX_PERIODS;
+            let (min, max) = match field {
+                "steps_per_cycle" => (*steps.start() as u64, *steps.end() as u64),
+                "record_periods" => (1, most),
+                _ => (0, most),
             };
+            let allowed = if field == "steps_per_cycle" {
+                format!("a whole number in [{min}, {max}]")
+            } else {
+                format!("a whole number in [{min}, {max}] ({max} excitation periods already take hours)")
+            };
+            let (min, max) = (min as f64, max as f64);
             if v >= min && v.fract() == 0.0 && v <= max {
                 Ok(v as u64)
             } else {
                 Err(ConfigError::Simulation {
                     field,
                     value: geardyn_model::error::num(v),
-                    allowed,
+                    allowed: allowed.into(),
                 })
             }
         };
@@ -506,14 +501,14 @@ impl Config {
                     return Err(ConfigError::Simulation {
                         field: "rtol",
                         value: geardyn_model::error::num(s.rtol),
-                        allowed: "[1e-14, 1e-2]",
+                        allowed: "[1e-14, 1e-2]".into(),
                     });
                 }
                 if !(s.atol >= 1e-16 && s.atol <= 1e-2) {
                     return Err(ConfigError::Simulation {
                         field: "atol",
                         value: geardyn_model::error::num(s.atol),
-                        allowed: "[1e-16, 1e-2]",
+                        allowed: "[1e-16, 1e-2]".into(),
                     });
                 }
                 Method::Dopri {
@@ -526,7 +521,10 @@ impl Config {
                     return Err(ConfigError::Simulation {
                         field: "steps_per_cycle",
                         value: s.steps_per_cycle.to_string(),
-                        allowed: "8 ..= 1000000",
+                        allowed: {
+                            let r = &geardyn_analysis::simulate::RK4_STEPS_PER_CYCLE;
+                            format!("a whole number in [{}, {}]", r.start(), r.end()).into()
+                        },
                     });
                 }
                 Method::Rk4 {
@@ -537,7 +535,7 @@ impl Config {
                 return Err(ConfigError::Simulation {
                     field: "method",
                     value: other.into(),
-                    allowed: "\"dopri\" or \"rk4\"",
+                    allowed: "\"dopri\" or \"rk4\"".into(),
                 })
             }
         };
@@ -546,7 +544,7 @@ impl Config {
                 return Err(ConfigError::Simulation {
                     field: f,
                     value: v.to_string(),
-                    allowed: "a finite number",
+                    allowed: "a finite number".into(),
                 });
             }
         }
@@ -554,7 +552,8 @@ impl Config {
             return Err(ConfigError::Simulation {
                 field: "tau0",
                 value: geardyn_model::error::num(s.tau0),
-                allowed: "[-1e9, 1e9] (the time resolution of f64 must resolve a mesh cycle)",
+                allowed: "[-1e9, 1e9] (the time resolution of f64 must resolve a mesh cycle)"
+                    .into(),
             });
         }
         let most = geardyn_analysis::simulate::MAX_PERIODS;
@@ -562,14 +561,15 @@ impl Config {
             return Err(ConfigError::Simulation {
                 field: "transient_periods/record_periods",
                 value: format!("{}/{}", s.transient_periods, s.record_periods),
-                allowed: "<= 1e7 each (1e7 excitation periods already take hours)",
+                allowed: format!("<= {most} each ({most} excitation periods already take hours)")
+                    .into(),
             });
         }
         if s.record_periods == 0 {
             return Err(ConfigError::Simulation {
                 field: "record_periods",
                 value: "0".into(),
-                allowed: ">= 1",
+                allowed: ">= 1".into(),
             });
         }
         Ok(SimOptions {

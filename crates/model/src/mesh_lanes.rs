@@ -253,11 +253,12 @@ fn verdict(
     let dv = y1[1] - y0[1];
     let r2v = h * f0[1] - dv;
     let r3v = dv - h * f1[1] - r2v;
-    // (a NaN sum gives a NaN margin: no lane with a NaN is clear; `finite` says which)
+    // (a NaN in the first sum gives a NaN margin, one in the second is dropped by max_fast: a
+    // NaN there comes from a non-finite end, and `finite` keeps such a lane from being clear)
     let dev = max_fast(r2x.abs() + r3x.abs(), r2v.abs() + r3v.abs());
-    // all three finite (a sum of finite values that overflows is called non-finite: the
-    // scalar integrator then takes the step, which is always allowed)
-    let finite = (y1[0] + y1[1] + f1[1]).abs() < f64::INFINITY;
+    // all three finite: `v * 0` is a zero for every finite `v` and NaN otherwise (a plain sum
+    // could overflow on finite values)
+    let finite = y1[0] * 0.0 + y1[1] * 0.0 + f1[1] * 0.0 == 0.0;
     let margin = 0.25 * dev;
     // A guard x -+ D keeps its sign at both ends and stays farther than the margin from zero
     // exactly when the smaller end value exceeds the margin or the larger one is below minus
@@ -1165,6 +1166,11 @@ mod tests {
             0.999_999,
             2.5,
             -3.0,
+            // overflow of the step's sums, the smallest subnormal
+            1e308,
+            -1e308,
+            f64::MAX,
+            5e-324,
         ];
         let mut checked = 0;
         for _ in 0..200_000 {
