@@ -256,9 +256,11 @@ fn verdict(
     // (a NaN in the first sum gives a NaN margin, one in the second is dropped by max_fast: a
     // NaN there comes from a non-finite end, and `finite` keeps such a lane from being clear)
     let dev = max_fast(r2x.abs() + r3x.abs(), r2v.abs() + r3v.abs());
-    // all three finite: `v * 0` is a zero for every finite `v` and NaN otherwise (a plain sum
-    // could overflow on finite values)
-    let finite = y1[0] * 0.0 + y1[1] * 0.0 + f1[1] * 0.0 == 0.0;
+    // all three finite (tested one by one: a plain sum overflows on finite values, and
+    // `v * 0` sums were slower)
+    let finite = (y1[0].abs() < f64::INFINITY)
+        & (y1[1].abs() < f64::INFINITY)
+        & (f1[1].abs() < f64::INFINITY);
     let margin = 0.25 * dev;
     // A guard x -+ D keeps its sign at both ends and stays farther than the margin from zero
     // exactly when the smaller end value exceeds the margin or the larger one is below minus
@@ -825,9 +827,18 @@ impl MeshLanes {
             y1[1][l] = v1;
             f1[0][l] = v1;
             f1[1][l] = a1;
-            // (the field's first component is the velocity: f0[0] is v0, bit for bit)
-            let (clear, finite) =
-                verdict([x0, v0], [v0, f0[1][l]], [x1, v1], [v1, a1], h, d, sd, sb);
+            // (f0[0] is v0 bit for bit, but reading v0 here made the baseline x86-64 copy 28 %
+            // slower, the AVX2 one 5 % faster and the AVX-512 one no faster)
+            let (clear, finite) = verdict(
+                [x0, v0],
+                [f0[0][l], f0[1][l]],
+                [x1, v1],
+                [v1, a1],
+                h,
+                d,
+                sd,
+                sb,
+            );
             bits[l] = ((clear as u64) << l) | ((finite as u64) << (32 + l));
         }
         bits.iter().fold(0, |m, b| m | b)
