@@ -463,6 +463,9 @@ pub(crate) fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
     }
 }
 
+/// Phase tables built at once by [`group`] (about 80 kB each at 512 steps per cycle).
+const TABLE_BATCH: usize = 64;
+
 /// Groups runs by phase table (models with equal tables share lanes); runs starting at a
 /// stroboscopic instant of `tau0` use the tables of `tau0` ([`table_time`]). The tables of the
 /// distinct (model, start) pairs are built in parallel (a sweep over omega has a model per value:
@@ -473,35 +476,36 @@ fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
         (it.model as *const MeshModel, tt.to_bits(), tt)
     };
     // distinct (model, table time) pairs in order of first appearance
-    let mut firsts: Vec<(*const MeshModel, u64, f64, &'s MeshModel)> = Vec::new();
+    let mut index: std::collections::HashMap<(usize, u64), usize> = Default::default();
+    let mut builds: Vec<(f64, &'s MeshModel)> = Vec::new();
     let mut of_run = Vec::with_capacity(runs.len());
     for it in runs {
         let (p, bits, tt) = key(it);
-        let k = match firsts.iter().position(|f| f.0 == p && f.1 == bits) {
-            Some(k) => k,
-            None => {
-                firsts.push((p, bits, tt, it.model));
-                firsts.len() - 1
-            }
-        };
+        let k = *index.entry((p as usize, bits)).or_insert_with(|| {
+            builds.push((tt, it.model));
+            builds.len() - 1
+        });
         of_run.push(k);
     }
-    let builds: Vec<(f64, &MeshModel)> = firsts.iter().map(|f| (f.2, f.3)).collect();
-    let tables: Vec<MeshLanes> = builds
-        .par_iter()
-        .map(|&(tt, m)| MeshLanes::new(m, steps_per_cycle, tt))
-        .collect();
     let mut groups: Groups<'s> = Vec::new();
-    let mut group_of: Vec<usize> = Vec::with_capacity(tables.len());
-    for t in tables {
-        let g = match groups.iter().position(|(u, _)| *u == t) {
-            Some(g) => g,
-            None => {
-                groups.push((t, Vec::new()));
-                groups.len() - 1
-            }
-        };
-        group_of.push(g);
+    let mut group_of: Vec<usize> = Vec::with_capacity(builds.len());
+    // in batches, so that a map's thousands of models (one table kept) never hold thousands of
+    // tables at once
+    for batch in builds.chunks(TABLE_BATCH) {
+        let tables: Vec<MeshLanes> = batch
+            .par_iter()
+            .map(|&(tt, m)| MeshLanes::new(m, steps_per_cycle, tt))
+            .collect();
+        for t in tables {
+            let g = match groups.iter().position(|(u, _)| *u == t) {
+                Some(g) => g,
+                None => {
+                    groups.push((t, Vec::new()));
+                    groups.len() - 1
+                }
+            };
+            group_of.push(g);
+        }
     }
     for (it, k) in runs.iter().zip(of_run) {
         groups[group_of[k]].1.push(*it);

@@ -5,10 +5,10 @@
 //! computations part after a few periods, their exponents agree within the spread).
 //!
 //! A lane steps the state and its tangent on the grid of the run's phase tables
-//! ([`MeshLanes`]): on an affine table (linear, bilateral, frictionless law: C1) the state takes
-//! its tabulated affine step and the tangent that step's linear part
-//! ([`MeshLanes::tangent_affine_step`]); otherwise both take the RK4 stages (the tangent's
-//! coefficients from [`MeshLanes::tangent_coefficients`]). Every
+//! ([`MeshLanes`]): the state by the RK4 stages; on an affine table (linear, bilateral,
+//! frictionless law: C1) the tangent by the affine step's linear part
+//! ([`MeshLanes::tangent_affine_step`]), otherwise by the RK4 stages too (its coefficients from
+//! [`MeshLanes::tangent_coefficients`]). Every
 //! step that may hold an event — where the tangent jumps by the saltation matrix — goes to the
 //! scalar integrator of the augmented system ([`Tangent`]), which locates the event and applies
 //! the jump, as it does for one run. At every stroboscopic instant the tangent is renormalised
@@ -103,10 +103,10 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
         }
     }
 
-    /// On an affine table the state takes its affine step ([`MeshLanes`]'s own, with its
-    /// verdict) and the tangent the same step's linear part
-    /// ([`MeshLanes::tangent_affine_step`]): a few operations instead of four evaluations of the
-    /// five-component field. Otherwise the composed RK4 step.
+    /// On an affine table the state takes the RK4 stages ([`MeshLanes::step_stages`], the
+    /// scalar arithmetic) and the tangent the affine step's linear part
+    /// ([`MeshLanes::tangent_affine_step`]): a few operations instead of four evaluations of its
+    /// part of the field. Otherwise the composed RK4 step.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn step(
@@ -127,14 +127,15 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
         }
         let mut s1 = [[0.0; L]; 2];
         let mut g1 = [[0.0; L]; 2];
-        let mut mask = Lockstep::<2, L>::step(
-            self.base,
+        // the state by the RK4 stages (its trajectory is the scalar one, bit for bit, as
+        // before: the decisions that continue from an exponent's end state do not move); the
+        // tangent, the costly part, by the affine table
+        let mut mask = self.base.step_stages(
             j,
             t0,
             t1,
             grid,
             ln,
-            work,
             &[y0[0], y0[1]],
             &[f0[0], f0[1]],
             &mut s1,

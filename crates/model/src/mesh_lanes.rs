@@ -779,6 +779,86 @@ impl MeshLanes {
         }
     }
 
+    /// The RK4 stage kernel for the table's clamp and stiffness form (its bits as
+    /// [`MeshLanes::kernel`] returns them).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn stage_bits<const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &mut Soa<2, L>,
+        f1: &mut Soa<2, L>,
+    ) -> u64 {
+        match (self.unilateral, self.harmonic) {
+            (false, false) => self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+            (true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+        }
+    }
+
+    /// The lanes that take a kernel's step (`bits`: clear, and finite in the upper half): the
+    /// clear ones, and the finite ones near a surface without a sign change at the ends whose
+    /// step the scalar integrator's midpoint test would take as an ordinary one (rare: next to
+    /// events).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn settle<const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &Soa<2, L>,
+        f1: &Soa<2, L>,
+        bits: u64,
+    ) -> u32 {
+        let mut mask = bits as u32;
+        let mut rest = (bits >> 32) as u32 & !mask;
+        if rest != 0 {
+            let d = self.rows[j].d;
+            while rest != 0 {
+                let l = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                let h = t1[l] - t0[l];
+                if self.no_event_by_midpoint(d, ln.sd[l], ln.sb[l], h, l, y0, f0, y1, f1) {
+                    mask |= 1 << l;
+                }
+            }
+        }
+        mask
+    }
+
+    /// The RK4 step of every lane by the stages (the scalar integrator's arithmetic, so its
+    /// results) on any table, affine or not; returns the lanes that take it, as
+    /// [`Lockstep::step`]. For callers that need the state's scalar trajectory bit for bit (the
+    /// Lyapunov lanes: the decisions that continue from their end state).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn step_stages<const L: usize>(
+        &self,
+        j: usize,
+        t0: &[f64; L],
+        t1: &[f64; L],
+        grid: &[f64; L],
+        ln: &MeshLaneBlock<L>,
+        y0: &Soa<2, L>,
+        f0: &Soa<2, L>,
+        y1: &mut Soa<2, L>,
+        f1: &mut Soa<2, L>,
+    ) -> u32 {
+        let bits = self.stage_bits(j, t0, t1, grid, ln, y0, f0, y1, f1);
+        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
+    }
+
     /// The affine step of every lane (see [`MeshLanes::kernel`] for the returned bits): in
     /// contact `y1 = P y0 + q_e + s q_o` from the lane's column of `w`, when separated the RK4
     /// step of `x'' = F + xi omega^2 cos` in closed form (`x0 + h v0 + h^2 (e0 + 2 em) / 6`,
@@ -1068,31 +1148,12 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
-        let bits = match (self.affine, self.unilateral, self.harmonic) {
-            (true, _, _) => self.affine_kernel::<L>(j, t0, t1, ln, work, y0, f0, y1, f1),
-            (_, false, false) => {
-                self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1)
-            }
-            (_, false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (_, true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (_, true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
+        let bits = if self.affine {
+            self.affine_kernel::<L>(j, t0, t1, ln, work, y0, f0, y1, f1)
+        } else {
+            self.stage_bits(j, t0, t1, grid, ln, y0, f0, y1, f1)
         };
-        let mut mask = bits as u32;
-        // lanes near a surface without a sign change at the ends: the scalar integrator's
-        // midpoint test decides (rare: next to events)
-        let mut rest = (bits >> 32) as u32 & !mask;
-        if rest != 0 {
-            let d = self.rows[j].d;
-            while rest != 0 {
-                let l = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                let h = t1[l] - t0[l];
-                if self.no_event_by_midpoint(d, ln.sd[l], ln.sb[l], h, l, y0, f0, y1, f1) {
-                    mask |= 1 << l;
-                }
-            }
-        }
-        mask
+        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
     }
 
     #[inline(always)]
