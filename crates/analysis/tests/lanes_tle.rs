@@ -6,6 +6,39 @@ use geardyn_analysis::simulate::{simulate, Method, SimOptions};
 use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::Scheme;
 
+/// The models of `preset` at `omegas`.
+fn models_at(preset: fn() -> geardyn_model::ModelParams, omegas: &[f64]) -> Vec<MeshModel> {
+    omegas
+        .iter()
+        .map(|&w| {
+            let mut p = preset();
+            p.omega = w;
+            MeshModel::new(&p).unwrap()
+        })
+        .collect()
+}
+
+/// Each model's state after `transient` periods of RK4 with `n` steps per mesh cycle.
+fn after_transient(
+    models: &[MeshModel],
+    n: u32,
+    transient: u64,
+) -> Vec<(&MeshModel, f64, [f64; 2], f64)> {
+    let sim = SimOptions {
+        method: Method::Rk4 { steps_per_cycle: n },
+        transient_periods: transient,
+        record_periods: 1,
+        ..Default::default()
+    };
+    models
+        .iter()
+        .map(|m| {
+            let r = simulate(m, [0.0, 0.0], &sim).unwrap();
+            (m, r.final_state.0, r.final_state.1, r.final_memory)
+        })
+        .collect()
+}
+
 /// C1 (the classic backlash oscillator) at periodic and chaotic values of omega, each exponent
 /// started from the end of a transient: on a periodic orbit the lanes give the scalar RK4
 /// exponent to rounding; on a chaotic one (the lanes' and the scalar trajectory part after a
@@ -16,27 +49,8 @@ fn c1_exponents_equal_the_scalar_variational_integration() {
     let n = 256;
     let periods = 150;
     let omegas = [0.7, 0.9, 1.3, 1.8, 2.3];
-    let models: Vec<MeshModel> = omegas
-        .iter()
-        .map(|&w| {
-            let mut p = presets::classic();
-            p.omega = w;
-            MeshModel::new(&p).unwrap()
-        })
-        .collect();
-    let sim = SimOptions {
-        method: Method::Rk4 { steps_per_cycle: n },
-        transient_periods: 200,
-        record_periods: 1,
-        ..Default::default()
-    };
-    let starts: Vec<(&MeshModel, f64, [f64; 2], f64)> = models
-        .iter()
-        .map(|m| {
-            let r = simulate(m, [0.0, 0.0], &sim).unwrap();
-            (m, r.final_state.0, r.final_state.1, r.final_memory)
-        })
-        .collect();
+    let models = models_at(presets::classic, &omegas);
+    let starts = after_transient(&models, n, 200);
     let lanes = tle_lanes(&starts, periods, n, 0.0);
     let one = tle_lanes_with::<1>(&starts, periods, n, 0.0);
     let mut chaotic = 0;
@@ -87,28 +101,11 @@ fn composed_lanes_equal_the_scalar_variational_integration() {
     let n = 256;
     let periods = 60;
     let omegas = [0.9, 0.95];
-    let models: Vec<MeshModel> = omegas
+    let models = models_at(presets::breakage, &omegas);
+    assert!(models
         .iter()
-        .map(|&w| {
-            let mut p = presets::breakage();
-            p.omega = w;
-            MeshModel::new(&p).unwrap()
-        })
-        .collect();
-    let sim = SimOptions {
-        method: Method::Rk4 { steps_per_cycle: n },
-        transient_periods: 100,
-        record_periods: 1,
-        ..Default::default()
-    };
-    let starts: Vec<(&MeshModel, f64, [f64; 2], f64)> = models
-        .iter()
-        .map(|m| {
-            assert!(geardyn_analysis::lanes::lanes_cover_contact(m));
-            let r = simulate(m, [0.0, 0.0], &sim).unwrap();
-            (m, r.final_state.0, r.final_state.1, r.final_memory)
-        })
-        .collect();
+        .all(geardyn_analysis::lanes::lanes_cover_contact));
+    let starts = after_transient(&models, n, 100);
     let lanes = tle_lanes(&starts, periods, n, 0.0);
     for (i, &(m, t, y, _)) in starts.iter().enumerate() {
         let a = lanes[i].as_ref().unwrap();
