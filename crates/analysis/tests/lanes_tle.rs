@@ -39,6 +39,24 @@ fn after_transient(
         .collect()
 }
 
+/// The scalar variational exponent from `(t, y)` over `periods`, RK4 with `n` steps per cycle.
+fn scalar_tle(
+    m: &MeshModel,
+    t: f64,
+    y: [f64; 2],
+    n: u32,
+    periods: u64,
+) -> geardyn_analysis::lyapunov::LyapunovResult {
+    let lo = LyapunovOptions {
+        period: m.excitation_period(),
+        transient_periods: 0,
+        periods,
+        d0: 1e-6,
+    };
+    let h = m.mesh_cycle_time() / n as f64;
+    tle_variational::<_, 2, 5>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap()
+}
+
 /// C1 (the classic backlash oscillator) at periodic and chaotic values of omega, each exponent
 /// started from the end of a transient: on a periodic orbit the lanes give the scalar RK4
 /// exponent to rounding; on a chaotic one (the lanes' and the scalar trajectory part after a
@@ -59,14 +77,7 @@ fn c1_exponents_equal_the_scalar_variational_integration() {
         let a = lanes[i].as_ref().unwrap();
         let b = one[i].as_ref().unwrap();
         assert_eq!(a.tle.to_bits(), b.tle.to_bits(), "omega {}", omegas[i]);
-        let lo = LyapunovOptions {
-            period: m.excitation_period(),
-            transient_periods: 0,
-            periods,
-            d0: 1e-6,
-        };
-        let h = m.mesh_cycle_time() / n as f64;
-        let s = tle_variational::<_, 2, 5>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap();
+        let s = scalar_tle(m, t, y, n, periods);
         eprintln!(
             "omega {}: lanes {} ± {}, scalar {} ± {}",
             omegas[i], a.tle, a.spread, s.tle, s.spread
@@ -109,14 +120,7 @@ fn composed_lanes_equal_the_scalar_variational_integration() {
     let lanes = tle_lanes(&starts, periods, n, 0.0);
     for (i, &(m, t, y, _)) in starts.iter().enumerate() {
         let a = lanes[i].as_ref().unwrap();
-        let lo = LyapunovOptions {
-            period: m.excitation_period(),
-            transient_periods: 0,
-            periods,
-            d0: 1e-6,
-        };
-        let h = m.mesh_cycle_time() / n as f64;
-        let s = tle_variational::<_, 2, 5>(m.clone(), Scheme::Rk4 { h }, t, y, &lo).unwrap();
+        let s = scalar_tle(m, t, y, n, periods);
         eprintln!("omega {}: lanes {}, scalar {}", omegas[i], a.tle, s.tle);
         assert!(s.tle < 0.0, "omega {}: a periodic value", omegas[i]);
         assert!(
