@@ -43,6 +43,10 @@ pub const DIVERGED_SCALES: f64 = 1e3;
 /// Excitation periods of the Lyapunov estimate that decides chaos (at least; the record length
 /// when longer).
 pub const TLE_PERIODS: u64 = 100;
+/// Excitation periods of the last look at the exponent of a run that the extensions and the
+/// exponent over [`TLE_PERIODS`] left undecided (neither significantly positive or negative nor
+/// decisively zero): ten times longer, so the standard error shrinks about threefold.
+pub const TLE_LONG_PERIODS: u64 = 1000;
 /// Mesh cycles (at least; the requested transient when longer) a motion with a positive TLE is
 /// followed before it is called chaotic: chaotic transients of several hundred cycles are common
 /// near crises (internal pair, omega = 1.80–1.89: 400–700 cycles).
@@ -181,7 +185,14 @@ pub fn tle_of(
     y: [f64; 2],
     memory: f64,
 ) -> Option<(f64, f64)> {
-    tles_of(&[(model, t, y, memory)], opts).pop().flatten()
+    tles_of(&[(model, t, y, memory)], opts, tle_periods(opts))
+        .pop()
+        .flatten()
+}
+
+/// Excitation periods of the exponent that decides chaos: the record, at least [`TLE_PERIODS`].
+pub fn tle_periods(opts: &SimOptions) -> u64 {
+    opts.record_periods.max(TLE_PERIODS)
 }
 
 /// [`tle_of`] of every `(model, t, y)`, in input order ([`crate::lanes_tle::tle_many`]: with
@@ -189,8 +200,9 @@ pub fn tle_of(
 pub fn tles_of(
     runs: &[crate::lanes_tle::TleStart<'_>],
     opts: &SimOptions,
+    periods: u64,
 ) -> Vec<Option<(f64, f64)>> {
-    crate::lanes_tle::tle_many(runs, opts, opts.record_periods.max(TLE_PERIODS))
+    crate::lanes_tle::tle_many(runs, opts, periods)
         .into_iter()
         .map(|r| {
             r.filter(|r| r.tle.is_finite() && r.spread.is_finite())
@@ -252,7 +264,16 @@ pub fn simulate_decided_with(
     loop {
         match d.need() {
             Need::Sim { y0, opts } => d.simulated(sim(model, y0, &opts)),
-            Need::Tle { t, y, memory } => d.tle(tle_of(model, opts, t, y, memory)),
+            Need::Tle {
+                t,
+                y,
+                memory,
+                periods,
+            } => d.tle(
+                tles_of(&[(model, t, y, memory)], opts, periods)
+                    .pop()
+                    .flatten(),
+            ),
             Need::Done => return d.finish(),
         }
     }
@@ -279,6 +300,9 @@ pub enum Need {
         y: [f64; 2],
         /// Memory of the start mode ([`SimResult::final_memory`] of the run it continues).
         memory: f64,
+        /// Excitation periods of the estimate ([`tle_periods`], or [`TLE_LONG_PERIODS`] for the
+        /// last look at a run still undecided).
+        periods: u64,
     },
     /// Decided: [`Decision::finish`].
     Done,
@@ -297,6 +321,8 @@ enum Wait {
     Extend(u32),
     /// The TLE after the last extension.
     TleLast,
+    /// The TLE over [`TLE_LONG_PERIODS`] of a run the last one left undecided.
+    TleLong,
     /// The record again of a periodic run (at tolerance `tol`).
     Settle(f64),
     /// A longer transient for a periodic run still approaching an orbit of lower period.
@@ -365,7 +391,16 @@ impl<'m> Decision<'m> {
         if how.lyapunov {
             let (t, y) = d.res.final_state;
             let memory = d.res.final_memory;
-            d.ask(Wait::TleFirst, Need::Tle { t, y, memory });
+            let periods = tle_periods(opts);
+            d.ask(
+                Wait::TleFirst,
+                Need::Tle {
+                    t,
+                    y,
+                    memory,
+                    periods,
+                },
+            );
         } else {
             d.extend_or_final(0);
         }
@@ -405,7 +440,16 @@ impl<'m> Decision<'m> {
                     // a positive one
                     let (t, y) = self.res.final_state;
                     let memory = self.res.final_memory;
-                    self.ask(Wait::TlePersist, Need::Tle { t, y, memory });
+                    let periods = tle_periods(&self.opts);
+                    self.ask(
+                        Wait::TlePersist,
+                        Need::Tle {
+                            t,
+                            y,
+                            memory,
+                            periods,
+                        },
+                    );
                 }
             }
             Wait::Extend(k) => {
@@ -462,7 +506,7 @@ impl<'m> Decision<'m> {
                 }
                 self.settle(tol);
             }
-            Wait::TleFirst | Wait::TlePersist | Wait::TleLast | Wait::Done => {
+            Wait::TleFirst | Wait::TlePersist | Wait::TleLast | Wait::TleLong | Wait::Done => {
                 panic!("no run was asked for")
             }
         }
@@ -507,7 +551,40 @@ impl<'m> Decision<'m> {
                 // no longer positive: undecided, decided on as such (longer transients)
                 _ => self.extend_or_final(0),
             },
-            Wait::TleLast => self.conclude(),
+            Wait::TleLast => {
+                // an exponent neither significant nor decisively zero over the short window (weak
+                // chaos: C1 omega = 1.4045, 0.019 +- 0.010 over 100 periods, 0.0166 +- 0.0003
+                // over 20 000): one longer look before calling the run unsettled
+                let undecided = match tle {
+                    Some((l, se)) => {
+                        let zero = l.abs() <= TLE_POSITIVE && se <= TLE_POSITIVE;
+                        !(significantly_positive(l, se) || significantly_negative(l, se) || zero)
+                    }
+                    None => false,
+                };
+                if undecided && tle_periods(&self.opts) < TLE_LONG_PERIODS {
+                    let (t, y) = self.res.final_state;
+                    let memory = self.res.final_memory;
+                    self.ask(
+                        Wait::TleLong,
+                        Need::Tle {
+                            t,
+                            y,
+                            memory,
+                            periods: TLE_LONG_PERIODS,
+                        },
+                    );
+                } else {
+                    self.conclude();
+                }
+            }
+            Wait::TleLong => {
+                // (a failed long estimate leaves the short one)
+                if tle.is_none() {
+                    self.tle = None;
+                }
+                self.conclude()
+            }
             _ => panic!("no TLE was asked for"),
         }
     }
@@ -684,7 +761,16 @@ impl<'m> Decision<'m> {
         if self.how.extend && self.how.lyapunov {
             let (t, y) = self.res.final_state;
             let memory = self.res.final_memory;
-            self.ask(Wait::TleLast, Need::Tle { t, y, memory });
+            let periods = tle_periods(&self.opts);
+            self.ask(
+                Wait::TleLast,
+                Need::Tle {
+                    t,
+                    y,
+                    memory,
+                    periods,
+                },
+            );
             return;
         }
         self.conclude();

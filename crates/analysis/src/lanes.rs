@@ -995,12 +995,17 @@ pub fn decide_lanes(
         .collect();
     let models: Vec<&MeshModel> = ds.iter().map(|d| d.model()).collect();
     loop {
-        let mut tles: Vec<(usize, f64, [f64; 2], f64)> = Vec::new();
+        let mut tles: Vec<(usize, f64, [f64; 2], f64, u64)> = Vec::new();
         let mut sims: Vec<Item<'_>> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();
         for (i, d) in ds.iter().enumerate() {
             match d.need() {
-                Need::Tle { t, y, memory } => tles.push((i, t, y, memory)),
+                Need::Tle {
+                    t,
+                    y,
+                    memory,
+                    periods,
+                } => tles.push((i, t, y, memory, periods)),
                 Need::Sim { y0, opts: o } => {
                     sims.push(Item {
                         out: sims.len(),
@@ -1024,11 +1029,24 @@ pub fn decide_lanes(
         sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
         let (tle_res, sim_res) = rayon::join(
             || {
-                let runs: Vec<crate::lanes_tle::TleStart<'_>> = tles
-                    .iter()
-                    .map(|&(i, t, y, p)| (models[i], t, y, p))
-                    .collect();
-                tles_of(&runs, opts)
+                // one batch per window length (the last look at an undecided run is longer),
+                // results back in the order asked
+                let mut out: Vec<Option<(f64, f64)>> = vec![None; tles.len()];
+                let mut lengths: Vec<u64> = tles.iter().map(|e| e.4).collect();
+                lengths.sort_unstable();
+                lengths.dedup();
+                for len in lengths {
+                    let (idx, runs): (Vec<usize>, Vec<crate::lanes_tle::TleStart<'_>>) = tles
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, e)| e.4 == len)
+                        .map(|(k, &(i, t, y, m, _))| (k, (models[i], t, y, m)))
+                        .unzip();
+                    for (k, r) in idx.into_iter().zip(tles_of(&runs, opts, len)) {
+                        out[k] = r;
+                    }
+                }
+                out
             },
             || {
                 let lone = LONE_RUNS * rayon::current_num_threads().max(1);

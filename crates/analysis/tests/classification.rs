@@ -32,6 +32,26 @@ fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
 }
 
 #[test]
+fn weak_chaos_is_chaotic_not_unsettled() {
+    // C1 at omega = 1.40452261307 (a value of the 0.5:2:200 sweep): a weakly chaotic motion whose
+    // exponent over 100 periods is 0.019 +- 0.010 (not significant), over 20 000 periods
+    // 0.0166 +- 0.0003 by both methods (`geardyn lyapunov --transient 20000`); the last look over
+    // TLE_LONG_PERIODS decides it (it had been `unsettled`)
+    let m = c1(&[("omega", 1.40452261307)]);
+    let (_, s, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    match s.motion {
+        Motion::Chaotic { tle, stderr } => {
+            assert!(
+                tle > 0.01 && tle < 0.025 && stderr < 0.005,
+                "{tle} +- {stderr}"
+            )
+        }
+        other => panic!("{other:?}: {}", s.label),
+    }
+}
+
+#[test]
 fn a_chaotic_motion_is_not_given_a_period() {
     let m = c1(&[("omega", 1.3)]);
     let (_, s, _) =

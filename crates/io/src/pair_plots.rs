@@ -92,7 +92,8 @@ pub fn pair_figures(
     let (lo, hi) = if broken && pm.cycles > 3 {
         ((nb - 1.0).max(0.0), (nb + 2.0).min(cycles))
     } else {
-        (0.0, cycles.min(2.0))
+        // (a one-cycle model is drawn repeated over two cycles, as its caption says)
+        (0.0, if pm.cycles == 1 { 2.0 } else { cycles.min(2.0) })
     };
     if broken && pm.cycles > 3 {
         // the revolution shows the chipped tooth's cycle one in 40: the same curves around it

@@ -135,12 +135,18 @@ pub fn fixed_points(results: &[TaskResult]) -> Vec<Pt> {
 }
 
 /// The same points with isolated classes replaced by their neighbours' (see the module doc).
-/// The name of a replaced point becomes the left neighbour's.
+/// The name of a replaced point becomes the left neighbour's. Only a value inside a stretch of
+/// its neighbours' class is replaced: in an alternating stretch (chaotic, periodic, chaotic,
+/// periodic) no value is isolated, and replacing each from the original neighbours would swap
+/// the classes instead of removing one.
 pub fn tolerant(pts: &[Pt]) -> Vec<Pt> {
     let mut out = pts.to_vec();
     for i in 1..pts.len().saturating_sub(1) {
         let (a, b, c) = (&pts[i - 1], &pts[i], &pts[i + 1]);
-        if a.class == c.class && b.class != a.class {
+        // a neighbour that is itself isolated (the value beyond it has b's class) is no stretch
+        let alternating = (i >= 2 && pts[i - 2].class == b.class)
+            || (i + 2 < pts.len() && pts[i + 2].class == b.class);
+        if a.class == c.class && b.class != a.class && !alternating {
             out[i].class = a.class.clone();
             out[i].name = a.name.clone();
             out[i].back = a.back && c.back;
@@ -304,5 +310,27 @@ mod tests {
         let ch = ranges(&t, |p| p.class == Class::Chaotic);
         assert_eq!(ch, vec![(0.4, 0.5, 2)]);
         assert_eq!(intervals(&t).len(), 2);
+    }
+
+    #[test]
+    fn an_alternating_stretch_is_left_as_it_is() {
+        // (the audit's case: chaotic, periodic, chaotic, periodic, periodic had become chaotic,
+        // chaotic, periodic, periodic, periodic — the classes swapped, not smoothed)
+        let c = [
+            Class::Chaotic,
+            Class::Periodic(1),
+            Class::Chaotic,
+            Class::Periodic(1),
+            Class::Periodic(1),
+        ];
+        let p: Vec<Pt> = c
+            .iter()
+            .enumerate()
+            .map(|(i, c)| pt(i as f64, c.clone()))
+            .collect();
+        let t = tolerant(&p);
+        for (a, b) in p.iter().zip(&t) {
+            assert_eq!(a.class, b.class);
+        }
     }
 }

@@ -28,6 +28,9 @@ const A002: &str = "seed A 002 (short version)";
 /// Mesh frequency of the load sweep (the seed does not state it; chosen: ω = 1.2, where seed
 /// 000 places periodic motion with diminishing impacts).
 const OMEGA_LOAD: f64 = 1.2;
+/// Relative difference below which two largest mesh forces count as equal (the integrator's
+/// noise on one orbit is about 1e-5 relative; the audit found ties of 1e-7 counted as higher).
+const FORCE_TIE: f64 = 1e-4;
 
 fn sweep(
     param: &str,
@@ -739,7 +742,8 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
                 .split('-')
                 .next()
                 .zip(w[1].name.split('-').next())
-                .is_some_and(|(a, b)| a != b)
+                .and_then(|(a, b)| a.parse::<u64>().ok().zip(b.parse::<u64>().ok()))
+                .is_some_and(|(a, b)| a == 2 * b || b == 2 * a)
     });
     let imp = |pts: &[Pt]| {
         pts.iter()
@@ -767,7 +771,12 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
     let higher = pb
         .iter()
         .zip(ph)
-        .filter(|(b, h)| b.max_force > h.max_force)
+        .filter(|(b, h)| b.max_force > h.max_force * (1.0 + FORCE_TIE))
+        .count();
+    let lower_f = pb
+        .iter()
+        .zip(ph)
+        .filter(|(b, h)| b.max_force < h.max_force * (1.0 - FORCE_TIE))
         .count();
     let ch_txt = if chaos.is_empty() {
         "none".to_string()
@@ -839,7 +848,10 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
             "Breakage raises the dynamic load (localized overloading)",
             format!("{A000} ¶3"),
             "larger mesh force",
-            format!("largest mesh force broken > healthy at {higher} of {} loads", pb.len()),
+            format!(
+                "largest mesh force broken > healthy at {higher} of {} loads, lower at {lower_f}, equal within {FORCE_TIE:e} (relative) at the rest",
+                pb.len()
+            ),
             if higher * 10 >= pb.len() * 8 { Verdict::Reproduced } else if higher * 2 > pb.len() { Verdict::Partly } else { Verdict::NotReproduced },
             "At omega = 1.2 the broken cycle often falls into a separation, where the chipped tooth changes nothing (see the revolution section).",
         ),

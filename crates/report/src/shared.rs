@@ -10,6 +10,7 @@ use anyhow::Result;
 use geardyn_analysis::attractor::IdentifyOptions;
 use geardyn_analysis::basins::{Axis, BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
+use geardyn_analysis::classify::Motion;
 use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::{Method, SimOptions};
@@ -239,6 +240,7 @@ pub fn sweep_figure(
                     .copied()
                     .fold(0.0, f64::max)),
                 run.tle.map_or(String::new(), g),
+                decision_tle(&run.motion).map_or(String::new(), g),
                 run.transient_used.to_string(),
             ]);
         }
@@ -364,6 +366,7 @@ pub fn sweep_figure(
             "min_force",
             "max_impact_force",
             "tle",
+            "decision_tle",
             "transient_used",
         ],
         run_rows,
@@ -379,6 +382,17 @@ pub fn sweep_figure(
         data.push(p);
     }
     Ok(ctx.fig(&stem, caption, &data))
+}
+
+/// The exponent a run's class was decided on (chaotic: the significantly positive TLE after the
+/// persistence run; quasi-periodic and unsettled: the TLE measured, if any): the `decision_tle`
+/// column, so that a chaotic row carries its evidence even without `--lyapunov` (`tle`).
+fn decision_tle(m: &Motion) -> Option<f64> {
+    match m {
+        Motion::Chaotic { tle, .. } | Motion::QuasiPeriodic { tle, .. } => Some(*tle),
+        Motion::Unsettled { tle, .. } => *tle,
+        _ => None,
+    }
 }
 
 /// Identification settings of basins and continuations: at most `transient` excitation periods
