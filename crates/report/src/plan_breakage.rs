@@ -495,7 +495,8 @@ fn revolution(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Res
         trajectory: true,
         samples_per_cycle: 48,
         trajectory_periods: 1,
-        ..ctx.sim((30, 80), (1, 1))
+        // (the broken pair at omega = 0.3, F = 0.15 needs about 280 revolutions to settle)
+        ..ctx.sim((30, 320), (1, 1))
     };
     let run = |s: &Scenario, sim: &SimOptions| -> Result<SimResult> {
         Ok(simulate(s.model(), [0.0, 0.0], sim)?)
@@ -526,6 +527,46 @@ fn revolution(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Res
         }
     }
     let (rb, rh) = main_res.context("main point in the grid")?;
+    // the healthy pair has coexisting attractors at the main point (from (0, 0) a 1-0-0 orbit,
+    // elsewhere a 1-2-0 orbit with back-side impacts and a three times larger force): the
+    // comparison is made from several initial states, each pair from the same one
+    let starts: [[f64; 2]; 4] = [
+        [0.0, 0.0],
+        [1.242763726, 0.549636396],
+        [-1.0, 0.0],
+        [0.5, -0.5],
+    ];
+    let plain = SimOptions {
+        trajectory: false,
+        ..sim
+    };
+    let hplain = SimOptions {
+        trajectory: false,
+        ..hsim
+    };
+    let sets = [("omega", main.0), ("F", main.1)];
+    let (bm, hm) = (base.with_all(&sets)?, healthy.with_all(&sets)?);
+    let mut by_start: Vec<(f64, f64)> = Vec::new();
+    for y0 in starts {
+        let b = simulate(bm.model(), y0, &plain)?.max_force;
+        let h = simulate(hm.model(), y0, &hplain)?.max_force;
+        by_start.push((h, b));
+    }
+    let higher_all = by_start.iter().all(|(h, b)| *b > 1.05 * h);
+    let start_txt = starts
+        .iter()
+        .zip(&by_start)
+        .map(|(y, (h, b))| {
+            format!(
+                "from ({}, {}): healthy {}, broken {}",
+                f(y[0]),
+                f(y[1]),
+                f(*h),
+                f(*b)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
     let cyc = base.with("omega", main.0)?.model().mesh_cycle_time();
     let t0b = rb.trajectory.first().map_or(0.0, |p| p.tau);
     let t0h = rh.trajectory.first().map_or(0.0, |p| p.tau);
@@ -597,8 +638,17 @@ fn revolution(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Res
             "Local tooth breakage raises the contact force in the affected cycle and reduces the load-carrying capacity",
             format!("{A001} abstract; {A000} ¶3; {A002} §6"),
             "higher contact force under breakage",
-            format!("largest mesh force {:+.0} % at omega = 0.3, F = 0.15", 100.0 * gain),
-            Verdict::of(gain > 0.05),
+            format!(
+                "largest mesh force {:+.0} % at omega = 0.3, F = 0.15 from (0, 0); by initial state: {start_txt}",
+                100.0 * gain
+            ),
+            if gain > 0.05 && higher_all {
+                Verdict::Reproduced
+            } else if gain > 0.05 || by_start.iter().any(|(h, b)| *b > 1.05 * h) {
+                Verdict::Partly
+            } else {
+                Verdict::NotReproduced
+            },
             {
                 // what the grid shows, not what it showed once
                 let same: Vec<String> = changes
