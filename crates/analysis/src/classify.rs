@@ -346,6 +346,8 @@ pub struct Decision<'m> {
     res: SimResult,
     s: Summary,
     tle: Option<(f64, f64)>,
+    /// The exponent over the short window while the long look runs ([`Wait::TleLong`]).
+    short_tle: Option<(f64, f64)>,
     last_opts: SimOptions,
     wait: Wait,
     need: Need,
@@ -374,6 +376,7 @@ impl<'m> Decision<'m> {
             res,
             s,
             tle: None,
+            short_tle: None,
             last_opts: *opts,
             wait: Wait::Done,
             need: Need::Done,
@@ -563,6 +566,7 @@ impl<'m> Decision<'m> {
                     None => false,
                 };
                 if undecided && tle_periods(&self.opts) < TLE_LONG_PERIODS {
+                    self.short_tle = tle;
                     let (t, y) = self.res.final_state;
                     let memory = self.res.final_memory;
                     self.ask(
@@ -579,10 +583,14 @@ impl<'m> Decision<'m> {
                 }
             }
             Wait::TleLong => {
-                // (a failed long estimate leaves the short one)
-                if tle.is_none() {
-                    self.tle = None;
-                }
+                // the long look decides a sign only: an exponent near zero is no evidence of a
+                // torus here (C1 at omega = 0.967336683417: a period-36 orbit, longer than the
+                // period test's 32, whose exponent is -0.0009 +- 0.0002), so without a
+                // significant sign the short estimate stands and the run stays unsettled
+                let decisive = tle.is_some_and(|(l, se)| {
+                    significantly_positive(l, se) || significantly_negative(l, se)
+                });
+                self.tle = if decisive { tle } else { self.short_tle };
                 self.conclude()
             }
             _ => panic!("no TLE was asked for"),

@@ -52,6 +52,22 @@ fn weak_chaos_is_chaotic_not_unsettled() {
 }
 
 #[test]
+fn a_period_longer_than_the_test_is_not_quasi_periodic() {
+    // C1 at omega = 0.967336683417: a period-36 orbit (points repeat to 4e-9 after a 48 400-period
+    // transient), beyond the period test's 32; its exponent is -0.0009 +- 0.0002, near zero but
+    // not a torus: unsettled, never quasi-periodic (the long exponent look had made it one)
+    let m = c1(&[("omega", 0.967336683417)]);
+    let (_, s, _) =
+        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    assert!(
+        matches!(s.motion, Motion::Unsettled { .. }),
+        "{:?}: {}",
+        s.motion,
+        s.label
+    );
+}
+
+#[test]
 fn a_chaotic_motion_is_not_given_a_period() {
     let m = c1(&[("omega", 1.3)]);
     let (_, s, _) =
