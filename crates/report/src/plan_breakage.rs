@@ -178,7 +178,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
             format!("{A000} ¶6"),
             "uneven load sharing, adjacent tooth overloaded",
             format!(
-                "largest load share in zone II {}, in healthy double-tooth zones {} on average",
+                "larger pair's load share on average: {} in zone II, {} in healthy double-tooth zones",
                 f(share_zone2),
                 f(share_double)
             ),
