@@ -429,6 +429,62 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
     }
 }
 
+/// Exponent requests of two window lengths in one round of `decide_lanes` (the 1000-period look at
+/// a run the 100-period exponent leaves undecided, beside the ordinary ones) come back to the
+/// runs that asked for them: each batched decision equals the run's own, and the weakly chaotic
+/// C1 value (omega = 1.40452261307: 0.019 +- 0.010 over 100 periods) is decided chaotic with the
+/// long window's standard error.
+#[test]
+fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
+    use geardyn_analysis::classify::{simulate_decided_with, Decide, Motion};
+    use geardyn_analysis::lanes::{decide_lanes, simulate_lane_grid};
+    let key = |r: &SimResult| serde_json::to_string(r).unwrap();
+    let models: Vec<MeshModel> = [1.40452261307, 1.3, 0.8]
+        .iter()
+        .map(|&w| {
+            let mut p = presets::classic();
+            p.omega = w;
+            MeshModel::new(&p).unwrap()
+        })
+        .collect();
+    let opts = SimOptions {
+        method: Method::Rk4 {
+            steps_per_cycle: 512,
+        },
+        ..Default::default()
+    };
+    let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
+    let firsts: Vec<_> = simulate_lanes(&runs, &opts)
+        .into_iter()
+        .zip(&runs)
+        .map(|(r, &(m, _))| {
+            let r = r.unwrap();
+            let s = summarize(m, &r, &opts);
+            (m, (r, s))
+        })
+        .collect();
+    let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
+    let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, 0.0);
+    let mut motions = Vec::new();
+    for ((m, first), b) in firsts.into_iter().zip(batched) {
+        let (res, s, _) = simulate_decided_with(m, first, &opts, Decide::default(), grid).unwrap();
+        let (bres, bs, _) = b.unwrap();
+        assert_eq!(key(&res), key(&bres), "omega {}", m.params().omega);
+        assert_eq!(s.motion, bs.motion);
+        motions.push(bs.motion);
+    }
+    match motions[0] {
+        Motion::Chaotic { tle, stderr } => assert!(tle > 0.01 && stderr < 0.005, "{tle} {stderr}"),
+        ref m => panic!("omega 1.4045: {m:?}"),
+    }
+    assert!(
+        matches!(motions[1], Motion::Chaotic { .. }),
+        "{:?}",
+        motions[1]
+    );
+    assert!(motions[2].is_periodic(), "{:?}", motions[2]);
+}
+
 /// The decisions of many runs together (`decide_lanes`: TLEs, transient extensions, persistence
 /// checks and records again in rounds, the integrations in the lanes) are, to the last bit, the
 /// decision of each run alone (`simulate_decided_with` on a one-lane engine with the sweep's

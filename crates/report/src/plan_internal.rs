@@ -175,11 +175,11 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
         .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
         .map_or(0, |(i, _)| i);
     // rise and fall read where the pair shares the load (the double-tooth zones at entry and at
-    // exit): the single-tooth plateau is a jump of the load-dependent Hertz term, not a rise
+    // exit, where the other pair is in contact too): the single-tooth plateau is a jump of the load-dependent Hertz term, not a rise
     let entering: Vec<f64> = pm
         .rows
         .iter()
-        .filter(|r| r.position < eps - 1.0)
+        .filter(|r| r.k_pair2 > 0.0)
         .map(|r| r.k_pair1)
         .collect();
     let leaving: Vec<f64> = pm
