@@ -6,6 +6,23 @@ use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};
 use geardyn_model::{presets, MeshModel};
 
+/// The first runs of a batch in the lanes with their summaries (what `decide_lanes` starts from).
+type FirstRun<'m> = (
+    &'m MeshModel,
+    (SimResult, geardyn_analysis::simulate::Summary),
+);
+fn first_runs<'m>(runs: &[(&'m MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<FirstRun<'m>> {
+    simulate_lanes(runs, opts)
+        .into_iter()
+        .zip(runs)
+        .map(|(r, &(m, _))| {
+            let r = r.unwrap();
+            let s = summarize(m, &r, opts);
+            (m, (r, s))
+        })
+        .collect()
+}
+
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
 }
@@ -454,15 +471,7 @@ fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
         ..Default::default()
     };
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
-    let firsts: Vec<_> = simulate_lanes(&runs, &opts)
-        .into_iter()
-        .zip(&runs)
-        .map(|(r, &(m, _))| {
-            let r = r.unwrap();
-            let s = summarize(m, &r, &opts);
-            (m, (r, s))
-        })
-        .collect();
+    let firsts = first_runs(&runs, &opts);
     let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
     let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, 0.0);
     let mut motions = Vec::new();
@@ -527,15 +536,7 @@ fn decisions_in_lanes_equal_the_decision_of_each_run() {
             .iter()
             .flat_map(|m| ics.iter().map(move |&y| (m, y)))
             .collect();
-        let firsts: Vec<_> = simulate_lanes(&runs, &opts)
-            .into_iter()
-            .zip(&runs)
-            .map(|(r, &(m, _))| {
-                let r = r.unwrap();
-                let s = summarize(m, &r, &opts);
-                (m, (r, s))
-            })
-            .collect();
+        let firsts = first_runs(&runs, &opts);
         let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
         let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, tau0);
         for ((m, first), b) in firsts.into_iter().zip(batched) {
