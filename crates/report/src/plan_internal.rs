@@ -174,27 +174,16 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
         .enumerate()
         .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
         .map_or(0, |(i, _)| i);
-    // rise and fall read where the pair shares the load (the double-tooth zones at entry and at
-    // exit, where the other pair is in contact too): the single-tooth plateau is a jump of the load-dependent Hertz term, not a rise
-    let entering: Vec<f64> = pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| r.k_pair1)
-        .collect();
-    let leaving: Vec<f64> = pm
-        .rows
-        .iter()
-        .filter(|r| r.k_pair2 > 0.0)
-        .map(|r| r.k_pair2)
-        .collect();
-    let ends = |v: &[f64]| {
-        (
-            v.first().copied().unwrap_or(0.0),
-            v.last().copied().unwrap_or(0.0),
-        )
+    // rise and fall read where the pair shares the load (the double-tooth zone, where the other
+    // pair is in contact too): the single-tooth plateau is a jump of the load-dependent Hertz
+    // term, not a rise. Over that zone pair 1 is the entering pair and pair 2 the leaving one.
+    let shared: Vec<_> = pm.rows.iter().filter(|r| r.k_pair2 > 0.0).collect();
+    let (first, last) = (shared.first(), shared.last());
+    let at = |r: Option<&&_>, k: fn(&geardyn_physics::pair::StiffnessRow) -> f64| {
+        r.map_or(0.0, |r| k(r))
     };
-    let ((e0, e1), (l0, l1)) = (ends(&entering), ends(&leaving));
+    let (e0, e1) = (at(first, |r| r.k_pair1), at(last, |r| r.k_pair1));
+    let (l0, l1) = (at(first, |r| r.k_pair2), at(last, |r| r.k_pair2));
     let rises = e1 > e0;
     let falls = l1 < l0;
     let rises_falls = imax > path.len() / 10 && imax < path.len() * 9 / 10 && rises && falls;
