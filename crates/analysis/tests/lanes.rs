@@ -23,6 +23,18 @@ fn first_runs<'m>(runs: &[(&'m MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<
         .collect()
 }
 
+/// Case C1 at each `omega`.
+fn c1_at(omegas: &[f64]) -> Vec<MeshModel> {
+    omegas
+        .iter()
+        .map(|&w| {
+            let mut p = presets::classic();
+            p.omega = w;
+            MeshModel::new(&p).unwrap()
+        })
+        .collect()
+}
+
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
 }
@@ -99,14 +111,7 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
 #[test]
 fn c1_periodic_orbits_equal_the_scalar_rk4_path() {
     let omegas = [0.5, 0.6, 0.7, 0.8, 0.95, 1.7, 1.8, 1.9, 2.0];
-    let models: Vec<MeshModel> = omegas
-        .iter()
-        .map(|&w| {
-            let mut p = presets::classic();
-            p.omega = w;
-            MeshModel::new(&p).unwrap()
-        })
-        .collect();
+    let models = c1_at(&omegas);
     let opts = SimOptions {
         method: Method::Rk4 {
             steps_per_cycle: 512,
@@ -456,14 +461,7 @@ fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
     use geardyn_analysis::classify::{simulate_decided_with, Decide, Motion};
     use geardyn_analysis::lanes::{decide_lanes, simulate_lane_grid};
     let key = |r: &SimResult| serde_json::to_string(r).unwrap();
-    let models: Vec<MeshModel> = [1.40452261307, 1.3, 0.8]
-        .iter()
-        .map(|&w| {
-            let mut p = presets::classic();
-            p.omega = w;
-            MeshModel::new(&p).unwrap()
-        })
-        .collect();
+    let models = c1_at(&[1.40452261307, 1.3, 0.8]);
     let opts = SimOptions {
         method: Method::Rk4 {
             steps_per_cycle: 512,
