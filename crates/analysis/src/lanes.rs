@@ -188,6 +188,7 @@ impl<const L: usize> Acc<L> {
         batch.force(st.j, Stage::Start, &a0, st.lanes, &x0, &v0, &mut f0);
         batch.force(st.j, Stage::Mid, &am, st.lanes, &xm, &vm, &mut fm);
         batch.force(st.j, Stage::End, &a1, st.lanes, &x1, &v1, &mut f1);
+        let mut vertex = [0u64; L];
         for l in 0..L {
             let on = upd & (1 << l) != 0;
             let ln = st.lanes;
@@ -223,21 +224,15 @@ impl<const L: usize> Acc<L> {
             int[1] += d6 * (xs[0] * xs[0] + 4.0 * (xs[1] * xs[1]) + xs[2] * xs[2]);
             int[2] += d6 * (fs[0] + 4.0 * fs[1] + fs[2]);
             int[3] += d6 * (fs[0] * fs[0] + 4.0 * (fs[1] * fs[1]) + fs[2] * fs[2]);
-            // parabola through the three samples around an extreme middle one
+            // an extreme middle sample: the vertex of the parabola through the three samples
+            // is taken below, lane by lane (rare; as a vector expression its two divisions
+            // cost a third of a recorded step)
             let (a, b, c) = (xs[0], xs[1], xs[2]);
-            let curv = a - 2.0 * b + c;
-            if curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
-                let p = b - (c - a) * (c - a) / (8.0 * curv);
-                xmin = xmin.min(p);
-                xmax = xmax.max(p);
-            }
+            let vx = (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)));
             let (a, b, c) = (fs[0], fs[1], fs[2]);
-            let curv = a - 2.0 * b + c;
-            if contact && curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
-                let p = b - (c - a) * (c - a) / (8.0 * curv);
-                fmax = fmax.max(p);
-                fmin = fmin.min(p);
-            }
+            let vf =
+                contact & (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)));
+            vertex[l] = ((vx as u64) << l) | ((vf as u64) << (32 + l));
             if on {
                 for s in 0..3 {
                     self.dur[s][l] = dur[s];
@@ -251,8 +246,32 @@ impl<const L: usize> Acc<L> {
                 self.fmin[l] = fmin;
             }
         }
+        let vertex = vertex.iter().fold(0, |m, b| m | b);
+        let (mut vx, mut vf) = (vertex as u32 & upd, (vertex >> 32) as u32 & upd);
+        while vx != 0 {
+            let l = vx.trailing_zeros() as usize;
+            vx &= vx - 1;
+            let p = parabola_vertex(x0[l], xm[l], x1[l]);
+            self.xmin[l] = self.xmin[l].min(p);
+            self.xmax[l] = self.xmax[l].max(p);
+        }
+        while vf != 0 {
+            let l = vf.trailing_zeros() as usize;
+            vf &= vf - 1;
+            let p = parabola_vertex(f0[l], fm[l], f1[l]);
+            self.fmax[l] = self.fmax[l].max(p);
+            self.fmin[l] = self.fmin[l].min(p);
+        }
         rare_mask
     }
+}
+
+/// The extreme value of the parabola through `(0, a)`, `(1/2, b)`, `(1, c)` (as the scalar
+/// recorder takes it).
+#[inline(always)]
+fn parabola_vertex(a: f64, b: f64, c: f64) -> f64 {
+    let curv = a - 2.0 * b + c;
+    b - (c - a) * (c - a) / (8.0 * curv)
 }
 
 /// One simulation: transient, then record.
@@ -521,6 +540,28 @@ pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
     lanes * loads.div_ceil(threads * 8).max(1)
 }
 
+/// Deals `items` into chunks for engines of `lanes` lanes, item `i` to chunk `i mod k`: as
+/// many chunks as [`chunk_len`] makes, rounded up to a multiple of the thread count (at most one
+/// per item), so that the threads get equal shares, and runs listed longest first spread evenly
+/// over the chunks. Cut in consecutive whole chunks instead, the few runs of a decision round
+/// (9 runs of 1200, 300 and 0 transient periods, say) went to one 16-lane engine on one thread
+/// while the other thread waited. A run's result depends on nothing but the run, so the dealing
+/// changes no result.
+pub(crate) fn deal<T>(items: Vec<T>, lanes: usize) -> Vec<Vec<T>> {
+    let threads = rayon::current_num_threads().max(1);
+    let n = items.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let k = n.div_ceil(chunk_len(n, lanes));
+    let k = (k.div_ceil(threads) * threads).min(n);
+    let mut out: Vec<Vec<T>> = (0..k).map(|_| Vec::with_capacity(n.div_ceil(k))).collect();
+    for (i, it) in items.into_iter().enumerate() {
+        out[i % k].push(it);
+    }
+    out
+}
+
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
 /// (fixed-step RK4; see [`lanes_apply`]), in lockstep lanes; results in input order.
 ///
@@ -652,22 +693,22 @@ fn simulate_items(
     assert!(!opts.trajectory, "simulate_lanes keeps no trajectory");
     let n = steps_per_cycle.max(1);
     let groups = group(items, n, tau0);
-    let mut work: Vec<(&MeshLanes, &[Item<'_>], bool)> = Vec::new();
+    let mut work: Vec<(&MeshLanes, Vec<Item<'_>>, bool)> = Vec::new();
     for (table, items) in &groups {
         if items.len() < lone {
-            for c in items.chunks(1) {
-                work.push((table, c, true));
+            for &it in items {
+                work.push((table, vec![it], true));
             }
         } else {
-            for c in items.chunks(chunk_len(items.len(), LANES)) {
+            for c in deal(items.clone(), LANES) {
                 work.push((table, c, false));
             }
         }
     }
     let parts: Vec<Vec<(usize, Result<SimResult, SimError>)>> = work
         .par_iter()
-        .map(|&(table, items, one)| {
-            if one {
+        .map(|(table, items, one)| {
+            if *one {
                 sim_chunk::<1>(table, items, opts, n, how)
             } else {
                 sim_chunk::<LANES>(table, items, opts, n, how)
@@ -1132,4 +1173,48 @@ pub fn decide_lane_runs(
 /// [`decide_lane_runs`]. Results in input order, the same for any thread count.
 pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<Decided> {
     decide_lane_runs(runs, simulate_lanes(runs, opts), opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::deal;
+
+    /// Every item lands in exactly one chunk, item `i` in chunk `i mod k`; the chunk count is a
+    /// multiple of the thread count (or one per item) and no chunk needs more lanes than the
+    /// engine has unless there are many loads; a decision round of few runs listed longest first
+    /// is shared evenly.
+    #[test]
+    fn dealing_balances_the_threads() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            for n in [0usize, 1, 2, 3, 9, 17, 50, 128, 200, 1000] {
+                let chunks = deal((0..n).collect::<Vec<_>>(), 16);
+                let k = chunks.len();
+                if n == 0 {
+                    assert_eq!(k, 0);
+                    continue;
+                }
+                assert!(k % 2 == 0 || k == n, "n = {n}: {k} chunks");
+                let mut seen = vec![false; n];
+                for (c, ch) in chunks.iter().enumerate() {
+                    for &i in ch {
+                        assert_eq!(i % k, c);
+                        assert!(!seen[i]);
+                        seen[i] = true;
+                    }
+                    assert!(ch.len().abs_diff(chunks[0].len()) <= 1);
+                }
+                assert!(seen.iter().all(|&s| s));
+            }
+            // 9 runs of a round (transient periods, longest first): two chunks of equal work
+            let round = [1200u64, 1200, 1200, 1200, 1200, 1200, 300, 300, 0];
+            let chunks = deal(round.to_vec(), 16);
+            assert_eq!(chunks.len(), 2);
+            let work: Vec<u64> = chunks.iter().map(|c| c.iter().sum()).collect();
+            assert_eq!(work, vec![3900, 3900]);
+        });
+    }
 }
