@@ -101,6 +101,69 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
     worst
 }
 
+/// Stroboscopic points of C1 from the lanes (RK4, 512 steps per mesh cycle, the affine map in
+/// contact) against an independent solution: SciPy's DOP853 at rtol 1e-12 with the contact
+/// surfaces located by its own event finder, written from the equations alone
+/// (`tests/reference/c1_dop853.py`, which prints the table below). Periods 300..303 from rest, on
+/// period-1 orbits (omega 0.6, 0.8, 1.8, 2.0) and the period-2 orbit at omega 0.95.
+#[test]
+fn lanes_strobe_points_match_an_independent_dop853_solution() {
+    // (omega, period index j: tau = j 2 pi / omega, x, x')
+    const DOP853: [(f64, u32, f64, f64); 20] = [
+        (0.6, 300, 0.16573028149162605, 0.07680992837479923),
+        (0.6, 301, 0.16573028149175426, 0.07680992837476297),
+        (0.6, 302, 0.1657302814918482, 0.0768099283747867),
+        (0.6, 303, 0.16573028149160376, 0.0768099283748273),
+        (0.8, 300, 0.5222350608331946, 0.03770987458280557),
+        (0.8, 301, 0.5222350608335447, 0.03770987458287334),
+        (0.8, 302, 0.5222350608331197, 0.03770987458289736),
+        (0.8, 303, 0.522235060833253, 0.03770987458291408),
+        (0.95, 300, 0.31539449600128433, 0.016074741397159288),
+        (0.95, 301, 0.9646906654524359, 0.04815136477432116),
+        (0.95, 302, 0.3153944960014137, 0.01607474139718404),
+        (0.95, 303, 0.9646906654523945, 0.048151364774326966),
+        (1.8, 300, 0.8325017730191151, 0.014857342910900776),
+        (1.8, 301, 0.8325017730190151, 0.014857342909703732),
+        (1.8, 302, 0.8325017730188523, 0.014857342910419836),
+        (1.8, 303, 0.8325017730191584, 0.014857342910217891),
+        (2.0, 300, 0.8442416621281409, 0.01416867551594559),
+        (2.0, 301, 0.8442416621279961, 0.014168675516598374),
+        (2.0, 302, 0.8442416621283729, 0.014168675516282252),
+        (2.0, 303, 0.8442416621279587, 0.014168675516158781),
+    ];
+    let omegas = [0.6, 0.8, 0.95, 1.8, 2.0];
+    let models = c1_at(&omegas);
+    let opts = SimOptions {
+        method: Method::Rk4 {
+            steps_per_cycle: 512,
+        },
+        transient_periods: 298,
+        record_periods: 8,
+        ..Default::default()
+    };
+    let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
+    let res = simulate_lanes(&runs, &opts);
+    let mut worst = 0.0f64;
+    for &(w, j, x, v) in &DOP853 {
+        let k = omegas.iter().position(|&o| o == w).unwrap();
+        let period = 2.0 * std::f64::consts::PI / w;
+        let strobe = &res[k].as_ref().unwrap().strobe;
+        let p = strobe
+            .iter()
+            .find(|p| (p[0] - j as f64 * period).abs() < 1e-9 * period)
+            .unwrap_or_else(|| panic!("omega {w}: no strobe point at period {j}"));
+        let d = (p[1] - x).abs().max((p[2] - v).abs());
+        assert!(
+            d < 1e-6,
+            "omega {w}, period {j}: lanes ({}, {}) vs DOP853 ({x}, {v})",
+            p[1],
+            p[2]
+        );
+        worst = worst.max(d);
+    }
+    eprintln!("C1 strobe points, lanes vs DOP853: largest difference {worst:.1e}");
+}
+
 /// C1, periodic orbits (period 1 and 2), three initial states each, 300 + 40 periods of 512 steps.
 /// Agreement is relative to `1 + |value|`. Its floor is the scalar path's own resolution: event
 /// times are located to `4 eps |t|` (4e-12 at `t ~ 4000`), and with damping only in contact the
