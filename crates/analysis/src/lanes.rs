@@ -225,8 +225,8 @@ impl<const L: usize> Acc<L> {
             int[2] += d6 * (fs[0] + 4.0 * fs[1] + fs[2]);
             int[3] += d6 * (fs[0] * fs[0] + 4.0 * (fs[1] * fs[1]) + fs[2] * fs[2]);
             // an extreme middle sample: the vertex of the parabola through the three samples
-            // is taken below, lane by lane (rare; as a vector expression its two divisions
-            // cost a third of a recorded step)
+            // is taken below, lane by lane (rare; as a vector expression for every lane its two
+            // divisions were about a fifth of a recorded step)
             let (a, b, c) = (xs[0], xs[1], xs[2]);
             let vx = (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)));
             let (a, b, c) = (fs[0], fs[1], fs[2]);
@@ -540,28 +540,6 @@ pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
     lanes * loads.div_ceil(threads * 8).max(1)
 }
 
-/// Deals `items` into chunks for engines of `lanes` lanes, item `i` to chunk `i mod k`: as
-/// many chunks as [`chunk_len`] makes, rounded up to a multiple of the thread count (at most one
-/// per item), so that the threads get equal shares, and runs listed longest first spread evenly
-/// over the chunks. Cut in consecutive whole chunks instead, the few runs of a decision round
-/// (9 runs of 1200, 300 and 0 transient periods, say) went to one 16-lane engine on one thread
-/// while the other thread waited. A run's result depends on nothing but the run, so the dealing
-/// changes no result.
-pub(crate) fn deal<T>(items: Vec<T>, lanes: usize) -> Vec<Vec<T>> {
-    let threads = rayon::current_num_threads().max(1);
-    let n = items.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let k = n.div_ceil(chunk_len(n, lanes));
-    let k = (k.div_ceil(threads) * threads).min(n);
-    let mut out: Vec<Vec<T>> = (0..k).map(|_| Vec::with_capacity(n.div_ceil(k))).collect();
-    for (i, it) in items.into_iter().enumerate() {
-        out[i % k].push(it);
-    }
-    out
-}
-
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
 /// (fixed-step RK4; see [`lanes_apply`]), in lockstep lanes; results in input order.
 ///
@@ -693,22 +671,22 @@ fn simulate_items(
     assert!(!opts.trajectory, "simulate_lanes keeps no trajectory");
     let n = steps_per_cycle.max(1);
     let groups = group(items, n, tau0);
-    let mut work: Vec<(&MeshLanes, Vec<Item<'_>>, bool)> = Vec::new();
+    let mut work: Vec<(&MeshLanes, &[Item<'_>], bool)> = Vec::new();
     for (table, items) in &groups {
         if items.len() < lone {
-            for &it in items {
-                work.push((table, vec![it], true));
+            for c in items.chunks(1) {
+                work.push((table, c, true));
             }
         } else {
-            for c in deal(items.clone(), LANES) {
+            for c in items.chunks(chunk_len(items.len(), LANES)) {
                 work.push((table, c, false));
             }
         }
     }
     let parts: Vec<Vec<(usize, Result<SimResult, SimError>)>> = work
         .par_iter()
-        .map(|(table, items, one)| {
-            if *one {
+        .map(|&(table, items, one)| {
+            if one {
                 sim_chunk::<1>(table, items, opts, n, how)
             } else {
                 sim_chunk::<LANES>(table, items, opts, n, how)
@@ -1173,48 +1151,4 @@ pub fn decide_lane_runs(
 /// [`decide_lane_runs`]. Results in input order, the same for any thread count.
 pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<Decided> {
     decide_lane_runs(runs, simulate_lanes(runs, opts), opts)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::deal;
-
-    /// Every item lands in exactly one chunk, item `i` in chunk `i mod k`; the chunk count is a
-    /// multiple of the thread count (or one per item) and no chunk needs more lanes than the
-    /// engine has unless there are many loads; a decision round of few runs listed longest first
-    /// is shared evenly.
-    #[test]
-    fn dealing_balances_the_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            for n in [0usize, 1, 2, 3, 9, 17, 50, 128, 200, 1000] {
-                let chunks = deal((0..n).collect::<Vec<_>>(), 16);
-                let k = chunks.len();
-                if n == 0 {
-                    assert_eq!(k, 0);
-                    continue;
-                }
-                assert!(k % 2 == 0 || k == n, "n = {n}: {k} chunks");
-                let mut seen = vec![false; n];
-                for (c, ch) in chunks.iter().enumerate() {
-                    for &i in ch {
-                        assert_eq!(i % k, c);
-                        assert!(!seen[i]);
-                        seen[i] = true;
-                    }
-                    assert!(ch.len().abs_diff(chunks[0].len()) <= 1);
-                }
-                assert!(seen.iter().all(|&s| s));
-            }
-            // 9 runs of a round (transient periods, longest first): two chunks of equal work
-            let round = [1200u64, 1200, 1200, 1200, 1200, 1200, 300, 300, 0];
-            let chunks = deal(round.to_vec(), 16);
-            assert_eq!(chunks.len(), 2);
-            let work: Vec<u64> = chunks.iter().map(|c| c.iter().sum()).collect();
-            assert_eq!(work, vec![3900, 3900]);
-        });
-    }
 }

@@ -18,7 +18,7 @@
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{deal, lanes_cover_contact, table_time, LANES};
+use crate::lanes::{chunk_len, lanes_cover_contact, table_time, LANES};
 use crate::lyapunov::{
     tle_variational_with, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
 };
@@ -354,15 +354,15 @@ pub fn tle_lanes_with<const L: usize>(
         };
         groups[g].1.push(item);
     }
-    let mut work: Vec<(&MeshLanes, Vec<Item>)> = Vec::new();
-    for (table, items) in groups.iter_mut() {
-        for c in deal(std::mem::take(items), L) {
+    let mut work: Vec<(&MeshLanes, &[Item])> = Vec::new();
+    for (table, items) in &groups {
+        for c in items.chunks(chunk_len(items.len(), L)) {
             work.push((table, c));
         }
     }
     let parts: Vec<Vec<(usize, Option<LyapunovResult>)>> = work
         .par_iter()
-        .map(|(table, items)| {
+        .map(|&(table, items)| {
             let batch = TangentLanes { base: table };
             let mut drv = TleDriver::<L> {
                 items,
