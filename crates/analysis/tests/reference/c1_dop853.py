@@ -91,6 +91,11 @@ def strobe(omega, y0, first, count):
 
 
 if __name__ == "__main__":
-    for omega in (0.6, 0.8, 0.95, 1.8, 2.0):
-        for j, x, v in strobe(omega, (0.0, 0.0), 300, 4):
-            print(f"({omega}, {j}, {float(x)!r}, {float(v)!r}),")
+    # (omega, start, first period, periods): period-1 orbits and the period-2 orbit at 0.95 from
+    # rest (drive contact and separation), and at 1.8 the coexisting period-3 orbit with
+    # back-side contact from a start inside its basin
+    cases = [(w, (0.0, 0.0), 300, 4) for w in (0.6, 0.8, 0.95, 1.8, 2.0)]
+    cases.append((1.8, (0.7, -1.48), 600, 6))
+    for omega, y0, first, count in cases:
+        for j, x, v in strobe(omega, y0, first, count):
+            print(f"({omega}, {y0[0]}, {y0[1]}, {j}, {float(x)!r}, {float(v)!r}),")
