@@ -349,6 +349,22 @@ pub fn run(a: BenchArgs) -> Result<()> {
         println!(
             "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration + record): {el_sim:.3} s ({steps} steps)"
         );
+        // the same runs with nothing recorded: what the lanes cost with exact events alone
+        let bare = SimOptions {
+            transient_periods: opts.sim.transient_periods + opts.sim.record_periods,
+            record_periods: 0,
+            ..opts.sim.clone()
+        };
+        let t = Instant::now();
+        let r = simulate_lanes(&runs, &bare);
+        let el_bare = t.elapsed().as_secs_f64();
+        let events: u64 = r
+            .iter()
+            .map(|x| x.as_ref().map_or(0, |s| s.rhs_evals - 4 * s.steps))
+            .sum();
+        println!(
+            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration, nothing recorded): {el_bare:.3} s ({events} right-hand sides beyond 4 per step: event location)"
+        );
         // scalar RK4: the sweep's runs one by one (run_once), in parallel over values
         let t = Instant::now();
         let _: Vec<_> = models
@@ -370,9 +386,10 @@ pub fn run(a: BenchArgs) -> Result<()> {
             numba.run("after W1")?;
             let nb = numba.mean().unwrap_or(f64::NAN);
             println!(
-                "W1 speed-up over numba ({nb:.3} s): ensemble sweep {:.1}x, ensemble integration {:.1}x, scalar rk4 {:.2}x, dopri {:.2}x",
+                "W1 speed-up over numba ({nb:.3} s): ensemble sweep {:.1}x, ensemble integration {:.1}x (nothing recorded {:.1}x), scalar rk4 {:.2}x, dopri {:.2}x",
                 nb / el,
                 nb / el_sim,
+                nb / el_bare,
                 nb / el_scalar,
                 nb / el_dp
             );
