@@ -353,7 +353,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let bare = SimOptions {
             transient_periods: opts.sim.transient_periods + opts.sim.record_periods,
             record_periods: 0,
-            ..opts.sim.clone()
+            ..opts.sim
         };
         let t = Instant::now();
         let r = simulate_lanes(&runs, &bare);
