@@ -247,31 +247,37 @@ impl<const L: usize> Acc<L> {
             }
         }
         let vertex = vertex.iter().fold(0, |m, b| m | b);
-        let (mut vx, mut vf) = (vertex as u32 & upd, (vertex >> 32) as u32 & upd);
-        while vx != 0 {
-            let l = vx.trailing_zeros() as usize;
-            vx &= vx - 1;
-            let p = parabola_vertex(x0[l], xm[l], x1[l]);
-            self.xmin[l] = self.xmin[l].min(p);
-            self.xmax[l] = self.xmax[l].max(p);
-        }
-        while vf != 0 {
-            let l = vf.trailing_zeros() as usize;
-            vf &= vf - 1;
-            let p = parabola_vertex(f0[l], fm[l], f1[l]);
-            self.fmax[l] = self.fmax[l].max(p);
-            self.fmin[l] = self.fmin[l].min(p);
-        }
+        let samples_x = [&x0, &xm, &x1];
+        let samples_f = [&f0, &fm, &f1];
+        widen(
+            vertex as u32 & upd,
+            samples_x,
+            &mut self.xmin,
+            &mut self.xmax,
+        );
+        widen(
+            (vertex >> 32) as u32 & upd,
+            samples_f,
+            &mut self.fmin,
+            &mut self.fmax,
+        );
         rare_mask
     }
 }
 
-/// The extreme value of the parabola through `(0, a)`, `(1/2, b)`, `(1, c)` (as the scalar
-/// recorder takes it).
+/// Widens `[lo, hi]` of the lanes in `mask` by the extreme value of the parabola through their
+/// samples `(0, s[0])`, `(1/2, s[1])`, `(1, s[2])` (as the scalar recorder takes it).
 #[inline(always)]
-fn parabola_vertex(a: f64, b: f64, c: f64) -> f64 {
-    let curv = a - 2.0 * b + c;
-    b - (c - a) * (c - a) / (8.0 * curv)
+fn widen<const L: usize>(mut mask: u32, s: [&[f64; L]; 3], lo: &mut [f64; L], hi: &mut [f64; L]) {
+    while mask != 0 {
+        let l = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let (a, b, c) = (s[0][l], s[1][l], s[2][l]);
+        let curv = a - 2.0 * b + c;
+        let p = b - (c - a) * (c - a) / (8.0 * curv);
+        lo[l] = lo[l].min(p);
+        hi[l] = hi[l].max(p);
+    }
 }
 
 /// One simulation: transient, then record.
