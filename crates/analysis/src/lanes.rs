@@ -24,7 +24,10 @@
 use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
 use crate::classify::{tles_of, Decide, Decision, Need};
 use crate::driver::Observer;
-use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, SimResult, Summary};
+use crate::simulate::{
+    extreme_middle, parabola_peak, summarize, Method, Recorder, SimError, SimOptions, SimResult,
+    Summary,
+};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{
     run_lanes, run_lanes_on, At, Dispatch, End, LaneDriver, LaneStep, Next, Stage, Start,
@@ -227,11 +230,8 @@ impl<const L: usize> Acc<L> {
             // an extreme middle sample: the vertex of the parabola through the three samples
             // is taken below, lane by lane (rare; as a vector expression for every lane its two
             // divisions were about a fifth of a recorded step)
-            let (a, b, c) = (xs[0], xs[1], xs[2]);
-            let vx = (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)));
-            let (a, b, c) = (fs[0], fs[1], fs[2]);
-            let vf =
-                contact & (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)));
+            let vx = extreme_middle(xs[0], xs[1], xs[2]);
+            let vf = contact & extreme_middle(fs[0], fs[1], fs[2]);
             vertex[l] = ((vx as u64) << l) | ((vf as u64) << (32 + l));
             if on {
                 for s in 0..3 {
@@ -266,17 +266,16 @@ impl<const L: usize> Acc<L> {
 }
 
 /// Widens `[lo, hi]` of the lanes in `mask` by the extreme value of the parabola through their
-/// samples `(0, s[0])`, `(1/2, s[1])`, `(1, s[2])` (as the scalar recorder takes it).
+/// samples `(0, s[0])`, `(1/2, s[1])`, `(1, s[2])` ([`parabola_peak`], as the scalar recorder).
 #[inline(always)]
 fn widen<const L: usize>(mut mask: u32, s: [&[f64; L]; 3], lo: &mut [f64; L], hi: &mut [f64; L]) {
     while mask != 0 {
         let l = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        let (a, b, c) = (s[0][l], s[1][l], s[2][l]);
-        let curv = a - 2.0 * b + c;
-        let p = b - (c - a) * (c - a) / (8.0 * curv);
-        lo[l] = lo[l].min(p);
-        hi[l] = hi[l].max(p);
+        if let Some(p) = parabola_peak(s[0][l], s[1][l], s[2][l]) {
+            lo[l] = lo[l].min(p);
+            hi[l] = hi[l].max(p);
+        }
     }
 }
 

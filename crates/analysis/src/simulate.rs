@@ -340,12 +340,18 @@ pub fn health_text(healthy: bool, periodic: bool) -> &'static str {
     }
 }
 
+/// Whether the middle one of three equally spaced samples is strictly extreme (a flat, clamped
+/// run must not be extrapolated). Plain boolean operators, so that a loop over lanes vectorises.
+#[inline(always)]
+pub(crate) fn extreme_middle(a: f64, b: f64, c: f64) -> bool {
+    (a - 2.0 * b + c != 0.0) & (((b > a) & (b > c)) | ((b < a) & (b < c)))
+}
+
 /// Extremum of the parabola through three equally spaced samples whose middle one is extreme.
 #[inline]
-fn parabola_peak(a: f64, b: f64, c: f64) -> Option<f64> {
-    let curv = a - 2.0 * b + c;
-    // strictly extreme middle sample only: a flat (clamped) run must not be extrapolated
-    if curv != 0.0 && ((b > a && b > c) || (b < a && b < c)) {
+pub(crate) fn parabola_peak(a: f64, b: f64, c: f64) -> Option<f64> {
+    if extreme_middle(a, b, c) {
+        let curv = a - 2.0 * b + c;
         Some(b - (c - a) * (c - a) / (8.0 * curv))
     } else {
         None

@@ -360,7 +360,10 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let el_bare = t.elapsed().as_secs_f64();
         let events: u64 = r
             .iter()
-            .map(|x| x.as_ref().map_or(0, |s| s.rhs_evals - 4 * s.steps))
+            .map(|x| {
+                x.as_ref()
+                    .map_or(0, |s| s.rhs_evals.saturating_sub(4 * s.steps))
+            })
             .sum();
         println!(
             "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration, nothing recorded): {el_bare:.3} s ({events} right-hand sides beyond 4 per step: event location)"
