@@ -392,18 +392,7 @@ impl<'m> Decision<'m> {
             return d;
         }
         if how.lyapunov {
-            let (t, y) = d.res.final_state;
-            let memory = d.res.final_memory;
-            let periods = tle_periods(opts);
-            d.ask(
-                Wait::TleFirst,
-                Need::Tle {
-                    t,
-                    y,
-                    memory,
-                    periods,
-                },
-            );
+            d.ask_tle(Wait::TleFirst, tle_periods(opts));
         } else {
             d.extend_or_final(0);
         }
@@ -441,18 +430,7 @@ impl<'m> Decision<'m> {
                     // the exponent of the motion *after* the persistence run decides: a chaotic
                     // transient that has landed near a slowly attracting orbit no longer shows
                     // a positive one
-                    let (t, y) = self.res.final_state;
-                    let memory = self.res.final_memory;
-                    let periods = tle_periods(&self.opts);
-                    self.ask(
-                        Wait::TlePersist,
-                        Need::Tle {
-                            t,
-                            y,
-                            memory,
-                            periods,
-                        },
-                    );
+                    self.ask_tle(Wait::TlePersist, tle_periods(&self.opts));
                 }
             }
             Wait::Extend(k) => {
@@ -567,17 +545,7 @@ impl<'m> Decision<'m> {
                 };
                 if undecided && tle_periods(&self.opts) < TLE_LONG_PERIODS {
                     self.short_tle = tle;
-                    let (t, y) = self.res.final_state;
-                    let memory = self.res.final_memory;
-                    self.ask(
-                        Wait::TleLong,
-                        Need::Tle {
-                            t,
-                            y,
-                            memory,
-                            periods: TLE_LONG_PERIODS,
-                        },
-                    );
+                    self.ask_tle(Wait::TleLong, TLE_LONG_PERIODS);
                 } else {
                     self.conclude();
                 }
@@ -636,6 +604,21 @@ impl<'m> Decision<'m> {
     fn ask(&mut self, wait: Wait, need: Need) {
         self.wait = wait;
         self.need = need;
+    }
+
+    /// Asks for the exponent over `periods` from the end of the current run.
+    fn ask_tle(&mut self, wait: Wait, periods: u64) {
+        let (t, y) = self.res.final_state;
+        let memory = self.res.final_memory;
+        self.ask(
+            wait,
+            Need::Tle {
+                t,
+                y,
+                memory,
+                periods,
+            },
+        );
     }
 
     /// Decided diverged if the current run ran away.
@@ -767,18 +750,7 @@ impl<'m> Decision<'m> {
             return;
         }
         if self.how.extend && self.how.lyapunov {
-            let (t, y) = self.res.final_state;
-            let memory = self.res.final_memory;
-            let periods = tle_periods(&self.opts);
-            self.ask(
-                Wait::TleLast,
-                Need::Tle {
-                    t,
-                    y,
-                    memory,
-                    periods,
-                },
-            );
+            self.ask_tle(Wait::TleLast, tle_periods(&self.opts));
             return;
         }
         self.conclude();
