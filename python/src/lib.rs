@@ -628,6 +628,18 @@ fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound
             .map(|(_, run)| run.transient_used as i64)
             .collect(),
     )?;
+    rc.str(
+        "decided_by",
+        runs.iter()
+            .map(|(_, run)| run.decided_by.name().to_string())
+            .collect(),
+    )?;
+    rc.i64(
+        "periods_integrated",
+        runs.iter()
+            .map(|(_, run)| run.periods_integrated as i64)
+            .collect(),
+    )?;
     rc.f64("final_x", f(&|_, run| run.final_state[0]))?;
     rc.f64("final_v", f(&|_, run| run.final_state[1]))?;
     d.set_item("runs", rc.dict)?;

@@ -175,6 +175,12 @@ pub struct Run {
     /// Transient actually used (the requested one, extended while undecided).
     #[serde(default)]
     pub transient_used: u64,
+    /// Excitation periods the run was followed in all ([`Summary::periods_integrated`]).
+    #[serde(default)]
+    pub periods_integrated: u64,
+    /// The evidence of the verdict ([`Summary::decided_by`]).
+    #[serde(default)]
+    pub decided_by: crate::classify::DecidedBy,
 }
 
 /// The result of one task.
@@ -325,6 +331,8 @@ fn run_of(
             points: vec![],
             tle: None,
             final_state: y0,
+            periods_integrated: 0,
+            decided_by: crate::classify::DecidedBy::Error,
         },
         Ok((res, s, used)) => {
             let mut points = Vec::new();
@@ -366,6 +374,8 @@ fn run_of(
                 motion: s.motion,
                 mesh_period: s.mesh_period,
                 transient_used: used.transient_periods,
+                periods_integrated: s.periods_integrated,
+                decided_by: s.decided_by,
             }
         }
     }

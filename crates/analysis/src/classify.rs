@@ -61,6 +61,65 @@ fn persist_periods(model: &MeshModel) -> u64 {
 /// three standard errors.
 pub const TLE_POSITIVE: f64 = 1e-3;
 
+/// Default decision horizon ([`SimOptions::decision_periods`], excitation periods from the start
+/// of a run): a motion with a positive exponent is called chaotic only when it is still not
+/// periodic after this many periods. Measured chaotic transients (docs/analyses.md, rule 2;
+/// `crates/analysis/examples/transient_lifetimes.rs`) lasted up to 6 965 periods on case C1
+/// (`omega` = 1.4271, from rest) and 6 870 revolutions on the broken pair (`omega` = 1.2,
+/// `F` = 0.065); the horizon lies above both.
+pub const DECISION_PERIODS: u64 = 10_000;
+/// Default work budget of one run's decision ([`SimOptions::decision_cycles`], mesh cycles in
+/// all): the horizon of the 40-tooth broken pair (40 mesh cycles per revolution), so that a pair
+/// with more teeth per revolution is not followed for hours by default; a run whose horizon the
+/// budget cuts short is `unsettled` (decided by `budget`), never chaotic.
+pub const DECISION_CYCLES: u64 = 400_000;
+/// Largest [`SimOptions::decision_cycles`] accepted: a hundred times the default (days of work
+/// per run at the fixed-step integrator's 512 steps per cycle).
+pub const MAX_DECISION_CYCLES: u64 = 100 * DECISION_CYCLES;
+
+/// The evidence that decided a run's class (`decided_by` in `summary.json` and runs tables).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DecidedBy {
+    /// Periodic: the stroboscopic period test passed (on the first record or a later one).
+    PeriodTest,
+    /// Periodic: a significantly negative exponent, its period read at the loose tolerance.
+    AttractingExponent,
+    /// Chaotic: still not periodic at the decision horizon, and the exponent there significantly
+    /// positive.
+    PersistentChaos,
+    /// Chaotic on the first exponent alone (classification without the persistence check).
+    FirstExponent,
+    /// Quasi-periodic: an exponent zero within its error after the extensions.
+    ZeroExponent,
+    /// Unsettled: the work budget ran out before the decision horizon.
+    Budget,
+    /// Unsettled: no period and no significant exponent (or no exponent at all).
+    #[default]
+    Undecided,
+    /// Diverged: `|x|` ran away.
+    Runaway,
+    /// The integration failed.
+    Error,
+}
+
+impl DecidedBy {
+    /// The name written in outputs (`period_test`, `persistent_chaos`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            DecidedBy::PeriodTest => "period_test",
+            DecidedBy::AttractingExponent => "attracting_exponent",
+            DecidedBy::PersistentChaos => "persistent_chaos",
+            DecidedBy::FirstExponent => "first_exponent",
+            DecidedBy::ZeroExponent => "zero_exponent",
+            DecidedBy::Budget => "budget",
+            DecidedBy::Undecided => "undecided",
+            DecidedBy::Runaway => "runaway",
+            DecidedBy::Error => "error",
+        }
+    }
+}
+
 /// What a motion is, decided from the evidence.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "class", rename_all = "snake_case")]
@@ -313,10 +372,13 @@ pub enum Need {
 enum Wait {
     /// The TLE after the first record.
     TleFirst,
-    /// The persistence run of a positive exponent.
-    Persist,
-    /// The TLE after the persistence run: chaos only if it is still significantly positive.
+    /// Persistence block `k` of a positive exponent (blocks of growing length up to the
+    /// decision horizon).
+    Persist(u32),
+    /// The TLE at the decision horizon: chaos only if it is still significantly positive.
     TlePersist,
+    /// The TLE where the work budget ran out before the horizon.
+    TleBudget,
     /// Transient extension `k`.
     Extend(u32),
     /// The TLE after the last extension.
@@ -356,6 +418,8 @@ pub struct Decision<'m> {
     settles: u32,
     /// A periodic verdict's near-degenerate divisor already checked at a tighter tolerance.
     noise_checked: bool,
+    /// The evidence of the verdict (set with it).
+    decided_by: DecidedBy,
 }
 
 impl<'m> Decision<'m> {
@@ -383,11 +447,13 @@ impl<'m> Decision<'m> {
             err: None,
             settles: 0,
             noise_checked: false,
+            decided_by: DecidedBy::Undecided,
         };
         if d.runaway() {
             return d;
         }
         if d.s.motion.is_periodic() {
+            d.decided_by = DecidedBy::PeriodTest;
             d.settle(d.opts.method.period_tol());
             return d;
         }
@@ -425,12 +491,9 @@ impl<'m> Decision<'m> {
         let opts = self.opts;
         let strict = opts.method.period_tol();
         match self.wait {
-            Wait::Persist => {
+            Wait::Persist(k) => {
                 if self.continued(res2, more, strict) {
-                    // the exponent of the motion *after* the persistence run decides: a chaotic
-                    // transient that has landed near a slowly attracting orbit no longer shows
-                    // a positive one
-                    self.ask_tle(Wait::TlePersist, tle_periods(&self.opts));
+                    self.persist(k + 1);
                 }
             }
             Wait::Extend(k) => {
@@ -487,7 +550,12 @@ impl<'m> Decision<'m> {
                 }
                 self.settle(tol);
             }
-            Wait::TleFirst | Wait::TlePersist | Wait::TleLast | Wait::TleLong | Wait::Done => {
+            Wait::TleFirst
+            | Wait::TlePersist
+            | Wait::TleBudget
+            | Wait::TleLast
+            | Wait::TleLong
+            | Wait::Done => {
                 panic!("no run was asked for")
             }
         }
@@ -501,22 +569,12 @@ impl<'m> Decision<'m> {
                 if let Some((l, se)) = tle {
                     if significantly_positive(l, se) {
                         if self.how.extend {
-                            // a chaotic transient shows a positive exponent too: before calling
-                            // the motion chaotic, follow it PERSIST_CYCLES (or one transient)
-                            // and look again
-                            let more = SimOptions {
-                                tau0: self.res.final_state.0,
-                                start_memory: self.res.final_memory,
-                                transient_periods: self
-                                    .opts
-                                    .transient_periods
-                                    .max(persist_periods(self.model)),
-                                ..self.opts
-                            };
-                            let y0 = self.res.final_state.1;
-                            self.ask(Wait::Persist, Need::Sim { y0, opts: more });
+                            // a chaotic transient shows a positive exponent too: the motion is
+                            // followed to the decision horizon before it is called chaotic
+                            self.persist(0);
                         } else {
                             self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                            self.decided_by = DecidedBy::FirstExponent;
                             self.ask(Wait::Done, Need::Done);
                         }
                         return;
@@ -527,10 +585,29 @@ impl<'m> Decision<'m> {
             Wait::TlePersist => match tle {
                 Some((l, se)) if significantly_positive(l, se) => {
                     self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
+                    self.decided_by = DecidedBy::PersistentChaos;
                     self.ask(Wait::Done, Need::Done);
                 }
-                // no longer positive: undecided, decided on as such (longer transients)
-                _ => self.extend_or_final(0),
+                // no longer positive at the horizon: decided on as an undecided run after its
+                // last extension (a sign over the long look, the loose period test)
+                _ => {
+                    self.wait = Wait::TleLast;
+                    self.tle(tle);
+                }
+            },
+            Wait::TleBudget => match tle {
+                Some((l, se)) if significantly_positive(l, se) => {
+                    self.s.set_motion(Motion::Unsettled {
+                        tle: Some(l),
+                        stderr: Some(se),
+                    });
+                    self.decided_by = DecidedBy::Budget;
+                    self.ask(Wait::Done, Need::Done);
+                }
+                _ => {
+                    self.wait = Wait::TleLast;
+                    self.tle(tle);
+                }
             },
             Wait::TleLast => {
                 // an exponent neither significant nor decisively zero over the short window (weak
@@ -571,7 +648,19 @@ impl<'m> Decision<'m> {
         assert!(matches!(self.need, Need::Done), "not decided yet");
         match self.err {
             Some(e) => Err(e),
-            None => Ok((self.res, self.s, self.used)),
+            None => {
+                let mut s = self.s;
+                s.periods_integrated = self.used.transient_periods + self.res.strobe.len() as u64;
+                s.decided_by = match s.motion {
+                    Motion::Periodic { .. } if self.decided_by != DecidedBy::AttractingExponent => {
+                        DecidedBy::PeriodTest
+                    }
+                    Motion::Diverged { .. } => DecidedBy::Runaway,
+                    Motion::Failed { .. } => DecidedBy::Error,
+                    _ => self.decided_by,
+                };
+                Ok((self.res, s, self.used))
+            }
         }
     }
 
@@ -585,10 +674,63 @@ impl<'m> Decision<'m> {
             return false;
         }
         if self.s.motion.is_periodic() {
+            self.decided_by = DecidedBy::PeriodTest;
             self.settle(strict);
             return false;
         }
         true
+    }
+
+    /// Excitation periods the motion has been followed so far (transients and the record).
+    fn integrated(&self) -> u64 {
+        self.used.transient_periods + self.res.strobe.len() as u64
+    }
+
+    /// Most excitation periods the work budget ([`SimOptions::decision_cycles`]) allows.
+    fn budget_periods(&self) -> u64 {
+        self.opts.decision_cycles / u64::from(self.model.cycles_per_period().max(1))
+    }
+
+    /// Persistence block `k` of a motion with a positive exponent: the run goes on (transient
+    /// `B 2^k` periods, `B` the requested transient and at least [`PERSIST_CYCLES`] mesh cycles,
+    /// then a record that shows every period) until the decision horizon
+    /// ([`SimOptions::decision_periods`]), where the exponent is taken again
+    /// ([`Wait::TlePersist`]); a period on the way ends it ([`Decision::continued`]). When the
+    /// work budget cuts the horizon short, the exponent where it ran out is taken instead
+    /// ([`Wait::TleBudget`]: unsettled if still positive).
+    fn persist(&mut self, k: u32) {
+        let done = self.integrated();
+        let horizon = self.opts.decision_periods;
+        let budget = self.budget_periods();
+        let periods = tle_periods(&self.opts);
+        if done >= horizon {
+            self.ask_tle(Wait::TlePersist, periods);
+            return;
+        }
+        let record = self.opts.record_periods.max(self.full_record());
+        let end = horizon.min(budget);
+        if done + record > end {
+            // the budget ends before the horizon (and before another block's record)
+            self.decided_by = DecidedBy::Budget;
+            self.ask_tle(Wait::TleBudget, periods);
+            return;
+        }
+        let block = self
+            .opts
+            .transient_periods
+            .max(persist_periods(self.model))
+            .max(MIN_EXTENSION)
+            .saturating_mul(1u64 << k.min(40));
+        let transient = block.min(end - done - record);
+        let more = SimOptions {
+            tau0: self.res.final_state.0,
+            start_memory: self.res.final_memory,
+            transient_periods: transient,
+            record_periods: record,
+            ..self.opts
+        };
+        let y0 = self.res.final_state.1;
+        self.ask(Wait::Persist(k), Need::Sim { y0, opts: more });
     }
 
     /// Takes `res` (a continuation run with `more`) as the record: the replaced record becomes
@@ -778,6 +920,7 @@ impl<'m> Decision<'m> {
                 let loose = summarize_tol(self.model, &self.res, &self.last_opts, loose_tol);
                 if loose.motion.is_periodic() {
                     self.s = loose;
+                    self.decided_by = DecidedBy::AttractingExponent;
                     self.settle(loose_tol);
                     return;
                 }
@@ -785,7 +928,29 @@ impl<'m> Decision<'m> {
         }
         let motion = match self.tle {
             Some((l, se)) if significantly_positive(l, se) => {
-                Motion::Chaotic { tle: l, stderr: se }
+                // a positive exponent found after the extensions (a weak one the first window
+                // missed) is followed to the horizon like any other
+                let done = self.integrated();
+                if how.extend
+                    && done < self.opts.decision_periods
+                    && self.decided_by != DecidedBy::Budget
+                {
+                    self.persist(0);
+                    return;
+                }
+                if !how.extend {
+                    self.decided_by = DecidedBy::FirstExponent;
+                } else if self.decided_by != DecidedBy::Budget {
+                    self.decided_by = DecidedBy::PersistentChaos;
+                }
+                if self.decided_by == DecidedBy::Budget {
+                    Motion::Unsettled {
+                        tle: Some(l),
+                        stderr: Some(se),
+                    }
+                } else {
+                    Motion::Chaotic { tle: l, stderr: se }
+                }
             }
             // quasi-periodic only on decisive evidence: an exponent precisely zero (within 1e-3,
             // with a standard error below 1e-3) and a record long enough for every period tested
@@ -795,6 +960,7 @@ impl<'m> Decision<'m> {
                     && se <= TLE_POSITIVE
                     && self.last_opts.record_periods >= self.full_record() =>
             {
+                self.decided_by = DecidedBy::ZeroExponent;
                 Motion::QuasiPeriodic { tle: l, stderr: se }
             }
             Some((l, se)) => Motion::Unsettled {

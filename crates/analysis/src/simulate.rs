@@ -3,6 +3,7 @@
 //! velocity and peak force, mesh-force extrema, and the motion summary (period, `n-p-q-r-s`
 //! label, healthy flag, P_ID) of docs/model.md §5.
 
+use crate::classify::DecidedBy;
 use crate::classify::Motion;
 use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period_tol;
@@ -104,6 +105,14 @@ pub struct SimOptions {
     /// ([`SimResult::final_memory`]), 0 for a fresh start (a start in contact is no impact).
     #[serde(skip_serializing_if = "is_zero")]
     pub start_memory: f64,
+    /// Decision horizon (excitation periods, counted from the start of the run): a motion whose
+    /// top Lyapunov exponent is positive is followed this long before it is called chaotic
+    /// ([`crate::classify`]; default [`crate::classify::DECISION_PERIODS`]).
+    pub decision_periods: u64,
+    /// Work budget of one run's decision (mesh cycles integrated in all, from the start of the
+    /// run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
+    /// never chaotic (default [`crate::classify::DECISION_CYCLES`]).
+    pub decision_cycles: u64,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -122,6 +131,8 @@ impl Default for SimOptions {
             tau0: 0.0,
             max_period: 32,
             start_memory: 0.0,
+            decision_periods: crate::classify::DECISION_PERIODS,
+            decision_cycles: crate::classify::DECISION_CYCLES,
         }
     }
 }
@@ -306,6 +317,11 @@ pub struct Summary {
     pub impacts: u64,
     /// Largest impact force over the recorded periods.
     pub max_impact_force: f64,
+    /// Excitation periods the motion was followed in all (transient, including the decision's
+    /// extensions, plus the record); the exponent windows of the decision are not counted.
+    pub periods_integrated: u64,
+    /// The evidence that decided [`Summary::motion`] ([`crate::classify`]).
+    pub decided_by: DecidedBy,
 }
 
 impl Summary {
@@ -818,5 +834,11 @@ pub fn summarize_tol(
             .iter()
             .cloned()
             .fold(0.0, f64::max),
+        periods_integrated: opts.transient_periods + res.strobe.len() as u64,
+        decided_by: if period > 0 {
+            DecidedBy::PeriodTest
+        } else {
+            DecidedBy::Undecided
+        },
     }
 }

@@ -27,6 +27,13 @@ pub struct SimulateArgs {
     /// RK4 steps per mesh cycle (default: simulation.steps_per_cycle).
     #[arg(long)]
     steps_per_cycle: Option<u32>,
+    /// Decision horizon: excitation periods (from the start) a motion with a positive Lyapunov
+    /// exponent is followed before it is called chaotic (default: simulation.decision_periods).
+    #[arg(long)]
+    decision_periods: Option<u64>,
+    /// Work budget of the decision in mesh cycles (default: simulation.decision_cycles).
+    #[arg(long)]
+    decision_cycles: Option<u64>,
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
@@ -45,6 +52,12 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     }
     if let Some(t) = args.transient {
         cfg.set("transient_periods", t as f64)?;
+    }
+    if let Some(n) = args.decision_periods {
+        cfg.set("decision_periods", n as f64)?;
+    }
+    if let Some(n) = args.decision_cycles {
+        cfg.set("decision_cycles", n as f64)?;
     }
     if let Some(m) = &args.integrator {
         cfg.simulation.method = m.clone();

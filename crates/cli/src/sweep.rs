@@ -30,6 +30,14 @@ pub struct SimArgs {
     /// RK4 steps per mesh cycle.
     #[arg(long)]
     pub steps_per_cycle: Option<u32>,
+    /// Decision horizon: excitation periods (from the start of a run) a motion with a positive
+    /// Lyapunov exponent is followed before it is called chaotic [default: 10000].
+    #[arg(long)]
+    pub decision_periods: Option<u64>,
+    /// Work budget of one run's decision in mesh cycles; a run not periodic when it is spent is
+    /// `unsettled` [default: 400000].
+    #[arg(long)]
+    pub decision_cycles: Option<u64>,
     /// Discard a checkpoint in the output folder that was made with other settings, and start
     /// over (without it such a folder is refused).
     #[arg(long)]
@@ -50,6 +58,12 @@ impl SimArgs {
         }
         if let Some(n) = self.steps_per_cycle {
             cfg.set("steps_per_cycle", n as f64)?;
+        }
+        if let Some(n) = self.decision_periods {
+            cfg.set("decision_periods", n as f64)?;
+        }
+        if let Some(n) = self.decision_cycles {
+            cfg.set("decision_cycles", n as f64)?;
         }
         cfg.sim_options()?;
         Ok(())

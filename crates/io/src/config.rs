@@ -34,6 +34,12 @@ pub struct SimulationConfig {
     pub v0: f64,
     /// Start time `tau0` (sets the stroboscopic phase).
     pub tau0: f64,
+    /// Decision horizon (excitation periods from the start of a run) a motion with a positive
+    /// Lyapunov exponent is followed before it is called chaotic.
+    pub decision_periods: u64,
+    /// Work budget of one run's decision (mesh cycles in all); a run still not periodic when it
+    /// is spent is `unsettled`.
+    pub decision_cycles: u64,
 }
 
 impl Default for SimulationConfig {
@@ -48,6 +54,8 @@ impl Default for SimulationConfig {
             x0: 0.0,
             v0: 0.0,
             tau0: 0.0,
+            decision_periods: geardyn_analysis::classify::DECISION_PERIODS,
+            decision_cycles: geardyn_analysis::classify::DECISION_CYCLES,
         }
     }
 }
@@ -144,6 +152,8 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "steps_per_cycle",
     "transient_periods",
     "record_periods",
+    "decision_periods",
+    "decision_cycles",
 ];
 
 /// Largest configuration file read (bytes): a config is a few kilobytes.
@@ -473,6 +483,8 @@ impl Config {
             "steps_per_cycle" => s.steps_per_cycle = as_count("steps_per_cycle", value)? as u32,
             "transient_periods" => s.transient_periods = as_count("transient_periods", value)?,
             "record_periods" => s.record_periods = as_count("record_periods", value)?,
+            "decision_periods" => s.decision_periods = as_count("decision_periods", value)?,
+            "decision_cycles" => s.decision_cycles = as_count("decision_cycles", value)?,
             _ => {
                 let mut spec = self.spec();
                 spec.set(name, value).map_err(|e| match e {
@@ -565,6 +577,21 @@ impl Config {
                     .into(),
             });
         }
+        if s.decision_periods > most {
+            return Err(ConfigError::Simulation {
+                field: "decision_periods",
+                value: s.decision_periods.to_string(),
+                allowed: format!("<= {most}").into(),
+            });
+        }
+        let most_cycles = geardyn_analysis::classify::MAX_DECISION_CYCLES;
+        if s.decision_cycles > most_cycles {
+            return Err(ConfigError::Simulation {
+                field: "decision_cycles",
+                value: s.decision_cycles.to_string(),
+                allowed: format!("<= {most_cycles} (mesh cycles of one run's decision)").into(),
+            });
+        }
         if s.record_periods == 0 {
             return Err(ConfigError::Simulation {
                 field: "record_periods",
@@ -582,6 +609,8 @@ impl Config {
             tau0: s.tau0,
             max_period: 32,
             start_memory: 0.0,
+            decision_periods: s.decision_periods,
+            decision_cycles: s.decision_cycles,
         })
     }
 }

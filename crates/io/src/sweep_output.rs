@@ -66,6 +66,9 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
         "rms_force",
         "p2p_force",
         "tle",
+        "class",
+        "decided_by",
+        "periods_integrated",
     ];
     let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
     let rows = results.iter().flat_map(|r| {
@@ -95,6 +98,9 @@ pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<()
                 opt(a.map(|a| a.rms_force)),
                 opt(a.map(|a| a.p2p_force)),
                 opt(run.tle),
+                run.motion.word().to_string(),
+                run.decided_by.name().to_string(),
+                run.periods_integrated.to_string(),
             ]
         })
     });

@@ -55,6 +55,7 @@ fn healthy_sim(sim: SimOptions, cycles: u32) -> SimOptions {
     SimOptions {
         transient_periods: sim.transient_periods * cycles as u64,
         record_periods: sim.record_periods * cycles as u64,
+        decision_periods: sim.decision_periods * cycles as u64,
         ..sim
     }
 }

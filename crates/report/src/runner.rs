@@ -10,6 +10,7 @@ use geardyn_analysis::continuation::{
 };
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
 use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_analysis::classify::DECISION_PERIODS;
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::Config;
 use geardyn_model::MeshModel;
@@ -42,6 +43,10 @@ fn bar(len: u64, msg: &str) -> ProgressBar {
     pb
 }
 
+/// Decision horizon of a `--quick` report (excitation periods): a coarse look, an order of
+/// magnitude below the measured transients that the default horizon covers; the page says so.
+pub const QUICK_DECISION_PERIODS: u64 = 1_000;
+
 impl Ctx {
     /// `quick` or `full`, by mode.
     pub fn n<T>(&self, quick: T, full: T) -> T {
@@ -52,12 +57,14 @@ impl Ctx {
         }
     }
 
-    /// Dormand–Prince settings with `(quick, full)` transient and recorded periods.
+    /// Dormand–Prince settings with `(quick, full)` transient and recorded periods; the full
+    /// report decides chaos at the default horizon, the quick one at [`QUICK_DECISION_PERIODS`].
     pub fn sim(&self, transient: (u64, u64), record: (u64, u64)) -> SimOptions {
         SimOptions {
             method: Method::default(),
             transient_periods: self.n(transient.0, transient.1),
             record_periods: self.n(record.0, record.1),
+            decision_periods: self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS),
             ..Default::default()
         }
     }

@@ -242,6 +242,8 @@ pub fn sweep_figure(
                 run.tle.map_or(String::new(), g),
                 decision_tle(&run.motion).map_or(String::new(), g),
                 run.transient_used.to_string(),
+                run.decided_by.name().to_string(),
+                run.periods_integrated.to_string(),
             ]);
         }
     }
@@ -368,6 +370,8 @@ pub fn sweep_figure(
             "tle",
             "decision_tle",
             "transient_used",
+            "decided_by",
+            "periods_integrated",
         ],
         run_rows,
     )?;
