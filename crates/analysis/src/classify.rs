@@ -8,12 +8,14 @@
 //! round) and, if still undecided, is reported as `unsettled` with its numbers — never as chaos.
 //!
 //! Two more checks keep transients out of the verdict:
-//! * a positive exponent is followed [`PERSIST_CYCLES`] more mesh cycles (or one transient, if
-//!   longer) and measured again there; only if it is still significantly positive is the motion
-//!   called chaotic (with that second exponent): a chaotic transient that lands on a periodic
-//!   orbit (internal pair, omega = 1.84: 400–700 periods of transient chaos) is then periodic,
-//!   and one that lands near a slowly attracting orbit (not yet periodic at the end of the
-//!   persistence run, exponent no longer positive) is decided on as an undecided run;
+//! * a positive exponent is followed in blocks of growing length up to the decision horizon
+//!   ([`DECISION_PERIODS`] excitation periods from the start, within the work budget
+//!   [`DECISION_CYCLES`]) and measured again there; only if it is still significantly positive is
+//!   the motion called chaotic (with that second exponent): a chaotic transient that lands on a
+//!   periodic orbit (C1 at omega = 1.4271: 6 965 periods of transient chaos; the broken pair at
+//!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
+//!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
+//!   short stays `unsettled`;
 //! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
 //!   lengthened to that for the transient extensions of an undecided run: a period-3 orbit read
 //!   on 8 recorded periods is not "not periodic"; a motion found periodic that way is recorded

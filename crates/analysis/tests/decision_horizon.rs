@@ -1,0 +1,135 @@
+//! The chaos verdict at the decision horizon (docs/analyses.md, classification rule 2): a positive
+//! exponent is followed to `decision_periods` before the motion is called chaotic, a chaotic
+//! transient that ends before it is periodic, and a budget that cuts the horizon short leaves the
+//! run unsettled. Each case was chaotic under the former rule (one 500-cycle persistence run).
+
+use geardyn_analysis::classify::{simulate_decided, DecidedBy, Decide, Motion, DECISION_PERIODS};
+use geardyn_analysis::lanes::simulate_decided_lanes;
+use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_model::{presets, MeshModel};
+use geardyn_scenario::ScenarioSpec;
+
+fn c1(omega: f64) -> MeshModel {
+    let mut p = presets::classic();
+    p.set("omega", omega).unwrap();
+    MeshModel::new(&p).unwrap()
+}
+
+const RK4: Method = Method::Rk4 {
+    steps_per_cycle: 512,
+};
+
+#[test]
+fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
+    // the broken pair at omega = 1.2, F = 0.07 (seed A's load sweep): transient chaos (exponent
+    // positive over the first record) for ~3 000 revolutions from rest, then the 1-20-0 orbit
+    // (transient_lifetimes: settles at 2 995); the former rule called it chaotic
+    let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
+    let sc = sc.with_all(&[("omega", 1.2), ("F", 0.07)]).unwrap();
+    let (_, s, _) = simulate_decided(
+        sc.model(),
+        [0.0, 0.0],
+        &SimOptions::default(),
+        Decide::default(),
+    )
+    .unwrap();
+    assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
+    assert_eq!(s.decided_by, DecidedBy::PeriodTest);
+    assert!(
+        s.periods_integrated > 2_000 && s.periods_integrated < DECISION_PERIODS,
+        "{}",
+        s.periods_integrated
+    );
+}
+
+#[test]
+fn a_transient_of_seven_thousand_periods_is_periodic() {
+    // C1 at omega = 1.42713567839 (a value of W1), fixed-step RK4 512 from rest: chaotic for
+    // 6 965 periods, then a period-6 orbit (the longest transient measured on C1)
+    let m = c1(1.42713567839);
+    let opts = SimOptions {
+        method: RK4,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert_eq!(s.motion, Motion::Periodic { period: 6 }, "{}", s.label);
+    assert!(s.periods_integrated > 6_900, "{}", s.periods_integrated);
+    // a horizon below the transient reports it chaotic: the verdict is about the time integrated
+    let short = SimOptions {
+        decision_periods: 3_000,
+        ..opts
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
+    assert!(s.motion.is_chaotic(), "{}", s.label);
+    assert_eq!(s.decided_by, DecidedBy::PersistentChaos);
+    assert!((3_000..3_200).contains(&s.periods_integrated));
+}
+
+#[test]
+fn persistent_chaos_is_chaotic_at_the_horizon() {
+    let m = c1(1.3);
+    let opts = SimOptions {
+        method: RK4,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    match s.motion {
+        Motion::Chaotic { tle, stderr } => assert!(tle > 0.02 && tle > 3.0 * stderr),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(s.decided_by, DecidedBy::PersistentChaos);
+    assert!(s.periods_integrated >= DECISION_PERIODS);
+    assert!(s.periods_integrated < DECISION_PERIODS + 200);
+}
+
+#[test]
+fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
+    // 2 000 mesh cycles of C1 (one cycle per period) end the decision at 2 000 periods
+    let m = c1(1.3);
+    let opts = SimOptions {
+        method: RK4,
+        decision_cycles: 2_000,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert!(
+        matches!(s.motion, Motion::Unsettled { tle: Some(t), .. } if t > 0.0),
+        "{:?}",
+        s.motion
+    );
+    assert_eq!(s.decided_by, DecidedBy::Budget);
+    assert!(s.periods_integrated <= 2_000, "{}", s.periods_integrated);
+    assert!(s.label.starts_with("unsettled"), "{}", s.label);
+}
+
+#[test]
+fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
+    // persistent chaos, a long transient, a periodic orbit and a weakly chaotic value, decided
+    // together in the lanes on one and on two threads
+    let models: Vec<MeshModel> = [1.3, 1.42713567839, 0.8, 1.40452261307, 1.19346733668]
+        .iter()
+        .map(|&w| c1(w))
+        .collect();
+    let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
+    let opts = SimOptions {
+        method: RK4,
+        ..Default::default()
+    };
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| simulate_decided_lanes(&runs, &opts))
+            .into_iter()
+            .map(|d| {
+                let (r, s, _) = d.unwrap();
+                (s.motion, s.decided_by, s.periods_integrated, r.final_state)
+            })
+            .collect::<Vec<_>>()
+    };
+    let one = on(1);
+    assert_eq!(one, on(2));
+    assert!(one[0].0.is_chaotic());
+    assert_eq!(one[2].1, DecidedBy::PeriodTest);
+}
