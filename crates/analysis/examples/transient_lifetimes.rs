@@ -26,7 +26,10 @@ const TOL: f64 = 1e-5;
 /// First index from which the points repeat with some period `n <= 32` to the end, and `n`;
 /// `None` when the last 3 x 32 points are not periodic.
 fn settle(pts: &[[f64; 3]]) -> Option<(usize, usize)> {
-    let scale = 1.0 + pts.iter().fold(0.0f64, |m, p| m.max(p[1].abs()).max(p[2].abs()));
+    let scale = 1.0
+        + pts
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p[1].abs()).max(p[2].abs()));
     let tol = TOL * scale;
     let len = pts.len();
     let mut best: Option<(usize, usize)> = None;
@@ -35,9 +38,12 @@ fn settle(pts: &[[f64; 3]]) -> Option<(usize, usize)> {
             break;
         }
         // last i with |p[i] - p[i - n]| > tol
-        let last_bad = (n..len)
-            .rev()
-            .find(|&i| (pts[i][1] - pts[i - n][1]).abs().max((pts[i][2] - pts[i - n][2]).abs()) > tol);
+        let last_bad = (n..len).rev().find(|&i| {
+            (pts[i][1] - pts[i - n][1])
+                .abs()
+                .max((pts[i][2] - pts[i - n][2]).abs())
+                > tol
+        });
         let start = match last_bad {
             None => 0,
             Some(i) => i + 1 - n,
@@ -57,14 +63,19 @@ fn main() {
     }
     let mut spec = ScenarioSpec::preset(&args[0]).expect("preset");
     let param = args[1].clone();
-    let r: Vec<f64> = args[2].split(':').map(|s| s.parse().expect("range")).collect();
+    let r: Vec<f64> = args[2]
+        .split(':')
+        .map(|s| s.parse().expect("range"))
+        .collect();
     let values = linspace(r[0], r[1], r[2] as usize);
     let periods: u64 = args[3].parse().expect("periods");
     let mut method = Method::default();
     let mut y0 = [0.0, 0.0];
     for a in &args[4..] {
         if a == "rk4" {
-            method = Method::Rk4 { steps_per_cycle: 512 };
+            method = Method::Rk4 {
+                steps_per_cycle: 512,
+            };
         } else if let Some((k, v)) = a.split_once('=') {
             let v: f64 = v.parse().expect("value");
             match k {
@@ -92,7 +103,10 @@ fn main() {
                     Some((s, n)) => format!("{param}={v}\tsettles at {s}\tperiod {n}"),
                     None => {
                         let (t, y) = res.final_state;
-                        let opts1 = SimOptions { record_periods: 1000, ..opts };
+                        let opts1 = SimOptions {
+                            record_periods: 1000,
+                            ..opts
+                        };
                         let tle = tle_of(m, &opts1, t, y, res.final_memory);
                         format!("{param}={v}\tnot settled in {periods}\ttle {tle:?}")
                     }

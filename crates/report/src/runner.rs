@@ -5,12 +5,12 @@ use crate::{rel, Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::basins::{basins, BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{run_sweep, SweepOptions, TaskResult};
+use geardyn_analysis::classify::DECISION_PERIODS;
 use geardyn_analysis::continuation::{
     continuation, ContinuationOptions, ContinuationResult, ValueAttractors,
 };
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
 use geardyn_analysis::simulate::{Method, SimOptions};
-use geardyn_analysis::classify::DECISION_PERIODS;
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::Config;
 use geardyn_model::MeshModel;

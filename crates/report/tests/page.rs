@@ -162,9 +162,11 @@ fn quick_classic_report_is_complete_and_self_contained() {
 #[test]
 fn quick_seed_reports_have_data_budget_and_honest_claims() {
     // thresholds for the coarse quick grids (the full reports reproduce more; the verdicts are
-    // strict on purpose: one attractor per seed attractor, a regime at most values)
+    // strict on purpose: one attractor per seed attractor, a regime at most values). A sanity
+    // floor, not a target: with the decision horizon (chaos only when it persists) the quick
+    // internal report reproduces 16 of 66 claims (17 before: chaotic transients had counted)
     for (preset, min_reproduced, min_with_partly) in
-        [("internal", 0.25, 0.65), ("breakage", 0.5, 0.55)]
+        [("internal", 0.2, 0.6), ("breakage", 0.5, 0.55)]
     {
         let (out, page_dir, html) = quick(preset);
         let n = check_figures(&page_dir, &html);
