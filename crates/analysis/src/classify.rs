@@ -420,8 +420,10 @@ pub struct Decision<'m> {
     settles: u32,
     /// A periodic verdict's near-degenerate divisor already checked at a tighter tolerance.
     noise_checked: bool,
-    /// The evidence of the verdict (set with it).
-    decided_by: DecidedBy,
+    /// The work budget ran out before the decision horizon ([`Decision::persist`]).
+    budget_spent: bool,
+    /// The period was read at the loose tolerance after a significantly negative exponent.
+    loose_period: bool,
 }
 
 impl<'m> Decision<'m> {
@@ -449,13 +451,13 @@ impl<'m> Decision<'m> {
             err: None,
             settles: 0,
             noise_checked: false,
-            decided_by: DecidedBy::Undecided,
+            budget_spent: false,
+            loose_period: false,
         };
         if d.runaway() {
             return d;
         }
         if d.s.motion.is_periodic() {
-            d.decided_by = DecidedBy::PeriodTest;
             d.settle(d.opts.method.period_tol());
             return d;
         }
@@ -576,7 +578,6 @@ impl<'m> Decision<'m> {
                             self.persist(0);
                         } else {
                             self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
-                            self.decided_by = DecidedBy::FirstExponent;
                             self.ask(Wait::Done, Need::Done);
                         }
                         return;
@@ -587,7 +588,6 @@ impl<'m> Decision<'m> {
             Wait::TlePersist => match tle {
                 Some((l, se)) if significantly_positive(l, se) => {
                     self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
-                    self.decided_by = DecidedBy::PersistentChaos;
                     self.ask(Wait::Done, Need::Done);
                 }
                 // no longer positive at the horizon: decided on as an undecided run after its
@@ -603,7 +603,6 @@ impl<'m> Decision<'m> {
                         tle: Some(l),
                         stderr: Some(se),
                     });
-                    self.decided_by = DecidedBy::Budget;
                     self.ask(Wait::Done, Need::Done);
                 }
                 _ => {
@@ -654,12 +653,15 @@ impl<'m> Decision<'m> {
                 let mut s = self.s;
                 s.periods_integrated = self.used.transient_periods + self.res.strobe.len() as u64;
                 s.decided_by = match s.motion {
-                    Motion::Periodic { .. } if self.decided_by != DecidedBy::AttractingExponent => {
-                        DecidedBy::PeriodTest
-                    }
+                    Motion::Periodic { .. } if self.loose_period => DecidedBy::AttractingExponent,
+                    Motion::Periodic { .. } => DecidedBy::PeriodTest,
+                    Motion::Chaotic { .. } if self.how.extend => DecidedBy::PersistentChaos,
+                    Motion::Chaotic { .. } => DecidedBy::FirstExponent,
+                    Motion::QuasiPeriodic { .. } => DecidedBy::ZeroExponent,
+                    Motion::Unsettled { .. } if self.budget_spent => DecidedBy::Budget,
+                    Motion::Unsettled { .. } => DecidedBy::Undecided,
                     Motion::Diverged { .. } => DecidedBy::Runaway,
                     Motion::Failed { .. } => DecidedBy::Error,
-                    _ => self.decided_by,
                 };
                 Ok((self.res, s, self.used))
             }
@@ -676,7 +678,6 @@ impl<'m> Decision<'m> {
             return false;
         }
         if self.s.motion.is_periodic() {
-            self.decided_by = DecidedBy::PeriodTest;
             self.settle(strict);
             return false;
         }
@@ -713,7 +714,7 @@ impl<'m> Decision<'m> {
         let end = horizon.min(budget);
         if done + record > end {
             // the budget ends before the horizon (and before another block's record)
-            self.decided_by = DecidedBy::Budget;
+            self.budget_spent = true;
             self.ask_tle(Wait::TleBudget, periods);
             return;
         }
@@ -922,7 +923,7 @@ impl<'m> Decision<'m> {
                 let loose = summarize_tol(self.model, &self.res, &self.last_opts, loose_tol);
                 if loose.motion.is_periodic() {
                     self.s = loose;
-                    self.decided_by = DecidedBy::AttractingExponent;
+                    self.loose_period = true;
                     self.settle(loose_tol);
                     return;
                 }
@@ -933,19 +934,11 @@ impl<'m> Decision<'m> {
                 // a positive exponent found after the extensions (a weak one the first window
                 // missed) is followed to the horizon like any other
                 let done = self.integrated();
-                if how.extend
-                    && done < self.opts.decision_periods
-                    && self.decided_by != DecidedBy::Budget
-                {
+                if how.extend && done < self.opts.decision_periods && !self.budget_spent {
                     self.persist(0);
                     return;
                 }
-                if !how.extend {
-                    self.decided_by = DecidedBy::FirstExponent;
-                } else if self.decided_by != DecidedBy::Budget {
-                    self.decided_by = DecidedBy::PersistentChaos;
-                }
-                if self.decided_by == DecidedBy::Budget {
+                if self.budget_spent {
                     Motion::Unsettled {
                         tle: Some(l),
                         stderr: Some(se),
@@ -962,7 +955,6 @@ impl<'m> Decision<'m> {
                     && se <= TLE_POSITIVE
                     && self.last_opts.record_periods >= self.full_record() =>
             {
-                self.decided_by = DecidedBy::ZeroExponent;
                 Motion::QuasiPeriodic { tle: l, stderr: se }
             }
             Some((l, se)) => Motion::Unsettled {

@@ -5,7 +5,7 @@
 
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
 use geardyn_analysis::lanes::simulate_decided_lanes;
-use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
 
@@ -18,6 +18,17 @@ fn c1(omega: f64) -> MeshModel {
 const RK4: Method = Method::Rk4 {
     steps_per_cycle: 512,
 };
+
+/// C1 at `omega` from rest, fixed-step RK4 512, decided with `opts` over the defaults.
+fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
+    let opts = SimOptions {
+        method: RK4,
+        ..opts
+    };
+    simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default())
+        .unwrap()
+        .1
+}
 
 #[test]
 fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
@@ -47,20 +58,15 @@ fn a_transient_of_eight_thousand_periods_is_periodic() {
     // C1 at omega = 1.19346733668 (a value of W1), fixed-step RK4 512 from rest, decided as
     // `geardyn simulate --integrator rk4` decides it: chaotic (positive exponent after the first
     // record) for about 8 300 periods, then a period-16 orbit
-    let m = c1(1.19346733668);
-    let opts = SimOptions {
-        method: RK4,
-        ..Default::default()
-    };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let s = decide_c1(1.19346733668, SimOptions::default());
     assert_eq!(s.motion, Motion::Periodic { period: 16 }, "{}", s.label);
     assert!(s.periods_integrated > 8_000, "{}", s.periods_integrated);
     // a horizon below the transient reports it chaotic: the verdict is about the time integrated
     let short = SimOptions {
         decision_periods: 3_000,
-        ..opts
+        ..Default::default()
     };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
+    let s = decide_c1(1.19346733668, short);
     assert!(s.motion.is_chaotic(), "{}", s.label);
     assert_eq!(s.decided_by, DecidedBy::PersistentChaos);
     assert!((3_000..3_200).contains(&s.periods_integrated));
@@ -68,12 +74,7 @@ fn a_transient_of_eight_thousand_periods_is_periodic() {
 
 #[test]
 fn persistent_chaos_is_chaotic_at_the_horizon() {
-    let m = c1(1.3);
-    let opts = SimOptions {
-        method: RK4,
-        ..Default::default()
-    };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let s = decide_c1(1.3, SimOptions::default());
     match s.motion {
         Motion::Chaotic { tle, stderr } => assert!(tle > 0.02 && tle > 3.0 * stderr),
         other => panic!("{other:?}"),
@@ -86,13 +87,13 @@ fn persistent_chaos_is_chaotic_at_the_horizon() {
 #[test]
 fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
     // 2 000 mesh cycles of C1 (one cycle per period) end the decision at 2 000 periods
-    let m = c1(1.3);
-    let opts = SimOptions {
-        method: RK4,
-        decision_cycles: 2_000,
-        ..Default::default()
-    };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let s = decide_c1(
+        1.3,
+        SimOptions {
+            decision_cycles: 2_000,
+            ..Default::default()
+        },
+    );
     assert!(
         matches!(s.motion, Motion::Unsettled { tle: Some(t), .. } if t > 0.0),
         "{:?}",
