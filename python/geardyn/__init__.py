@@ -700,7 +700,7 @@ def bifurcation(
     ics=8,
     seed=1,
     x0_range=None,
-    v0_range=(-1.0, 1.0),
+    v0_range=None,
     sections=("strobe",),
     lyapunov=False,
     periods=None,
@@ -730,7 +730,8 @@ def bifurcation(
     ics, seed : int
         Initial states per value and their seed (multi).
     x0_range, v0_range : (min, max)
-        Box of the initial states (multi); ``x0_range`` defaults to ``±1.5 D_s``.
+        Box of the initial states (multi); by default the attractor region ``x0 ∈ ±(D + 3 l)``,
+        ``v0 ∈ ±3 l`` (``D`` the largest half backlash, ``l = max(D, 1)``), as the CLI.
     sections : str or sequence of str
         From ``strobe``, ``ds_up``, ``ds_down``, ``dd_up``, ``dd_down``, ``impact``.
     lyapunov : bool
@@ -895,7 +896,7 @@ def continuation(
     ics=32,
     seed=1,
     x0_range=None,
-    v0_range=(-1.5, 1.5),
+    v0_range=None,
     phase=0.0,
     capture_tol=1e-4,
     early_stop=True,
@@ -917,7 +918,7 @@ def continuation(
     ics, seed : int
         Initial states per value (the same set at every value) and their seed.
     x0_range, v0_range : (min, max)
-        Box of the initial states; ``x0_range`` defaults to ``±2 D_s``.
+        Box of the initial states; by default the attractor region, as for :func:`bifurcation`.
     phase : float
         Phase of the initial states in ``[0, 1)`` of each value's excitation period (as
         :func:`basins`).

@@ -9,7 +9,8 @@ use anyhow::{bail, Context, Result};
 use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{
-    detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task, TaskResult,
+    attractor_region, detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task,
+    TaskResult,
 };
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::continuation::{continuation as run_continuation, ContinuationOptions};
@@ -703,7 +704,7 @@ fn bifurcation<'py>(
     ics: usize,
     seed: u64,
     x0_range: Option<(f64, f64)>,
-    v0_range: (f64, f64),
+    v0_range: Option<(f64, f64)>,
     sections_: Vec<String>,
     lyapunov: bool,
     progress: bool,
@@ -714,7 +715,7 @@ fn bifurcation<'py>(
         let scenario = cfg.resolve()?;
         let values = values_of(values, range)?;
         let secs = sections(&sections_)?;
-        let ds = scenario.params().d_single;
+        let region = attractor_region(scenario.model().backlash_levels().1);
         let mode = match mode.as_str() {
             "fixed" => SweepMode::Fixed,
             "sweep" => SweepMode::Sweep,
@@ -727,9 +728,12 @@ fn bifurcation<'py>(
                     seed,
                     x0_range: match x0_range {
                         Some(p) => check_pair(p, "x0_range")?,
-                        None => (-1.5 * ds, 1.5 * ds),
+                        None => region.0,
                     },
-                    v0_range: check_pair(v0_range, "v0_range")?,
+                    v0_range: match v0_range {
+                        Some(p) => check_pair(p, "v0_range")?,
+                        None => region.1,
+                    },
                 }
             }
             other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
@@ -893,7 +897,7 @@ fn continuation<'py>(
     ics: usize,
     seed: u64,
     x0_range: Option<(f64, f64)>,
-    v0_range: (f64, f64),
+    v0_range: Option<(f64, f64)>,
     phase: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -905,7 +909,7 @@ fn continuation<'py>(
         if ics == 0 || ics > 100_000 {
             bail!("ics = {}: allowed 1 ..= 100000", ics);
         }
-        let d = scenario.params().d_single;
+        let region = attractor_region(scenario.model().backlash_levels().1);
         let opts = ContinuationOptions {
             param,
             values,
@@ -913,9 +917,12 @@ fn continuation<'py>(
             seed,
             x0_range: match x0_range {
                 Some(p) => check_pair(p, "x0_range")?,
-                None => (-2.0 * d, 2.0 * d),
+                None => region.0,
             },
-            v0_range: check_pair(v0_range, "v0_range")?,
+            v0_range: match v0_range {
+                Some(p) => check_pair(p, "v0_range")?,
+                None => region.1,
+            },
             phase: check_phase(phase)?,
             identify: identify_options(&cfg, &ident)?,
         };

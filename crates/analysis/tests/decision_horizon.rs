@@ -135,3 +135,64 @@ fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
     assert!(one[0].0.is_chaotic());
     assert_eq!(one[2].1, DecidedBy::PeriodTest);
 }
+
+#[test]
+fn the_attractor_region_holds_the_impacting_orbit_of_the_broken_pair() {
+    use geardyn_analysis::bifurcation::{attractor_region, run_sweep, SweepMode, SweepOptions};
+    use geardyn_analysis::simulate::simulate;
+    use std::collections::HashMap;
+    // omega = 1.2, F = 0.07: the healthy 1-20-0 orbit (from rest) coexists with an impacting
+    // 1-40-40 orbit whose basin lies at x0 > 1.7, outside the former +-1.5 x +-1 box
+    let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
+    let sc = sc.with_all(&[("omega", 1.2), ("F", 0.07)]).unwrap();
+    let m = sc.model();
+    let (xr, vr) = attractor_region(m.backlash_levels().1);
+    let opts = SimOptions {
+        transient_periods: 20,
+        record_periods: 5,
+        trajectory: true,
+        ..Default::default()
+    };
+    let res = simulate(m, [2.88, 0.14], &opts).unwrap();
+    assert_eq!(
+        res.impacts, 200,
+        "the impacting orbit: 40 impacts per revolution"
+    );
+    for p in &res.trajectory {
+        assert!(xr.0 <= p.x && p.x <= xr.1, "x {} outside {xr:?}", p.x);
+        assert!(vr.0 <= p.v && p.v <= vr.1, "v {} outside {vr:?}", p.v);
+    }
+    let x_max = res.trajectory.iter().fold(0.0f64, |a, p| a.max(p.x));
+    assert!(x_max > 1.5, "beyond the former box: {x_max}");
+    // a multi-initial sweep over the region finds both orbits; over the former box only one
+    let labels = |x0_range, v0_range| {
+        let o = SweepOptions {
+            param: "F".into(),
+            values: vec![0.07],
+            mode: SweepMode::Multi {
+                ics: 8,
+                seed: 1,
+                x0_range,
+                v0_range,
+            },
+            sim: SimOptions {
+                decision_periods: 1_000,
+                ..Default::default()
+            },
+            y0: [0.0, 0.0],
+            sections: vec![],
+            lyapunov: false,
+        };
+        let base = sc.with("omega", 1.2).unwrap();
+        let r = run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap();
+        r[0].runs
+            .iter()
+            .map(|run| run.label.clone())
+            .collect::<Vec<_>>()
+    };
+    let wide = labels(xr, vr);
+    assert!(wide.iter().any(|l| l == "1-40-40"), "{wide:?}");
+    assert!(wide.iter().any(|l| l == "1-20-0"), "{wide:?}");
+    let old = labels((-1.5, 1.5), (-1.0, 1.0));
+    assert!(!old.iter().any(|l| l == "1-40-40"), "{old:?}");
+}

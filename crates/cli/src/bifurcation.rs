@@ -4,7 +4,9 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
 use anyhow::{bail, Result};
 use clap::Args;
-use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
+use geardyn_analysis::bifurcation::{
+    attractor_region, detect_jumps, linspace, Section, SweepMode, SweepOptions,
+};
 use geardyn_io::{output, run_record, sweep_output};
 use std::path::PathBuf;
 
@@ -30,12 +32,13 @@ pub struct BifurcationArgs {
     /// Seed of the initial states (multi).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// x0 range of the initial states (multi), MIN:MAX; default -1.5*D_s:1.5*D_s.
+    /// x0 range of the initial states (multi), MIN:MAX; default +-(D + 3 max(D, 1)), D the
+    /// largest half backlash (a region that holds the coexisting attractors, not just the gap).
     #[arg(long, allow_hyphen_values = true)]
     x0_range: Option<String>,
-    /// v0 range of the initial states (multi), MIN:MAX.
-    #[arg(long, allow_hyphen_values = true, default_value = "-1:1")]
-    v0_range: String,
+    /// v0 range of the initial states (multi), MIN:MAX; default +-3 max(D, 1).
+    #[arg(long, allow_hyphen_values = true)]
+    v0_range: Option<String>,
     /// Sections: comma-separated from strobe, ds_up, ds_down, dd_up, dd_down, impact.
     #[arg(long, default_value = "strobe")]
     sections: String,
@@ -71,7 +74,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let secs = sections(&a.sections)?;
-    let ds = scenario.params().d_single;
+    let region = attractor_region(scenario.model().backlash_levels().1);
     let mode = match a.mode.as_str() {
         "fixed" => SweepMode::Fixed,
         "sweep" => SweepMode::Sweep,
@@ -84,9 +87,12 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
                 seed: a.seed,
                 x0_range: match &a.x0_range {
                     Some(s) => parse_pair(s, "--x0-range")?,
-                    None => (-1.5 * ds, 1.5 * ds),
+                    None => region.0,
                 },
-                v0_range: parse_pair(&a.v0_range, "--v0-range")?,
+                v0_range: match &a.v0_range {
+                    Some(s) => parse_pair(s, "--v0-range")?,
+                    None => region.1,
+                },
             }
         }
     };

@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
-use geardyn_analysis::bifurcation::linspace;
+use geardyn_analysis::bifurcation::{attractor_region, linspace};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
 use geardyn_io::output::{write_csv, write_json, write_text};
@@ -246,12 +246,13 @@ pub struct ContinuationArgs {
     /// Seed of the initial states.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// x0 range of the initial states, MIN:MAX; default -2 D_s:2 D_s.
+    /// x0 range of the initial states, MIN:MAX; default +-(D + 3 max(D, 1)), D the largest half
+    /// backlash (a region that holds the coexisting attractors).
     #[arg(long, allow_hyphen_values = true)]
     x0_range: Option<String>,
-    /// v0 range, MIN:MAX.
-    #[arg(long, allow_hyphen_values = true, default_value = "-1.5:1.5")]
-    v0_range: String,
+    /// v0 range, MIN:MAX; default +-3 max(D, 1).
+    #[arg(long, allow_hyphen_values = true)]
+    v0_range: Option<String>,
     /// Phase of the initial states as a fraction of the excitation period, in [0, 1) (as for
     /// `basins`: each value's runs start at this phase of its own excitation period).
     #[arg(long, default_value_t = 0.0)]
@@ -270,7 +271,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     if a.ics == 0 || a.ics > 100_000 {
         bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
     }
-    let d = scenario.params().d_single;
+    let region = attractor_region(scenario.model().backlash_levels().1);
     let opts = ContinuationOptions {
         param: a.param.clone(),
         values: linspace(lo, hi, n),
@@ -278,9 +279,12 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         seed: a.seed,
         x0_range: match &a.x0_range {
             Some(s) => parse_pair(s, "--x0-range")?,
-            None => (-2.0 * d, 2.0 * d),
+            None => region.0,
         },
-        v0_range: parse_pair(&a.v0_range, "--v0-range")?,
+        v0_range: match &a.v0_range {
+            Some(s) => parse_pair(s, "--v0-range")?,
+            None => region.1,
+        },
         phase: check_phase(a.phase)?,
         identify: identify_options(&cfg, &a.ident)?,
     };

@@ -13,7 +13,9 @@ use crate::shared::{
 };
 use crate::{Figure, Section};
 use anyhow::{Context, Result};
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, SweepOptions};
+use geardyn_analysis::bifurcation::{
+    attractor_region, linspace, Section as Sec, SweepMode, SweepOptions,
+};
 use geardyn_analysis::simulate::{simulate, SimOptions, SimResult};
 use geardyn_io::figure::{palette, write_raster, LegendEntry, RasterFigure, CHAOTIC, UNSETTLED};
 use geardyn_model::{EventKind, MeshModel};
@@ -1054,8 +1056,8 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     let multi = SweepMode::Multi {
         ics,
         seed: 7,
-        x0_range: (-1.5 * d, 1.5 * d),
-        v0_range: (-1.0, 1.0),
+        x0_range: attractor_region(d).0,
+        v0_range: attractor_region(d).1,
     };
     let o = sweep(
         "F",
@@ -1279,8 +1281,8 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         "basins_F_0.05",
         &m,
         nb,
-        (-1.5 * d, 1.5 * d),
-        (-1.0, 1.0),
+        attractor_region(d).0,
+        attractor_region(d).1,
         "Broken pair: basins at omega = 1.2, F = 0.05",
         crate::shared::identify_options(ctx.n(40, 100), 16),
     )?;
@@ -1288,7 +1290,7 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         id: "coexistence_load".into(),
         title: "Coexisting attractors over the load (multi-initial) and basins at F = 0.05".into(),
         seed_ref: "000 ¶9 (period-4 and period-2 coexist at F = 0.05); 001 abstract; 002 §5.2".into(),
-        parameters: format!("F in [0.01, 0.15] plus 0.04–0.06 ({} values), omega = 1.2 (chosen: the seed gives none; a scan over {} values of omega at F = 0.05 shows the effect of that choice), {ics} initial states per value in x0 ∈ ±1.5 D, x0' ∈ ±1; basins {nb} x {nb}", values.len(), scan_w.len()),
+        parameters: format!("F in [0.01, 0.15] plus 0.04–0.06 ({} values), omega = 1.2 (chosen: the seed gives none; a scan over {} values of omega at F = 0.05 shows the effect of that choice), {ics} initial states per value in x0 ∈ ±{}, x0' ∈ ±{} (a region that holds the coexisting impacting orbit); basins {nb} x {nb} over the same region", values.len(), scan_w.len(), f(attractor_region(d).0 .1), f(attractor_region(d).1 .1)),
         method: format!("Multi-initial sweep, {} + {} revolutions per run, decided classification; basins with attractor identification on the revolution strobe.", sim.transient_periods, sim.record_periods),
         figures: vec![fig, bfig],
         readings: vec![format!(

@@ -18,7 +18,7 @@ use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{
-    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
+    attractor_region, linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
 };
 use geardyn_analysis::continuation::ContinuationOptions;
 use geardyn_analysis::map2d::{MapCell, MapOptions};
@@ -70,8 +70,8 @@ fn multi(param: &str, values: Vec<f64>, sim: SimOptions, ics: usize, d: f64) -> 
         mode: SweepMode::Multi {
             ics,
             seed: 1,
-            x0_range: (-1.5 * d, 1.5 * d),
-            v0_range: (-1.0, 1.0),
+            x0_range: attractor_region(d).0,
+            v0_range: attractor_region(d).1,
         },
         sim,
         y0: [0.0, 0.0],
@@ -561,7 +561,7 @@ fn backlash(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
     let fig_m = sweep_figure(
         ctx, dir, "multi_D", "D", &rm, &[Sec::Strobe], &SweepPanels::default(),
         "Multi-initial diagram over D (coexisting attractors)",
-        "Several random initial states per value (x0 ∈ ±1.5, x0' ∈ ±1): points coloured by the attractor reached.",
+        "Several random initial states per value (x0 ∈ ±4, x0' ∈ ±3 for D = 1: the attractor region, docs/analyses.md): points coloured by the attractor reached.",
     )?;
     // sensitivity to the chosen load and backlash step
     let ns = ctx.n(20, 69);
@@ -1292,7 +1292,8 @@ type BasinPart<'a> = (
 );
 
 /// Boxes of initial states on which basin shares are read, besides the figure's box
-/// (`x0 ∈ ±2 D, x0' ∈ ±1.5`): the multi-initial box (`±1.5 D, ±1`) and a wide one (`±3 D, ±3`).
+/// (`x0 ∈ ±2 D, x0' ∈ ±1.5`): the former multi-initial box (`±1.5 D, ±1`) and a wide one (`±3 D,
+/// ±3`).
 fn extra_boxes(d: f64) -> [StateBox; 2] {
     [
         ((-1.5 * d, 1.5 * d), (-1.0, 1.0)),
@@ -1409,8 +1410,8 @@ fn continuation_opts(param: &str, values: Vec<f64>, ics: usize, d: f64) -> Conti
         values,
         ics,
         seed: 1,
-        x0_range: (-2.0 * d, 2.0 * d),
-        v0_range: (-1.5, 1.5),
+        x0_range: attractor_region(d).0,
+        v0_range: attractor_region(d).1,
         phase: 0.0,
         identify: identify_options(300, 32),
     }
