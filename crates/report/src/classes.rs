@@ -170,14 +170,41 @@ pub struct Interval {
     pub back: bool,
     /// Number of values.
     pub count: usize,
+    /// Period in mesh cycles (multi-cycle excitation: the clock of period doubling there).
+    pub mesh_period: Option<usize>,
 }
 
-/// Intervals of equal name along sorted points (one point per value).
+impl Interval {
+    /// The period on the finest clock: in mesh cycles where an excitation period holds several
+    /// (a 3 -> 6 mesh-cycle doubling inside one revolution is a doubling), else in excitation
+    /// periods; `None` when not periodic.
+    pub fn clock_period(&self) -> Option<usize> {
+        self.class.period().map(|n| self.mesh_period.unwrap_or(n))
+    }
+
+    /// The name with the mesh-cycle period where there is one: `1-20-0 (3 mesh cycles)`.
+    pub fn display(&self) -> String {
+        match self.mesh_period {
+            Some(m) if self.class.periodic() => format!("{} ({m} mesh cycles)", self.name),
+            _ => self.name.clone(),
+        }
+    }
+}
+
+/// Whether two neighbouring periodic intervals differ by a period doubling on the finest clock
+/// ([`Interval::clock_period`]).
+pub fn has_doubling(iv: &[Interval]) -> bool {
+    iv.windows(2).any(|w| {
+        matches!((w[0].clock_period(), w[1].clock_period()), (Some(a), Some(b)) if a == 2 * b || b == 2 * a)
+    })
+}
+
+/// Intervals of equal name (and mesh-cycle period) along sorted points (one point per value).
 pub fn intervals(pts: &[Pt]) -> Vec<Interval> {
     let mut out: Vec<Interval> = Vec::new();
     for p in pts {
         match out.last_mut() {
-            Some(l) if l.name == p.name => {
+            Some(l) if l.name == p.name && l.mesh_period == p.mesh_period => {
                 l.to = p.value;
                 l.back |= p.back;
                 l.count += 1;
@@ -189,6 +216,7 @@ pub fn intervals(pts: &[Pt]) -> Vec<Interval> {
                 class: p.class.clone(),
                 back: p.back,
                 count: 1,
+                mesh_period: p.mesh_period,
             }),
         }
     }
@@ -292,6 +320,28 @@ mod tests {
             max_force: 0.0,
             min_force: 0.0,
         }
+    }
+
+    #[test]
+    fn period_doubling_is_read_on_the_mesh_cycle_clock() {
+        // one label in revolutions (period 1) whose mesh-cycle period doubles 3 -> 6: a doubling
+        // that the excitation-period clock cannot see
+        let at = |v: f64, m: Option<usize>| Pt {
+            name: "1-20-0".into(),
+            mesh_period: m,
+            ..pt(v, Class::Periodic(1))
+        };
+        let iv = intervals(&[at(0.1, Some(3)), at(0.2, Some(3)), at(0.3, Some(6))]);
+        assert_eq!(iv.len(), 2);
+        assert_eq!(iv[1].display(), "1-20-0 (6 mesh cycles)");
+        assert!(has_doubling(&iv));
+        // 3 -> 5 mesh cycles is no doubling; without a mesh clock the excitation periods count
+        let iv = intervals(&[at(0.1, Some(3)), at(0.2, Some(5))]);
+        assert!(!has_doubling(&iv));
+        let iv = intervals(&[pt(0.1, Class::Periodic(1)), pt(0.2, Class::Periodic(2))]);
+        assert!(has_doubling(&iv));
+        let iv = intervals(&[pt(0.1, Class::Periodic(2)), pt(0.2, Class::Chaotic)]);
+        assert!(!has_doubling(&iv));
     }
 
     #[test]

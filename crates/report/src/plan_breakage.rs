@@ -786,19 +786,8 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
         .all(|p| p.back)
         && !chaos.is_empty();
     let iv = classes::intervals(&tb);
-    let doubling = iv.windows(2).any(|w| match (&w[0].class, &w[1].class) {
-        (Class::Periodic(a), Class::Periodic(b)) => *a == 2 * *b || *b == 2 * *a,
-        _ => false,
-    }) || iv.windows(2).any(|w| {
-        matches!((w[0].class.periodic(), w[1].class.periodic()), (true, true))
-            && w[0]
-                .name
-                .split('-')
-                .next()
-                .zip(w[1].name.split('-').next())
-                .and_then(|(a, b)| a.parse::<u64>().ok().zip(b.parse::<u64>().ok()))
-                .is_some_and(|(a, b)| a == 2 * b || b == 2 * a)
-    });
+    // on the mesh-cycle clock: a 3 -> 6 mesh-cycle doubling inside one revolution is one
+    let doubling = classes::has_doubling(&iv);
     let imp = |pts: &[Pt]| {
         pts.iter()
             .filter(|p| p.back)

@@ -72,6 +72,7 @@ pub fn interval_rows(iv: &[Interval]) -> Vec<Vec<String>> {
                 f(i.from),
                 f(i.to),
                 i.name.clone(),
+                i.mesh_period.map_or(String::new(), |m| m.to_string()),
                 (if i.back { "yes" } else { "no" }).into(),
                 i.count.to_string(),
             ]
@@ -85,6 +86,7 @@ pub fn interval_header(param: &str) -> Vec<String> {
         format!("{param} from"),
         format!("{param} to"),
         "motion".into(),
+        "mesh period".into(),
         "back-side contact".into(),
         "values".into(),
     ]
@@ -93,10 +95,11 @@ pub fn interval_header(param: &str) -> Vec<String> {
 /// A compact sequence of interval names: `1-0-0-1-0 → 2-1-0-1-0 → chaotic → ...` (runs of
 /// fewer than `min` values are left out, repeated names merged).
 pub fn sequence(iv: &[Interval], min: usize) -> String {
-    let mut out: Vec<&str> = Vec::new();
+    let mut out: Vec<String> = Vec::new();
     for i in iv.iter().filter(|i| i.count >= min) {
-        if out.last() != Some(&i.name.as_str()) {
-            out.push(&i.name);
+        let d = i.display();
+        if out.last() != Some(&d) {
+            out.push(d);
         }
     }
     out.join(" → ")

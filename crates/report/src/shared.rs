@@ -21,7 +21,7 @@ use geardyn_io::figure::{
 use geardyn_io::output::write_csv;
 use geardyn_io::plot::PlotColor;
 use geardyn_model::MeshModel;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 
 /// Most section points per run and section kept in figures and CSV files (one initial state
@@ -108,15 +108,22 @@ pub struct SweepPanels {
     pub impact_force: bool,
 }
 
-/// How a label is described in legends: health and, for multi-cycle excitation, the period
-/// in mesh cycles.
-fn legend_text(name: &str, healthy: bool, mesh_period: Option<usize>, periodic: bool) -> String {
+/// How a label is described in legends: health and, for multi-cycle excitation, every period
+/// in mesh cycles that runs of the label have (one label in revolutions can hold a 3 -> 6
+/// mesh-cycle doubling).
+fn legend_text(
+    name: &str,
+    healthy: bool,
+    mesh_periods: &BTreeSet<usize>,
+    periodic: bool,
+) -> String {
     if !periodic {
         return name.to_string();
     }
     let mut s = name.to_string();
-    if let Some(m) = mesh_period {
-        s.push_str(&format!(" ({m} mesh cycles)"));
+    if !mesh_periods.is_empty() {
+        let list: Vec<String> = mesh_periods.iter().map(|m| m.to_string()).collect();
+        s.push_str(&format!(" ({} mesh cycles)", list.join(", ")));
     }
     s.push_str(if healthy { ", healthy" } else { ", back side" });
     s
@@ -140,7 +147,7 @@ pub fn sweep_figure(
     // groups by displayed name, over every run
     let mut groups: BTreeMap<String, BTreeMap<Sec, Vec<(f64, f64)>>> = BTreeMap::new();
     let mut counts: HashMap<String, usize> = HashMap::new();
-    let mut info: HashMap<String, (bool, Option<usize>, bool)> = HashMap::new();
+    let mut info: HashMap<String, (bool, BTreeSet<usize>, bool)> = HashMap::new();
     type ByName = BTreeMap<String, Vec<(f64, f64)>>;
     let mut extra: BTreeMap<&str, ByName> = BTreeMap::new();
     let mut point_rows: Vec<Vec<String>> = Vec::new();
@@ -150,11 +157,14 @@ pub fn sweep_figure(
         for run in &r.runs {
             let nm = classes::name(run);
             *counts.entry(nm.clone()).or_default() += 1;
-            info.entry(nm.clone()).or_insert((
+            let entry = info.entry(nm.clone()).or_insert((
                 run.healthy,
-                run.mesh_period,
+                BTreeSet::new(),
                 run.motion.is_periodic(),
             ));
+            entry
+                .1
+                .extend(run.mesh_period.filter(|_| run.motion.is_periodic()));
             let g_ = groups.entry(nm.clone()).or_default();
             for &sec in sections {
                 let mut pts: Vec<&(Sec, f64, f64)> =
@@ -264,8 +274,9 @@ pub fn sweep_figure(
     let legend: Vec<LegendEntry> = colored
         .iter()
         .map(|(n, c, _)| {
-            let (h, mp, per) = info.get(n).copied().unwrap_or((false, None, false));
-            LegendEntry::dot(legend_text(n, h, mp, per), *c)
+            let empty = (false, BTreeSet::new(), false);
+            let (h, mp, per) = info.get(n).unwrap_or(&empty);
+            LegendEntry::dot(legend_text(n, *h, mp, *per), *c)
         })
         .collect();
     let layers_of = |by_name: geardyn_io::figure::PointsOf, r: u32| -> Vec<Layer> {
@@ -1071,4 +1082,23 @@ pub fn portrait_figure(
     let csv = dir.join(format!("{name}.csv"));
     write_csv(&csv, &["series", "x", "v"], rows)?;
     Ok(ctx.fig(&stem, caption, &[csv]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_legend_lists_every_mesh_period_of_a_label() {
+        let m: BTreeSet<usize> = [6, 3].into_iter().collect();
+        assert_eq!(
+            legend_text("1-20-0", true, &m, true),
+            "1-20-0 (3, 6 mesh cycles), healthy"
+        );
+        assert_eq!(
+            legend_text("1-40-40", false, &BTreeSet::new(), true),
+            "1-40-40, back side"
+        );
+        assert_eq!(legend_text("chaotic", false, &m, false), "chaotic");
+    }
 }
