@@ -338,7 +338,7 @@ fn simulate<'py>(
                 v,
                 model.excitation_period(),
                 (dd, ds),
-                summary.motion.describe(),
+                summary.describe(),
             ))
         },
     )?;

@@ -90,7 +90,9 @@ pub enum DecidedBy {
     /// Chaotic: still not periodic at the decision horizon, and the exponent there significantly
     /// positive.
     PersistentChaos,
-    /// Chaotic on the first exponent alone (classification without the persistence check).
+    /// Chaotic on the exponents after the first record, with no persistence block: the
+    /// persistence check was turned off, or the first record already reached the horizon (a
+    /// transient of its own at least as long, or a horizon set below it).
     FirstExponent,
     /// Quasi-periodic: an exponent zero within its error after the extensions.
     ZeroExponent,
@@ -422,6 +424,8 @@ pub struct Decision<'m> {
     noise_checked: bool,
     /// The work budget ran out before the decision horizon ([`Decision::persist`]).
     budget_spent: bool,
+    /// A persistence block ran (the motion was followed beyond its first record).
+    persisted: bool,
     /// The period was read at the loose tolerance after a significantly negative exponent.
     loose_period: bool,
 }
@@ -452,6 +456,7 @@ impl<'m> Decision<'m> {
             settles: 0,
             noise_checked: false,
             budget_spent: false,
+            persisted: false,
             loose_period: false,
         };
         if d.runaway() {
@@ -655,7 +660,9 @@ impl<'m> Decision<'m> {
                 s.decided_by = match s.motion {
                     Motion::Periodic { .. } if self.loose_period => DecidedBy::AttractingExponent,
                     Motion::Periodic { .. } => DecidedBy::PeriodTest,
-                    Motion::Chaotic { .. } if self.how.extend => DecidedBy::PersistentChaos,
+                    Motion::Chaotic { .. } if self.how.extend && self.persisted => {
+                        DecidedBy::PersistentChaos
+                    }
                     Motion::Chaotic { .. } => DecidedBy::FirstExponent,
                     Motion::QuasiPeriodic { .. } => DecidedBy::ZeroExponent,
                     Motion::Unsettled { .. } if self.budget_spent => DecidedBy::Budget,
@@ -733,6 +740,7 @@ impl<'m> Decision<'m> {
             ..self.opts
         };
         let y0 = self.res.final_state.1;
+        self.persisted = true;
         self.ask(Wait::Persist(k), Need::Sim { y0, opts: more });
     }
 

@@ -337,6 +337,21 @@ impl Summary {
         self.motion = motion;
     }
 
+    /// The decision for people ([`Motion::describe`]), saying so when the work budget ended it.
+    pub fn describe(&self) -> String {
+        match (&self.motion, self.decided_by) {
+            (Motion::Unsettled { tle, stderr }, DecidedBy::Budget) => format!(
+                "unsettled: the work budget (decision_cycles) ran out after {} periods, before the decision horizon (decision_periods); TLE {} still positive",
+                self.periods_integrated,
+                match (tle, stderr) {
+                    (Some(t), Some(s)) => format!("{t:.4} ± {s:.4}"),
+                    _ => "not computed".into(),
+                }
+            ),
+            (m, _) => m.describe(),
+        }
+    }
+
     /// `healthy`, or why not: `non-healthy (back-side contact)` / `non-healthy (not periodic)`.
     /// The seeds' word for non-healthy motions is "unstable"; it does not mean dynamically
     /// unstable (docs/analyses.md).

@@ -85,6 +85,21 @@ fn persistent_chaos_is_chaotic_at_the_horizon() {
 }
 
 #[test]
+fn a_horizon_within_the_first_record_is_no_persistence_check() {
+    // nothing is followed beyond the first record: the evidence is the first exponents
+    let s = decide_c1(
+        1.3,
+        SimOptions {
+            decision_periods: 0,
+            ..Default::default()
+        },
+    );
+    assert!(s.motion.is_chaotic(), "{}", s.label);
+    assert_eq!(s.decided_by, DecidedBy::FirstExponent);
+    assert_eq!(s.periods_integrated, 400);
+}
+
+#[test]
 fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
     // 2 000 mesh cycles of C1 (one cycle per period) end the decision at 2 000 periods
     let s = decide_c1(
@@ -102,6 +117,7 @@ fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
     assert_eq!(s.decided_by, DecidedBy::Budget);
     assert!(s.periods_integrated <= 2_000, "{}", s.periods_integrated);
     assert!(s.label.starts_with("unsettled"), "{}", s.label);
+    assert!(s.describe().contains("work budget"), "{}", s.describe());
 }
 
 #[test]

@@ -113,21 +113,21 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let geardyn_analysis::Motion::Diverged { .. } = summary.motion {
         anyhow::bail!(
             "{} (outputs written to {})",
-            summary.motion.describe(),
+            summary.describe(),
             out.display()
         );
     }
     println!(
         "{}: label {}, {}, P_ID {:.4}, mesh force [{:.4}, {:.4}], {} impacts{}; {} steps in {:.3} s -> {}",
         match (summary.mesh_period, model.cycles_per_period()) {
-            (_, 1) => summary.motion.describe(),
+            (_, 1) => summary.describe(),
             (Some(m), c) => format!(
                 "{} (excitation period = 1 revolution = {c} mesh cycles; mesh-cycle strobe: period {m} mesh cycles)",
-                summary.motion.describe()
+                summary.describe()
             ),
             (None, c) => format!(
                 "{} (excitation period = 1 revolution = {c} mesh cycles; mesh-cycle strobe not periodic)",
-                summary.motion.describe()
+                summary.describe()
             ),
         },
         summary.label,

@@ -456,10 +456,13 @@ impl Config {
             let (min, max) = match field {
                 "steps_per_cycle" => (*steps.start() as u64, *steps.end() as u64),
                 "record_periods" => (1, most),
+                "decision_cycles" => (0, geardyn_analysis::classify::MAX_DECISION_CYCLES),
                 _ => (0, most),
             };
             let allowed = if field == "steps_per_cycle" {
                 format!("a whole number in [{min}, {max}]")
+            } else if field == "decision_cycles" {
+                format!("a whole number in [{min}, {max}] (mesh cycles of one run's decision)")
             } else {
                 format!("a whole number in [{min}, {max}] ({max} excitation periods already take hours)")
             };
@@ -618,6 +621,33 @@ impl Config {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
+        let mut c = Config::preset("classic").unwrap();
+        // decision_cycles counts mesh cycles up to MAX_DECISION_CYCLES, above MAX_PERIODS
+        c.set("decision_cycles", 2e7).unwrap();
+        assert_eq!(c.sim_options().unwrap().decision_cycles, 20_000_000);
+        let e = c.set("decision_cycles", 4.1e7).unwrap_err().to_string();
+        assert!(
+            e.contains("decision_cycles") && e.contains("mesh cycles"),
+            "{e}"
+        );
+        let e = c.set("decision_cycles", 1.5).unwrap_err().to_string();
+        assert!(e.contains("[0, 40000000]"), "{e}");
+        c.set("decision_periods", 2e4).unwrap();
+        assert_eq!(c.sim_options().unwrap().decision_periods, 20_000);
+        let e = c.set("decision_periods", 1e8).unwrap_err().to_string();
+        assert!(e.contains("decision_periods"), "{e}");
+        // the same bound from a file
+        let mut f = Config::preset("classic").unwrap();
+        f.simulation.decision_cycles = 50_000_000;
+        let e = Config::from_toml(&f.to_toml())
+            .and_then(|c| c.sim_options())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("decision_cycles"), "{e}");
+    }
 
     #[test]
     fn presets_round_trip_through_toml() {
