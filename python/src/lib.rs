@@ -623,6 +623,13 @@ fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound
             .map(|(_, run)| run.motion.word().to_string())
             .collect(),
     )?;
+    // the class under the name the CLI's and the report's runs tables use
+    rc.str(
+        "class",
+        runs.iter()
+            .map(|(_, run)| run.motion.word().to_string())
+            .collect(),
+    )?;
     rc.i64(
         "transient_used",
         runs.iter()

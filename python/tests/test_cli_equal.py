@@ -146,6 +146,10 @@ def test_bifurcation_equals_cli(cli, out, mode, extra):
     assert r.runs["label"].tolist() == column(runs, "label", str)
     assert r.runs["period"].tolist() == column(runs, "period", int)
     assert r.runs["healthy"].tolist() == [s == "true" for s in column(runs, "healthy", str)]
+    # the decision's record: one schema in both
+    for name in ["class", "decided_by"]:
+        assert r.runs[name].tolist() == column(runs, name, str)
+    assert r.runs["periods_integrated"].tolist() == column(runs, "periods_integrated", int)
 
 
 def test_bifurcation_lyapunov_and_pair_param_equal_cli(cli, out):
