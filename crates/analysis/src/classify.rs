@@ -10,7 +10,7 @@
 //! Two more checks keep transients out of the verdict:
 //! * a positive exponent is followed in blocks of growing length up to the decision horizon
 //!   ([`DECISION_PERIODS`] excitation periods from the start, within the work budget
-//!   [`DECISION_CYCLES`]) and measured again there; only if it is still significantly positive is
+//!   [`DECISION_BUDGET`]) and measured again there; only if it is still significantly positive is
 //!   the motion called chaotic (with that second exponent): a chaotic transient that lands on a
 //!   periodic orbit (C1 at omega = 1.4271: 6 965 periods of transient chaos; the broken pair at
 //!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
@@ -70,14 +70,18 @@ pub const TLE_POSITIVE: f64 = 1e-3;
 /// (`omega` = 1.4271, from rest) and 6 870 revolutions on the broken pair (`omega` = 1.2,
 /// `F` = 0.065); the horizon lies above both.
 pub const DECISION_PERIODS: u64 = 10_000;
-/// Default work budget of one run's decision ([`SimOptions::decision_cycles`], mesh cycles in
-/// all): the horizon of the 40-tooth broken pair (40 mesh cycles per revolution), so that a pair
-/// with more teeth per revolution is not followed for hours by default; a run whose horizon the
-/// budget cuts short is `unsettled` (decided by `budget`), never chaotic.
-pub const DECISION_CYCLES: u64 = 400_000;
-/// Largest [`SimOptions::decision_cycles`] accepted: a hundred times the default (days of work
-/// per run at the fixed-step integrator's 512 steps per cycle).
-pub const MAX_DECISION_CYCLES: u64 = 100 * DECISION_CYCLES;
+/// Default work budget of one run's decision ([`SimOptions::decision_budget`]): right-hand-side
+/// evaluations in all (the integrators' unit of work: 4 per RK4 step, 6 per DP5 step, plus event
+/// location), counted from the start of the run. Measured need: the broken pair at `omega` = 1.2
+/// follows 10 000 revolutions in ~170 M evaluations with DP5 and ~820 M with RK4 at 512 steps per
+/// cycle, C1 10 000 periods in ~21 M; the budget lies above them. Work per excitation period grows
+/// at low frequencies (the broken pair at `omega` = 0.1: ~233 000 per revolution, 14 times the
+/// cost at 1.2), where the budget ends the decision after ~4 300 revolutions (about a minute)
+/// instead of ten minutes per run: such a run is `unsettled` (decided by `budget`), never chaotic.
+pub const DECISION_BUDGET: u64 = 1_000_000_000;
+/// Largest [`SimOptions::decision_budget`] accepted: a thousand times the default (about a day of
+/// one core per run).
+pub const MAX_DECISION_BUDGET: u64 = 1000 * DECISION_BUDGET;
 
 /// The evidence that decided a run's class (`decided_by` in `summary.json` and runs tables).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -696,9 +700,12 @@ impl<'m> Decision<'m> {
         self.used.transient_periods + self.res.strobe.len() as u64
     }
 
-    /// Most excitation periods the work budget ([`SimOptions::decision_cycles`]) allows.
-    fn budget_periods(&self) -> u64 {
-        self.opts.decision_cycles / u64::from(self.model.cycles_per_period().max(1))
+    /// Excitation periods the rest of the work budget ([`SimOptions::decision_budget`]) allows, at
+    /// the run's mean work per period so far.
+    fn budget_periods_left(&self) -> u64 {
+        let used = self.res.rhs_evals;
+        let per_period = (used / self.integrated().max(1)).max(1);
+        self.opts.decision_budget.saturating_sub(used) / per_period
     }
 
     /// Persistence block `k` of a motion with a positive exponent: the run goes on (transient
@@ -711,27 +718,33 @@ impl<'m> Decision<'m> {
     fn persist(&mut self, k: u32) {
         let done = self.integrated();
         let horizon = self.opts.decision_periods;
-        let budget = self.budget_periods();
         let periods = tle_periods(&self.opts);
         if done >= horizon {
             self.ask_tle(Wait::TlePersist, periods);
             return;
         }
         let record = self.opts.record_periods.max(self.full_record());
-        let end = horizon.min(budget);
-        if done + record > end {
-            // the budget ends before the horizon (and before another block's record)
-            self.budget_spent = true;
-            self.ask_tle(Wait::TleBudget, periods);
-            return;
-        }
+        let left = self.budget_periods_left();
+        // the horizon, or as far as the budget reaches when that is short of it
+        let end = if left < horizon - done {
+            if left < record {
+                // not even another block's record: the budget ends the decision here
+                self.budget_spent = true;
+                self.ask_tle(Wait::TleBudget, periods);
+                return;
+            }
+            done + left
+        } else {
+            horizon
+        };
         let block = self
             .opts
             .transient_periods
             .max(persist_periods(self.model))
             .max(MIN_EXTENSION)
             .saturating_mul(1u64 << k.min(40));
-        let transient = block.min(end - done - record);
+        // within a record of the horizon the last block is a record alone (it ends past it)
+        let transient = block.min((end - done).saturating_sub(record));
         let more = SimOptions {
             tau0: self.res.final_state.0,
             start_memory: self.res.final_memory,

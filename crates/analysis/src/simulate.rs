@@ -109,10 +109,10 @@ pub struct SimOptions {
     /// top Lyapunov exponent is positive is followed this long before it is called chaotic
     /// ([`crate::classify`]; default [`crate::classify::DECISION_PERIODS`]).
     pub decision_periods: u64,
-    /// Work budget of one run's decision (mesh cycles integrated in all, from the start of the
-    /// run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
-    /// never chaotic (default [`crate::classify::DECISION_CYCLES`]).
-    pub decision_cycles: u64,
+    /// Work budget of one run's decision (right-hand-side evaluations in all, from the start of
+    /// the run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
+    /// never chaotic (default [`crate::classify::DECISION_BUDGET`]).
+    pub decision_budget: u64,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -132,7 +132,7 @@ impl Default for SimOptions {
             max_period: 32,
             start_memory: 0.0,
             decision_periods: crate::classify::DECISION_PERIODS,
-            decision_cycles: crate::classify::DECISION_CYCLES,
+            decision_budget: crate::classify::DECISION_BUDGET,
         }
     }
 }
@@ -341,7 +341,7 @@ impl Summary {
     pub fn describe(&self) -> String {
         match (&self.motion, self.decided_by) {
             (Motion::Unsettled { tle, stderr }, DecidedBy::Budget) => format!(
-                "unsettled: the work budget (decision_cycles) ran out after {} periods, before the decision horizon (decision_periods); TLE {} still positive",
+                "unsettled: the work budget (decision_budget) ran out after {} periods, before the decision horizon (decision_periods); TLE {} still positive",
                 self.periods_integrated,
                 match (tle, stderr) {
                     (Some(t), Some(s)) => format!("{t:.4} ± {s:.4}"),

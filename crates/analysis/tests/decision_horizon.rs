@@ -101,11 +101,12 @@ fn a_horizon_within_the_first_record_is_no_persistence_check() {
 
 #[test]
 fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
-    // 2 000 mesh cycles of C1 (one cycle per period) end the decision at 2 000 periods
+    // RK4 at 512 steps per cycle: 2 048 right-hand sides per period of C1 (and a few for event
+    // location), so a budget of 4 096 000 ends the decision near 2 000 periods
     let s = decide_c1(
         1.3,
         SimOptions {
-            decision_cycles: 2_000,
+            decision_budget: 4_096_000,
             ..Default::default()
         },
     );
@@ -115,7 +116,11 @@ fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
         s.motion
     );
     assert_eq!(s.decided_by, DecidedBy::Budget);
-    assert!(s.periods_integrated <= 2_000, "{}", s.periods_integrated);
+    assert!(
+        (1_500..=2_000).contains(&s.periods_integrated),
+        "{}",
+        s.periods_integrated
+    );
     assert!(s.label.starts_with("unsettled"), "{}", s.label);
     assert!(s.describe().contains("work budget"), "{}", s.describe());
 }

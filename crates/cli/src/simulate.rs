@@ -31,9 +31,10 @@ pub struct SimulateArgs {
     /// exponent is followed before it is called chaotic (default: simulation.decision_periods).
     #[arg(long)]
     decision_periods: Option<u64>,
-    /// Work budget of the decision in mesh cycles (default: simulation.decision_cycles).
+    /// Work budget of the decision in right-hand-side evaluations (default:
+    /// simulation.decision_budget).
     #[arg(long)]
-    decision_cycles: Option<u64>,
+    decision_budget: Option<u64>,
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
@@ -56,8 +57,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let Some(n) = args.decision_periods {
         cfg.set("decision_periods", n as f64)?;
     }
-    if let Some(n) = args.decision_cycles {
-        cfg.set("decision_cycles", n as f64)?;
+    if let Some(n) = args.decision_budget {
+        cfg.set("decision_budget", n as f64)?;
     }
     if let Some(m) = &args.integrator {
         cfg.simulation.method = m.clone();

@@ -34,10 +34,10 @@ pub struct SimArgs {
     /// Lyapunov exponent is followed before it is called chaotic [default: 10000].
     #[arg(long)]
     pub decision_periods: Option<u64>,
-    /// Work budget of one run's decision in mesh cycles; a run not periodic when it is spent is
-    /// `unsettled` [default: 400000].
+    /// Work budget of one run's decision in right-hand-side evaluations (4 per RK4 step, 6 per
+    /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 1000000000].
     #[arg(long)]
-    pub decision_cycles: Option<u64>,
+    pub decision_budget: Option<u64>,
     /// Discard a checkpoint in the output folder that was made with other settings, and start
     /// over (without it such a folder is refused).
     #[arg(long)]
@@ -62,8 +62,8 @@ impl SimArgs {
         if let Some(n) = self.decision_periods {
             cfg.set("decision_periods", n as f64)?;
         }
-        if let Some(n) = self.decision_cycles {
-            cfg.set("decision_cycles", n as f64)?;
+        if let Some(n) = self.decision_budget {
+            cfg.set("decision_budget", n as f64)?;
         }
         cfg.sim_options()?;
         Ok(())

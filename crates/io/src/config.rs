@@ -37,9 +37,9 @@ pub struct SimulationConfig {
     /// Decision horizon (excitation periods from the start of a run) a motion with a positive
     /// Lyapunov exponent is followed before it is called chaotic.
     pub decision_periods: u64,
-    /// Work budget of one run's decision (mesh cycles in all); a run still not periodic when it
+    /// Work budget of one run's decision (right-hand-side evaluations in all); a run still not periodic when it
     /// is spent is `unsettled`.
-    pub decision_cycles: u64,
+    pub decision_budget: u64,
 }
 
 impl Default for SimulationConfig {
@@ -55,7 +55,7 @@ impl Default for SimulationConfig {
             v0: 0.0,
             tau0: 0.0,
             decision_periods: geardyn_analysis::classify::DECISION_PERIODS,
-            decision_cycles: geardyn_analysis::classify::DECISION_CYCLES,
+            decision_budget: geardyn_analysis::classify::DECISION_BUDGET,
         }
     }
 }
@@ -153,7 +153,7 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "transient_periods",
     "record_periods",
     "decision_periods",
-    "decision_cycles",
+    "decision_budget",
 ];
 
 /// Largest configuration file read (bytes): a config is a few kilobytes.
@@ -456,13 +456,13 @@ impl Config {
             let (min, max) = match field {
                 "steps_per_cycle" => (*steps.start() as u64, *steps.end() as u64),
                 "record_periods" => (1, most),
-                "decision_cycles" => (0, geardyn_analysis::classify::MAX_DECISION_CYCLES),
+                "decision_budget" => (0, geardyn_analysis::classify::MAX_DECISION_BUDGET),
                 _ => (0, most),
             };
             let allowed = if field == "steps_per_cycle" {
                 format!("a whole number in [{min}, {max}]")
-            } else if field == "decision_cycles" {
-                format!("a whole number in [{min}, {max}] (mesh cycles of one run's decision)")
+            } else if field == "decision_budget" {
+                format!("a whole number in [{min}, {max}] (right-hand-side evaluations of one run's decision)")
             } else {
                 format!("a whole number in [{min}, {max}] ({max} excitation periods already take hours)")
             };
@@ -487,7 +487,7 @@ impl Config {
             "transient_periods" => s.transient_periods = as_count("transient_periods", value)?,
             "record_periods" => s.record_periods = as_count("record_periods", value)?,
             "decision_periods" => s.decision_periods = as_count("decision_periods", value)?,
-            "decision_cycles" => s.decision_cycles = as_count("decision_cycles", value)?,
+            "decision_budget" => s.decision_budget = as_count("decision_budget", value)?,
             _ => {
                 let mut spec = self.spec();
                 spec.set(name, value).map_err(|e| match e {
@@ -587,12 +587,15 @@ impl Config {
                 allowed: format!("<= {most}").into(),
             });
         }
-        let most_cycles = geardyn_analysis::classify::MAX_DECISION_CYCLES;
-        if s.decision_cycles > most_cycles {
+        let most_cycles = geardyn_analysis::classify::MAX_DECISION_BUDGET;
+        if s.decision_budget > most_cycles {
             return Err(ConfigError::Simulation {
-                field: "decision_cycles",
-                value: s.decision_cycles.to_string(),
-                allowed: format!("<= {most_cycles} (mesh cycles of one run's decision)").into(),
+                field: "decision_budget",
+                value: s.decision_budget.to_string(),
+                allowed: format!(
+                    "<= {most_cycles} (right-hand-side evaluations of one run's decision)"
+                )
+                .into(),
             });
         }
         if s.record_periods == 0 {
@@ -613,7 +616,7 @@ impl Config {
             max_period: 32,
             start_memory: 0.0,
             decision_periods: s.decision_periods,
-            decision_cycles: s.decision_cycles,
+            decision_budget: s.decision_budget,
         })
     }
 }
@@ -625,28 +628,29 @@ mod tests {
     #[test]
     fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
         let mut c = Config::preset("classic").unwrap();
-        // decision_cycles counts mesh cycles up to MAX_DECISION_CYCLES, above MAX_PERIODS
-        c.set("decision_cycles", 2e7).unwrap();
-        assert_eq!(c.sim_options().unwrap().decision_cycles, 20_000_000);
-        let e = c.set("decision_cycles", 4.1e7).unwrap_err().to_string();
+        // decision_budget counts right-hand-side evaluations up to MAX_DECISION_BUDGET, far above
+        // MAX_PERIODS
+        c.set("decision_budget", 2e10).unwrap();
+        assert_eq!(c.sim_options().unwrap().decision_budget, 20_000_000_000);
+        let e = c.set("decision_budget", 1.1e12).unwrap_err().to_string();
         assert!(
-            e.contains("decision_cycles") && e.contains("mesh cycles"),
+            e.contains("decision_budget") && e.contains("right-hand-side"),
             "{e}"
         );
-        let e = c.set("decision_cycles", 1.5).unwrap_err().to_string();
-        assert!(e.contains("[0, 40000000]"), "{e}");
+        let e = c.set("decision_budget", 1.5).unwrap_err().to_string();
+        assert!(e.contains("[0, 1000000000000]"), "{e}");
         c.set("decision_periods", 2e4).unwrap();
         assert_eq!(c.sim_options().unwrap().decision_periods, 20_000);
         let e = c.set("decision_periods", 1e8).unwrap_err().to_string();
         assert!(e.contains("decision_periods"), "{e}");
         // the same bound from a file
         let mut f = Config::preset("classic").unwrap();
-        f.simulation.decision_cycles = 50_000_000;
+        f.simulation.decision_budget = 2_000_000_000_000;
         let e = Config::from_toml(&f.to_toml())
             .and_then(|c| c.sim_options())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("decision_cycles"), "{e}");
+        assert!(e.contains("decision_budget"), "{e}");
     }
 
     #[test]
