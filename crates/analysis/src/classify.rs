@@ -743,7 +743,14 @@ impl<'m> Decision<'m> {
             .max(persist_periods(self.model))
             .max(MIN_EXTENSION)
             .saturating_mul(1u64 << k.min(40));
-        // within a record of the horizon the last block is a record alone (it ends past it)
+        // the block that reaches the end records the requested length (the record a chaotic
+        // verdict reports); earlier ones record enough to show every period. Within a record of
+        // the horizon the last block is a record alone (it ends past it)
+        let record = if end - done <= block.saturating_add(record) {
+            self.opts.record_periods
+        } else {
+            record
+        };
         let transient = block.min((end - done).saturating_sub(record));
         let more = SimOptions {
             tau0: self.res.final_state.0,

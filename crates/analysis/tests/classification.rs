@@ -498,3 +498,26 @@ fn integrator_noise_does_not_double_a_period() {
     assert_eq!(s_rk4.label, "7-3-0-3-0");
     assert_eq!(s.label, s_rk4.label);
 }
+
+#[test]
+fn the_mesh_cycle_period_of_one_orbit_does_not_jump_between_neighbouring_loads() {
+    // the broken pair's 3-60-0 orbit at omega = 1.2: its mesh-cycle strobe repeats after 6
+    // cycles to a few 1e-6 (other shifts differ by ~0.8); at ten times the period tolerance it
+    // read 60 cycles at F = 0.1 and 120 at F = 0.11, a "doubling" the report would have counted
+    let base = geardyn_scenario::ScenarioSpec::preset("breakage")
+        .unwrap()
+        .resolve()
+        .unwrap();
+    for f in [0.1, 0.11] {
+        let sc = base.with_all(&[("omega", 1.2), ("F", f)]).unwrap();
+        let (_, s, _) = simulate_decided(
+            sc.model(),
+            [0.0, 0.0],
+            &SimOptions::default(),
+            Decide::default(),
+        )
+        .unwrap();
+        assert_eq!(s.label, "3-60-0", "F = {f}");
+        assert_eq!(s.mesh_period, Some(6), "F = {f}");
+    }
+}

@@ -185,6 +185,7 @@ impl Interval {
     /// The name with the mesh-cycle period where there is one: `1-20-0 (3 mesh cycles)`.
     pub fn display(&self) -> String {
         match self.mesh_period {
+            Some(1) if self.class.periodic() => format!("{} (1 mesh cycle)", self.name),
             Some(m) if self.class.periodic() => format!("{} ({m} mesh cycles)", self.name),
             _ => self.name.clone(),
         }

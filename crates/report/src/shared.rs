@@ -123,7 +123,12 @@ fn legend_text(
     let mut s = name.to_string();
     if !mesh_periods.is_empty() {
         let list: Vec<String> = mesh_periods.iter().map(|m| m.to_string()).collect();
-        s.push_str(&format!(" ({} mesh cycles)", list.join(", ")));
+        let unit = if list == ["1"] {
+            "mesh cycle"
+        } else {
+            "mesh cycles"
+        };
+        s.push_str(&format!(" ({} {unit})", list.join(", ")));
     }
     s.push_str(if healthy { ", healthy" } else { ", back side" });
     s
@@ -1100,5 +1105,10 @@ mod tests {
             "1-40-40, back side"
         );
         assert_eq!(legend_text("chaotic", false, &m, false), "chaotic");
+        let one: BTreeSet<usize> = [1].into_iter().collect();
+        assert_eq!(
+            legend_text("1-0-0", true, &one, true),
+            "1-0-0 (1 mesh cycle), healthy"
+        );
     }
 }
