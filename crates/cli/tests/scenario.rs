@@ -36,7 +36,15 @@ const PRESETS: [&str; 3] = ["classic", "breakage", "internal"];
 
 /// Short, cheap arguments of every command that writes a folder.
 fn command_args(cmd: &str) -> Vec<&'static str> {
-    let short = ["--periods", "2", "--transient", "2"];
+    // a short decision horizon: these tests check what is integrated, not the verdict
+    let short = [
+        "--periods",
+        "2",
+        "--transient",
+        "2",
+        "--decision-periods",
+        "200",
+    ];
     let mut a: Vec<&'static str> = match cmd {
         "simulate" => vec![],
         "bifurcation" => vec!["--range", "0.9:1.1:2"],
@@ -201,7 +209,14 @@ fn a_one_value_bifurcation_equals_simulate_on_every_preset() {
         for (param, value) in [("omega", "1.2"), ("F", "0.08")] {
             let s = tmp(&format!("eq-sim-{preset}-{param}"));
             let b = tmp(&format!("eq-bif-{preset}-{param}"));
-            let common = ["--periods", "4", "--transient", "20"];
+            let common = [
+                "--periods",
+                "4",
+                "--transient",
+                "20",
+                "--decision-periods",
+                "200",
+            ];
             let mut sa = strs(&["simulate", "--preset", preset, "--set"]);
             sa.push(format!("{param}={value}"));
             sa.extend(strs(&common));
