@@ -79,6 +79,10 @@ pub struct Claim {
     pub claim: String,
     /// The seed file and figure/table/section it comes from.
     pub source: String,
+    /// The reading of the seed text it was measured under
+    /// ([`crate::interpretations::Interpretation::label`]; every axis of the seed).
+    #[serde(default)]
+    pub interpretation: String,
     /// What the seed gives (number, interval, label).
     pub seed_value: String,
     /// What geardyn measures.
@@ -99,22 +103,14 @@ impl Claim {
         verdict: Verdict,
         evidence: impl Into<String>,
     ) -> Claim {
+        // the seed's value and the measured one have their own columns: the evidence says how it
+        // was measured and why it differs, in a few sentences (details in the study's CSV files)
         let (seed_value, measured_value) = (seed_value.into(), measured_value.into());
-        let mut evidence: String = evidence.into();
-        // a verdict short of `reproduced` says what differs, in the row itself
-        if matches!(verdict, Verdict::Partly | Verdict::NotReproduced) {
-            evidence.push_str(&format!(
-                " {}: the seed states «{seed_value}», the data give «{measured_value}».",
-                if verdict == Verdict::Partly {
-                    "Partly"
-                } else {
-                    "Not reproduced"
-                }
-            ));
-        }
+        let evidence: String = evidence.into();
         Claim {
             claim: claim.into(),
             source: source.into(),
+            interpretation: String::new(),
             seed_value,
             measured_value,
             verdict,
@@ -147,17 +143,18 @@ pub fn resolve_conflicts(claims: &mut [Claim], group: &[&str]) {
     }
 }
 
-/// The columns of `claims.csv`.
-pub const COLUMNS: [&str; 6] = [
+/// The columns of `claims.csv` and `claims_by_interpretation.csv`.
+pub const COLUMNS: [&str; 7] = [
     "claim",
     "source",
+    "interpretation",
     "seed_value",
     "measured_value",
     "verdict",
     "evidence",
 ];
 
-/// Writes `claims.csv`.
+/// Writes `claims.csv` (or `claims_by_interpretation.csv`).
 pub fn write_csv(path: &Path, claims: &[&Claim]) -> Result<()> {
     geardyn_io::output::write_csv(
         path,
@@ -166,6 +163,7 @@ pub fn write_csv(path: &Path, claims: &[&Claim]) -> Result<()> {
             vec![
                 c.claim.clone(),
                 c.source.clone(),
+                c.interpretation.clone(),
                 c.seed_value.clone(),
                 c.measured_value.clone(),
                 c.verdict.word().to_string(),

@@ -25,12 +25,18 @@ th{background:#f3f3f3}.meta{font-size:.9em;color:#333;background:#f8f8f8;padding
 const MAX_ROWS: usize = 40;
 
 fn claims_table(claims: &[&Claim]) -> String {
+    // the reading of the seed text each claim uses, when the plan has readings
+    let readings = claims.iter().any(|c| !c.interpretation.is_empty());
     let mut s = String::from(
-        "<table><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th></tr>\n",
+        "<table><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th>",
     );
+    if readings {
+        s.push_str("<th>reading of the text</th>");
+    }
+    s.push_str("</tr>\n");
     for c in claims {
         s.push_str(&format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td><td>{}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td><td>{}</td>",
             esc(&c.claim),
             esc(&c.source),
             esc(&c.seed_value),
@@ -39,6 +45,72 @@ fn claims_table(claims: &[&Claim]) -> String {
             esc(c.verdict.word()),
             esc(&c.evidence)
         ));
+        if readings {
+            s.push_str(&format!(
+                "<td class=\"small\">{}</td>",
+                esc(&c.interpretation)
+            ));
+        }
+        s.push_str("</tr>\n");
+    }
+    s.push_str("</table>\n");
+    s
+}
+
+/// The claims that have alternatives, one column per reading of the text: the verdict and the
+/// measured value in each cell (`claims_by_interpretation.csv` holds the evidence).
+fn readings_matrix(headline: &[&Claim], alternatives: &[&Claim]) -> String {
+    let mut texts: Vec<&str> = Vec::new();
+    for c in alternatives {
+        if !texts.contains(&c.claim.as_str()) {
+            texts.push(&c.claim);
+        }
+    }
+    let rows: Vec<&Claim> = headline
+        .iter()
+        .chain(alternatives)
+        .filter(|c| texts.contains(&c.claim.as_str()))
+        .copied()
+        .collect();
+    let mut readings: Vec<&str> = Vec::new();
+    for c in &rows {
+        if !readings.contains(&c.interpretation.as_str()) {
+            readings.push(&c.interpretation);
+        }
+    }
+    let mut s = String::from(
+        "<h2 id=\"claims-by-reading\">The same claims under every reading of the text</h2>\n<p class=\"small\">Where the seed text leaves a reading open (section on readings), the claims that depend on it are judged under each reading. The headline table above uses the reading the text states most directly; the columns here are all readings run (every row is in <a href=\"claims_by_interpretation.csv\">claims_by_interpretation.csv</a> with its evidence).</p>\n<ol class=\"small\">\n",
+    );
+    for r in &readings {
+        s.push_str(&format!("<li>{}</li>\n", esc(r)));
+    }
+    s.push_str("</ol>\n<table><tr><th>claim</th><th>seed</th>");
+    for i in 1..=readings.len() {
+        s.push_str(&format!("<th>reading {i}</th>"));
+    }
+    s.push_str("</tr>\n");
+    for t in &texts {
+        let first = rows.iter().find(|c| c.claim == *t);
+        s.push_str(&format!(
+            "<tr><td>{}</td><td>{}</td>",
+            esc(t),
+            esc(first.map_or("", |c| c.seed_value.as_str()))
+        ));
+        for r in &readings {
+            match rows
+                .iter()
+                .find(|c| c.claim == *t && c.interpretation == *r)
+            {
+                Some(c) => s.push_str(&format!(
+                    "<td><span class=\"{}\">{}</span><br><span class=\"small\">{}</span></td>",
+                    c.verdict.word().replace(' ', "-"),
+                    esc(c.verdict.word()),
+                    esc(&c.measured_value)
+                )),
+                None => s.push_str("<td>–</td>"),
+            }
+        }
+        s.push_str("</tr>\n");
     }
     s.push_str("</table>\n");
     s
@@ -106,6 +178,9 @@ pub fn page(info: &PageInfo) -> String {
         info.budget as f64 / 1e6,
     ));
     s.push_str("<nav><h2>Contents</h2><ol>\n<li><a href=\"#claims\">Claims of the seeds, checked by the data</a></li>\n");
+    if info.sections.iter().any(|x| !x.alternatives.is_empty()) {
+        s.push_str("<li><a href=\"#claims-by-reading\">The same claims under every reading of the text</a></li>\n");
+    }
     for sec in info.sections {
         s.push_str(&format!(
             "<li><a href=\"#{}\">{}</a></li>\n",
@@ -133,6 +208,14 @@ pub fn page(info: &PageInfo) -> String {
                 .join(", ")
         ));
         s.push_str(&claims_table(&claims));
+    }
+    let alternatives: Vec<&Claim> = info
+        .sections
+        .iter()
+        .flat_map(|x| x.alternatives.iter())
+        .collect();
+    if !alternatives.is_empty() {
+        s.push_str(&readings_matrix(&claims, &alternatives));
     }
     for sec in info.sections {
         s.push_str(&format!("<h2 id=\"{}\">{}</h2>\n", sec.id, esc(&sec.title)));

@@ -21,6 +21,7 @@
 mod claims;
 mod classes;
 mod html;
+mod interpretations;
 mod plan_breakage;
 mod plan_classic;
 mod plan_internal;
@@ -86,8 +87,12 @@ pub struct Section {
     pub readings: Vec<String>,
     /// Tables.
     pub tables: Vec<Table>,
-    /// Claims checked in this section.
+    /// Claims checked in this section, under the headline reading of the seed text.
     pub claims: Vec<Claim>,
+    /// The same or related claims under the other readings the text allows
+    /// ([`interpretations`]): `claims_by_interpretation.csv` and the matrix on the page.
+    #[serde(default)]
+    pub alternatives: Vec<Claim>,
     /// Wall time of the study (s).
     pub seconds: f64,
 }
@@ -156,6 +161,9 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
     geardyn_io::output::write_text(&dir.join("config.toml"), &cfg.to_toml())?;
     let claims: Vec<&Claim> = sections.iter().flat_map(|s| s.claims.iter()).collect();
     claims::write_csv(&dir.join("claims.csv"), &claims)?;
+    let mut every: Vec<&Claim> = claims.clone();
+    every.extend(sections.iter().flat_map(|s| s.alternatives.iter()));
+    claims::write_csv(&dir.join("claims_by_interpretation.csv"), &every)?;
     geardyn_io::run_record::write_run_record(
         &dir,
         "report",

@@ -6,6 +6,7 @@
 
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
+use crate::interpretations::{axis_rows, label_claims, Axis, Interpretation, AXIS_HEADER};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
 use crate::runner::{hdr, Ctx};
 use crate::shared::{
@@ -30,6 +31,27 @@ const A002: &str = "seed A 002 (short version)";
 /// Mesh frequency of the load sweep (the seed does not state it; chosen: ω = 1.2, where seed
 /// 000 places periodic motion with diminishing impacts).
 const OMEGA_LOAD: f64 = 1.2;
+/// Seed A's unstated readings, the headline reading of each first.
+const AXES: [Axis; 2] = [
+    Axis {
+        name: "load-sweep frequency",
+        source: "seed A 000 ¶9; 001 §3; 002 §5.2",
+        text: "the bifurcation diagram and the impact-force periodogram over F are given without the mesh frequency they were computed at",
+        choices: &["omega = 1.2", "omega = 1", "omega = 1.1", "omega = 1.3", "omega = 1.4"],
+        why: "where seed 000 places periodic motion with diminishing impacts",
+    },
+    Axis {
+        name: "chip size",
+        source: "seed A 001 §2 (Fig. 2)",
+        text: "«the tip of a pinion tooth is chipped»: the removed height is not given",
+        choices: &["1 mm removed (the preset's)", "0.5 mm removed", "1.5 mm removed"],
+        why: "the preset's documented default, a third of the addendum",
+    },
+];
+
+/// Removed tip heights (mm) of the [`AXES`] chip readings, in their order.
+const CHIP_MM: [f64; 3] = [1.0, 0.5, 1.5];
+
 /// Relative difference below which two largest mesh forces count as equal (the integrator's
 /// noise on one orbit is about 1e-5 relative; the audit found ties of 1e-7 counted as higher).
 const FORCE_TIE: f64 = 1e-4;
@@ -85,7 +107,25 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     })?);
     out.push(ctx.study("frequency_sweep", &(), |dir| frequency(ctx, &base, dir))?);
     out.push(ctx.study("portraits", &(), |dir| portraits(ctx, &base, dir))?);
+    // the load sweep and every other study run the headline reading of the text
+    let headline = Interpretation::headline(&AXES).label(&AXES);
+    for sec in &mut out {
+        label_claims(&mut sec.claims, &headline);
+    }
     Ok(out)
+}
+
+/// `base` with `mm` removed from the chipped tip (the chip-size reading).
+fn with_chip(base: &Scenario, mm: f64) -> Result<Scenario> {
+    let mut spec = base.spec().clone();
+    let b = spec
+        .pair
+        .as_mut()
+        .and_then(|p| p.breakage.as_mut())
+        .context("the chip-size reading needs a pair with a broken tooth")?;
+    b.removed_height_mm = Some(mm);
+    b.tip_radius_mm = None;
+    Ok(spec.resolve()?)
 }
 
 fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
@@ -137,7 +177,6 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
             .map(|r| r.share1.max(r.share2))
             .collect(),
     );
-    let inverted = pm.geom.pb / (eb * pm.geom.pb);
     let drop = 1.0 - k_zone2 / k_same_healthy;
     let claims = vec![
         Claim::new(
@@ -155,12 +194,12 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
             ),
         ),
         Claim::new(
-            "eps_b = p_b / l_AD1 (Eq. 1 as printed)",
+            "eps_b = l_AD1 / p_b (Eq. 1, «epsilonb=pblAD1»)",
             format!("{A001} §2.2, Eq. (1)"),
-            "p_b / l_AD1",
-            format!("p_b / l_AD1 = {}", f(inverted)),
-            Verdict::SeedInconsistent,
-            "As printed the ratio is inverted: it gives a value below 1, contradicting the same section's 1 < eps_b < eps_m; the defining sentence (path AD1 divided by the base pitch) is used.",
+            "l_AD1 / p_b, between 1 and eps_m",
+            format!("l_AD1 / p_b = {}", f(eb)),
+            Verdict::of(1.0 < eb && eb < eps),
+            "Seed 001 writes fractions denominator first (its «T0=ωpzp2π» is 2π/(ω_p z_p), its exponent «53» is 3/5), so Eq. (1) reads l_AD1 / p_b: the path AD1 of the chipped tooth over the base pitch, as its defining sentence says.",
         ),
         Claim::new(
             "Part of the broken cycle's double-tooth zone becomes single-tooth zone II with lower stiffness",
@@ -212,6 +251,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
         )],
         tables: vec![],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -474,6 +514,7 @@ fn states(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Sect
                 "The few negative drive-side samples are the damping term c x' just before contact ends (x > D with x' < 0), the mechanism seed B describes; the impact force is the Lankarani–Nikravesh peak of each impact (model §8).",
             ),
         ],
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -531,7 +572,8 @@ fn revolution(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Res
     }
     let (rb, rh) = main_res.context("main point in the grid")?;
     // the healthy pair has coexisting attractors at the main point (from (0, 0) a 1-0-0 orbit,
-    // elsewhere a 1-2-0 orbit with back-side impacts and a three times larger force): the
+    // elsewhere a 1-2-0 orbit, two separations per period and no back-side impact, with a three
+    // times larger force): the
     // comparison is made from several initial states, each pair from the same one ((0, 0) is the
     // main run above)
     let starts: [[f64; 2]; 4] = [
@@ -675,6 +717,7 @@ fn revolution(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Res
                 }
             },
         )],
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -745,15 +788,16 @@ fn load_sweep(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<Section>
             ],
             tables: vec![table, table_h],
             claims,
+            alternatives: vec![],
             seconds: 0.0,
         })
     })?;
     Ok(sec)
 }
 
-fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
+/// The claims of the load sweep that need only the broken pair's runs `pb` (at `omega`).
+fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
     let tb = tolerant(pb);
-    let th = tolerant(ph);
     // "F > 0.1" checked on the interior of (0.1, 0.15], trimmed by 15 % at each end as every
     // interval of the seeds (a boundary is not a point)
     // shares and counts from the decided class of every value; the smoothed reading (`tb`,
@@ -780,47 +824,15 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
         pct(hi_imp)
     );
     let chaos = classes::ranges(&tb, |p| p.class == Class::Chaotic);
-    let chaos_imp = classes::within(pb, 0.0, 0.1)
-        .iter()
-        .filter(|p| p.class == Class::Chaotic)
-        .all(|p| p.back)
-        && !chaos.is_empty();
+    let chaos_imp = chaos_with_impacts(pb);
     let iv = classes::intervals(&tb);
     // on the mesh-cycle clock: a 3 -> 6 mesh-cycle doubling inside one revolution is one
     let doubling = classes::has_doubling(&iv);
-    let imp = |pts: &[Pt]| {
-        pts.iter()
-            .filter(|p| p.back)
-            .map(|p| p.value)
-            .collect::<Vec<f64>>()
-    };
-    let (ib, ih) = (imp(pb), imp(ph));
-    let largest_imp = ib.iter().copied().fold(f64::NAN, f64::max);
-    let lower: Vec<&Pt> = classes::within(pb, 0.0, 0.075);
-    let upper: Vec<&Pt> = classes::within(pb, 0.075, 0.15);
-    let (sl, su) = (
-        classes::share(&lower, |p| p.back),
-        classes::share(&upper, |p| p.back),
-    );
-    let chaos_b = pb.iter().filter(|p| p.class == Class::Chaotic).count();
-    let chaos_h = ph.iter().filter(|p| p.class == Class::Chaotic).count();
-    // healthy: period 1 at high load, period 2 somewhere below it
-    let h_p1_high = classes::within(ph, 0.1, 0.15)
+    let largest_imp = pb
         .iter()
-        .any(|p| p.class == Class::Periodic(1));
-    let h_p2_low = ph
-        .iter()
-        .any(|p| p.class == Class::Periodic(2) || p.mesh_period == Some(2));
-    let higher = pb
-        .iter()
-        .zip(ph)
-        .filter(|(b, h)| b.max_force > h.max_force * (1.0 + FORCE_TIE))
-        .count();
-    let lower_f = pb
-        .iter()
-        .zip(ph)
-        .filter(|(b, h)| b.max_force < h.max_force * (1.0 - FORCE_TIE))
-        .count();
+        .filter(|p| p.back)
+        .map(|p| p.value)
+        .fold(f64::NAN, f64::max);
     let ch_txt = if chaos.is_empty() {
         "none".to_string()
     } else {
@@ -830,6 +842,12 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
             .collect::<Vec<_>>()
             .join(", ")
     };
+    let lower: Vec<&Pt> = classes::within(pb, 0.0, 0.075);
+    let upper: Vec<&Pt> = classes::within(pb, 0.075, 0.15);
+    let (sl, su) = (
+        classes::share(&lower, |p| p.back),
+        classes::share(&upper, |p| p.back),
+    );
     vec![
         Claim::new(
             "At higher loads (F > 0.1) the motion is periodic without back-side impact",
@@ -861,8 +879,44 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
             "impacts fewer at larger F",
             format!("share of values with impacts: F < 0.075 {}, F ≥ 0.075 {}; largest F with impacts {}", pct(sl), pct(su), f(largest_imp)),
             Verdict::of(sl > su),
-            "Broken pair, omega = 1.2.",
+            format!("Broken pair, omega = {}.", f(omega)),
         ),
+    ]
+}
+
+/// The claims of the load sweep: [`broken_load_claims`] at [`OMEGA_LOAD`] and those that compare
+/// the broken pair `pb` with its healthy twin `ph`.
+fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
+    let th = tolerant(ph);
+    let chaos_imp = chaos_with_impacts(pb);
+    let imp = |pts: &[Pt]| {
+        pts.iter()
+            .filter(|p| p.back)
+            .map(|p| p.value)
+            .collect::<Vec<f64>>()
+    };
+    let (ib, ih) = (imp(pb), imp(ph));
+    let chaos_b = pb.iter().filter(|p| p.class == Class::Chaotic).count();
+    let chaos_h = ph.iter().filter(|p| p.class == Class::Chaotic).count();
+    // healthy: period 1 at high load, period 2 somewhere below it
+    let h_p1_high = classes::within(ph, 0.1, 0.15)
+        .iter()
+        .any(|p| p.class == Class::Periodic(1));
+    let h_p2_low = ph
+        .iter()
+        .any(|p| p.class == Class::Periodic(2) || p.mesh_period == Some(2));
+    let higher = pb
+        .iter()
+        .zip(ph)
+        .filter(|(b, h)| b.max_force > h.max_force * (1.0 + FORCE_TIE))
+        .count();
+    let lower_f = pb
+        .iter()
+        .zip(ph)
+        .filter(|(b, h)| b.max_force < h.max_force * (1.0 - FORCE_TIE))
+        .count();
+    let mut v = broken_load_claims(pb, OMEGA_LOAD);
+    v.extend([
         Claim::new(
             "With decreasing load a healthy pair goes from period 1 to period 2, a broken one becomes chaotic with back-side impact",
             format!("{A000} ¶11"),
@@ -898,7 +952,18 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
             if higher * 10 >= pb.len() * 8 { Verdict::Reproduced } else if higher * 2 > pb.len() { Verdict::Partly } else { Verdict::NotReproduced },
             "At omega = 1.2 the broken cycle often falls into a separation, where the chipped tooth changes nothing (see the revolution section).",
         ),
-    ]
+    ]);
+    v
+}
+
+/// Chaotic values below F = 0.1 exist and all show back-side impacts.
+fn chaos_with_impacts(pb: &[Pt]) -> bool {
+    let chaos = classes::ranges(&tolerant(pb), |p| p.class == Class::Chaotic);
+    classes::within(pb, 0.0, 0.1)
+        .iter()
+        .filter(|p| p.class == Class::Chaotic)
+        .all(|p| p.back)
+        && !chaos.is_empty()
 }
 
 fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
@@ -908,6 +973,7 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     let sim = ctx.sim((30, 80), (12, 30));
     let mut colors = Vec::new();
     let mut rows = Vec::new();
+    let mut alternatives = Vec::new();
     let mut ok_count = 0;
     for &w in &omegas {
         let b = base.with("omega", w)?;
@@ -926,8 +992,54 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             .map(|p| p.value)
             .fold(f64::NAN, f64::max);
         let chaos = classes::ranges(&tolerant(&pts), |p| p.class == Class::Chaotic);
+        // the load sweep's claims at this frequency: another reading of the text
+        let reading = format!("omega = {}", f(w));
+        if let Some(k) = AXES[0].choices.iter().position(|c| *c == reading) {
+            if k > 0 {
+                let mut cl = broken_load_claims(&pts, w);
+                let it = Interpretation::with(&AXES, &[(AXES[0].name, k)]);
+                label_claims(&mut cl, &it.label(&AXES));
+                alternatives.extend(cl);
+            }
+        }
         rows.push(vec![
             f(w),
+            "1".into(),
+            f(largest),
+            if chaos.is_empty() {
+                "none".into()
+            } else {
+                chaos
+                    .iter()
+                    .map(|c| range(c.0, c.1))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
+            pts.last().map_or(String::new(), |p| p.name.clone()),
+            (if ok { "yes" } else { "no" }).into(),
+        ]);
+    }
+    // the chip-size readings at the load sweep's frequency
+    for (k, &mm) in CHIP_MM.iter().enumerate().skip(1) {
+        let b = with_chip(base, mm)?.with("omega", OMEGA_LOAD)?;
+        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
+        let r = ctx.sweep(dir, &format!("F sweep chip {mm} mm"), &b, &o)?;
+        let pts = classes::fixed_points(&r);
+        let mut cl = broken_load_claims(&pts, OMEGA_LOAD);
+        let it = Interpretation::with(&AXES, &[(AXES[1].name, k)]);
+        label_claims(&mut cl, &it.label(&AXES));
+        alternatives.extend(cl);
+        let hi = classes::within(&pts, 0.1075, 0.1425);
+        let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > 0.999;
+        let largest = pts
+            .iter()
+            .filter(|p| p.back)
+            .map(|p| p.value)
+            .fold(f64::NAN, f64::max);
+        let chaos = classes::ranges(&tolerant(&pts), |p| p.class == Class::Chaotic);
+        rows.push(vec![
+            f(OMEGA_LOAD),
+            f(mm),
             f(largest),
             if chaos.is_empty() {
                 "none".into()
@@ -983,6 +1095,7 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         "The load sweep at neighbouring frequencies",
         &hdr(&[
             "omega",
+            "chip (mm removed)",
             "largest F with impacts",
             "chaotic F",
             "motion at F = 0.15",
@@ -990,13 +1103,21 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         ]),
         rows,
     )?;
+    let axes = ctx.table(
+        &dir.join("readings.csv"),
+        "Readings the text leaves open (the headline reading first)",
+        &hdr(&AXIS_HEADER),
+        axis_rows(&AXES),
+    )?;
     Ok(Section {
         id: "load_sensitivity".into(),
-        title: "Sensitivity of the load sweep to the chosen frequency".into(),
+        title: "Sensitivity of the load sweep to the readings of the text: its frequency and the chip size".into(),
         seed_ref: "000 ¶9 (the frequency of the load sweep is not given)".into(),
         parameters: format!(
-            "F in [0, 0.15] ({nf} values) at omega ∈ {{{}}}; xi = 0.05",
-            omegas.iter().map(|w| f(*w)).collect::<Vec<_>>().join(", ")
+            "F in [0, 0.15] ({nf} values) at omega ∈ {{{}}} (chip of the preset) and at omega = {} with {} mm removed; xi = 0.05",
+            omegas.iter().map(|w| f(*w)).collect::<Vec<_>>().join(", "),
+            f(OMEGA_LOAD),
+            CHIP_MM[1..].iter().map(|m| f(*m)).collect::<Vec<_>>().join(" and ")
         ),
         method: format!("As the load sweep, {} + {} revolutions per value.", sim.transient_periods, sim.record_periods),
         figures: vec![ctx.fig(&stem, &format!("Decided motion of the broken pair over F at {} mesh frequencies: healthy periodic, periodic with back-side impacts, chaotic, undecided.", omegas.len()), &[csv])],
@@ -1004,8 +1125,9 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             "The seed's statement (F > 0.1 periodic without impact) holds at {ok_count} of {} frequencies; at exact resonance (omega = 1, damping ratio 0.005) back-side impacts persist to large loads.",
             omegas.len()
         )],
-        tables: vec![table],
+        tables: vec![table, axes],
         claims: vec![],
+        alternatives,
         seconds: 0.0,
     })
 }
@@ -1186,11 +1308,6 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         })
         .collect();
     let p24_elsewhere: Vec<f64> = scan_rows.iter().filter(|r| r.2).map(|r| r.0).collect();
-    let scan_txt = scan_rows
-        .iter()
-        .map(|(w, n, _)| format!("omega = {}: {}", f(*w), n.join(", ")))
-        .collect::<Vec<_>>()
-        .join("; ");
     let scan_table = ctx.table(
         &dir.join("omega_scan_F_0.05.csv"),
         "Motions at F = 0.05 over a few frequencies (the seed gives none for its load sweep)",
@@ -1215,9 +1332,9 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             format!("periodic motions for F in [0.04, 0.06]: {}", if near_names.is_empty() { "none".into() } else { near_names.join("; ") }),
             if p24 { Verdict::Reproduced } else if !near_names.is_empty() || !p24_elsewhere.is_empty() { Verdict::Partly } else { Verdict::NotReproduced },
             format!(
-                "{ics} random initial states per load at omega = 1.2 (the seed's frequency is not given); periods counted in revolutions and in mesh cycles. All motions found near F = 0.05: {}.{} Other frequencies at F = 0.05 (same initial states): {scan_txt}; period 2 beside period 4 at {}.",
+                "{ics} initial states per load at omega = 1.2 (the seed gives no frequency); periods in revolutions and in mesh cycles. Motions near F = 0.05: {}.{} At other frequencies (omega_scan_F_0.05.csv), period 2 beside period 4 at {}.",
                 all_near.join(", "),
-                if p24 || !near_names.is_empty() { "" } else { " At this frequency the motion near F = 0.05 is chaotic from every initial state tried, so the two periodic attractors of the seed do not appear." },
+                if p24 || !near_names.is_empty() { "" } else { " Chaotic from every initial state tried." },
                 if p24_elsewhere.is_empty() { "none of them".to_string() } else { format!("omega = {}", p24_elsewhere.iter().map(|w| f(*w)).collect::<Vec<_>>().join(", ")) }
             ),
         ),
@@ -1289,6 +1406,7 @@ fn coexistence_load(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         )],
         tables: vec![table, scan_table, btable],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -1561,6 +1679,7 @@ fn frequency(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         readings: vec![format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2))],
         tables: vec![table, sens],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -1647,6 +1766,7 @@ fn portraits(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         readings: vec![],
         tables: vec![table],
         claims: vec![],
+        alternatives: vec![],
         seconds: 0.0,
     })
 }

@@ -107,6 +107,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
                 Verdict::of_parts(&[ok_p2, ok_ch]),
                 "Fixed-initial-state sweep, decided classification; single values at bifurcation points ignored; a chaotic band is one band across periodic windows of up to three sweep values (listed).",
             )],
+            alternatives: vec![],
             seconds: 0.0,
         })
     })?);
@@ -159,6 +160,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
             readings,
             tables: vec![],
             claims: vec![],
+            alternatives: vec![],
             seconds: 0.0,
         })
     })?);
@@ -186,6 +188,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
             readings: vec![],
             tables: vec![table],
             claims: vec![],
+            alternatives: vec![],
             seconds: 0.0,
         })
     })?);

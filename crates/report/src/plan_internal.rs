@@ -8,6 +8,7 @@
 
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
+use crate::interpretations::{axis_rows, label_claims, Axis, Interpretation, AXIS_HEADER};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence, sets};
 use crate::runner::{hdr, with_linear_law, Ctx};
 use crate::shared::{
@@ -24,6 +25,7 @@ use geardyn_analysis::continuation::ContinuationOptions;
 use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_analysis::simulate::{simulate, SimOptions};
 use geardyn_model::EventKind;
+use geardyn_model::StiffnessForm;
 use geardyn_physics::PairModel;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -44,6 +46,86 @@ const F_BACKLASH: f64 = 0.07;
 const DD_SEED: f64 = 0.9;
 /// See [`DD_SEED`].
 const DS_SEED: f64 = 1.0;
+
+/// Seed B's unstated or ambiguous readings, the headline reading of each first.
+const AXES: [Axis; 4] = [
+    Axis {
+        name: "damping",
+        source: "seed B 004 Table 3.2; 003 §2",
+        text: "«Damping ratio ξ 0.07» in the parameter table of the dimensionless model, whose damping term is c(t) x'",
+        choices: &["c = 2 zeta (0.14)", "c = zeta (0.07)"],
+        why: "the text names a damping ratio; in the model's own scaling c = c_m/(m_e omega_n) = 2 zeta",
+    },
+    Axis {
+        name: "backlash",
+        source: "seed B 004 §3.1, §4.1; 003 §2",
+        text: "«time-varying backlash … D_s > D_d», derived from deformation, temperature and oil film; no value of D_d or D_s is printed",
+        choices: &["the pair's D_d/D_s", "nominal D_d = 0.9, D_s = 1", "swept D_d = D, D_s = D + 0.2"],
+        why: "the text derives D(t) from the pair; the xi sweep, the (xi, F) map and the mechanism take the nominal step (with the pair's levels, about 0.002 apart, their labels cannot occur), the backlash sweep varies D itself",
+    },
+    Axis {
+        name: "stiffness",
+        source: "seed B 004 §2.2, Eq. (23)",
+        text: "k(t) of Eq. (23) is the pair's TVMS; its shape in the dimensionless studies is not printed",
+        choices: &["the pair's TVMS", "rectangular k_s/k_d = 0.6"],
+        why: "the text computes the TVMS of this pair",
+    },
+    Axis {
+        name: "contact",
+        source: "seed B 004 Eq. (23), §2.1",
+        text: "Eq. (23) is piecewise linear, k f(x, D); §2.1 builds a Johnson-type contact law for the pair",
+        choices: &["linear k f(x, D)", "the pair's Johnson-type law"],
+        why: "the dimensionless equations the studies integrate are linear",
+    },
+];
+
+/// `k_s/k_d` of the rectangular stiffness reading (an illustration: the text gives no shape).
+const RECT_RATIO: f64 = 0.6;
+
+/// The scenario `lin` (linear law) or `law` (the pair's law) under the reading `it`.
+fn interpret(lin: &Scenario, law: &Scenario, it: &Interpretation) -> Result<Scenario> {
+    let mut s = if it.pick(&AXES, "contact") == 1 {
+        law.clone()
+    } else {
+        lin.clone()
+    };
+    if it.pick(&AXES, "damping") == 1 {
+        // the ratio used as c: half of c = 2 zeta
+        let c = s.params().c / 2.0;
+        s = s.with("c", c)?;
+    }
+    match it.pick(&AXES, "backlash") {
+        1 => s = s.with_all(&[("D_d", DD_SEED), ("D_s", DS_SEED)])?,
+        2 => anyhow::bail!("the swept backlash is a study, not the reading of one run"),
+        _ => {}
+    }
+    if it.pick(&AXES, "stiffness") == 1 {
+        let mut p = s.params().clone();
+        // mean 1 over the mesh cycle: k_d (eps - 1) + k_s (2 - eps) = 1
+        let kd = 1.0 / ((p.eps - 1.0) + RECT_RATIO * (2.0 - p.eps));
+        p.stiffness = StiffnessForm::Rectangular {
+            k_double: kd,
+            k_single: RECT_RATIO * kd,
+        };
+        s = Scenario::dimensionless(p)?;
+    }
+    Ok(s)
+}
+
+/// The interpretations the readings study runs: each axis alone, the damping and backlash
+/// readings together (which the load cascade needs) and, on top of them, the rectangular
+/// stiffness.
+fn interpretations() -> Vec<Interpretation> {
+    vec![
+        Interpretation::headline(&AXES),
+        Interpretation::with(&AXES, &[("damping", 1)]),
+        Interpretation::with(&AXES, &[("backlash", 1)]),
+        Interpretation::with(&AXES, &[("damping", 1), ("backlash", 1)]),
+        Interpretation::with(&AXES, &[("damping", 1), ("backlash", 1), ("stiffness", 1)]),
+        Interpretation::with(&AXES, &[("stiffness", 1)]),
+        Interpretation::with(&AXES, &[("contact", 1)]),
+    ]
+}
 
 fn fixed(
     param: &str,
@@ -100,7 +182,132 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         attractors_omega(ctx, &lin, dir)
     })?);
     out.push(ctx.study("attractors_F", &(), |dir| attractors_f(ctx, &lin, dir))?);
+    out.push(ctx.study("readings", &(), |dir| readings(ctx, &lin, &base, dir))?);
+    // the reading of the text each section's claims use
+    for sec in &mut out {
+        let it = match sec.id.as_str() {
+            "backlash_sweep" => Interpretation::with(&AXES, &[("backlash", 2)]),
+            "mechanism" | "xi_sweep" | "map_xi_F" => {
+                Interpretation::with(&AXES, &[("backlash", 1)])
+            }
+            _ => Interpretation::headline(&AXES),
+        };
+        label_claims(&mut sec.claims, &it.label(&AXES));
+    }
     Ok(out)
+}
+
+// ---------------------------------------------------------------------------------------------
+// B0: the claims that depend on readings of the text, under every reading
+
+fn readings(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Section> {
+    let mut fvals = linspace(0.0001, 0.2, ctx.n(41, 134));
+    fvals.extend([0.04, 0.044, 0.07, 0.09, 0.096]);
+    fvals.sort_by(f64::total_cmp);
+    fvals.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let xvals = linspace(0.001, 0.3, ctx.n(31, 150));
+    let ics = ctx.n(3, 6);
+    let sim_f = ctx.sim((150, 300), (30, 60));
+    let sim_xi = ctx.sim((150, 300), (40, 100));
+    // the sections that hold the headline claims run these readings already
+    let f_done = Interpretation::headline(&AXES);
+    let xi_done = Interpretation::with(&AXES, &[("backlash", 1)]);
+    let mut alternatives = Vec::new();
+    let mut rows = Vec::new();
+    let mut figures = Vec::new();
+    for (i, it) in interpretations().iter().enumerate() {
+        let s = interpret(lin, law, it)?;
+        let label = it.label(&AXES);
+        let short = it.short(&AXES);
+        let mut f_seq = "in the section on F (headline)".to_string();
+        let mut xi_chaos = "in the section on xi (headline)".to_string();
+        if *it != f_done {
+            let b = s.with_all(&[("omega", 1.4), ("xi", 0.09)])?;
+            let d = b.params().d_single;
+            let r = ctx.sweep(
+                dir,
+                &format!("F multi-initial, reading {i}"),
+                &b,
+                &multi("F", fvals.clone(), sim_f, ics, d),
+            )?;
+            let pts = classes::points(&r, 0);
+            let mut cl = low_load_claims(&pts);
+            cl.push(cascade_claim(
+                &pts,
+                &format!("{ics} initial states per value"),
+            ));
+            label_claims(&mut cl, &label);
+            alternatives.extend(cl);
+            f_seq = sequence(
+                &classes::intervals(&tolerant(&classes::fixed_points(&r))),
+                2,
+            );
+            figures.push(sweep_figure(
+                ctx, dir, &format!("multi_F_reading_{i}"), "F", &r, &[Sec::Strobe],
+                &SweepPanels::default(),
+                &format!("Multi-initial bifurcation over F (omega = 1.4, xi = 0.09), reading: {short}"),
+                &format!("Reading of the text: {label}. Runs from {ics} initial states per load, coloured by the attractor label."),
+            )?);
+        }
+        if *it != xi_done {
+            let b = s.with_all(&[("F", 0.05), ("omega", 1.5)])?;
+            let r = ctx.sweep(
+                dir,
+                &format!("xi sweep, reading {i}"),
+                &b,
+                &fixed("xi", xvals.clone(), sim_xi, vec![Sec::Strobe], false),
+            )?;
+            let pts = classes::fixed_points(&r);
+            let mut cl = vec![xi_band_claim(&pts)];
+            label_claims(&mut cl, &label);
+            alternatives.extend(cl);
+            xi_chaos = ranges_text(&chaos_ranges(&pts));
+        }
+        let p = s.params();
+        rows.push(vec![
+            short,
+            f(p.c),
+            format!("{} / {}", f(p.d_double), f(p.d_single)),
+            f_seq,
+            xi_chaos,
+        ]);
+    }
+    let axes = ctx.table(
+        &dir.join("readings.csv"),
+        "Readings the text leaves open (the headline reading first)",
+        &hdr(&AXIS_HEADER),
+        axis_rows(&AXES),
+    )?;
+    let summary = ctx.table(
+        &dir.join("readings_summary.csv"),
+        "The load and xi sweeps under each reading",
+        &hdr(&[
+            "reading",
+            "c",
+            "D_d / D_s",
+            "F (omega 1.4, xi 0.09): motions of the first initial state",
+            "xi (omega 1.5, F 0.05): chaotic ranges",
+        ]),
+        rows,
+    )?;
+    Ok(Section {
+        id: "readings".into(),
+        title: "The claims that depend on a reading of the text, under every reading".into(),
+        seed_ref: "003 §3.4, §4.3 (Table 6); 004 §4.4, §5.4 (Table 5.2)".into(),
+        parameters: format!(
+            "Load sweep: F in [0.0001, 0.2] ({} values), omega = 1.4, xi = 0.09, {ics} initial states per value; xi sweep: xi in [0.001, 0.3] ({} values), omega = 1.5, F = 0.05, initial state (0, 0). Readings: {}.",
+            fvals.len(),
+            xvals.len(),
+            interpretations().iter().map(|i| i.short(&AXES)).collect::<Vec<_>>().join("; ")
+        ),
+        method: "Each reading of the first table changes the model as it says (c halved; D_d = 0.9, D_s = 1; a rectangular stiffness of mean 1; the pair's contact law); the claims of the load and xi sweeps are judged on each with the same rules as the headline sections. Every claim under every reading is in claims_by_interpretation.csv; the headline claims use the reading the text states most directly, not the one that reproduces best.".into(),
+        figures,
+        readings: vec![],
+        tables: vec![axes, summary],
+        claims: vec![],
+        alternatives,
+        seconds: 0.0,
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -278,6 +485,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
         )],
         tables: vec![table],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -435,6 +643,7 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
                 pct((2.0 - m.params().eps).max(0.0))
             ),
         )],
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -682,7 +891,7 @@ fn backlash(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         Claim::new("... leading to 4-1-1-1-1", format!("{B003} §3.3"), "4-1-1-1-1", b4b.map_or("not found".into(), |v| format!("at D = {}", f(v))), if b4b.is_some() { Verdict::Reproduced } else { Verdict::SeedInconsistent }, "A period doubling of 2-1-1-1-1 doubles the crossing counts (4-2-2-2-2, as the thesis writes); the summary's 4-1-1-1-1 contradicts it."),
         Claim::new("A reverse doubling (C) back to period 2", format!("{B004} §4.3 (point C)"), "4 → 2", format!("period 4 followed by period 2: {rev}"), Verdict::of(rev), "Needs the period-4 stage: without it (row above) there is no reverse doubling."),
         Claim::new("Chaos (D) with a positive TLE", format!("{B003} §3.3; {B004} §4.3 (point D)"), "chaos, TLE > 0", format!("chaos for D in {}; TLE > 0 at {pos_chaos} chaotic values; sign agrees with the class at {agree} of {with_tle}", ranges_text(&chaos_all)), if chaos_band && pos_chaos > 0 { Verdict::Reproduced } else if pos_chaos > 0 { Verdict::Partly } else { Verdict::NotReproduced }, if chaos_band { "TLE by the variational equation with saltation matrices.".to_string() } else if chaos_all.is_empty() { "TLE by the variational equation with saltation matrices. No value of the D grid is chaotic.".to_string() } else { "TLE by the variational equation with saltation matrices. Chaos appears only at isolated values of the grid (no two neighbours chaotic), not as the seed's chaotic region.".to_string() }),
-        Claim::new("The chaos degenerates (E) to a period-3 window", format!("{B003} §3.3; {B004} §4.3 (point E)"), "period 3 after chaos", p3_after.map_or("none".into(), |v| format!("period 3 from D = {}", f(v))), Verdict::of(p3_after.is_some()), "Fixed initial state."),
+        Claim::new("The chaos degenerates (E) to a period-3 window", format!("{B003} §3.3; {B004} §4.3 (point E)"), "period 3 after chaos", p3_after.map_or("none".into(), |v| format!("period 3 from D = {}", f(v))), Verdict::of(p3_after.is_some()), "Fixed initial state (0, 0); a period 3 after the main chaotic range is what the row needs (the motion over D: intervals_D.csv)."),
         Claim::new("Chaos returns after the period-3 window (F)", format!("{B003} §3.3; {B004} §4.3 (point F)"), "chaos again", format!("chaotic ranges: {}", ranges_text(&chaos)), Verdict::of(chaos_after_p3), "At these parameters the period-3 motion persists up to D = 2 (see the sensitivity table)."),
         Claim::new("Eventually a long-period motion emerges", format!("{B003} §3.3"), "long period", long_period.as_ref().map_or("none".into(), |(v, n)| format!("{n} at D = {}", f(*v))), if long_in_order { Verdict::Reproduced } else if long_period.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, format!("Long = period ≥ 5 (the last one over D). The summary places it after the return of chaos; chaos after the period-3 window: {}.", chaos_back.map_or("none (row above)".into(), |c| format!("from D = {}", f(c))))),
         Claim::new("For large backlash periodic and chaotic motions coexist (stronger nonlinearity)", format!("{B004} §4.3; {B003} §3.3"), "coexistence at large D", format!("values with ≥ 2 motions among the initial states: D < 1.15 {}, D ≥ 1.15 {}", pct(co_small), pct(co_large)), Verdict::of(co_large > co_small), "Multi-initial diagram (second figure). Where it fails, all initial states at large D reach the same motion (3-1-1-1-1 at these parameters): larger backlash does not add attractors here."),
@@ -711,6 +920,7 @@ fn backlash(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         readings: vec![format!("Sequence (runs of ≥ 2 values): {seq}.")],
         tables: vec![table, sens, table_cmp],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -869,14 +1079,13 @@ fn xi_sweep(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         .any(|p| p.class.period().is_some_and(|k| k == 6 || k == 12));
     let ends_p3 = t.last().is_some_and(|p| p.class == Class::Periodic(3));
     let back_first = t.iter().find(|p| p.back).map(|p| p.value);
-    let interval_ok = main.map(|m| ((m.0 - 0.044).abs(), (m.1 - 0.126).abs()));
     let seq = sequence(&classes::intervals(&t), 2);
     let claims = vec![
         Claim::new("Small xi: constant 1-0-0-1-0 motion (stable meshing)", format!("{B004} §4.4"), "1-0-0-1-0", format!("at xi = 0.001: {small}"), Verdict::of(small == "1-0-0-1-0"), "Linear contact law, D_d = 0.9, D_s = 1 (with the pair's physical levels, 0.002 apart, the motion stays in contact: see the sensitivity table)."),
-        Claim::new("An incomplete bifurcation (A): 1-0-0-1-0 coexists with 2-1-0-1-0", format!("{B004} §4.4 (point A); {B003} §3.4"), "1-0-0-1-0 + 2-1-0-1-0", match (inc_a, inc_a_any) { (Some(v), _) => format!("both at xi = {}", f(v)), (None, Some(v)) => format!("1-0-0-1-0 with another period 2 at xi = {}", f(v)), _ => "no coexistence found".into() }, if inc_a.is_some() { Verdict::Reproduced } else if inc_a_any.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, "Multi-initial sweep (second figure)."),
-        Claim::new("A second incomplete bifurcation (B): period-2 motions coexist with 3-1-0-1-0", format!("{B004} §4.4 (point B)"), "P2 + P2 + 3-1-0-1-0", inc_b.map_or("no period 2 beside a period 3".into(), |v| format!("period 2 beside period 3 at xi = {}", f(v))), if inc_b.is_some() { Verdict::Reproduced } else { Verdict::NotReproduced }, "Multi-initial sweep."),
-        Claim::new("A complete bifurcation (C) to 4-2-0-2-0", format!("{B004} §4.4 (point C)"), "4-2-0-2-0", c4.map_or("not found".into(), |v| format!("at xi = {}", f(v))), Verdict::of(c4.is_some()), "Fixed and multi-initial sweeps."),
-        Claim::new("Chaos and complex motion for xi in (0.044, 0.126)", format!("{B004} §4.4, §4.5, §6(3)"), "(0.044, 0.126)", format!("chaos for xi in {}", ranges_text(&chaos)), match interval_ok { Some((a, b)) if a <= 0.015 && b <= 0.02 => Verdict::Reproduced, Some(_) => Verdict::Partly, None => Verdict::NotReproduced }, "Largest chaotic range compared with the seed's ends (tolerance 0.015 / 0.02)."),
+        Claim::new("An incomplete bifurcation (A): 1-0-0-1-0 coexists with 2-1-0-1-0", format!("{B004} §4.4 (point A); {B003} §3.4"), "1-0-0-1-0 + 2-1-0-1-0", match (inc_a, inc_a_any) { (Some(v), _) => format!("both at xi = {}", f(v)), (None, Some(v)) => format!("1-0-0-1-0 with another period 2 at xi = {}", f(v)), _ => "no coexistence found".into() }, if inc_a.is_some() { Verdict::Reproduced } else if inc_a_any.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, "Multi-initial sweep (second figure): both labels at one xi; 1-0-0-1-0 beside a period 2 of another label counts as partly."),
+        Claim::new("A second incomplete bifurcation (B): period-2 motions coexist with 3-1-0-1-0", format!("{B004} §4.4 (point B)"), "P2 + P2 + 3-1-0-1-0", inc_b.map_or("no period 2 beside a period 3".into(), |v| format!("period 2 beside period 3 at xi = {}", f(v))), if inc_b.is_some() { Verdict::Reproduced } else { Verdict::NotReproduced }, "Multi-initial sweep: a value of xi where a period 2 and a period 3 are both reached is what the row needs."),
+        Claim::new("A complete bifurcation (C) to 4-2-0-2-0", format!("{B004} §4.4 (point C)"), "4-2-0-2-0", c4.map_or("not found".into(), |v| format!("at xi = {}", f(v))), Verdict::of(c4.is_some()), "The label 4-2-0-2-0 among the runs of the fixed and multi-initial sweeps over xi."),
+        xi_band_claim(&pts),
         Claim::new("Then a period-3 window, a period-doubling cascade to chaos, and finally a stable period 3", format!("{B003} §3.4"), "P3 window, cascade, chaos, P3", format!("after the main chaos: period 3 {p3_window}, period 6/12 {cascade}, chaos again {chaos_again}, period 3 at xi = 0.3 {ends_p3}"), Verdict::of_parts(&[p3_window, cascade || chaos_again, ends_p3]), format!("Sequence: {seq}.")),
         Claim::new("The TLE confirms the chaotic regions", format!("{B003} §3.4"), "TLE > 0 where chaotic", format!("TLE > 0 at {pos_chaos} chaotic values; sign agrees with the class at {agree} of {with_tle}"), Verdict::of(with_tle > 0 && agree * 10 >= with_tle * 9), "TLE over the recorded periods."),
         Claim::new("The error amplitude triggers back-side contact and tooth separation", format!("{B003} §3.4; {B004} §4.4"), "back-side contact appears with xi", back_first.map_or("no back-side contact".into(), |v| format!("back-side contact from xi = {}", f(v))), Verdict::of(back_first.is_some()), "Back-side contact = crossings of -D_s or -D_d."),
@@ -904,6 +1113,7 @@ fn xi_sweep(ctx: &Ctx, lin: &Scenario, preset_law: &Scenario, dir: &Path) -> Res
         readings: vec![format!("Sequence (runs of ≥ 2 values): {seq}.")],
         tables: vec![table, sens, table_cmp],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -1072,7 +1282,7 @@ fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     let _ = fm_star;
     let claims = vec![
         Claim::new("The largest maximum dynamic mesh force is F_max = 1.340", format!("{B003} §3.5; {B004} §4.5"), "1.340", format!("map maximum {} at omega = {} (the map's grid); corner scan (xi ∈ {{0.2, 0.25, 0.3}} × F ∈ {{0.175, 0.2}}) maxima: {}", f(pv), f(w_star), scan.join(", ")), if (pv - 1.34).abs() <= 0.03 { Verdict::Reproduced } else if (pv - 1.34).abs() <= 0.1 { Verdict::Partly } else { Verdict::NotReproduced }, "The seed does not give omega; it was chosen to match F_max (calibration figure), so this row checks that such an omega exists near the seed's other studies (1.4–1.5), not an independent prediction."),
-        Claim::new("The peak occurs where both xi and F are large (xi > 0.2, F > 0.175)", format!("{B004} §4.5; {B003} §3.5"), "xi > 0.2, F > 0.175", format!("peak at xi = {}, F = {}", f(px), f(py)), Verdict::of(px > 0.2 && py > 0.175), "Grid maximum."),
+        Claim::new("The peak occurs where both xi and F are large (xi > 0.2, F > 0.175)", format!("{B004} §4.5; {B003} §3.5"), "xi > 0.2, F > 0.175", format!("peak at xi = {}, F = {}", f(px), f(py)), Verdict::of(px > 0.2 && py > 0.175), "Largest maximum mesh force on the map grid, compared with the seed's corner xi > 0.2, F > 0.175."),
         Claim::new("For small xi and F the maximum mesh force varies smoothly", format!("{B003} §3.5; {B004} §4.5"), "smooth", format!("mean neighbour difference for xi < 0.04, F < 0.05: {} ({} of the map outside the seed's four bands of strong fluctuation); chaotic cells there: {small_chaos}", f(small), pct(small / outside.max(1e-12))), if small <= 1.2 * outside && small_chaos == 0 { Verdict::Reproduced } else if small <= 1.2 * outside { Verdict::Partly } else { Verdict::NotReproduced }, "Roughness = mean absolute difference to the neighbouring cells; smooth = not above 1.2 times the roughness outside the four bands (the rule of the band row below; the corner itself overlaps the band F < 0.007). Where it fails, chaotic cells at small F make the corner rough: chaos at small load also appears in the seed's own load table (Table 5.2, F < 0.0021)."),
         Claim::new("F_max fluctuates strongly for xi in (0.044, 0.126) and (0.236, 0.3), F in (0, 0.007) and (0.055, 0.095)", format!("{B004} §4.5, §6(3)"), "four bands", format!("roughness in the band / outside the bands: {}", band_txt.join("; ")), if band_hits == 4 { Verdict::Reproduced } else if band_hits > 0 { Verdict::Partly } else { Verdict::NotReproduced }, "A band counts when its roughness exceeds 1.2 times that outside all bands. Bands need not agree: the seed's bands mix the xi sweep (omega = 1.5) and the load sweep (omega = 1.4)."),
         Claim::new("The fluctuations coincide with chaotic and back-side meshing behaviour", format!("{B003} §3.5; {B004} §4.5"), "fluctuations where chaotic", format!("roughness of chaotic cells {}, of periodic cells {}", f(rough_chaos), f(rough_per)), Verdict::of(rough_chaos > rough_per), "Decided class of every cell (second map)."),
@@ -1093,6 +1303,7 @@ fn map_xi_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         readings: vec![format!("Peak {} at xi = {}, F = {}; {} of {} cells chaotic.", f(pv), f(px), f(py), cells.iter().filter(|c| chaotic(c)).count(), cells.len())],
         tables: vec![table],
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -1169,6 +1380,133 @@ fn found_in(pts: &[Pt], a: f64, b: f64) -> String {
         .join(", ")
 }
 
+/// The low-load rows of seed B's attractor table over F (Table 5.2 / Table 6): the windows of
+/// period 3, 6, 10 and chaos below F = 0.09, from the runs `pts` (every initial state).
+fn low_load_claims(pts: &[Pt]) -> Vec<Claim> {
+    let t52 = format!("{B004} Table 5.2");
+    let t6 = format!("{B003} Table 6");
+    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
+        name,
+        test,
+        loose: None,
+    };
+    let p3any: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3);
+    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
+    let p6: fn(&Pt) -> bool = |p| p.class == Class::Periodic(6);
+    let p10: fn(&Pt) -> bool = |p| p.class == Class::Periodic(10);
+    vec![
+        table_row(
+            pts,
+            0.046,
+            0.089,
+            &[sp("chaos", chaos)],
+            "F in (0.046, 0.089): chaos (PN)".into(),
+            format!("{t52}; {t6}"),
+            "chaos".into(),
+        ),
+        table_row(
+            pts,
+            0.043,
+            0.045,
+            &[sp("P10", p10)],
+            "F in (0.043, 0.045): period 10".into(),
+            format!("{t52}; {t6}"),
+            "P10".into(),
+        ),
+        table_row(
+            pts,
+            0.036,
+            0.042,
+            &[sp("P6", p6)],
+            "F in (0.036, 0.042): period 6".into(),
+            format!("{t52}; {t6}"),
+            "P6".into(),
+        ),
+        table_row(
+            pts,
+            0.0022,
+            0.035,
+            &[sp("P3", p3any)],
+            "F in (0.0022, 0.035): period 3".into(),
+            format!("{t52}; {t6}"),
+            "P3".into(),
+        ),
+        table_row(
+            pts,
+            0.0001,
+            0.0021,
+            &[sp("P3", p3any), sp("chaos", chaos)],
+            "F in (0.0001, 0.0021): period 3 and chaos".into(),
+            format!("{t52}; {t6}"),
+            "P3 + PN".into(),
+        ),
+    ]
+}
+
+/// Seed B's load cascade (004 §5.4: from chaos through 12-4-4-4-4 and 6-2-2-2-2 to 3-1-1-1-1 as
+/// F decreases): every label found, in that order over F, with chaos above the period 6.
+fn cascade_claim(pts: &[Pt], runs: &str) -> Claim {
+    let seq = ["3-1-1-1-1", "6-2-2-2-2", "12-4-4-4-4"];
+    let found: Vec<Option<f64>> = seq
+        .iter()
+        .map(|n| lowest_with(pts, |p| p.name == *n))
+        .collect();
+    let chaos_above_p6 = found[1].is_some_and(|v6| {
+        pts.iter()
+            .any(|p| p.class == Class::Chaotic && p.value > v6)
+    });
+    let ordered = match (found[0], found[1], found[2]) {
+        (Some(a), Some(b), Some(c)) => a < b && b < c,
+        _ => false,
+    };
+    let mut parts: Vec<bool> = found.iter().map(|v| v.is_some()).collect();
+    parts.push(ordered && chaos_above_p6);
+    Claim::new(
+        "From chaos the system degenerates through 12-4-4-4-4 (saddle-node, E), 6-2-2-2-2 (reverse doubling, D) to 3-1-1-1-1 (B)",
+        format!("{B004} §5.4"),
+        "12-4-4-4-4 → 6-2-2-2-2 → 3-1-1-1-1",
+        format!(
+            "{}; chaos above the period 6: {}",
+            seq.iter()
+                .zip(&found)
+                .map(|(n, v)| format!("{n}: {}", v.map_or("not found".into(), |v| format!("from F = {}", f(v)))))
+                .collect::<Vec<_>>()
+                .join("; "),
+            if chaos_above_p6 { "yes" } else { "no" }
+        ),
+        Verdict::of_parts(&parts),
+        format!("Lowest F of each label among the runs ({runs}); reproduced when all three appear in the seed's order over F with chaos above the period 6."),
+    )
+}
+
+/// Lowest value of the runs `pts` that pass `test`.
+fn lowest_with(pts: &[Pt], test: impl Fn(&Pt) -> bool) -> Option<f64> {
+    pts.iter()
+        .filter(|p| test(p))
+        .map(|p| p.value)
+        .min_by(f64::total_cmp)
+}
+
+/// The chaotic band of the xi sweep (004 §4.4: chaos and complex motion for xi in (0.044, 0.126)),
+/// from the runs `pts` of one initial state.
+fn xi_band_claim(pts: &[Pt]) -> Claim {
+    let chaos = chaos_ranges(pts);
+    let main = chaos.iter().max_by_key(|c| c.2).copied();
+    let ends = main.map(|m| ((m.0 - 0.044).abs(), (m.1 - 0.126).abs()));
+    Claim::new(
+        "Chaos and complex motion for xi in (0.044, 0.126)",
+        format!("{B004} §4.4, §4.5, §6(3)"),
+        "(0.044, 0.126)",
+        format!("chaos for xi in {}", ranges_text(&chaos)),
+        match ends {
+            Some((a, b)) if a <= 0.015 && b <= 0.02 => Verdict::Reproduced,
+            Some(_) => Verdict::Partly,
+            None => Verdict::NotReproduced,
+        },
+        "Largest chaotic range compared with the seed's ends (tolerance 0.015 / 0.02).",
+    )
+}
+
 /// A row of an attractor table checked against the multi-initial runs.
 fn table_row(
     pts: &[Pt],
@@ -1219,7 +1557,7 @@ fn table_row(
         Verdict::NotReproduced
     };
     let mut label_note = if shares.iter().zip(&loose).any(|(e, l)| l > e) {
-        " Where the exact label is missing, the same kind of motion (same period and health) with another crossing count is counted as partly.".to_string()
+        " The same kind of motion (period, health) with another label counts as partly.".to_string()
     } else {
         String::new()
     };
@@ -1235,7 +1573,8 @@ fn table_row(
             v.len()
         };
         if n_in < 2 {
-            label_note.push_str(" The interval is narrower than two grid steps: checked at the values nearest to it.");
+            label_note
+                .push_str(" Interval narrower than two grid steps: the nearest values checked.");
         }
     }
     if !extra.is_empty() {
@@ -1311,7 +1650,7 @@ fn basin_claim(
     claim: &str,
     source: String,
 ) -> Claim {
-    let (fig_box, r) = &boxes[0];
+    let (_, r) = &boxes[0];
     let found: Vec<bool> = parts
         .iter()
         .map(|(_, _, t)| r.attractors.iter().any(|a| t(&a.descriptor)))
@@ -1361,12 +1700,6 @@ fn basin_claim(
         })
         .collect::<Vec<_>>()
         .join(", ");
-    let boxes_txt = boxes
-        .iter()
-        .enumerate()
-        .map(|(i, (b, _))| format!("({}) {b}", i + 1))
-        .collect::<Vec<_>>()
-        .join("; ");
     let mut closest = match close_box {
         Some(i) => format!(" Within 10 points of every seed share on box ({}).", i + 1),
         None => " No box brings every share within 10 points of the seed's.".into(),
@@ -1398,7 +1731,7 @@ fn basin_claim(
         format!("{measured} (boxes 1 / 2 / 3)"),
         verdict,
         format!(
-            "The seed does not give its box of initial states, and shares depend on it: read on {boxes_txt}.{closest} Attractors found on the figure's box ({fig_box}): {}.",
+            "The seed gives no box of initial states and shares depend on it: read on three boxes (the section's parameters).{closest} On box 1: {}.",
             r.attractors.iter().map(|a| format!("{} {}", a.descriptor.label, pct(a.fraction))).collect::<Vec<_>>().join(", ")
         ),
     )
@@ -1551,7 +1884,6 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     let r1: fn(&Pt) -> bool =
         |p| p.class == Class::Periodic(1) && p.healthy && p.name != "1-0-0-1-0";
     let r2: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2);
-    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
     let q2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
     let h1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
@@ -1563,6 +1895,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     };
     let t51 = format!("{B004} Table 5.1");
     let t5 = format!("{B003} Table 5");
+    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
     let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
         name,
         test,
@@ -1739,7 +2072,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         "Q2 at 1.801, Q1 at 1.812",
         format!("healthy period 2 at 1.801: {q2_at_1801}; healthy period 1 at 1.812: {q1_at_1812}"),
         Verdict::of_parts(&[q2_at_1801, q1_at_1812]),
-        "Multi-initial runs at the two values.",
+        "Multi-initial runs at the two values: Q2 at omega = 1.801 and Q1 at 1.812 are both needed.",
     ));
     claims.push(table_row(
         &pts,
@@ -1828,6 +2161,7 @@ fn attractors_omega(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         readings,
         tables,
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }
@@ -1921,10 +2255,6 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     let h1f: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
     let q4: fn(&Pt) -> bool = |p| p.class == Class::Periodic(4) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
-    let p3any: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3);
-    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
-    let p6: fn(&Pt) -> bool = |p| p.class == Class::Periodic(6);
-    let p10: fn(&Pt) -> bool = |p| p.class == Class::Periodic(10);
     let mut claims =
         vec![
         table_row(
@@ -1991,52 +2321,8 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             format!("{t52}; {t6}; {B004} §5.4"),
             "P2 + Q4 + P3".into(),
         ),
-        table_row(
-            &pts,
-            0.046,
-            0.089,
-            &[sp("chaos", chaos)],
-            "F in (0.046, 0.089): chaos (PN)".into(),
-            format!("{t52}; {t6}"),
-            "chaos".into(),
-        ),
-        table_row(
-            &pts,
-            0.043,
-            0.045,
-            &[sp("P10", p10)],
-            "F in (0.043, 0.045): period 10".into(),
-            format!("{t52}; {t6}"),
-            "P10".into(),
-        ),
-        table_row(
-            &pts,
-            0.036,
-            0.042,
-            &[sp("P6", p6)],
-            "F in (0.036, 0.042): period 6".into(),
-            format!("{t52}; {t6}"),
-            "P6".into(),
-        ),
-        table_row(
-            &pts,
-            0.0022,
-            0.035,
-            &[sp("P3", p3any)],
-            "F in (0.0022, 0.035): period 3".into(),
-            format!("{t52}; {t6}"),
-            "P3".into(),
-        ),
-        table_row(
-            &pts,
-            0.0001,
-            0.0021,
-            &[sp("P3", p3any), sp("chaos", chaos)],
-            "F in (0.0001, 0.0021): period 3 and chaos".into(),
-            format!("{t52}; {t6}"),
-            "P3 + PN".into(),
-        ),
     ];
+    claims.extend(low_load_claims(&pts));
     // non-healthy share below G2 from the continuation
     let below: Vec<f64> = c
         .points
@@ -2118,15 +2404,9 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             format!("Back-side contact = crossings of -D_s or -D_d in the record. Chaos without back-side meshing exists (the seed's point), but the mesh force still dips below zero in every such run (least force {} to {}): the damping term c x' pulls while the teeth separate on the drive side (section on the mechanism).", f(lo_f), f(hi_f))
         },
     ));
-    let seq = ["12-4-4-4-4", "6-2-2-2-2", "3-1-1-1-1"];
-    let found: Vec<Option<f64>> = seq.iter().map(|n| has_name(&pts, n)).collect();
-    claims.push(Claim::new(
-        "From chaos the system degenerates through 12-4-4-4-4 (saddle-node, E), 6-2-2-2-2 (reverse doubling, D) to 3-1-1-1-1 (B)",
-        format!("{B004} §5.4"),
-        "12-4-4-4-4 → 6-2-2-2-2 → 3-1-1-1-1",
-        seq.iter().zip(&found).map(|(n, v)| format!("{n}: {}", v.map_or("not found".into(), |v| format!("F = {}", f(v))))).collect::<Vec<_>>().join("; "),
-        Verdict::of_parts(&found.iter().map(|v| v.is_some()).collect::<Vec<_>>()),
-        format!("Labels among all runs of the multi-initial sweep over F ({ics} initial states per value); the long-period labels, if they exist at these parameters, occupy windows narrower than the grid step or other initial states."),
+    claims.push(cascade_claim(
+        &pts,
+        &format!("{ics} initial states per value"),
     ));
     let distinct = |lo: f64, hi: f64| {
         let mut vals: Vec<f64> = pts
@@ -2178,6 +2458,7 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         readings: vec![format!("Continuation: {} intervals, {} events (tree_F_branches.csv).", c.intervals.len(), c.events.len())],
         tables,
         claims,
+        alternatives: vec![],
         seconds: 0.0,
     })
 }

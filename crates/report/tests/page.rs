@@ -62,7 +62,12 @@ fn check_figures(page_dir: &Path, html: &str) -> usize {
 
 /// Parses `claims.csv` (quoted fields) into rows.
 fn claims(page_dir: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(page_dir.join("claims.csv")).unwrap();
+    claims_file(&page_dir.join("claims.csv"))
+}
+
+/// Parses a claims file (quoted fields) into rows.
+fn claims_file(path: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
     let mut rows = Vec::new();
     let (mut row, mut field, mut quoted) = (Vec::new(), String::new(), false);
     let mut chars = text.chars().peekable();
@@ -91,6 +96,7 @@ fn check_claims(page_dir: &Path) -> Vec<Vec<String>> {
         [
             "claim",
             "source",
+            "interpretation",
             "seed_value",
             "measured_value",
             "verdict",
@@ -104,12 +110,12 @@ fn check_claims(page_dir: &Path) -> Vec<Vec<String>> {
         "seed inconsistent",
     ];
     for r in &rows[1..] {
-        assert_eq!(r.len(), 6, "{r:?}");
-        assert!(vocab.contains(&r[4].as_str()), "verdict {r:?}");
+        assert_eq!(r.len(), 7, "{r:?}");
+        assert!(vocab.contains(&r[5].as_str()), "verdict {r:?}");
         assert!(!r[0].is_empty() && !r[1].is_empty(), "{r:?}");
-        if r[4] != "reproduced" {
+        if r[5] != "reproduced" {
             assert!(
-                r[5].len() > 20,
+                r[6].len() > 20,
                 "a verdict other than reproduced needs evidence: {r:?}"
             );
         }
@@ -118,7 +124,7 @@ fn check_claims(page_dir: &Path) -> Vec<Vec<String>> {
 }
 
 fn count(rows: &[Vec<String>], verdict: &str) -> usize {
-    rows.iter().filter(|r| r[4] == verdict).count()
+    rows.iter().filter(|r| r[5] == verdict).count()
 }
 
 #[test]
@@ -193,6 +199,29 @@ fn quick_seed_reports_have_data_budget_and_honest_claims() {
         );
         // sources name the seed file
         assert!(rows.iter().all(|r| r[1].contains("seed")), "{preset}");
+        // every headline claim names the reading of the text it uses; the file of every reading
+        // holds the headline rows and, for the claims that depend on a reading, the others
+        assert!(rows.iter().all(|r| !r[2].is_empty()), "{preset}");
+        // evidence in a few sentences (details in the study CSV files)
+        for r in &rows {
+            assert!(r[6].chars().count() <= 400, "{preset}: long evidence {r:?}");
+        }
+        let every = claims_file(&page_dir.join("claims_by_interpretation.csv"));
+        assert_eq!(every[0], claims_file(&page_dir.join("claims.csv"))[0]);
+        assert!(
+            every.len() > rows.len() + 1,
+            "{preset}: no claim under another reading"
+        );
+        let cascade: Vec<&Vec<String>> = every[1..]
+            .iter()
+            .filter(|r| r[0].contains("12-4-4-4-4"))
+            .collect();
+        if preset == "internal" {
+            let readings: std::collections::BTreeSet<&str> =
+                cascade.iter().map(|r| r[2].as_str()).collect();
+            assert!(readings.len() >= 5, "{readings:?}");
+            assert!(html.contains("claims-by-reading"));
+        }
         // captions are written for the preset shown
         if preset == "internal" {
             assert!(!html.contains("broken pair") && !html.contains("chipped"));
