@@ -74,7 +74,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
     let out = &args.out;
-    run_record::prepare_folder(out, "simulate", None, false)?;
+    let _lock = run_record::prepare_folder(out, "simulate", None, false)?;
     let (res, summary, used) =
         simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
     let elapsed = t.elapsed().as_secs_f64();

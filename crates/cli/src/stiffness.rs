@@ -21,7 +21,7 @@ pub struct StiffnessArgs {
 pub fn run(a: StiffnessArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let (cfg, scenario) = a.cfg.resolve()?;
-    run_record::prepare_folder(&a.out, "stiffness", None, false)?;
+    let _lock = run_record::prepare_folder(&a.out, "stiffness", None, false)?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     run_record::write_run_record(&a.out, "stiffness", &cfg, &scenario, started, 0.0)?;
     // time a fresh build of the pair's tables (the scenario already holds one)

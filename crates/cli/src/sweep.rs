@@ -139,8 +139,9 @@ pub fn open_checkpoint<T: serde::Serialize + serde::de::DeserializeOwned>(
     let key = serde_json::to_string(
         &serde_json::json!({ "kind": kind, "config": cfg, "settings": settings }),
     )?;
-    run_record::prepare_folder(out, kind, Some(&key), force)?;
+    let lock = run_record::prepare_folder(out, kind, Some(&key), force)?;
     let (cp, done) = Checkpoint::open::<T>(&out.join("checkpoint.jsonl"), &key)?;
+    let cp = cp.hold(lock);
     if !done.is_empty() {
         eprintln!(
             "resuming: {} items already computed in {}",

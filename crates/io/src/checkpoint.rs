@@ -25,6 +25,8 @@ pub struct Checkpoint {
     /// The file and the time of its last sync to disk.
     file: Mutex<(File, std::time::Instant)>,
     dropped: usize,
+    /// The lock of the folder, held as long as the checkpoint is written ([`Checkpoint::hold`]).
+    lock: Option<crate::run_record::FolderLock>,
 }
 
 /// Records are synced to disk at most this often (and when the checkpoint is dropped): a written
@@ -42,7 +44,9 @@ fn io_err(path: &Path, source: std::io::Error) -> OutputError {
 /// FNV-1a (64 bit) of a record's JSON: a flipped digit in an otherwise valid record is caught
 /// and the record recomputed, not trusted. (A checksum, not a cryptographic hash: it guards
 /// against damage, not against forgery.)
-fn fnv1a(bytes: &[u8]) -> u64 {
+/// FNV-1a (64 bit) of `bytes`: a checksum against accidental damage (a torn line, a changed
+/// digit), not against an adversary.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
@@ -56,6 +60,10 @@ fn json_line<T: Serialize>(path: &Path, rec: &T) -> Result<Vec<u8>, OutputError>
     line.extend_from_slice(format!("\t{sum:016x}\n").as_bytes());
     Ok(line)
 }
+
+/// Largest checkpoint read (bytes): 4 GiB, far above the largest sweep's (a record is a few hundred
+/// bytes to a few kilobytes).
+pub const MAX_CHECKPOINT_BYTES: u64 = 4 << 30;
 
 /// The JSON of a record line whose checksum matches.
 fn verified(line: &[u8]) -> Option<&[u8]> {
@@ -76,7 +84,8 @@ fn temp_path(path: &Path) -> PathBuf {
 fn replace_file(path: &Path, content: &[u8]) -> Result<(), OutputError> {
     let tmp = temp_path(path);
     let write = || -> std::io::Result<()> {
-        let mut f = File::create(&tmp)?;
+        let _ = std::fs::remove_file(&tmp);
+        let mut f = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         f.write_all(content)?;
         f.sync_all()?;
         drop(f);
@@ -120,7 +129,10 @@ where
     T: DeserializeOwned,
     V: FnMut(&T) -> bool,
 {
-    let bytes = match std::fs::read(path) {
+    // a link, a FIFO or a device in the checkpoint's place is refused before it is opened (a
+    // FIFO would block, a link to /dev/zero would be read without end)
+    crate::safe_write::check_target(path)?;
+    let bytes = match crate::safe_write::read_bounded(path, MAX_CHECKPOINT_BYTES) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Existing::None),
         Err(e) => return Err(io_err(path, e)),
@@ -193,9 +205,8 @@ impl Checkpoint {
         let (records, dropped, rewrite) = match read_existing(path, key, &mut validate)? {
             Existing::None => (Vec::new(), 0, true),
             Existing::Foreign => {
-                let mut aside = path.as_os_str().to_os_string();
-                aside.push(".old");
-                std::fs::rename(path, PathBuf::from(aside)).map_err(|e| io_err(path, e))?;
+                let aside = crate::safe_write::aside_name(path);
+                std::fs::rename(path, aside).map_err(|e| io_err(path, e))?;
                 (Vec::new(), 0, true)
             }
             Existing::Ours {
@@ -222,9 +233,16 @@ impl Checkpoint {
                 path: path.to_path_buf(),
                 file: Mutex::new((file, std::time::Instant::now())),
                 dropped,
+                lock: None,
             },
             records,
         ))
+    }
+
+    /// Keeps the output folder's lock until the checkpoint is dropped (the run's end).
+    pub fn hold(mut self, lock: crate::run_record::FolderLock) -> Self {
+        self.lock = Some(lock);
+        self
     }
 
     /// The line `append` writes for a record (JSON, tab, checksum, newline).

@@ -192,6 +192,13 @@ impl Config {
             path: path.display().to_string(),
             cause: e,
         };
+        // a FIFO or a device would block the open or never end: regular files only
+        if !std::fs::metadata(path).map_err(read_err)?.is_file() {
+            return Err(read_err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file",
+            )));
+        }
         let f = std::fs::File::open(path).map_err(read_err)?;
         let mut bytes = Vec::new();
         f.take(MAX_CONFIG_BYTES + 1)

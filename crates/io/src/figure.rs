@@ -519,10 +519,14 @@ pub fn write_figure(stem: &Path, fig: &Figure) -> Result<(), FigureError> {
         path: p.display().to_string(),
         msg,
     };
-    draw_figure(BitMapBackend::new(&png, (w, h)).into_drawing_area(), fig)
-        .map_err(|m| err(&png, m))?;
-    draw_figure(SVGBackend::new(&svg, (w, h)).into_drawing_area(), fig)
-        .map_err(|m| err(&svg, m))?;
+    crate::safe_write::draw_to(&png, |tmp| {
+        draw_figure(BitMapBackend::new(tmp, (w, h)).into_drawing_area(), fig)
+    })
+    .map_err(|m| err(&png, m))?;
+    crate::safe_write::draw_to(&svg, |tmp| {
+        draw_figure(SVGBackend::new(tmp, (w, h)).into_drawing_area(), fig)
+    })
+    .map_err(|m| err(&svg, m))?;
     Ok(())
 }
 
@@ -692,9 +696,14 @@ pub fn write_raster(stem: &Path, fig: &RasterFigure) -> Result<(), FigureError> 
         msg,
     };
     let size = (1050, 760);
-    draw_raster(BitMapBackend::new(&png, size).into_drawing_area(), fig)
-        .map_err(|m| err(&png, m))?;
-    draw_raster(SVGBackend::new(&svg, size).into_drawing_area(), fig).map_err(|m| err(&svg, m))?;
+    crate::safe_write::draw_to(&png, |tmp| {
+        draw_raster(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
+    })
+    .map_err(|m| err(&png, m))?;
+    crate::safe_write::draw_to(&svg, |tmp| {
+        draw_raster(SVGBackend::new(tmp, size).into_drawing_area(), fig)
+    })
+    .map_err(|m| err(&svg, m))?;
     Ok(())
 }
 

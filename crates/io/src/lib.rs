@@ -13,4 +13,5 @@ pub mod plot;
 pub mod sweep_output;
 
 pub mod run_record;
+pub mod safe_write;
 pub use config::{Config, ConfigError};

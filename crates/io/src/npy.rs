@@ -3,7 +3,6 @@
 //! little-endian data, and a crate would add a dependency for twenty lines.
 
 use crate::output::OutputError;
-use std::io::Write;
 use std::path::Path;
 
 fn write(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> Result<(), OutputError> {
@@ -29,14 +28,7 @@ fn write(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> Result<(), O
     bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
     bytes.extend_from_slice(header.as_bytes());
     bytes.extend_from_slice(data);
-    let mut f = std::fs::File::create(path).map_err(|e| OutputError::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
-    f.write_all(&bytes).map_err(|e| OutputError::Io {
-        path: path.display().to_string(),
-        source: e,
-    })
+    crate::safe_write::write_bytes(path, &bytes)
 }
 
 /// Writes an `int64` array of the given shape (row-major).

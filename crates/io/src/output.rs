@@ -1,7 +1,6 @@
 //! Writers for simulation results: CSV tables and JSON summaries.
 
 use geardyn_analysis::simulate::{SimResult, Summary};
-use std::io::Write;
 use std::path::Path;
 
 /// Output failure.
@@ -15,6 +14,14 @@ pub enum OutputError {
         /// Cause.
         source: std::io::Error,
     },
+    /// A destination geardyn will not write (a symbolic link, a non-regular file).
+    #[error("refusing to write {path}: {reason}")]
+    Refused {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
     /// CSV error.
     #[error("cannot write {path}")]
     Csv {
@@ -23,13 +30,6 @@ pub enum OutputError {
         /// Cause.
         source: csv::Error,
     },
-}
-
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
-    move |source| OutputError::Io {
-        path: path.display().to_string(),
-        source,
-    }
 }
 
 /// Writes a CSV file with the given header and rows (numbers in shortest round-trip form).
@@ -42,26 +42,31 @@ where
         path: path.display().to_string(),
         source,
     };
-    let mut w = csv::Writer::from_path(path).map_err(mk)?;
-    w.write_record(header).map_err(mk)?;
-    for r in rows {
-        w.write_record(r).map_err(mk)?;
-    }
-    w.flush().map_err(io_err(path))?;
-    Ok(())
+    crate::safe_write::write_via(
+        path,
+        |tmp| -> Result<(), csv::Error> {
+            let mut w = csv::Writer::from_path(tmp)?;
+            w.write_record(header)?;
+            for r in rows {
+                w.write_record(r)?;
+            }
+            w.flush()?;
+            Ok(())
+        },
+        mk,
+    )
 }
 
 /// Writes any serialisable value as pretty JSON.
 pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), OutputError> {
-    let mut f = std::fs::File::create(path).map_err(io_err(path))?;
-    let text = serde_json::to_string_pretty(value).expect("serialisable");
-    f.write_all(text.as_bytes()).map_err(io_err(path))?;
-    f.write_all(b"\n").map_err(io_err(path))
+    let mut text = serde_json::to_string_pretty(value).expect("serialisable");
+    text.push('\n');
+    crate::safe_write::write_bytes(path, text.as_bytes())
 }
 
 /// Writes a text file.
 pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
-    std::fs::write(path, text).map_err(io_err(path))
+    crate::safe_write::write_bytes(path, text.as_bytes())
 }
 
 fn num(v: f64) -> String {

@@ -336,17 +336,21 @@ pub fn xy_chart(stem: &Path, chart: &Chart, series: &[Series]) -> Result<(), Plo
         path: p.display().to_string(),
         msg,
     };
-    draw(
-        BitMapBackend::new(&png, (1000, 600)).into_drawing_area(),
-        chart,
-        series,
-    )
+    crate::safe_write::draw_to(&png, |tmp| {
+        draw(
+            BitMapBackend::new(tmp, (1000, 600)).into_drawing_area(),
+            chart,
+            series,
+        )
+    })
     .map_err(|m| err(&png, m))?;
-    draw(
-        SVGBackend::new(&svg, (1000, 600)).into_drawing_area(),
-        chart,
-        series,
-    )
+    crate::safe_write::draw_to(&svg, |tmp| {
+        draw(
+            SVGBackend::new(tmp, (1000, 600)).into_drawing_area(),
+            chart,
+            series,
+        )
+    })
     .map_err(|m| err(&svg, m))?;
     Ok(())
 }
@@ -414,21 +418,25 @@ pub fn stacked_chart(
         path: p.display().to_string(),
         msg,
     };
-    draw_panels(
-        BitMapBackend::new(&png, (1100, h)).into_drawing_area(),
-        title,
-        x_label,
-        x_range,
-        panels,
-    )
+    crate::safe_write::draw_to(&png, |tmp| {
+        draw_panels(
+            BitMapBackend::new(tmp, (1100, h)).into_drawing_area(),
+            title,
+            x_label,
+            x_range,
+            panels,
+        )
+    })
     .map_err(|m| err(&png, m))?;
-    draw_panels(
-        SVGBackend::new(&svg, (1100, h)).into_drawing_area(),
-        title,
-        x_label,
-        x_range,
-        panels,
-    )
+    crate::safe_write::draw_to(&svg, |tmp| {
+        draw_panels(
+            SVGBackend::new(tmp, (1100, h)).into_drawing_area(),
+            title,
+            x_label,
+            x_range,
+            panels,
+        )
+    })
     .map_err(|m| err(&svg, m))?;
     Ok(())
 }
@@ -546,21 +554,25 @@ pub fn raster_chart(
         path: p.display().to_string(),
         msg,
     };
-    draw_raster(
-        BitMapBackend::new(&png, (1000, 820)).into_drawing_area(),
-        chart,
-        r,
-        legend,
-        colorbar,
-    )
+    crate::safe_write::draw_to(&png, |tmp| {
+        draw_raster(
+            BitMapBackend::new(tmp, (1000, 820)).into_drawing_area(),
+            chart,
+            r,
+            legend,
+            colorbar,
+        )
+    })
     .map_err(|m| err(&png, m))?;
-    draw_raster(
-        SVGBackend::new(&svg, (1000, 820)).into_drawing_area(),
-        chart,
-        r,
-        legend,
-        colorbar,
-    )
+    crate::safe_write::draw_to(&svg, |tmp| {
+        draw_raster(
+            SVGBackend::new(tmp, (1000, 820)).into_drawing_area(),
+            chart,
+            r,
+            legend,
+            colorbar,
+        )
+    })
     .map_err(|m| err(&svg, m))?;
     Ok(())
 }

@@ -78,9 +78,147 @@ pub enum FolderError {
         /// Folder.
         path: String,
     },
+    /// The folder holds files geardyn did not write.
+    #[error("{path} already holds files geardyn did not write ({example}); geardyn writes only into a new or empty folder or one it made: choose another --out")]
+    NotOurs {
+        /// Folder.
+        path: String,
+        /// One of the files.
+        example: String,
+    },
+    /// Another run writes into the folder.
+    #[error("{path} is in use by another geardyn run ({holder}); wait for it, or choose another --out (if that run is gone, remove {path}/.geardyn.lock)")]
+    Busy {
+        /// Folder.
+        path: String,
+        /// pid, host and start of the holder.
+        holder: String,
+    },
     /// A file error.
     #[error(transparent)]
     Output(#[from] OutputError),
+}
+
+/// The file that marks a folder as made by geardyn (kept; older versions are recognised by their
+/// `run.json` or `checkpoint.jsonl`).
+pub const MARKER: &str = ".geardyn";
+/// The lock file of a folder being written (removed when the run ends).
+pub const LOCK: &str = ".geardyn.lock";
+
+/// Takes `out` as geardyn's folder: creates it when absent; refuses an existing folder that is
+/// not empty and holds neither geardyn's marker nor a `run.json` or checkpoint of an earlier
+/// version (a user's own files, or `/`). Leaves the marker.
+pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
+    let path = out.display().to_string();
+    if let Ok(rd) = std::fs::read_dir(out) {
+        let names: Vec<String> = rd
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        let ours = names
+            .iter()
+            .any(|n| n == MARKER || n == LOCK || n == "run.json" || n == "checkpoint.jsonl");
+        if !names.is_empty() && !ours {
+            let mut names = names;
+            names.sort();
+            return Err(FolderError::NotOurs {
+                path,
+                example: names[0].clone(),
+            });
+        }
+    }
+    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    let marker = out.join(MARKER);
+    if std::fs::symlink_metadata(&marker).is_err() {
+        crate::safe_write::write_bytes(&marker, b"geardyn output folder\n")?;
+    }
+    Ok(())
+}
+
+/// The lock of an output folder, held while a run writes into it (dropping it removes the lock
+/// file). A lock whose process is gone (same host, no such pid) is stale and taken over.
+#[derive(Debug)]
+pub struct FolderLock {
+    path: std::path::PathBuf,
+}
+
+impl FolderLock {
+    /// Locks `out` (which must exist) for this process.
+    pub fn take(out: &Path) -> Result<FolderLock, FolderError> {
+        let path = out.join(LOCK);
+        let me = format!(
+            "pid {} on {} since {:.0}",
+            std::process::id(),
+            host(),
+            now_unix_s()
+        );
+        for _ in 0..3 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    use std::io::Write;
+                    f.write_all(me.as_bytes()).map_err(|e| io(&path, e))?;
+                    return Ok(FolderLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let holder = crate::safe_write::read_bounded(&path, 4096)
+                        .map(|b| String::from_utf8_lossy(&b).into_owned())
+                        .unwrap_or_default();
+                    if !lock_is_stale(&holder) {
+                        return Err(FolderError::Busy {
+                            path: out.display().to_string(),
+                            holder,
+                        });
+                    }
+                    // stale: the holder is gone; remove and try again (another process may win)
+                    let _ = std::fs::remove_file(&path);
+                }
+                Err(e) => return Err(io(&path, e)),
+            }
+        }
+        Err(FolderError::Busy {
+            path: out.display().to_string(),
+            holder: "another process took the lock first".into(),
+        })
+    }
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// This machine's name (for the lock).
+fn host() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .or_else(|_| std::fs::read_to_string("/etc/hostname"))
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|_| "unknown-host".into())
+}
+
+/// A lock `pid P on H since T` is stale when it is unreadable, or `H` is this host and no
+/// process `P` exists (checked in /proc where there is one). A lock of another host is held.
+fn lock_is_stale(holder: &str) -> bool {
+    let mut w = holder.split_whitespace();
+    let (Some("pid"), Some(pid), Some("on"), Some(h)) = (w.next(), w.next(), w.next(), w.next())
+    else {
+        return true;
+    };
+    let Ok(pid) = pid.parse::<u32>() else {
+        return true;
+    };
+    if h != host() {
+        return false;
+    }
+    if !Path::new("/proc/self").exists() {
+        // no way to tell on this system: a lock of this host is taken to be a leftover
+        return true;
+    }
+    !Path::new(&format!("/proc/{pid}")).exists()
 }
 
 /// Start time of a run, for [`RunRecord`].
@@ -97,16 +235,20 @@ fn io(path: &Path, source: std::io::Error) -> FolderError {
     })
 }
 
-/// Prepares `out` for a run of `kind`: refuses a folder holding another command's results, and a
-/// checkpoint whose first line is not `key` (unless `force`, which sets it aside as
-/// `checkpoint.jsonl.old`). Pass `key = None` for commands without a checkpoint.
+/// Prepares `out` for a run of `kind` and locks it ([`FolderLock`], held until dropped): refuses
+/// a folder geardyn did not make ([`claim_folder`]), one another run writes into, one holding
+/// another command's results, and a checkpoint whose first line is not `key` (unless `force`,
+/// which sets it aside as `checkpoint.jsonl.old`, or `.old.2`, ...: an earlier one is kept).
+/// Pass `key = None` for commands without a checkpoint.
 pub fn prepare_folder(
     out: &Path,
     kind: &str,
     key: Option<&str>,
     force: bool,
-) -> Result<(), FolderError> {
+) -> Result<FolderLock, FolderError> {
     let path = out.display().to_string();
+    claim_folder(out)?;
+    let lock = FolderLock::take(out)?;
     if let Ok(text) = std::fs::read_to_string(out.join("run.json")) {
         if let Ok(rec) = serde_json::from_str::<serde_json::Value>(&text) {
             if let Some(other) = rec.get("kind").and_then(|k| k.as_str()) {
@@ -120,13 +262,10 @@ pub fn prepare_folder(
         }
     }
     let cp = out.join("checkpoint.jsonl");
-    if cp.exists() {
-        let first = std::fs::read(&cp)
-            .map(|b| {
-                let end = b.iter().position(|&c| c == b'\n').unwrap_or(b.len());
-                String::from_utf8_lossy(&b[..end]).into_owned()
-            })
-            .unwrap_or_default();
+    if std::fs::symlink_metadata(&cp).is_ok() {
+        // a link or a FIFO in the checkpoint's place is refused before it is read
+        crate::safe_write::check_target(&cp)?;
+        let first = first_line(&cp);
         match key {
             None => {
                 return Err(FolderError::OtherCommand {
@@ -141,13 +280,27 @@ pub fn prepare_folder(
                 if !force {
                     return Err(FolderError::OtherRun { path });
                 }
-                std::fs::rename(&cp, out.join("checkpoint.jsonl.old")).map_err(|e| io(&cp, e))?;
+                let aside = crate::safe_write::aside_name(&cp);
+                std::fs::rename(&cp, aside).map_err(|e| io(&cp, e))?;
             }
             _ => {}
         }
     }
-    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
-    Ok(())
+    Ok(lock)
+}
+
+/// The first line of a file (its key), read in bounded pieces: a key is a few kilobytes.
+fn first_line(path: &Path) -> String {
+    use std::io::{BufRead, Read};
+    let Ok(f) = std::fs::File::open(path) else {
+        return String::new();
+    };
+    let mut line = Vec::new();
+    let _ = std::io::BufReader::new(f.take(16 << 20)).read_until(b'\n', &mut line);
+    if line.last() == Some(&b'\n') {
+        line.pop();
+    }
+    String::from_utf8_lossy(&line).into_owned()
 }
 
 /// Writes `run.json` into `out` (a run at one point: nothing swept).

@@ -211,9 +211,14 @@ fn a_checkpoint_of_another_run_is_set_aside() {
     write(&p, b"\xff\xff\n");
     let (_, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert!(done.is_empty());
+    // ... set aside beside the first one, which is kept
     assert_eq!(
-        std::fs::read(dir.0.join("checkpoint.jsonl.old")).unwrap(),
+        std::fs::read(dir.0.join("checkpoint.jsonl.old.2")).unwrap(),
         b"\xff\xff\n"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.0.join("checkpoint.jsonl.old")).unwrap(),
+        other
     );
     no_temp_left(&dir);
 }

@@ -140,7 +140,19 @@ pub fn folder_size(dir: &Path) -> u64 {
 pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
     let root = &opts.out;
     let dir = root.join(&opts.preset);
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    // the root holds the presets' folders and the index: geardyn's, or new, or empty (a root of
+    // an earlier version is recognised by its index)
+    let old_index = std::fs::read_to_string(root.join("index.html"))
+        .is_ok_and(|t| t.contains("<title>geardyn reports</title>"));
+    if old_index {
+        std::fs::create_dir_all(root)?;
+        geardyn_io::output::write_text(
+            &root.join(geardyn_io::run_record::MARKER),
+            "geardyn output folder\n",
+        )?;
+    }
+    geardyn_io::run_record::claim_folder(root)?;
+    let _lock = geardyn_io::run_record::prepare_folder(&dir, "report", None, false)?;
     let scenario = cfg.resolve()?;
     let t = std::time::Instant::now();
     let started = geardyn_io::run_record::now_unix_s();

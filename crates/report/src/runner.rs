@@ -11,13 +11,13 @@ use geardyn_analysis::continuation::{
 };
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
 use geardyn_analysis::simulate::{Method, SimOptions};
-use geardyn_io::checkpoint::Checkpoint;
+use geardyn_io::checkpoint::{fnv1a, Checkpoint};
 use geardyn_io::Config;
 use geardyn_model::MeshModel;
 use geardyn_scenario::Scenario;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 /// Shared context of a report run.
@@ -86,15 +86,43 @@ impl Ctx {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 5, "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "geardyn": env!("CARGO_PKG_VERSION") }),
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 6, "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "geardyn": env!("CARGO_PKG_VERSION") }),
         )?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {
-            if let Some((k, body_json)) = text.split_once('\n') {
+            let mut parts = text.splitn(3, '\n');
+            if let (Some(k), Some(digests), Some(body_json)) =
+                (parts.next(), parts.next(), parts.next())
+            {
                 if k == key {
-                    if let Ok(sec) = serde_json::from_str::<Section>(body_json) {
-                        eprintln!("{id}: cached");
-                        return Ok(sec);
+                    // the files the section shows must be the ones it wrote: a truncated or
+                    // edited CSV is recomputed, never shown as the study's
+                    let want: BTreeMap<String, String> =
+                        serde_json::from_str(digests).unwrap_or_default();
+                    let have = Self::study_digests(&dir);
+                    match serde_json::from_str::<Section>(body_json) {
+                        Ok(sec) if !want.is_empty() && want == have => {
+                            eprintln!("{id}: cached");
+                            return Ok(sec);
+                        }
+                        Ok(_) => {
+                            let changed: Vec<&str> = want
+                                .iter()
+                                .filter(|(f, d)| have.get(*f) != Some(*d))
+                                .map(|(f, _)| f.as_str())
+                                .chain(
+                                    have.keys()
+                                        .filter(|f| !want.contains_key(*f))
+                                        .map(|f| f.as_str()),
+                                )
+                                .take(3)
+                                .collect();
+                            eprintln!(
+                                "{id}: the cached study's files changed since it was written ({}): computing it again",
+                                changed.join(", ")
+                            );
+                        }
+                        Err(_) => {}
                     }
                 }
             }
@@ -102,10 +130,6 @@ impl Ctx {
         let t = std::time::Instant::now();
         let mut sec = body(&dir)?;
         sec.seconds = t.elapsed().as_secs_f64();
-        geardyn_io::output::write_text(
-            &cache,
-            &format!("{key}\n{}", serde_json::to_string(&sec)?),
-        )?;
         if let Ok(rd) = std::fs::read_dir(&dir) {
             for e in rd.filter_map(|e| e.ok()) {
                 if e.file_name()
@@ -116,8 +140,35 @@ impl Ctx {
                 }
             }
         }
+        let digests = serde_json::to_string(&Self::study_digests(&dir))?;
+        geardyn_io::output::write_text(
+            &cache,
+            &format!("{key}\n{digests}\n{}", serde_json::to_string(&sec)?),
+        )?;
         eprintln!("{id}: {:.1} s", sec.seconds);
         Ok(sec)
+    }
+
+    /// Digests (FNV-1a, hex) of the files of a finished study folder, by name: everything but the
+    /// cache itself, checkpoints and temporary files.
+    fn study_digests(dir: &Path) -> BTreeMap<String, String> {
+        let mut out = BTreeMap::new();
+        let Ok(rd) = std::fs::read_dir(dir) else {
+            return out;
+        };
+        for e in rd.filter_map(|e| e.ok()) {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name == "section.json" || name.ends_with(".jsonl") || name.starts_with('.') {
+                continue;
+            }
+            let digest = match e.file_type() {
+                Ok(t) if t.is_file() => std::fs::read(e.path())
+                    .map_or_else(|_| "unreadable".into(), |b| format!("{:016x}", fnv1a(&b))),
+                _ => "not a regular file".into(),
+            };
+            out.insert(name, digest);
+        }
+        out
     }
 
     /// Runs `run` with a checkpoint `dir/name.checkpoint.jsonl` (keyed by `key`) and a progress

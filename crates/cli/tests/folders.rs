@@ -1,0 +1,215 @@
+//! Output folders as a hostile user meets them: links and foreign files in the way, two writers,
+//! FIFOs and endless files given as inputs, damaged caches. Each test fails without its rule.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn geardyn(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("geardyn-folders-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn a_link_in_the_output_folder_is_refused_and_its_target_untouched() {
+    let d = tmp("link");
+    let out = d.join("out");
+    assert_eq!(
+        geardyn(&[
+            "simulate",
+            "--preset",
+            "classic",
+            "--periods",
+            "3",
+            "--out",
+            s(&out)
+        ])
+        .0,
+        0
+    );
+    let outside = d.join("precious.txt");
+    std::fs::write(&outside, "precious").unwrap();
+    for name in [
+        "summary.json",
+        "trajectory.csv",
+        "config.toml",
+        "run.json",
+        "time_history.png",
+    ] {
+        let link = out.join(name);
+        std::fs::remove_file(&link).unwrap();
+        std::os::unix::fs::symlink(&outside, &link).unwrap();
+        let (code, err) = geardyn(&[
+            "simulate",
+            "--preset",
+            "classic",
+            "--periods",
+            "3",
+            "--out",
+            s(&out),
+        ]);
+        assert_ne!(code, 0, "{name}");
+        assert!(err.contains("symbolic link"), "{name}: {err}");
+        assert_eq!(
+            std::fs::read_to_string(&outside).unwrap(),
+            "precious",
+            "{name}"
+        );
+        std::fs::remove_file(&link).unwrap();
+    }
+    std::fs::remove_dir_all(d).ok();
+}
+
+#[test]
+fn a_folder_geardyn_did_not_make_is_refused() {
+    let d = tmp("foreign");
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("summary.json"), "my own notes").unwrap();
+    let (code, err) = geardyn(&["simulate", "--preset", "classic", "--out", s(&d)]);
+    assert_ne!(code, 0);
+    assert!(err.contains("did not write"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("summary.json")).unwrap(),
+        "my own notes"
+    );
+    let (code, err) = geardyn(&["simulate", "--preset", "classic", "--out", "/"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("did not write"), "{err}");
+    std::fs::remove_dir_all(d).ok();
+}
+
+#[test]
+fn one_writer_per_folder_and_a_stale_lock_is_taken_over() {
+    let d = tmp("lock");
+    let mut first = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args([
+            "simulate",
+            "--preset",
+            "breakage",
+            "--periods",
+            "400",
+            "--out",
+            s(&d),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    while !d.join(".geardyn.lock").exists() && t.elapsed() < Duration::from_secs(20) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let (code, err) = geardyn(&["simulate", "--preset", "classic", "--out", s(&d)]);
+    let _ = first.kill();
+    let _ = first.wait();
+    assert_ne!(code, 0);
+    assert!(err.contains("in use by another geardyn run"), "{err}");
+    // the killed run left its lock: stale (no such process), taken over
+    assert!(d.join(".geardyn.lock").exists());
+    let (code, err) = geardyn(&[
+        "simulate",
+        "--preset",
+        "classic",
+        "--periods",
+        "3",
+        "--out",
+        s(&d),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!d.join(".geardyn.lock").exists());
+    std::fs::remove_dir_all(d).ok();
+}
+
+#[test]
+fn fifos_and_endless_files_as_inputs_are_refused_at_once() {
+    let d = tmp("fifo");
+    std::fs::create_dir_all(&d).unwrap();
+    let fifo = d.join("config.toml");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let t = Instant::now();
+    let (code, err) = geardyn(&["simulate", "--config", s(&fifo), "--out", s(&d.join("o"))]);
+    assert_ne!(code, 0);
+    assert!(err.contains("not a regular file"), "{err}");
+    // a checkpoint that is a link to /dev/zero
+    let out = d.join("sweep");
+    let args = [
+        "bifurcation",
+        "--preset",
+        "classic",
+        "--range",
+        "0.9:1.1:2",
+        "--periods",
+        "2",
+        "--transient",
+        "2",
+        "--out",
+        s(&out),
+    ];
+    assert_eq!(geardyn(&args).0, 0);
+    std::fs::remove_file(out.join("checkpoint.jsonl")).ok();
+    std::os::unix::fs::symlink("/dev/zero", out.join("checkpoint.jsonl")).unwrap();
+    let (code, err) = geardyn(&args);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("symbolic link") || err.contains("not a regular"),
+        "{err}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(30));
+    std::fs::remove_dir_all(d).ok();
+}
+
+#[test]
+fn a_second_force_keeps_the_first_set_aside_checkpoint() {
+    let d = tmp("force");
+    let run = |range: &str| {
+        geardyn(&[
+            "bifurcation",
+            "--preset",
+            "classic",
+            "--range",
+            range,
+            "--periods",
+            "2",
+            "--transient",
+            "2",
+            "--force",
+            "--out",
+            s(&d),
+        ])
+    };
+    assert_eq!(run("0.9:1.1:2").0, 0);
+    std::fs::write(d.join("checkpoint.jsonl"), "K-one\n").unwrap();
+    assert_eq!(run("0.8:1.1:2").0, 0);
+    std::fs::write(d.join("checkpoint.jsonl"), "K-two\n").unwrap();
+    assert_eq!(run("0.7:1.1:2").0, 0);
+    assert_eq!(
+        std::fs::read_to_string(d.join("checkpoint.jsonl.old")).unwrap(),
+        "K-one\n"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.join("checkpoint.jsonl.old.2")).unwrap(),
+        "K-two\n"
+    );
+    std::fs::remove_dir_all(d).ok();
+}
