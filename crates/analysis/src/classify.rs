@@ -630,7 +630,7 @@ impl<'m> Decision<'m> {
                     }
                     None => false,
                 };
-                if undecided && tle_periods(&self.opts) < TLE_LONG_PERIODS {
+                if undecided && tle_periods(&self.opts) < TLE_LONG_PERIODS && !self.budget_spent {
                     self.short_tle = tle;
                     self.ask_tle(Wait::TleLong, TLE_LONG_PERIODS);
                 } else {
@@ -781,6 +781,11 @@ impl<'m> Decision<'m> {
 
     /// Asks for the exponent over `periods` from the end of the current run.
     fn ask_tle(&mut self, wait: Wait, periods: u64) {
+        // the exponent costs about three runs' work per period (the variational equation): at
+        // most a third of the whole budget goes into one estimate (at omega = 0.001 one
+        // revolution costs ten million evaluations: 100 periods took minutes)
+        let per_period = (self.res.rhs_evals / self.integrated().max(1)).max(1);
+        let periods = periods.min((self.opts.decision_budget / per_period / 3).max(1));
         let (t, y) = self.res.final_state;
         let memory = self.res.final_memory;
         self.ask(
@@ -910,17 +915,26 @@ impl<'m> Decision<'m> {
     /// or, after the last one, the TLE again and the conclusion.
     fn extend_or_final(&mut self, k: u32) {
         if self.how.extend && k < MAX_EXTENSIONS {
-            let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << k;
-            let (t, y0) = self.res.final_state;
-            let more = SimOptions {
-                tau0: t,
-                start_memory: self.res.final_memory,
-                transient_periods: extra,
-                record_periods: self.opts.record_periods.max(self.full_record()),
-                ..self.opts
-            };
-            self.ask(Wait::Extend(k), Need::Sim { y0, opts: more });
-            return;
+            let record = self.opts.record_periods.max(self.full_record());
+            // the extensions draw on the decision's work budget too (at omega = 0.001 one
+            // revolution costs a million evaluations): cut to what is left, none when not even
+            // a record is
+            let left = self.budget_periods_left();
+            if left >= record {
+                let extra =
+                    ((self.opts.transient_periods.max(MIN_EXTENSION)) << k).min(left - record);
+                let (t, y0) = self.res.final_state;
+                let more = SimOptions {
+                    tau0: t,
+                    start_memory: self.res.final_memory,
+                    transient_periods: extra,
+                    record_periods: record,
+                    ..self.opts
+                };
+                self.ask(Wait::Extend(k), Need::Sim { y0, opts: more });
+                return;
+            }
+            self.budget_spent = true;
         }
         if self.how.extend && self.how.lyapunov {
             self.ask_tle(Wait::TleLast, tle_periods(&self.opts));

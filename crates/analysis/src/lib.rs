@@ -18,6 +18,7 @@ pub mod map2d;
 pub mod period;
 pub mod simulate;
 pub mod tle_convergence;
+pub mod work;
 
 pub use classify::{
     simulate_decided, simulate_decided_from, simulate_decided_with, Decide, Motion,

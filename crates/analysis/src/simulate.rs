@@ -341,7 +341,7 @@ impl Summary {
     pub fn describe(&self) -> String {
         match (&self.motion, self.decided_by) {
             (Motion::Unsettled { tle, stderr }, DecidedBy::Budget) => format!(
-                "unsettled: the work budget (decision_budget) ran out after {} periods, before the decision horizon (decision_periods); TLE {} still positive",
+                "unsettled: the work budget (decision_budget) ran out after {} periods, before a period appeared or the decision horizon (decision_periods) was reached; TLE {}",
                 self.periods_integrated,
                 match (tle, stderr) {
                     (Some(t), Some(s)) => format!("{t:.4} ± {s:.4}"),

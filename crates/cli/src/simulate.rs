@@ -35,6 +35,10 @@ pub struct SimulateArgs {
     /// simulation.decision_budget).
     #[arg(long)]
     decision_budget: Option<u64>,
+    /// Cap on the estimated work in right-hand-side evaluations, the decision's worst case
+    /// included; above it the run is refused (default: simulation.max_work, 1e12).
+    #[arg(long)]
+    max_work: Option<f64>,
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
@@ -60,6 +64,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let Some(n) = args.decision_budget {
         cfg.set("decision_budget", n as f64)?;
     }
+    if let Some(w) = args.max_work {
+        cfg.set("max_work", w)?;
+    }
     if let Some(m) = &args.integrator {
         cfg.simulation.method = m.clone();
     }
@@ -74,6 +81,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
     let out = &args.out;
+    crate::sweep::check_work(&cfg, model, &opts, 1, true)?;
     let _lock = run_record::prepare_folder(out, "simulate", None, false)?;
     let (res, summary, used) =
         simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;

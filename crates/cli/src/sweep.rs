@@ -38,6 +38,10 @@ pub struct SimArgs {
     /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 1000000000].
     #[arg(long)]
     pub decision_budget: Option<u64>,
+    /// Cap on the command's estimated work in right-hand-side evaluations (all runs, the
+    /// decisions' worst case included); a command above it is refused [default: 1e12].
+    #[arg(long)]
+    pub max_work: Option<f64>,
     /// Discard a checkpoint in the output folder that was made with other settings, and start
     /// over (without it such a folder is refused).
     #[arg(long)]
@@ -64,6 +68,9 @@ impl SimArgs {
         }
         if let Some(n) = self.decision_budget {
             cfg.set("decision_budget", n as f64)?;
+        }
+        if let Some(w) = self.max_work {
+            cfg.set("max_work", w)?;
         }
         cfg.sim_options()?;
         Ok(())
@@ -202,6 +209,21 @@ impl<'a> Recorder<'a> {
     }
 }
 
+/// Refuses a command of `runs` runs with `sim` each (decided: the decision's worst case counts)
+/// whose estimated work is above the config's cap ([`geardyn_analysis::work`]).
+pub fn check_work(
+    cfg: &Config,
+    model: &geardyn_model::MeshModel,
+    sim: &geardyn_analysis::simulate::SimOptions,
+    runs: usize,
+    decided: bool,
+) -> Result<()> {
+    let per_run = geardyn_analysis::work::per_run(model, sim, decided);
+    geardyn_analysis::work::check(runs, per_run, cfg.simulation.max_work)
+        .map_err(|e| anyhow::anyhow!(e))?;
+    Ok(())
+}
+
 /// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
 pub fn run_checkpointed(
     cfg: &Config,
@@ -220,6 +242,17 @@ pub fn run_checkpointed(
             .with(&opts.param, *v)
             .with_context(|| format!("--param {} = {v}", opts.param))?;
     }
+    let ics = match opts.mode {
+        geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),
+        _ => 1,
+    };
+    check_work(
+        cfg,
+        scenario.model(),
+        &opts.sim,
+        opts.values.len() * ics,
+        true,
+    )?;
     let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
     // a record is trusted only if it is one of this sweep's tasks, at its value, complete
     let runs_per_task = match opts.mode {

@@ -213,3 +213,55 @@ fn a_second_force_keeps_the_first_set_aside_checkpoint() {
     );
     std::fs::remove_dir_all(d).ok();
 }
+
+#[test]
+fn work_above_the_cap_is_refused_at_once_and_the_decision_keeps_its_budget() {
+    // 10^6 steps per cycle x 10^6 periods: each knob legal, the product days of work
+    let t = Instant::now();
+    let (code, err) = geardyn(&[
+        "simulate",
+        "--preset",
+        "classic",
+        "--integrator",
+        "rk4",
+        "--steps-per-cycle",
+        "1000000",
+        "--periods",
+        "1000000",
+        "--out",
+        s(&tmp("cap")),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--max-work") && err.contains("4.0e12"),
+        "{err}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(5));
+    // at omega = 0.001 a revolution costs ten million evaluations: the extensions and the
+    // exponent stay within the decision's budget (they took minutes beyond it)
+    let d = tmp("slow");
+    let t = Instant::now();
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args([
+            "simulate",
+            "--preset",
+            "breakage",
+            "--set",
+            "omega=0.001",
+            "--periods",
+            "1",
+            "--transient",
+            "0",
+            "--decision-budget",
+            "100000000",
+            "--out",
+            s(&d),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("work budget"), "{text}");
+    assert!(t.elapsed() < Duration::from_secs(60), "{:?}", t.elapsed());
+    std::fs::remove_dir_all(d).ok();
+}

@@ -40,6 +40,9 @@ pub struct SimulationConfig {
     /// Work budget of one run's decision (right-hand-side evaluations in all); a run still not periodic when it
     /// is spent is `unsettled`.
     pub decision_budget: u64,
+    /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
+    /// decisions' worst case included): a command above it is refused before it starts.
+    pub max_work: f64,
 }
 
 impl Default for SimulationConfig {
@@ -56,6 +59,7 @@ impl Default for SimulationConfig {
             tau0: 0.0,
             decision_periods: geardyn_analysis::classify::DECISION_PERIODS,
             decision_budget: geardyn_analysis::classify::DECISION_BUDGET,
+            max_work: geardyn_analysis::work::DEFAULT_MAX_WORK,
         }
     }
 }
@@ -154,6 +158,7 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "record_periods",
     "decision_periods",
     "decision_budget",
+    "max_work",
 ];
 
 /// Largest configuration file read (bytes): a config is a few kilobytes.
@@ -495,6 +500,17 @@ impl Config {
             "record_periods" => s.record_periods = as_count("record_periods", value)?,
             "decision_periods" => s.decision_periods = as_count("decision_periods", value)?,
             "decision_budget" => s.decision_budget = as_count("decision_budget", value)?,
+            "max_work" => {
+                if !(value.is_finite() && (1e6..=1e18).contains(&value)) {
+                    return Err(ConfigError::Simulation {
+                        field: "max_work",
+                        value: geardyn_model::error::num(value),
+                        allowed: "[1e6, 1e18] (right-hand-side evaluations of a whole command)"
+                            .into(),
+                    });
+                }
+                s.max_work = value;
+            }
             _ => {
                 let mut spec = self.spec();
                 spec.set(name, value).map_err(|e| match e {
