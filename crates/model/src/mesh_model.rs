@@ -148,6 +148,11 @@ pub struct Segment {
     inv_du: f64,
 }
 
+/// Smallest half backlash `D_d` (units of `b_c`): a thousand times the integrator's absolute
+/// tolerance; the runs at 1e-13 and below ran away although every D from 1e-12 up gives the same
+/// bounded orbit.
+pub const MIN_BACKLASH: f64 = 1e-9;
+
 /// The dimensionless mesh model. Build it with [`MeshModel::new`] from validated [`ModelParams`].
 ///
 /// ```
@@ -225,12 +230,14 @@ impl MeshModel {
             return Err(inv("c", p.c, "[0, 20] (c = 2 zeta)"));
         }
         // D is in units of b_c (of the order of the backlash itself): beyond 1e3 the teeth never
-        // meet and the run only measures a free fall
-        if !(finite("D_d", p.d_double)? > 0.0 && p.d_double <= 1e3) {
+        // meet and the run only measures a free fall; below MIN_BACKLASH the two contact
+        // boundaries +-D are closer than event location resolves them (D = 1e-13 "diverged"
+        // while 1e-12 gave the bounded orbit of every larger D)
+        if !(finite("D_d", p.d_double)? >= MIN_BACKLASH && p.d_double <= 1e3) {
             return Err(inv(
                 "D_d",
                 p.d_double,
-                "(0, 1000] (half backlash in units of b_c)",
+                "[1e-9, 1000] (half backlash in units of b_c; below 1e-9 the contact boundaries +-D cannot be told apart by event location)",
             ));
         }
         if !(finite("D_s", p.d_single)? >= p.d_double && p.d_single <= 1e3) {

@@ -244,17 +244,31 @@ impl PairSpec {
                 Err(bad(f, v, allowed))
             }
         };
-        pos("face_width_mm", self.face_width_mm, "(0, inf) mm")?;
-        pos(
+        // physical ranges, wide enough for every real gear (watch gears to mill gears, polymers
+        // to carbides): outside them the pair is absurd (a face width of 1e-300 mm gave m_e = 0,
+        // omega_n = inf and "inf rpm")
+        let within = |f: &str, v: f64, lo: f64, hi: f64, unit: &str| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(bad(f, v, &format!("[{lo:e}, {hi:e}] {unit}")))
+            }
+        };
+        within("face_width_mm", self.face_width_mm, 0.01, 1e4, "mm")?;
+        within(
             "youngs_modulus_gpa",
             self.youngs_modulus_gpa,
-            "(0, inf) GPa",
+            0.1,
+            2000.0,
+            "GPa",
         )?;
-        pos("density_kg_m3", self.density_kg_m3, "(0, inf)")?;
-        pos(
+        within("density_kg_m3", self.density_kg_m3, 100.0, 3e4, "kg/m^3")?;
+        within(
             "characteristic_length_um",
             self.characteristic_length_um,
-            "(0, inf) um",
+            1e-3,
+            1e5,
+            "um",
         )?;
         if !(self.poisson > 0.0 && self.poisson < 0.5) {
             return Err(bad("poisson", self.poisson, "(0, 0.5)"));
@@ -287,7 +301,7 @@ impl PairSpec {
             }
         }
         if let Some(op) = &self.operating {
-            pos("operating.speed_rpm", op.speed_rpm, "(0, inf) rpm")?;
+            within("operating.speed_rpm", op.speed_rpm, 1e-3, 1e6, "rpm")?;
             if !(op.torque_nm >= 0.0 && op.torque_nm.is_finite()) {
                 return Err(bad("operating.torque_nm", op.torque_nm, "[0, inf) N m"));
             }

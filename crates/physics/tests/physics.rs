@@ -408,3 +408,22 @@ fn lubrication_gives_a_friction_coefficient_per_pair_and_backlash_grows_in_the_s
     bad.operating = None;
     assert!(bad.build().unwrap_err().to_string().contains("operating"));
 }
+
+#[test]
+fn physically_absurd_pairs_are_refused_with_the_field_range_and_unit() {
+    // a face width of 1e-300 mm gave m_e = 0, omega_n = inf and "inf rpm"
+    let cases: [(&str, fn(&mut PairSpec)); 3] = [
+        ("face_width_mm", |s| s.face_width_mm = 1e-300),
+        ("youngs_modulus_gpa", |s| s.youngs_modulus_gpa = 1e-300),
+        ("density_kg_m3", |s| s.density_kg_m3 = 1e9),
+    ];
+    for (field, set) in cases {
+        let mut s = geardyn_physics::presets::breakage();
+        set(&mut s);
+        let e = s.build().unwrap_err().to_string();
+        assert!(e.contains(field) && e.contains('['), "{field}: {e}");
+    }
+    // the presets themselves are inside the ranges
+    assert!(geardyn_physics::presets::breakage().build().is_ok());
+    assert!(geardyn_physics::presets::internal().build().is_ok());
+}
