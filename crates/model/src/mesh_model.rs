@@ -114,6 +114,9 @@ const MAX_PERIOD_INDEX: f64 = 4_611_686_018_427_387_904.0;
 /// `max(D, 1)` (dimensionless). Event location is accurate to ~1e-12 in time; a larger distance
 /// means the motion outgrew the integrator's time resolution, and the run is stopped.
 pub const SURFACE_TOL: f64 = 1e-6;
+/// Largest distance (times `max(D, 1)`) from a contact surface of a located event that is read
+/// as a grazing approach when the state is on the free side moving away (see `on_event`).
+const GRAZING_TOL: f64 = 1e-3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum KForm {
@@ -815,6 +818,35 @@ impl MeshModel {
         }
     }
 
+    /// Whether an impact at speed `v` (before the reset) ends with the tooth resting on the stop:
+    /// the free motion presses it there and the impact speed or the rebound speed `R |v|` is
+    /// below `v_stick`. The rebound counts so that a plastic impact (`R = 0`) under a pressing
+    /// load rests instead of leaving the stop at zero speed straight back into it, a crossing
+    /// no event can see (the run then went through the stop and ended non-finite).
+    fn sticks(&self, t: f64, v: f64, law: ImpactLaw) -> bool {
+        self.excitation(t) <= 0.0
+            && (v.abs() < law.v_stick || law.restitution * v.abs() <= law.v_stick)
+    }
+
+    /// A located event of a separated state that is no crossing: the state is still on the free
+    /// side of the surface, within [`GRAZING_TOL`] of it, and moving away (a grazing approach
+    /// the event search took for a crossing). Nothing happens there: no reset, no saltation.
+    fn grazing_miss(&self, y: &[f64; 2], mode: &MeshMode, index: usize) -> bool {
+        let d = self.segs[mode.seg as usize].d;
+        let near = GRAZING_TOL * d.max(1.0);
+        match (mode.contact, index) {
+            (ContactState::Separated, 0) => {
+                let g = y[0] - d;
+                g < 0.0 && g > -near && y[1] <= 0.0
+            }
+            (ContactState::Separated, _) => {
+                let g = y[0] + d;
+                g > 0.0 && g < near && y[1] >= 0.0
+            }
+            _ => false,
+        }
+    }
+
     /// Projects a state onto the admissible set of the impact model (`x >= -D`), applying the
     /// impact law to a state inside the stop that moves into it. Returns the contact state.
     fn project_to_stop(
@@ -934,6 +966,12 @@ impl HybridSystem<2> for MeshModel {
             _ => None,
         };
         if let Some(g) = surface {
+            // a grazing approach the event search took for a crossing (the guard dipped to
+            // within a few 1e-6 of the surface at a step end and turned back): the state is still
+            // on the free side and moving away from the surface, so nothing happened
+            if self.grazing_miss(y, mode, index) {
+                return EventAction::Continue;
+            }
             if !(g.abs() <= SURFACE_TOL * d.max(1.0)) {
                 *y = [f64::NAN; 2];
                 return EventAction::Terminate;
@@ -952,7 +990,7 @@ impl HybridSystem<2> for MeshModel {
                 Some(law) => {
                     // the impact path: onto the stop, moving away from it (or resting on it)
                     y[0] = -d;
-                    if y[1].abs() < law.v_stick && self.excitation(t) <= 0.0 {
+                    if self.sticks(t, y[1], law) {
                         y[1] = 0.0;
                         mode.contact = ContactState::Stuck;
                     } else if y[1] < 0.0 {
@@ -1150,9 +1188,12 @@ impl Variational<2> for MeshModel {
     }
 
     fn reset_jacobian(&self, t: f64, y: &[f64; 2], mode: &MeshMode, index: usize) -> [[f64; 2]; 2] {
+        if self.grazing_miss(y, mode, index) {
+            return [[1.0, 0.0], [0.0, 1.0]];
+        }
         match (mode.contact, index, self.impact) {
             (ContactState::Separated, 1, Some(law)) => {
-                if y[1].abs() < law.v_stick && self.excitation(t) <= 0.0 {
+                if self.sticks(t, y[1], law) {
                     // sticking: the velocity is annihilated
                     [[1.0, 0.0], [0.0, 0.0]]
                 } else {
