@@ -314,7 +314,7 @@ fn stiffness_command_and_physical_show() {
     ]);
     assert_ne!(code, 0);
     assert!(
-        err.contains("face_width_mm") && err.contains("(0, inf)"),
+        err.contains("face_width_mm") && err.contains("[1e-2, 1e4] mm"),
         "{err}"
     );
     let (code, _, err) = geardyn(&["simulate", "--preset", "breakage", "--set", "mu=0.3"]);

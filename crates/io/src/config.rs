@@ -715,7 +715,7 @@ mod tests {
         assert!(c.apply_set("omega=abc").is_err());
         c.apply_set("D=-1").unwrap();
         let e = c.resolve().unwrap_err().to_string();
-        assert!(e.contains("D_d") && e.contains("(0, 1000]"), "{e}");
+        assert!(e.contains("D_d") && e.contains("[1e-9, 1000]"), "{e}");
         let e = Config::from_toml("[model]\nomega = \"fast\"")
             .unwrap_err()
             .to_string();

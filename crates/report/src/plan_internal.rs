@@ -204,7 +204,9 @@ fn readings(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Sec
     let mut fvals = linspace(0.0001, 0.2, ctx.n(41, 134));
     // the seed's windows, and the narrow end of the cascade near F = 0.095 (a period 12 was
     // seen at 0.095 and 0.096 and missed by a grid step of 0.0015)
-    fvals.extend([0.04, 0.044, 0.07, 0.09, 0.094, 0.095, 0.0955, 0.096, 0.0965, 0.097]);
+    fvals.extend([
+        0.04, 0.044, 0.07, 0.09, 0.094, 0.095, 0.0955, 0.096, 0.0965, 0.097,
+    ]);
     fvals.sort_by(f64::total_cmp);
     fvals.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let xvals = linspace(0.001, 0.3, ctx.n(31, 150));
