@@ -412,7 +412,8 @@ fn lubrication_gives_a_friction_coefficient_per_pair_and_backlash_grows_in_the_s
 #[test]
 fn physically_absurd_pairs_are_refused_with_the_field_range_and_unit() {
     // a face width of 1e-300 mm gave m_e = 0, omega_n = inf and "inf rpm"
-    let cases: [(&str, fn(&mut PairSpec)); 3] = [
+    type Spoil = fn(&mut PairSpec);
+    let cases: [(&str, Spoil); 3] = [
         ("face_width_mm", |s| s.face_width_mm = 1e-300),
         ("youngs_modulus_gpa", |s| s.youngs_modulus_gpa = 1e-300),
         ("density_kg_m3", |s| s.density_kg_m3 = 1e9),
