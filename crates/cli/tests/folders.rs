@@ -265,3 +265,69 @@ fn work_above_the_cap_is_refused_at_once_and_the_decision_keeps_its_budget() {
     assert!(t.elapsed() < Duration::from_secs(60), "{:?}", t.elapsed());
     std::fs::remove_dir_all(d).ok();
 }
+
+#[test]
+fn a_refusal_comes_before_any_write_and_names_alone_do_not_make_a_folder_ours() {
+    // a link anywhere in the folder (here a linked study-like folder) is refused before the run
+    // writes anything: a refusal halfway left config.toml of one run beside results of another
+    let d = tmp("early");
+    let out = d.join("out");
+    assert_eq!(
+        geardyn(&[
+            "simulate",
+            "--preset",
+            "classic",
+            "--periods",
+            "3",
+            "--out",
+            s(&out)
+        ])
+        .0,
+        0
+    );
+    let before = std::fs::read_to_string(out.join("config.toml")).unwrap();
+    let outside = d.join("elsewhere");
+    std::fs::create_dir_all(&outside).unwrap();
+    std::os::unix::fs::symlink(&outside, out.join("linked")).unwrap();
+    let (code, err) = geardyn(&[
+        "simulate",
+        "--preset",
+        "classic",
+        "--set",
+        "omega=1.3",
+        "--periods",
+        "3",
+        "--out",
+        s(&out),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("symbolic link"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("config.toml")).unwrap(),
+        before
+    );
+    assert_eq!(std::fs::read_dir(&outside).unwrap().count(), 0);
+    // a user's own file that happens to be called run.json does not make the folder geardyn's
+    let mine = d.join("mine");
+    std::fs::create_dir_all(&mine).unwrap();
+    std::fs::write(mine.join("run.json"), r#"{"my": "notes"}"#).unwrap();
+    let (code, err) = geardyn(&["simulate", "--preset", "classic", "--out", s(&mine)]);
+    assert_ne!(code, 0);
+    assert!(err.contains("did not write"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(mine.join("run.json")).unwrap(),
+        r#"{"my": "notes"}"#
+    );
+    assert!(!mine.join(".geardyn").exists());
+    // a folder where the lock goes is named as such, not as another run
+    let locked = d.join("locked");
+    std::fs::create_dir_all(locked.join(".geardyn.lock")).unwrap();
+    std::fs::write(locked.join(".geardyn"), "").unwrap();
+    let (code, err) = geardyn(&["simulate", "--preset", "classic", "--out", s(&locked)]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains(".geardyn.lock") && !err.contains("in use"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(d).ok();
+}

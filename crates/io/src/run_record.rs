@@ -111,20 +111,28 @@ pub const LOCK: &str = ".geardyn.lock";
 pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
     let path = out.display().to_string();
     if let Ok(rd) = std::fs::read_dir(out) {
-        let names: Vec<String> = rd
-            .filter_map(|e| e.ok())
-            .map(|e| e.file_name().to_string_lossy().into_owned())
-            .collect();
-        let ours = names
-            .iter()
-            .any(|n| n == MARKER || n == LOCK || n == "run.json" || n == "checkpoint.jsonl");
-        if !names.is_empty() && !ours {
-            let mut names = names;
+        let mut names: Vec<String> = Vec::new();
+        let mut special = None;
+        for e in rd.filter_map(|e| e.ok()) {
+            if e.file_type().is_ok_and(|t| !(t.is_file() || t.is_dir())) {
+                special.get_or_insert(e.path());
+            }
+            names.push(e.file_name().to_string_lossy().into_owned());
+        }
+        if !names.is_empty() && !is_ours(out, &names) {
             names.sort();
             return Err(FolderError::NotOurs {
                 path,
                 example: names[0].clone(),
             });
+        }
+        // a link or a special file in a result folder is never geardyn's: refused before
+        // anything is written (a refusal halfway left a folder of two runs)
+        if let Some(p) = special {
+            return Err(FolderError::Output(OutputError::Refused {
+                path: p.display().to_string(),
+                reason: "the output folder holds a symbolic link or special file there (geardyn never writes through one: remove it or choose another --out)".into(),
+            }));
         }
     }
     std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
@@ -133,6 +141,23 @@ pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
         crate::safe_write::write_bytes(&marker, b"geardyn output folder\n")?;
     }
     Ok(())
+}
+
+/// A folder is geardyn's when it holds its marker or lock, a `run.json` that is a run record
+/// (`kind` and `version`), or a checkpoint whose key line names a `kind` (earlier versions left
+/// no marker). A file merely named `run.json` is not enough.
+fn is_ours(out: &Path, names: &[String]) -> bool {
+    if names.iter().any(|n| n == MARKER || n == LOCK) {
+        return true;
+    }
+    let record = crate::safe_write::read_bounded(&out.join("run.json"), 1 << 20)
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .is_some_and(|v| v.get("kind").is_some() && v.get("version").is_some());
+    let checkpoint = names.iter().any(|n| n == "checkpoint.jsonl")
+        && serde_json::from_str::<serde_json::Value>(&first_line(&out.join("checkpoint.jsonl")))
+            .is_ok_and(|v| v.get("kind").is_some());
+    record || checkpoint
 }
 
 /// The lock of an output folder, held while a run writes into it (dropping it removes the lock
@@ -152,37 +177,53 @@ impl FolderLock {
             host(),
             now_unix_s()
         );
-        for _ in 0..3 {
-            match std::fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&path)
-            {
-                Ok(mut f) => {
-                    use std::io::Write;
-                    f.write_all(me.as_bytes()).map_err(|e| io(&path, e))?;
-                    return Ok(FolderLock { path });
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                    let holder = crate::safe_write::read_bounded(&path, 4096)
-                        .map(|b| String::from_utf8_lossy(&b).into_owned())
-                        .unwrap_or_default();
-                    if !lock_is_stale(&holder) {
-                        return Err(FolderError::Busy {
-                            path: out.display().to_string(),
-                            holder,
-                        });
+        // the lock appears whole or not at all: written under a temporary name, then linked to
+        // its name (a link fails when the name exists); an empty lock read as stale let a second
+        // run take over a live one
+        let tmp = crate::safe_write::temp_sibling(&path);
+        let _ = std::fs::remove_file(&tmp);
+        std::fs::write(&tmp, me.as_bytes()).map_err(|e| io(&tmp, e))?;
+        let result = (|| {
+            for _ in 0..3 {
+                match std::fs::hard_link(&tmp, &path) {
+                    Ok(()) => return Ok(FolderLock { path: path.clone() }),
+                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                        if !std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+                            return Err(FolderError::Output(OutputError::Refused {
+                                path: path.display().to_string(),
+                                reason: "it is not a lock file geardyn wrote (remove it)".into(),
+                            }));
+                        }
+                        let holder = crate::safe_write::read_bounded(&path, 4096)
+                            .map(|b| String::from_utf8_lossy(&b).into_owned())
+                            .unwrap_or_default();
+                        if !lock_is_stale(&holder) {
+                            return Err(FolderError::Busy {
+                                path: out.display().to_string(),
+                                holder,
+                            });
+                        }
+                        eprintln!(
+                            "note: {} held a stale lock ({}); taken over",
+                            out.display(),
+                            if holder.is_empty() {
+                                "empty"
+                            } else {
+                                holder.trim()
+                            }
+                        );
+                        let _ = std::fs::remove_file(&path);
                     }
-                    // stale: the holder is gone; remove and try again (another process may win)
-                    let _ = std::fs::remove_file(&path);
+                    Err(e) => return Err(io(&path, e)),
                 }
-                Err(e) => return Err(io(&path, e)),
             }
-        }
-        Err(FolderError::Busy {
-            path: out.display().to_string(),
-            holder: "another process took the lock first".into(),
-        })
+            Err(FolderError::Busy {
+                path: out.display().to_string(),
+                holder: "another process took the lock first".into(),
+            })
+        })();
+        let _ = std::fs::remove_file(&tmp);
+        result
     }
 }
 

@@ -79,14 +79,15 @@ fn readings_matrix(headline: &[&Claim], alternatives: &[&Claim]) -> String {
         }
     }
     let mut s = String::from(
-        "<h2 id=\"claims-by-reading\">The same claims under every reading of the text</h2>\n<p class=\"small\">Where the seed text leaves a reading open (section on readings), the claims that depend on it are judged under each reading. The headline table above uses the reading the text states most directly; the columns here are all readings run (every row is in <a href=\"claims_by_interpretation.csv\">claims_by_interpretation.csv</a> with its evidence).</p>\n<ol class=\"small\">\n",
+        "<h2 id=\"claims-by-reading\">The same claims under every reading of the text</h2>\n<p class=\"small\">Where the seed text leaves a reading open (section on readings), the claims that depend on it are judged under each reading. The headline table above uses the reading the text states most directly; the columns here are all readings run, listed below (every row is in <a href=\"claims_by_interpretation.csv\">claims_by_interpretation.csv</a> with its evidence).</p>\n<ol class=\"small\">\n",
     );
     for r in &readings {
         s.push_str(&format!("<li>{}</li>\n", esc(r)));
     }
     s.push_str("</ol>\n<table><tr><th>claim</th><th>seed</th>");
-    for i in 1..=readings.len() {
-        s.push_str(&format!("<th>reading {i}</th>"));
+    // the column says its reading (numbers would not match the study files' numbering)
+    for r in &readings {
+        s.push_str(&format!("<th class=\"small\">{}</th>", esc(r)));
     }
     s.push_str("</tr>\n");
     for t in &texts {
