@@ -440,8 +440,15 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
             format!("{B004} §2.2"),
             "smoother",
             format!("total variation over a cycle / mean: {} with constant Hertz, {} with nonlinear Hertz", f(tv_el), f(tv_nt)),
-            Verdict::of(tv_nt < tv_el),
-            "Variation includes the jumps at the single/double alternation.",
+            // smoother means a visible change: at least 5 % less variation (0.8 % counted before)
+            if tv_nt <= 0.95 * tv_el {
+                Verdict::Reproduced
+            } else if tv_nt < tv_el {
+                Verdict::Partly
+            } else {
+                Verdict::NotReproduced
+            },
+            "Variation includes the jumps at the single/double alternation; smoother = at least 5 % less (partly: less, by under 5 %).",
         ),
         Claim::new(
             "Stiffness rises then falls along the line of action, with jumps at the single/double alternation",
@@ -2447,8 +2454,15 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             f(dl),
             f(dh)
         ),
-        Verdict::of(dl > dh),
-        format!("The same file's Table 6 lists 2 attractors for F < 0.0021, 1 for 0.0022–0.089, 3 for 0.09–0.117 and 2 above 0.118: not fewer at the larger loads (its table rows are checked one by one above). Measured: {ics} initial states per value, distinct motions counted per value (1-1-0-1-0 and 2-1-0-1-0 coexist up to F = 0.2)."),
+        // fewer by half an attractor per value at least (2 against 1.92 counted before)
+        if dl >= dh + 0.5 {
+            Verdict::Reproduced
+        } else if dl > dh {
+            Verdict::Partly
+        } else {
+            Verdict::NotReproduced
+        },
+        format!("Fewer = at least half a motion per value less (partly: fewer by less). The same file's Table 6 lists 2 attractors for F < 0.0021, 1 for 0.0022–0.089, 3 for 0.09–0.117 and 2 above 0.118: not fewer at the larger loads (its table rows are checked one by one above). Measured: {ics} initial states per value, distinct motions counted per value (1-1-0-1-0 and 2-1-0-1-0 coexist up to F = 0.2)."),
     ));
     let mut figs = vec![fig, fig_c];
     figs.extend(basin_figs);
