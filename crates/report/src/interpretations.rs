@@ -10,6 +10,10 @@
 //! `claims_by_interpretation.csv` and in the matrix on the page.
 
 use crate::claims::Claim;
+use crate::runner::{hdr, Ctx};
+use crate::Table;
+use anyhow::Result;
+use std::path::Path;
 
 /// One unstated or ambiguous reading of a seed text.
 #[derive(Clone, Copy, Debug)]
@@ -104,6 +108,16 @@ pub fn axis_rows(axes: &[Axis]) -> Vec<Vec<String>> {
 
 /// Header of [`axis_rows`].
 pub const AXIS_HEADER: [&str; 6] = ["axis", "source", "text", "readings", "headline", "why"];
+
+/// The table of a seed's axes (`readings.csv` in the study folder `dir`).
+pub fn axes_table(ctx: &Ctx, dir: &Path, axes: &[Axis]) -> Result<Table> {
+    ctx.table(
+        &dir.join("readings.csv"),
+        "Readings the text leaves open (the headline reading first)",
+        &hdr(&AXIS_HEADER),
+        axis_rows(axes),
+    )
+}
 
 #[cfg(test)]
 mod tests {

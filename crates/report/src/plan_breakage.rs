@@ -6,7 +6,7 @@
 
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
-use crate::interpretations::{axis_rows, label_claims, Axis, Interpretation, AXIS_HEADER};
+use crate::interpretations::{axes_table, label_claims, Axis, Interpretation};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
 use crate::runner::{hdr, Ctx};
 use crate::shared::{
@@ -966,6 +966,37 @@ fn chaos_with_impacts(pb: &[Pt]) -> bool {
         && !chaos.is_empty()
 }
 
+/// A row of the load-sensitivity table for the broken pair's sweep `pts` at `omega` with `mm`
+/// removed from the chipped tip, and whether the seed's "F > 0.1 periodic without impact" holds.
+fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
+    let hi = classes::within(pts, 0.1075, 0.1425);
+    let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > 0.999;
+    let largest = pts
+        .iter()
+        .filter(|p| p.back)
+        .map(|p| p.value)
+        .fold(f64::NAN, f64::max);
+    let chaos = classes::ranges(&tolerant(pts), |p| p.class == Class::Chaotic);
+    let chaos_txt = if chaos.is_empty() {
+        "none".into()
+    } else {
+        chaos
+            .iter()
+            .map(|c| range(c.0, c.1))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let row = vec![
+        f(omega),
+        f(mm),
+        f(largest),
+        chaos_txt,
+        pts.last().map_or(String::new(), |p| p.name.clone()),
+        (if ok { "yes" } else { "no" }).into(),
+    ];
+    (row, ok)
+}
+
 fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     let omegas: Vec<f64> = ctx.n(vec![1.0, 1.2, 1.4], vec![1.0, 1.1, 1.2, 1.3, 1.4]);
     let nf = ctx.n(8, 31);
@@ -983,15 +1014,6 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         for p in &pts {
             colors.push(class_color(p));
         }
-        let hi = classes::within(&pts, 0.1075, 0.1425);
-        let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > 0.999;
-        ok_count += usize::from(ok);
-        let largest = pts
-            .iter()
-            .filter(|p| p.back)
-            .map(|p| p.value)
-            .fold(f64::NAN, f64::max);
-        let chaos = classes::ranges(&tolerant(&pts), |p| p.class == Class::Chaotic);
         // the load sweep's claims at this frequency: another reading of the text
         let reading = format!("omega = {}", f(w));
         if let Some(k) = AXES[0].choices.iter().position(|c| *c == reading) {
@@ -1002,22 +1024,9 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
                 alternatives.extend(cl);
             }
         }
-        rows.push(vec![
-            f(w),
-            "1".into(),
-            f(largest),
-            if chaos.is_empty() {
-                "none".into()
-            } else {
-                chaos
-                    .iter()
-                    .map(|c| range(c.0, c.1))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            },
-            pts.last().map_or(String::new(), |p| p.name.clone()),
-            (if ok { "yes" } else { "no" }).into(),
-        ]);
+        let (row, ok) = sensitivity_row(&pts, w, CHIP_MM[0]);
+        ok_count += usize::from(ok);
+        rows.push(row);
     }
     // the chip-size readings at the load sweep's frequency
     for (k, &mm) in CHIP_MM.iter().enumerate().skip(1) {
@@ -1029,30 +1038,7 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         let it = Interpretation::with(&AXES, &[(AXES[1].name, k)]);
         label_claims(&mut cl, &it.label(&AXES));
         alternatives.extend(cl);
-        let hi = classes::within(&pts, 0.1075, 0.1425);
-        let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > 0.999;
-        let largest = pts
-            .iter()
-            .filter(|p| p.back)
-            .map(|p| p.value)
-            .fold(f64::NAN, f64::max);
-        let chaos = classes::ranges(&tolerant(&pts), |p| p.class == Class::Chaotic);
-        rows.push(vec![
-            f(OMEGA_LOAD),
-            f(mm),
-            f(largest),
-            if chaos.is_empty() {
-                "none".into()
-            } else {
-                chaos
-                    .iter()
-                    .map(|c| range(c.0, c.1))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            },
-            pts.last().map_or(String::new(), |p| p.name.clone()),
-            (if ok { "yes" } else { "no" }).into(),
-        ]);
+        rows.push(sensitivity_row(&pts, OMEGA_LOAD, mm).0);
     }
     let df = 0.15 / (nf - 1).max(1) as f64;
     let stem = dir.join("load_omega_classes");
@@ -1103,12 +1089,7 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         ]),
         rows,
     )?;
-    let axes = ctx.table(
-        &dir.join("readings.csv"),
-        "Readings the text leaves open (the headline reading first)",
-        &hdr(&AXIS_HEADER),
-        axis_rows(&AXES),
-    )?;
+    let axes = axes_table(ctx, dir, &AXES)?;
     Ok(Section {
         id: "load_sensitivity".into(),
         title: "Sensitivity of the load sweep to the readings of the text: its frequency and the chip size".into(),

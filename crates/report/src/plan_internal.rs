@@ -8,7 +8,7 @@
 
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
-use crate::interpretations::{axis_rows, label_claims, Axis, Interpretation, AXIS_HEADER};
+use crate::interpretations::{axes_table, label_claims, Axis, Interpretation};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence, sets};
 use crate::runner::{hdr, with_linear_law, Ctx};
 use crate::shared::{
@@ -276,12 +276,7 @@ fn readings(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Sec
             xi_chaos,
         ]);
     }
-    let axes = ctx.table(
-        &dir.join("readings.csv"),
-        "Readings the text leaves open (the headline reading first)",
-        &hdr(&AXIS_HEADER),
-        axis_rows(&AXES),
-    )?;
+    let axes = axes_table(ctx, dir, &AXES)?;
     let summary = ctx.table(
         &dir.join("readings_summary.csv"),
         "The load and xi sweeps under each reading",
