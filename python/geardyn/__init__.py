@@ -30,7 +30,11 @@ Errors
 ``ValueError`` for bad parameters or settings, with the one-line message the CLI prints after
 ``error:``; ``OSError`` for files that cannot be read or written; ``RuntimeError`` when an
 integration fails. Long calls release the GIL, run on the library's threads, print progress on
-``sys.stderr`` only with ``progress=True``, and stop on Ctrl-C (``KeyboardInterrupt``).
+``sys.stderr`` only with ``progress=True``, and stop on Ctrl-C within about a second: the
+``KeyboardInterrupt`` raised carries what was finished in its attribute ``partial`` — a
+:class:`SweepResult` of the finished values (``bifurcation``, ``response``), a list of finished
+values or cells (``continuation``, ``map2d``, as the CLI's checkpoint lines), columns ``cell``,
+``kind``, ``attractor`` of the finished basin cells, or ``None`` (single runs).
 
 Arrays
 ------
@@ -679,6 +683,29 @@ def lyapunov(
     )
 
 
+class _Partial:
+    """Turns the raw partial result of an interrupted call (``KeyboardInterrupt.partial``) into
+    the call's result type."""
+
+    def __init__(self, wrap):
+        self.wrap = wrap
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, et, e, tb):
+        if et is not None and issubclass(et, KeyboardInterrupt):
+            if getattr(e, "partial", None) is not None:
+                e.partial = self.wrap(e.partial)
+        return False
+
+
+def _sweep_partial(param):
+    """The partial result of an interrupted sweep as a :class:`SweepResult` (its finished values;
+    ``values``, ``settings`` and ``config`` are ``None``)."""
+    return lambda p: _sweep_result({"param": param, "values": None, "settings": None, "config": None, **p})
+
+
 def _sweep_result(d):
     d["points"] = _table(d["points"])
     d["runs"] = _table(d["runs"])
@@ -749,21 +776,22 @@ def bifurcation(
     vals, rng = _values(values, range, (0.5, 2.0, 200))
     if isinstance(sections, str):
         sections = sections.split(",")
-    d = _geardyn.bifurcation(
-        _source(preset, config, set, params),
-        _sim(periods, transient, integrator, steps_per_cycle),
-        str(param),
-        vals,
-        rng,
-        str(mode),
-        _count("ics", ics),
-        _count("seed", seed),
-        _pair("x0_range", x0_range),
-        _pair("v0_range", v0_range),
-        [str(s) for s in sections],
-        bool(lyapunov),
-        bool(progress),
-    )
+    with _Partial(_sweep_partial(param)):
+        d = _geardyn.bifurcation(
+            _source(preset, config, set, params),
+            _sim(periods, transient, integrator, steps_per_cycle),
+            str(param),
+            vals,
+            rng,
+            str(mode),
+            _count("ics", ics),
+            _count("seed", seed),
+            _pair("x0_range", x0_range),
+            _pair("v0_range", v0_range),
+            [str(s) for s in sections],
+            bool(lyapunov),
+            bool(progress),
+        )
     return _sweep_result(d)
 
 
@@ -796,14 +824,15 @@ def response(
         the jumps (jumps.json).
     """
     vals, rng = _values(values, range, (0.5, 2.0, 150))
-    d = _geardyn.response(
-        _source(preset, config, set, params),
-        _sim(periods, transient, integrator, steps_per_cycle),
-        str(param),
-        vals,
-        rng,
-        bool(progress),
-    )
+    with _Partial(_sweep_partial(param)):
+        d = _geardyn.response(
+            _source(preset, config, set, params),
+            _sim(periods, transient, integrator, steps_per_cycle),
+            str(param),
+            vals,
+            rng,
+            bool(progress),
+        )
     return _sweep_result(d)
 
 

@@ -13,16 +13,18 @@ use geardyn_analysis::bifurcation::{
     TaskResult,
 };
 use geardyn_analysis::classify::{simulate_decided, Decide};
-use geardyn_analysis::continuation::{continuation as run_continuation, ContinuationOptions};
+use geardyn_analysis::continuation::{
+    continuation as run_continuation, ContinuationOptions, ValueAttractors,
+};
 use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
-use geardyn_analysis::map2d::{map2d as run_map2d, MapOptions, METRICS};
+use geardyn_analysis::map2d::{map2d as run_map2d, MapCell, MapOptions, METRICS};
 use geardyn_analysis::simulate::Method;
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
 use geardyn_io::Config;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
-use util::{arr1, arr2, json_to_py, ser_to_py, to_pyerr, Columns, Ctl, Stop};
+use util::{arr1, arr2, json_to_py, ser_to_py, to_pyerr, Columns, Ctl};
 
 /// Where a configuration comes from: a preset, a TOML file, or a configuration as JSON (the dict
 /// `geardyn.config()` returns), then `NAME=VALUE` overrides in order (as `--set`).
@@ -279,69 +281,63 @@ fn simulate<'py>(
     trajectory_periods: Option<u64>,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let out = util::run(
-        py,
-        "simulate",
-        progress,
-        Stop::Abandon,
-        move |_ctl: &Ctl| {
-            let mut cfg = src.config()?;
-            if let Some(p) = periods {
-                cfg.set("record_periods", p)?;
+    let out = util::run(py, "simulate", progress, None, move |_ctl: &Ctl| {
+        let mut cfg = src.config()?;
+        if let Some(p) = periods {
+            cfg.set("record_periods", p)?;
+        }
+        if let Some(t) = transient {
+            cfg.set("transient_periods", t)?;
+        }
+        if let Some(m) = integrator {
+            cfg.simulation.method = m;
+        }
+        let scenario = cfg.resolve().context("configuration rejected")?;
+        let model = scenario.model();
+        let mut opts = cfg.sim_options()?;
+        opts.trajectory = true;
+        if let Some(n) = trajectory_periods {
+            if !(1..=1_000_000).contains(&n) {
+                anyhow::bail!("trajectory_periods = {n}: allowed 1 ..= 1000000");
             }
-            if let Some(t) = transient {
-                cfg.set("transient_periods", t)?;
+        }
+        opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
+        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+        let t = std::time::Instant::now();
+        let (res, summary, used) =
+            simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
+        let elapsed = t.elapsed().as_secs_f64();
+        // summary.json of the CLI
+        let mut v = serde_json::to_value(&summary)?;
+        if let Some(obj) = v.as_object_mut() {
+            let extra = serde_json::json!({
+                "parameters": scenario.record(),
+                "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+                "excitation_period": model.excitation_period(),
+                "transient_periods": used.transient_periods,
+                "transient_requested": opts.transient_periods,
+                "record_periods": used.record_periods,
+                "record_requested": opts.record_periods,
+                "method": used.method,
+                "method_requested": opts.method,
+                "steps": res.steps,
+                "rhs_evals": res.rhs_evals,
+                "wall_time_s": elapsed,
+            });
+            if let serde_json::Value::Object(more) = extra {
+                obj.extend(more);
             }
-            if let Some(m) = integrator {
-                cfg.simulation.method = m;
-            }
-            let scenario = cfg.resolve().context("configuration rejected")?;
-            let model = scenario.model();
-            let mut opts = cfg.sim_options()?;
-            opts.trajectory = true;
-            if let Some(n) = trajectory_periods {
-                if !(1..=1_000_000).contains(&n) {
-                    anyhow::bail!("trajectory_periods = {n}: allowed 1 ..= 1000000");
-                }
-            }
-            opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
-            let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-            let t = std::time::Instant::now();
-            let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
-                .context("integration failed")?;
-            let elapsed = t.elapsed().as_secs_f64();
-            // summary.json of the CLI
-            let mut v = serde_json::to_value(&summary)?;
-            if let Some(obj) = v.as_object_mut() {
-                let extra = serde_json::json!({
-                    "parameters": scenario.record(),
-                    "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
-                    "excitation_period": model.excitation_period(),
-                    "transient_periods": used.transient_periods,
-                    "transient_requested": opts.transient_periods,
-                    "record_periods": used.record_periods,
-                    "record_requested": opts.record_periods,
-                    "method": used.method,
-                    "method_requested": opts.method,
-                    "steps": res.steps,
-                    "rhs_evals": res.rhs_evals,
-                    "wall_time_s": elapsed,
-                });
-                if let serde_json::Value::Object(more) = extra {
-                    obj.extend(more);
-                }
-            }
-            let (dd, ds) = model.backlash_levels();
-            Ok((
-                cfg,
-                res,
-                v,
-                model.excitation_period(),
-                (dd, ds),
-                summary.describe(),
-            ))
-        },
-    )?;
+        }
+        let (dd, ds) = model.backlash_levels();
+        Ok((
+            cfg,
+            res,
+            v,
+            model.excitation_period(),
+            (dd, ds),
+            summary.describe(),
+        ))
+    })?;
     let (cfg, res, summary, period, levels, description) = out;
     let d = PyDict::new(py);
     let n = res.strobe.len();
@@ -452,73 +448,67 @@ fn lyapunov<'py>(
     d0: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let v = util::run(
-        py,
-        "lyapunov",
-        progress,
-        Stop::Abandon,
-        move |_ctl: &Ctl| {
-            if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
-                bail!("bad method '{method}': allowed variational, two-trajectory, both");
-            }
-            let mut cfg = src.config()?;
-            sim.apply(&mut cfg)?;
-            let scenario = cfg.resolve()?;
-            if !(d0 > 0.0 && d0 < 1e-2) {
-                bail!("bad --d0 {}: allowed (0, 0.01)", d0);
-            }
-            let model = scenario.model().clone();
-            let p = scenario.params();
-            let integrated = serde_json::json!({
-                "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
-            });
-            let so = cfg.sim_options()?;
-            let mut opts = LyapunovOptions {
-                period: model.excitation_period(),
-                transient_periods: so.transient_periods,
-                periods: so.record_periods,
-                d0,
-            };
-            let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-            let scheme = so.method.scheme(&model);
-            let t0 = so.tau0;
-            let mut out = serde_json::json!({
-                "method": method, "integrated": integrated, "converged": null, "tol": null,
-                "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
-            });
-            if sim.periods.is_none() {
-                if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&max_periods) {
-                    bail!(
-                        "bad --max-periods {}: allowed 20 ..= {}",
-                        max_periods,
-                        geardyn_analysis::simulate::MAX_PERIODS
-                    );
-                }
-                let conv = Convergence {
+    let v = util::run(py, "lyapunov", progress, None, move |_ctl: &Ctl| {
+        if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
+            bail!("bad method '{method}': allowed variational, two-trajectory, both");
+        }
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg)?;
+        let scenario = cfg.resolve()?;
+        if !(d0 > 0.0 && d0 < 1e-2) {
+            bail!("bad --d0 {}: allowed (0, 0.01)", d0);
+        }
+        let model = scenario.model().clone();
+        let p = scenario.params();
+        let integrated = serde_json::json!({
+            "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
+        });
+        let so = cfg.sim_options()?;
+        let mut opts = LyapunovOptions {
+            period: model.excitation_period(),
+            transient_periods: so.transient_periods,
+            periods: so.record_periods,
+            d0,
+        };
+        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+        let scheme = so.method.scheme(&model);
+        let t0 = so.tau0;
+        let mut out = serde_json::json!({
+            "method": method, "integrated": integrated, "converged": null, "tol": null,
+            "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
+        });
+        if sim.periods.is_none() {
+            if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&max_periods) {
+                bail!(
+                    "bad --max-periods {}: allowed 20 ..= {}",
                     max_periods,
-                    ..Default::default()
-                };
-                let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |_| {})?;
-                opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
-                out["converged"] = c.converged.into();
-                out["tol"] = c.tol.into();
-                out["rounds"] = serde_json::to_value(&c.rounds)?;
-                if method != "two-trajectory" {
-                    out["variational"] = serde_json::to_value(&c.result)?;
-                }
-            } else if method != "two-trajectory" {
-                let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
-                out["variational"] = serde_json::to_value(&r)?;
+                    geardyn_analysis::simulate::MAX_PERIODS
+                );
             }
-            out["periods"] = opts.periods.into();
-            if method != "variational" {
-                let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
-                out["two_trajectory"] = serde_json::to_value(&r)?;
+            let conv = Convergence {
+                max_periods,
+                ..Default::default()
+            };
+            let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |_| {})?;
+            opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
+            out["converged"] = c.converged.into();
+            out["tol"] = c.tol.into();
+            out["rounds"] = serde_json::to_value(&c.rounds)?;
+            if method != "two-trajectory" {
+                out["variational"] = serde_json::to_value(&c.result)?;
             }
-            out["config"] = serde_json::to_value(cfg.to_value())?;
-            Ok(out)
-        },
-    )?;
+        } else if method != "two-trajectory" {
+            let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
+            out["variational"] = serde_json::to_value(&r)?;
+        }
+        out["periods"] = opts.periods.into();
+        if method != "variational" {
+            let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
+            out["two_trajectory"] = serde_json::to_value(&r)?;
+        }
+        out["config"] = serde_json::to_value(cfg.to_value())?;
+        Ok(out)
+    })?;
     json_to_py(py, &v)
 }
 
@@ -693,7 +683,14 @@ fn sweep(
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();
-    Ok(run_sweep(scenario, opts, &done, |_| ctl.tick())?)
+    Ok(run_sweep(scenario, opts, &done, |r| ctl.keep(r.clone()))?)
+}
+
+/// The partial result of an interrupted sweep: its finished values, as a sweep's result.
+fn kept_sweep(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
+    let mut results: Vec<TaskResult> = ctl.take_kept();
+    results.sort_by_key(|r| (r.task.branch, r.task.index));
+    Ok(Some(sweep_results(py, &results)?.into_any().unbind()))
 }
 
 /// `geardyn bifurcation` without the files.
@@ -716,47 +713,48 @@ fn bifurcation<'py>(
     lyapunov: bool,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (results, cfg, opts) = util::run(py, "bifurcation", progress, Stop::AtTick, move |ctl| {
-        let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
-        let scenario = cfg.resolve()?;
-        let values = values_of(values, range)?;
-        let secs = sections(&sections_)?;
-        let region = attractor_region(scenario.model().backlash_levels().1);
-        let mode = match mode.as_str() {
-            "fixed" => SweepMode::Fixed,
-            "sweep" => SweepMode::Sweep,
-            "multi" => {
-                if ics == 0 || ics > 100_000 {
-                    bail!("ics = {}: allowed 1 ..= 100000", ics);
+    let (results, cfg, opts) =
+        util::run(py, "bifurcation", progress, Some(kept_sweep), move |ctl| {
+            let mut cfg = src.config()?;
+            sim.apply(&mut cfg)?;
+            let scenario = cfg.resolve()?;
+            let values = values_of(values, range)?;
+            let secs = sections(&sections_)?;
+            let region = attractor_region(scenario.model().backlash_levels().1);
+            let mode = match mode.as_str() {
+                "fixed" => SweepMode::Fixed,
+                "sweep" => SweepMode::Sweep,
+                "multi" => {
+                    if ics == 0 || ics > 100_000 {
+                        bail!("ics = {}: allowed 1 ..= 100000", ics);
+                    }
+                    SweepMode::Multi {
+                        ics,
+                        seed,
+                        x0_range: match x0_range {
+                            Some(p) => check_pair(p, "x0_range")?,
+                            None => region.0,
+                        },
+                        v0_range: match v0_range {
+                            Some(p) => check_pair(p, "v0_range")?,
+                            None => region.1,
+                        },
+                    }
                 }
-                SweepMode::Multi {
-                    ics,
-                    seed,
-                    x0_range: match x0_range {
-                        Some(p) => check_pair(p, "x0_range")?,
-                        None => region.0,
-                    },
-                    v0_range: match v0_range {
-                        Some(p) => check_pair(p, "v0_range")?,
-                        None => region.1,
-                    },
-                }
-            }
-            other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
-        };
-        let opts = SweepOptions {
-            param,
-            values,
-            mode,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            sections: secs,
-            lyapunov,
-        };
-        let results = sweep(ctl, &scenario, &opts)?;
-        Ok((results, cfg, opts))
-    })?;
+                other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
+            };
+            let opts = SweepOptions {
+                param,
+                values,
+                mode,
+                sim: cfg.sim_options()?,
+                y0: [cfg.simulation.x0, cfg.simulation.v0],
+                sections: secs,
+                lyapunov,
+            };
+            let results = sweep(ctl, &scenario, &opts)?;
+            Ok((results, cfg, opts))
+        })?;
     let d = sweep_results(py, &results)?;
     d.set_item("param", &opts.param)?;
     d.set_item("values", arr1(py, opts.values.clone()))?;
@@ -777,7 +775,7 @@ fn response<'py>(
     range: Option<(f64, f64, usize)>,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (results, cfg, opts) = util::run(py, "response", progress, Stop::AtTick, move |ctl| {
+    let (results, cfg, opts) = util::run(py, "response", progress, Some(kept_sweep), move |ctl| {
         let mut cfg = src.config()?;
         sim.apply(&mut cfg)?;
         let scenario = cfg.resolve()?;
@@ -814,6 +812,29 @@ fn axis(a: (f64, f64, usize), name: &str) -> Result<Axis> {
     })
 }
 
+/// The partial result of interrupted basins, as columns (a grid may hold millions of cells):
+/// `cell` (row-major index, `iv * nx + ix`), `kind` (0 captured by a known attractor, 1 recorded
+/// to the end, 2 diverged, 3 failed) and `attractor` (the capturing attractor's index among those
+/// known at that pass — not yet the final numbering —, else -1).
+fn kept_basins(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
+    let mut kept: Vec<(usize, Outcome)> = ctl.take_kept();
+    kept.sort_by_key(|k| k.0);
+    let c = Columns::new(py);
+    c.i64("cell", kept.iter().map(|k| k.0 as i64).collect())?;
+    let (kind, attractor): (Vec<i64>, Vec<i64>) = kept
+        .iter()
+        .map(|(_, o)| match o {
+            Outcome::Captured { id, .. } => (0, *id as i64),
+            Outcome::Recorded(_) => (1, -1),
+            Outcome::Diverged => (2, -1),
+            Outcome::Failed(_) => (3, -1),
+        })
+        .unzip();
+    c.i64("kind", kind)?;
+    c.i64("attractor", attractor)?;
+    Ok(Some(c.dict.into_any().unbind()))
+}
+
 /// `geardyn basins` without the files.
 #[pyfunction]
 #[pyo3(signature = (src, sim, ident, x, v, phase, progress))]
@@ -828,42 +849,43 @@ fn basins<'py>(
     phase: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (r, cfg, opts, elapsed) = util::run(py, "basins", progress, Stop::AtTick, move |ctl| {
-        let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
-        let scenario = cfg.resolve()?;
-        let model = scenario.model();
-        check_phase(phase)?;
-        let d = scenario.params().d_single;
-        let xa = match x {
-            Some(a) => axis(a, "x")?,
-            None => Axis {
-                min: -2.0 * d,
-                max: 2.0 * d,
-                n: 200,
-            },
-        };
-        let va = match v {
-            Some(a) => axis(a, "v")?,
-            None => Axis {
-                min: -1.5,
-                max: 1.5,
-                n: 200,
-            },
-        };
-        let mut identify = identify_options(&cfg, &ident)?;
-        identify.sim.tau0 = phase * model.excitation_period();
-        let opts = BasinOptions {
-            x: xa,
-            v: va,
-            identify,
-        };
-        ctl.set_total((xa.n * va.n) as u64, 0);
-        let done: HashMap<usize, Outcome> = HashMap::new();
-        let t = std::time::Instant::now();
-        let r = run_basins(model, &opts, &done, |_, _| ctl.tick());
-        Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
-    })?;
+    let (r, cfg, opts, elapsed) =
+        util::run(py, "basins", progress, Some(kept_basins), move |ctl| {
+            let mut cfg = src.config()?;
+            sim.apply(&mut cfg)?;
+            let scenario = cfg.resolve()?;
+            let model = scenario.model();
+            check_phase(phase)?;
+            let d = scenario.params().d_single;
+            let xa = match x {
+                Some(a) => axis(a, "x")?,
+                None => Axis {
+                    min: -2.0 * d,
+                    max: 2.0 * d,
+                    n: 200,
+                },
+            };
+            let va = match v {
+                Some(a) => axis(a, "v")?,
+                None => Axis {
+                    min: -1.5,
+                    max: 1.5,
+                    n: 200,
+                },
+            };
+            let mut identify = identify_options(&cfg, &ident)?;
+            identify.sim.tau0 = phase * model.excitation_period();
+            let opts = BasinOptions {
+                x: xa,
+                v: va,
+                identify,
+            };
+            ctl.set_total((xa.n * va.n) as u64, 0);
+            let done: HashMap<usize, Outcome> = HashMap::new();
+            let t = std::time::Instant::now();
+            let r = run_basins(model, &opts, &done, |c, o| ctl.keep((c, o.clone())));
+            Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
+        })?;
     let d = PyDict::new(py);
     d.set_item("cells", arr2(py, r.cells.clone(), r.v.n, r.x.n)?)?;
     d.set_item(
@@ -908,36 +930,42 @@ fn continuation<'py>(
     phase: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (r, cfg, opts) = util::run(py, "continuation", progress, Stop::AtTick, move |ctl| {
-        let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
-        let scenario = cfg.resolve()?;
-        let values = values_of(values, range)?;
-        if ics == 0 || ics > 100_000 {
-            bail!("ics = {}: allowed 1 ..= 100000", ics);
-        }
-        let region = attractor_region(scenario.model().backlash_levels().1);
-        let opts = ContinuationOptions {
-            param,
-            values,
-            ics,
-            seed,
-            x0_range: match x0_range {
-                Some(p) => check_pair(p, "x0_range")?,
-                None => region.0,
-            },
-            v0_range: match v0_range {
-                Some(p) => check_pair(p, "v0_range")?,
-                None => region.1,
-            },
-            phase: check_phase(phase)?,
-            identify: identify_options(&cfg, &ident)?,
-        };
-        ctl.set_total(opts.values.len() as u64, 0);
-        let done = HashMap::new();
-        let r = run_continuation(&scenario, &opts, &done, |_| ctl.tick())?;
-        Ok((r, cfg, opts))
-    })?;
+    let (r, cfg, opts) = util::run(
+        py,
+        "continuation",
+        progress,
+        Some(util::kept_list::<ValueAttractors>),
+        move |ctl| {
+            let mut cfg = src.config()?;
+            sim.apply(&mut cfg)?;
+            let scenario = cfg.resolve()?;
+            let values = values_of(values, range)?;
+            if ics == 0 || ics > 100_000 {
+                bail!("ics = {}: allowed 1 ..= 100000", ics);
+            }
+            let region = attractor_region(scenario.model().backlash_levels().1);
+            let opts = ContinuationOptions {
+                param,
+                values,
+                ics,
+                seed,
+                x0_range: match x0_range {
+                    Some(p) => check_pair(p, "x0_range")?,
+                    None => region.0,
+                },
+                v0_range: match v0_range {
+                    Some(p) => check_pair(p, "v0_range")?,
+                    None => region.1,
+                },
+                phase: check_phase(phase)?,
+                identify: identify_options(&cfg, &ident)?,
+            };
+            ctl.set_total(opts.values.len() as u64, 0);
+            let done = HashMap::new();
+            let r = run_continuation(&scenario, &opts, &done, |v| ctl.keep(v.clone()))?;
+            Ok((r, cfg, opts))
+        },
+    )?;
     let d = PyDict::new(py);
     let c = Columns::new(py);
     c.f64("value", r.points.iter().map(|p| p.value).collect())?;
@@ -986,32 +1014,38 @@ fn map2d<'py>(
     metric: String,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (cells, cfg, opts, metric) = util::run(py, "map2d", progress, Stop::AtTick, move |ctl| {
-        let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
-        let scenario = cfg.resolve()?;
-        if !METRICS.contains(&metric.as_str()) {
-            bail!(
-                "unknown metric '{}': allowed {}",
-                metric,
-                METRICS.join(", ")
-            );
-        }
-        let opts = MapOptions {
-            x_param,
-            x_values: values_of(x_values, x_range)?,
-            y_param,
-            y_values: values_of(y_values, y_range)?,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            lyapunov: metric == "tle",
-        };
-        opts.check_axes()?;
-        ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
-        let done = HashMap::new();
-        let cells = run_map2d(&scenario, &opts, &done, |_| ctl.tick())?;
-        Ok((cells, cfg, opts, metric))
-    })?;
+    let (cells, cfg, opts, metric) = util::run(
+        py,
+        "map2d",
+        progress,
+        Some(util::kept_list::<MapCell>),
+        move |ctl| {
+            let mut cfg = src.config()?;
+            sim.apply(&mut cfg)?;
+            let scenario = cfg.resolve()?;
+            if !METRICS.contains(&metric.as_str()) {
+                bail!(
+                    "unknown metric '{}': allowed {}",
+                    metric,
+                    METRICS.join(", ")
+                );
+            }
+            let opts = MapOptions {
+                x_param,
+                x_values: values_of(x_values, x_range)?,
+                y_param,
+                y_values: values_of(y_values, y_range)?,
+                sim: cfg.sim_options()?,
+                y0: [cfg.simulation.x0, cfg.simulation.v0],
+                lyapunov: metric == "tle",
+            };
+            opts.check_axes()?;
+            ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
+            let done = HashMap::new();
+            let cells = run_map2d(&scenario, &opts, &done, |c| ctl.keep(c.clone()))?;
+            Ok((cells, cfg, opts, metric))
+        },
+    )?;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());
     let d = PyDict::new(py);
     let vals: Vec<f64> = cells
@@ -1148,7 +1182,7 @@ fn report(
     quick: bool,
     out: String,
 ) -> PyResult<String> {
-    util::run(py, "report", false, Stop::Abandon, move |_ctl| {
+    util::run(py, "report", false, None, move |_ctl| {
         let mut cfg = Config::preset(&preset)?;
         for s in &sets {
             cfg.apply_set(s)?;

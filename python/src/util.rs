@@ -6,8 +6,9 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueEr
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 use serde_json::Value;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{mpsc, Arc};
+use std::any::Any;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Maps an error to a Python exception with the message the CLI prints after `error: `
@@ -116,15 +117,13 @@ impl<'py> Columns<'py> {
     }
 }
 
-/// Payload of the unwinding that stops a computation after Ctrl-C.
-pub struct Cancelled;
-
 /// Shared between the caller (progress, Ctrl-C) and the worker.
 #[derive(Default)]
 pub struct Ctl {
-    cancel: AtomicBool,
     done: AtomicU64,
     total: AtomicU64,
+    /// Finished items, kept for the partial result of an interrupted call.
+    kept: Mutex<Vec<Box<dyn Any + Send>>>,
 }
 
 impl Ctl {
@@ -134,25 +133,41 @@ impl Ctl {
         self.done.store(done, Ordering::Relaxed);
     }
 
-    /// One item finished (called from the library's `on_done` callbacks, on any thread). After
-    /// Ctrl-C it unwinds the computation (no panic message: `resume_unwind`); the library's
-    /// parallel loops hand the unwinding to the caller, which discards the partial work.
+    /// One item finished (called from the library's `on_done` callbacks, on any thread; they see
+    /// no run that a stop request cut short).
     pub fn tick(&self) {
         self.done.fetch_add(1, Ordering::Relaxed);
-        if self.cancel.load(Ordering::Relaxed) {
-            std::panic::resume_unwind(Box::new(Cancelled));
-        }
+    }
+
+    /// One item finished: counted, and kept for the partial result of an interrupted call.
+    pub fn keep<T: Any + Send>(&self, item: T) {
+        self.tick();
+        self.kept
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(Box::new(item));
+    }
+
+    /// The items kept so far, of type `T`, in the order they finished.
+    pub fn take_kept<T: Any>(&self) -> Vec<T> {
+        std::mem::take(&mut *self.kept.lock().unwrap_or_else(|e| e.into_inner()))
+            .into_iter()
+            .filter_map(|b| b.downcast::<T>().ok().map(|b| *b))
+            .collect()
     }
 }
 
-/// How a computation reacts to Ctrl-C.
-#[derive(Clone, Copy, PartialEq)]
-pub enum Stop {
-    /// It calls [`Ctl::tick`]: wait until it has stopped (no work left behind).
-    AtTick,
-    /// It cannot be stopped: return at once and let it finish in the background (it writes
-    /// nothing; its result is dropped).
-    Abandon,
+/// Builds the partial result of an interrupted call from its [`Ctl`] (`None`: nothing to offer).
+pub type Partial = fn(Python<'_>, &Ctl) -> PyResult<Option<Py<PyAny>>>;
+
+/// A [`Partial`]: the kept items of type `T`, as a list of plain Python objects (as in the CLI's
+/// checkpoint lines), in the order they finished.
+pub fn kept_list<T: Any + serde::Serialize>(
+    py: Python<'_>,
+    ctl: &Ctl,
+) -> PyResult<Option<Py<PyAny>>> {
+    let items: Vec<T> = ctl.take_kept();
+    Ok(Some(ser_to_py(py, &items)?.unbind()))
 }
 
 fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
@@ -189,7 +204,18 @@ fn show_progress(py: Python<'_>, what: &str, ctl: &Ctl, started: Instant, end: b
 /// Runs `f` on a worker thread with the interpreter released (the library's own thread pool does
 /// the parallel work), polling for Ctrl-C (KeyboardInterrupt) and, with `progress`, printing a
 /// progress line on `sys.stderr`.
-pub fn run<T, F>(py: Python<'_>, what: &str, progress: bool, stop: Stop, f: F) -> PyResult<T>
+///
+/// Ctrl-C asks every integration to stop ([`geardyn_solvers::cancel`]): the integrators end at
+/// their next step and the lanes at their next period, so the worker returns within about a
+/// second; the call then raises `KeyboardInterrupt` whose attribute `partial` holds what
+/// `partial` makes of the finished items (or `None`). A second Ctrl-C stops waiting.
+pub fn run<T, F>(
+    py: Python<'_>,
+    what: &str,
+    progress: bool,
+    partial: Option<Partial>,
+    f: F,
+) -> PyResult<T>
 where
     T: Send + 'static,
     F: FnOnce(&Ctl) -> anyhow::Result<T> + Send + 'static,
@@ -197,8 +223,8 @@ where
     let ctl = Arc::new(Ctl::default());
     let (tx, rx) = mpsc::channel();
     // the receiver is used from inside `detach` closures, which must be `Send`
-    let rx = std::sync::Mutex::new(rx);
-    let recv = |rx: &std::sync::Mutex<mpsc::Receiver<_>>| {
+    let rx = Mutex::new(rx);
+    let recv = |rx: &Mutex<mpsc::Receiver<_>>| {
         rx.lock()
             .unwrap_or_else(|e| e.into_inner())
             .recv_timeout(Duration::from_millis(50))
@@ -223,9 +249,6 @@ where
                 return res.map_err(to_pyerr);
             }
             Ok(Err(payload)) => {
-                if payload.is::<Cancelled>() {
-                    return Err(PyKeyboardInterrupt::new_err(""));
-                }
                 return Err(PyRuntimeError::new_err(format!(
                     "internal error in geardyn: {}",
                     panic_message(payload.as_ref())
@@ -237,20 +260,40 @@ where
                 ))
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
-                if let Err(e) = py.check_signals() {
-                    ctl.cancel.store(true, Ordering::Relaxed);
-                    if stop == Stop::AtTick {
-                        // wait for the worker to unwind (items in flight finish first); a second
-                        // Ctrl-C stops waiting
-                        while let Err(mpsc::RecvTimeoutError::Timeout) = py.detach(|| recv(&rx)) {
-                            if py.check_signals().is_err() {
+                if py.check_signals().is_err() {
+                    geardyn_solvers::cancel::request();
+                    // wait for the worker to stop (runs in flight end at their next step or
+                    // period); a second Ctrl-C stops waiting and leaves it to end by itself
+                    let mut stopped = false;
+                    loop {
+                        match py.detach(|| recv(&rx)) {
+                            Err(mpsc::RecvTimeoutError::Timeout) => {
+                                if py.check_signals().is_err() {
+                                    break;
+                                }
+                            }
+                            _ => {
+                                stopped = true;
                                 break;
                             }
                         }
                     }
+                    if stopped {
+                        geardyn_solvers::cancel::clear();
+                    }
                     if progress {
                         show_progress(py, what, &ctl, started, true);
                     }
+                    let part = match partial {
+                        Some(make) if stopped => make(py, &ctl)?,
+                        _ => None,
+                    };
+                    let e = PyKeyboardInterrupt::new_err(if part.is_some() {
+                        format!("geardyn {what} interrupted: its finished items are in the exception's `partial`")
+                    } else {
+                        format!("geardyn {what} interrupted")
+                    });
+                    e.value(py).setattr("partial", part)?;
                     return Err(e);
                 }
                 if progress && last.elapsed() >= Duration::from_millis(250) {

@@ -159,6 +159,12 @@ where
     S: Recordable,
     F: Fn(usize, &Outcome) + Sync,
 {
+    // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
+    let on_cell = |c: usize, o: &Outcome| {
+        if !geardyn_solvers::cancel::requested() {
+            on_cell(c, o)
+        }
+    };
     let (nx, nv) = (opts.x.n, opts.v.n);
     let total = nx * nv;
     let mut outcomes: Vec<Option<Outcome>> = vec![None; total];

@@ -435,7 +435,10 @@ where
             runs,
             parameters: Some(records[t.index].clone()),
         };
-        on_done(&r);
+        // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
+        if !geardyn_solvers::cancel::requested() {
+            on_done(&r);
+        }
         r
     };
     let mut results: HashMap<Task, TaskResult> = done.clone();

@@ -206,7 +206,10 @@ where
                 return v.clone();
             }
             let r = attractors_at(&models[i], i, opts.values[i], opts);
-            on_done(&r);
+            // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
+            if !geardyn_solvers::cancel::requested() {
+                on_done(&r);
+            }
             r
         })
         .collect();

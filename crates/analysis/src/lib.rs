@@ -25,3 +25,6 @@ pub use classify::{
 };
 pub use driver::{run_periods, Discard, Observer};
 pub use simulate::{simulate, summarize, Method, SimOptions, SimResult, Summary};
+
+/// Stop requests (Ctrl-C): see [`geardyn_solvers::cancel`].
+pub use geardyn_solvers::cancel;

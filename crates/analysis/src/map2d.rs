@@ -211,6 +211,12 @@ pub fn map2d<F>(
 where
     F: Fn(&MapCell) + Sync,
 {
+    // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
+    let on_done = |c: &MapCell| {
+        if !geardyn_solvers::cancel::requested() {
+            on_done(c)
+        }
+    };
     o.check_axes()?;
     let (nx, ny) = (o.x_values.len(), o.y_values.len());
     for &x in &o.x_values {

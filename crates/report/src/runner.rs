@@ -129,6 +129,10 @@ impl Ctx {
         }
         let t = std::time::Instant::now();
         let mut sec = body(&dir)?;
+        if geardyn_analysis::cancel::requested() {
+            // its runs were cut short: not cached, computed again (from its checkpoints) next time
+            anyhow::bail!("{id}: interrupted (its finished runs are kept in its checkpoints)");
+        }
         sec.seconds = t.elapsed().as_secs_f64();
         if let Ok(rd) = std::fs::read_dir(&dir) {
             for e in rd.filter_map(|e| e.ok()) {

@@ -561,6 +561,11 @@ where
         for l in 0..L {
             while self.active & (1 << l) == 0 {
                 let Some(st) = drv.next_item(l) else { break };
+                if crate::cancel::requested() {
+                    // (not started: it ends at once)
+                    drv.on_end(l, End::Failed(SolverError::Cancelled));
+                    continue;
+                }
                 self.period[l] = st.period;
                 self.lock_steps[l] = 0;
                 self.slots[l].lock_rhs = 0;
@@ -776,6 +781,18 @@ where
         }
     }
 
+    /// Ends every busy lane with [`SolverError::Cancelled`] (a stop was requested).
+    #[cold]
+    #[inline(never)]
+    fn cancel_all<D: LaneDriver<'s, B, N, L>>(&mut self, batch: &B, drv: &mut D) {
+        for l in 0..L {
+            if self.active & (1 << l) != 0 {
+                drv.on_end(l, End::Failed(SolverError::Cancelled));
+                self.retire(batch, l);
+            }
+        }
+    }
+
     /// The strobe instant at the end of a period for every busy lane.
     fn strobe<D: LaneDriver<'s, B, N, L>>(&mut self, batch: &B, drv: &mut D) {
         for l in 0..L {
@@ -881,6 +898,10 @@ where
         e.fill(batch, drv);
         if e.active == 0 {
             return;
+        }
+        if crate::cancel::requested() {
+            e.cancel_all(batch, drv);
+            continue;
         }
         for j in 0..s_per {
             e.step(batch, drv, j, s_per);

@@ -169,6 +169,9 @@ pub enum SolverError {
     /// Invalid settings.
     #[error("invalid integrator setting: {0}")]
     Setting(&'static str),
+    /// A stop was requested ([`crate::cancel::request`]) while integrating.
+    #[error("interrupted: a stop was requested (Ctrl-C)")]
+    Cancelled,
 }
 
 /// Work counters.
@@ -765,6 +768,9 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
     pub fn step(&mut self, tstop: f64) -> Result<Stop, SolverError> {
         if self.t >= tstop - Self::snap(tstop) {
             return Ok(Stop::Tstop);
+        }
+        if crate::cancel::requested() {
+            return Err(SolverError::Cancelled);
         }
         if tstop != self.budget_tstop {
             self.new_request(tstop)?;

@@ -13,6 +13,7 @@
 // Runge–Kutta stage formulas over several arrays read clearer with an index.
 #![allow(clippy::needless_range_loop)]
 
+pub mod cancel;
 pub mod dense;
 pub mod ensemble;
 pub mod hybrid;
