@@ -117,7 +117,12 @@ def _source(preset, config, set_, params):
     path = text = None
     if config is not None:
         if isinstance(config, Mapping):
-            text = json.dumps(config, allow_nan=False)
+            try:
+                text = json.dumps(config, allow_nan=False)
+            except RecursionError:
+                raise ValueError("malformed config dict: nested too deeply (a configuration has tables two levels deep, as geardyn.config() returns)") from None
+            except (TypeError, ValueError) as e:
+                raise ValueError(f"malformed config dict: {e}") from None
         elif isinstance(config, (str, os.PathLike)):
             path = os.fspath(config)
         else:

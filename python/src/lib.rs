@@ -79,18 +79,21 @@ struct Sim {
 }
 
 impl Sim {
-    fn apply(&self, cfg: &mut Config) -> Result<()> {
-        if let Some(p) = self.periods {
-            cfg.set("record_periods", p)?;
-        }
-        if let Some(t) = self.transient {
-            cfg.set("transient_periods", t)?;
+    /// Applies the settings; `sets` are the call's `set=` assignments (a field given by both is
+    /// refused, as in the CLI).
+    fn apply(&self, cfg: &mut Config, sets: &[String]) -> Result<()> {
+        let options = [
+            ("record_periods", "periods=", self.periods),
+            ("transient_periods", "transient=", self.transient),
+            ("steps_per_cycle", "steps_per_cycle=", self.steps_per_cycle),
+        ];
+        for (name, by, value) in options {
+            if let Some(v) = value {
+                cfg.set_by_option(sets, name, by, v)?;
+            }
         }
         if let Some(m) = &self.integrator {
             cfg.simulation.method = m.clone();
-        }
-        if let Some(n) = self.steps_per_cycle {
-            cfg.set("steps_per_cycle", n)?;
         }
         cfg.sim_options()?;
         Ok(())
@@ -110,13 +113,19 @@ fn identify_options(cfg: &Config, a: &Ident) -> Result<IdentifyOptions> {
     let mut sim = cfg.sim_options()?;
     if let Method::Dopri { rtol, atol } = &mut sim.method {
         if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
-            bail!("bad --ident-rtol {}: allowed (0, 1e-3)", a.ident_rtol);
+            bail!(
+                "bad --ident-rtol {}: allowed (0, 1e-3)",
+                geardyn_model::error::num(a.ident_rtol)
+            );
         }
         *rtol = a.ident_rtol;
         *atol = atol.max(a.ident_rtol * 1e-3);
     }
     if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
-        bail!("bad --capture-tol {}: allowed (0, 1)", a.capture_tol);
+        bail!(
+            "bad --capture-tol {}: allowed (0, 1)",
+            geardyn_model::error::num(a.capture_tol)
+        );
     }
     Ok(IdentifyOptions {
         sim,
@@ -137,13 +146,20 @@ fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Resu
                 bail!("bad values: 1 to 1000000 values");
             }
             if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-                bail!("bad values: {x} is not finite");
+                bail!(
+                    "bad values: {} is not finite",
+                    geardyn_model::error::num(*x)
+                );
             }
             Ok(v)
         }
         (None, Some((a, b, n))) => {
             if !(a.is_finite() && b.is_finite()) || n == 0 || n > 1_000_000 {
-                bail!("bad range ({a}, {b}, {n}): finite START, STOP and 1 <= COUNT <= 1000000");
+                bail!(
+                    "bad range ({}, {}, {n}): finite START, STOP and 1 <= COUNT <= 1000000",
+                    geardyn_model::error::num(a),
+                    geardyn_model::error::num(b)
+                );
             }
             Ok(linspace(a, b, n))
         }
@@ -155,7 +171,11 @@ fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Resu
 
 fn check_pair(p: (f64, f64), what: &str) -> Result<(f64, f64)> {
     if !(p.0.is_finite() && p.1.is_finite() && p.0 <= p.1) {
-        bail!("bad {what} ({}, {}): finite MIN <= MAX", p.0, p.1);
+        bail!(
+            "bad {what} ({}, {}): finite MIN <= MAX",
+            geardyn_model::error::num(p.0),
+            geardyn_model::error::num(p.1)
+        );
     }
     Ok(p)
 }
@@ -283,15 +303,13 @@ fn simulate<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let out = util::run(py, "simulate", progress, None, move |_ctl: &Ctl| {
         let mut cfg = src.config()?;
-        if let Some(p) = periods {
-            cfg.set("record_periods", p)?;
+        Sim {
+            periods,
+            transient,
+            integrator,
+            steps_per_cycle: None,
         }
-        if let Some(t) = transient {
-            cfg.set("transient_periods", t)?;
-        }
-        if let Some(m) = integrator {
-            cfg.simulation.method = m;
-        }
+        .apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve().context("configuration rejected")?;
         let model = scenario.model();
         let mut opts = cfg.sim_options()?;
@@ -453,10 +471,13 @@ fn lyapunov<'py>(
             bail!("bad method '{method}': allowed variational, two-trajectory, both");
         }
         let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
+        sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
         if !(d0 > 0.0 && d0 < 1e-2) {
-            bail!("bad --d0 {}: allowed (0, 0.01)", d0);
+            bail!(
+                "bad --d0 {}: allowed (0, 0.01)",
+                geardyn_model::error::num(d0)
+            );
         }
         let model = scenario.model().clone();
         let p = scenario.params();
@@ -676,9 +697,9 @@ fn sweep(
         .into_iter()
         .flatten()
     {
-        scenario
-            .with(&opts.param, *v)
-            .with_context(|| format!("--param {} = {v}", opts.param))?;
+        scenario.with(&opts.param, *v).with_context(|| {
+            format!("--param {} = {}", opts.param, geardyn_model::error::num(*v))
+        })?;
     }
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
@@ -716,7 +737,7 @@ fn bifurcation<'py>(
     let (results, cfg, opts) =
         util::run(py, "bifurcation", progress, Some(kept_sweep), move |ctl| {
             let mut cfg = src.config()?;
-            sim.apply(&mut cfg)?;
+            sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let values = values_of(values, range)?;
             let secs = sections(&sections_)?;
@@ -777,7 +798,7 @@ fn response<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let (results, cfg, opts) = util::run(py, "response", progress, Some(kept_sweep), move |ctl| {
         let mut cfg = src.config()?;
-        sim.apply(&mut cfg)?;
+        sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
         let opts = SweepOptions {
             param,
@@ -803,7 +824,11 @@ fn response<'py>(
 fn axis(a: (f64, f64, usize), name: &str) -> Result<Axis> {
     let (lo, hi, n) = a;
     if !(lo.is_finite() && hi.is_finite()) || hi <= lo || n == 0 || n > 4000 {
-        bail!("bad {name} ({lo}, {hi}, {n}): finite MIN < MAX and 1 <= N <= 4000");
+        bail!(
+            "bad {name} ({}, {}, {n}): finite MIN < MAX and 1 <= N <= 4000",
+            geardyn_model::error::num(lo),
+            geardyn_model::error::num(hi)
+        );
     }
     Ok(Axis {
         min: lo,
@@ -852,7 +877,7 @@ fn basins<'py>(
     let (r, cfg, opts, elapsed) =
         util::run(py, "basins", progress, Some(kept_basins), move |ctl| {
             let mut cfg = src.config()?;
-            sim.apply(&mut cfg)?;
+            sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let model = scenario.model();
             check_phase(phase)?;
@@ -937,7 +962,7 @@ fn continuation<'py>(
         Some(util::kept_list::<ValueAttractors>),
         move |ctl| {
             let mut cfg = src.config()?;
-            sim.apply(&mut cfg)?;
+            sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let values = values_of(values, range)?;
             if ics == 0 || ics > 100_000 {
@@ -1021,7 +1046,7 @@ fn map2d<'py>(
         Some(util::kept_list::<MapCell>),
         move |ctl| {
             let mut cfg = src.config()?;
-            sim.apply(&mut cfg)?;
+            sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             if !METRICS.contains(&metric.as_str()) {
                 bail!(

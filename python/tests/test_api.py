@@ -153,6 +153,14 @@ def test_stiffness_tables():
     assert b.pair["eps_b"] is not None and b.table["zone"].dtype.kind == "U"
 
 
+def _nested(depth):
+    d = cur = {}
+    for _ in range(depth):
+        cur["a"] = {}
+        cur = cur["a"]
+    return d
+
+
 @pytest.mark.parametrize(
     "call,exc,text",
     [
@@ -180,6 +188,13 @@ def test_stiffness_tables():
         (lambda: geardyn.simulate(contact="power:1.5:0.3"), ValueError, "--contact"),
         (lambda: geardyn.simulate(contact=1.5), TypeError, "contact"),
         (lambda: geardyn.report(contact="linear", out="/tmp/never"), ValueError, "contact"),
+        # a field given twice: refused, not silently overridden (issue 28, item 11)
+        (lambda: geardyn.simulate(periods=5, set={"record_periods": 7}), ValueError, "given twice"),
+        (lambda: geardyn.bifurcation(transient=5, transient_periods=7), ValueError, "given twice"),
+        # a deeply nested dict: the documented ValueError, not RecursionError
+        (lambda: geardyn.simulate(config=_nested(100_000)), ValueError, "nested too deeply"),
+        # a huge number is printed as one, not with 300 digits
+        (lambda: geardyn.basins(x=(1e300, -1e300, 10)), ValueError, "bad x (1e300, -1e300, 10)"),
     ],
 )
 def test_bad_input_raises(call, exc, text):

@@ -236,7 +236,7 @@ pub const MAX_CLOUD: usize = 256;
 
 /// A section phase outside `[0, 1)`.
 #[derive(Debug, thiserror::Error)]
-#[error("bad phase {0}: allowed [0, 1) (fraction of the excitation period)")]
+#[error("bad phase {}: allowed [0, 1) (fraction of the excitation period)", geardyn_model::error::num(*.0))]
 pub struct PhaseError(pub f64);
 
 /// Checks the phase of a set of initial states (a fraction of the excitation period, `[0, 1)`;

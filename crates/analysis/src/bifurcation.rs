@@ -202,7 +202,7 @@ pub struct TaskResult {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SweepError {
     /// A parameter value makes an invalid model.
-    #[error("{param} = {value}: {reason}")]
+    #[error("{param} = {}: {reason}", geardyn_model::error::num(*.value))]
     Model {
         /// Parameter.
         param: String,
@@ -652,8 +652,9 @@ pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
         _ => (0..count)
             .map(|i| {
                 let v = start + (stop - start) * i as f64 / (count - 1) as f64;
-                // a value that is zero but for the rounding of the sum (a grid through zero)
-                let zero = v.abs() <= 1e-12 * start.abs().max(stop.abs());
+                // a value that is zero but for the rounding of the sum (a grid through zero): the
+                // sum's rounding is relative to its terms, not to the range (0.5:1e300 keeps 0.5)
+                let zero = i > 0 && v.abs() <= 1e-12 * (start.abs() + (v - start).abs());
                 if zero {
                     0.0
                 } else {

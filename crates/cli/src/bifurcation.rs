@@ -70,7 +70,7 @@ fn sections(s: &str) -> Result<Vec<Section>> {
 pub fn run(a: BifurcationArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let secs = sections(&a.sections)?;
@@ -163,7 +163,7 @@ pub struct ResponseArgs {
 pub fn response(a: ResponseArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let opts = SweepOptions {

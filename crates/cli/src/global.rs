@@ -19,13 +19,19 @@ fn identify_options(cfg: &Config, a: &IdentArgs) -> Result<IdentifyOptions> {
     let mut sim = cfg.sim_options()?;
     if let geardyn_analysis::simulate::Method::Dopri { rtol, atol } = &mut sim.method {
         if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
-            bail!("bad --ident-rtol {}: allowed (0, 1e-3)", a.ident_rtol);
+            bail!(
+                "bad --ident-rtol {}: allowed (0, 1e-3)",
+                geardyn_model::error::num(a.ident_rtol)
+            );
         }
         *rtol = a.ident_rtol;
         *atol = atol.max(a.ident_rtol * 1e-3);
     }
     if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
-        bail!("bad --capture-tol {}: allowed (0, 1)", a.capture_tol);
+        bail!(
+            "bad --capture-tol {}: allowed (0, 1)",
+            geardyn_model::error::num(a.capture_tol)
+        );
     }
     Ok(IdentifyOptions {
         sim,
@@ -102,7 +108,7 @@ fn parse_axis(s: &str) -> Result<(char, Axis)> {
 pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let model = scenario.model();
     check_phase(a.phase)?;
@@ -266,7 +272,7 @@ pub struct ContinuationArgs {
 pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     if a.ics == 0 || a.ics > 100_000 {
@@ -413,7 +419,7 @@ fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
 pub fn map_cmd(a: MapArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     if !METRICS.contains(&a.metric.as_str()) {
         bail!(

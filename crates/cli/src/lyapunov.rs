@@ -52,10 +52,13 @@ pub struct LyapunovArgs {
 
 pub fn run(a: LyapunovArgs) -> Result<()> {
     let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg)?;
+    a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     if !(a.d0 > 0.0 && a.d0 < 1e-2) {
-        anyhow::bail!("bad --d0 {}: allowed (0, 0.01)", a.d0);
+        anyhow::bail!(
+            "bad --d0 {}: allowed (0, 0.01)",
+            geardyn_model::error::num(a.d0)
+        );
     }
     let model = scenario.model().clone();
     let p = scenario.params();

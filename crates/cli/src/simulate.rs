@@ -52,26 +52,41 @@ pub struct SimulateArgs {
 pub fn run(args: SimulateArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = args.cfg.config()?;
-    if let Some(p) = args.periods {
-        cfg.set("record_periods", p as f64)?;
-    }
-    if let Some(t) = args.transient {
-        cfg.set("transient_periods", t as f64)?;
-    }
-    if let Some(n) = args.decision_periods {
-        cfg.set("decision_periods", n as f64)?;
-    }
-    if let Some(n) = args.decision_budget {
-        cfg.set("decision_budget", n as f64)?;
-    }
-    if let Some(w) = args.max_work {
-        cfg.set("max_work", w)?;
+    let flags = [
+        (
+            "record_periods",
+            "--periods",
+            args.periods.map(|p| p as f64),
+        ),
+        (
+            "transient_periods",
+            "--transient",
+            args.transient.map(|t| t as f64),
+        ),
+        (
+            "decision_periods",
+            "--decision-periods",
+            args.decision_periods.map(|n| n as f64),
+        ),
+        (
+            "decision_budget",
+            "--decision-budget",
+            args.decision_budget.map(|n| n as f64),
+        ),
+        ("max_work", "--max-work", args.max_work),
+        (
+            "steps_per_cycle",
+            "--steps-per-cycle",
+            args.steps_per_cycle.map(f64::from),
+        ),
+    ];
+    for (name, flag, value) in flags {
+        if let Some(v) = value {
+            cfg.set_by_option(&args.cfg.sets, name, flag, v)?;
+        }
     }
     if let Some(m) = &args.integrator {
         cfg.simulation.method = m.clone();
-    }
-    if let Some(n) = args.steps_per_cycle {
-        cfg.set("steps_per_cycle", n as f64)?;
     }
     let scenario = cfg.resolve().context("configuration rejected")?;
     let model = scenario.model();

@@ -49,28 +49,44 @@ pub struct SimArgs {
 }
 
 impl SimArgs {
-    /// Applies the overrides to the config.
-    pub fn apply(&self, cfg: &mut Config) -> Result<()> {
-        if let Some(p) = self.periods {
-            cfg.set("record_periods", p as f64)?;
-        }
-        if let Some(t) = self.transient {
-            cfg.set("transient_periods", t as f64)?;
+    /// Applies the overrides to the config; `sets` are the command's `--set` assignments (a field
+    /// given by both is refused: which one wins would be a silent choice).
+    pub fn apply(&self, cfg: &mut Config, sets: &[String]) -> Result<()> {
+        let flags = [
+            (
+                "record_periods",
+                "--periods",
+                self.periods.map(|p| p as f64),
+            ),
+            (
+                "transient_periods",
+                "--transient",
+                self.transient.map(|t| t as f64),
+            ),
+            (
+                "steps_per_cycle",
+                "--steps-per-cycle",
+                self.steps_per_cycle.map(f64::from),
+            ),
+            (
+                "decision_periods",
+                "--decision-periods",
+                self.decision_periods.map(|n| n as f64),
+            ),
+            (
+                "decision_budget",
+                "--decision-budget",
+                self.decision_budget.map(|n| n as f64),
+            ),
+            ("max_work", "--max-work", self.max_work),
+        ];
+        for (name, flag, value) in flags {
+            if let Some(v) = value {
+                cfg.set_by_option(sets, name, flag, v)?;
+            }
         }
         if let Some(m) = &self.integrator {
             cfg.simulation.method = m.clone();
-        }
-        if let Some(n) = self.steps_per_cycle {
-            cfg.set("steps_per_cycle", n as f64)?;
-        }
-        if let Some(n) = self.decision_periods {
-            cfg.set("decision_periods", n as f64)?;
-        }
-        if let Some(n) = self.decision_budget {
-            cfg.set("decision_budget", n as f64)?;
-        }
-        if let Some(w) = self.max_work {
-            cfg.set("max_work", w)?;
         }
         cfg.sim_options()?;
         Ok(())
@@ -238,9 +254,9 @@ pub fn run_checkpointed(
         .into_iter()
         .flatten()
     {
-        scenario
-            .with(&opts.param, *v)
-            .with_context(|| format!("--param {} = {v}", opts.param))?;
+        scenario.with(&opts.param, *v).with_context(|| {
+            format!("--param {} = {}", opts.param, geardyn_model::error::num(*v))
+        })?;
     }
     let ics = match opts.mode {
         geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),

@@ -123,6 +123,28 @@ fn bad_input_gives_one_line_errors() {
         ),
         (vec!["bench", "--basin-steps", "4"], "--basin-steps 4"),
         (vec!["bench", "--grazing", "9"], "--grazing 9"),
+        // issue 28, item 11: a field given twice is refused (it was silently overridden); a huge
+        // number is printed as one (it was 301 digits); a wide range keeps its start (0.5 was
+        // snapped to 0 as "a rounding of zero")
+        (
+            vec!["simulate", "--periods", "5", "--set", "record_periods=7"],
+            "given twice",
+        ),
+        (
+            vec![
+                "bifurcation",
+                "--transient",
+                "5",
+                "--set",
+                "transient_periods=7",
+            ],
+            "given twice",
+        ),
+        (vec!["continuation", "--phase", "1e300"], "bad phase 1e300:"),
+        (
+            vec!["bifurcation", "--range", "0.5:1e300:3"],
+            "omega = 1e300: invalid omega = 1e300",
+        ),
     ];
     for (args, needle) in cases {
         let (code, _, err) = geardyn(&args);

@@ -125,6 +125,16 @@ pub enum ConfigError {
         /// What is wrong.
         msg: String,
     },
+    /// A field given both by an option (a command-line flag, a Python keyword) and by `--set`.
+    #[error("{name} is given twice, by {by} and by --set {set}: give one of them")]
+    Twice {
+        /// Field.
+        name: String,
+        /// The option that gives it.
+        by: String,
+        /// The `--set` assignment that gives it too.
+        set: String,
+    },
     /// A simulation setting out of range.
     #[error("invalid simulation.{field} = {value}: allowed {allowed}")]
     Simulation {
@@ -378,6 +388,29 @@ impl Config {
             .parse()
             .map_err(|_| ConfigError::SetSyntax(assignment.into()))?;
         self.set(name.trim(), value)
+    }
+
+    /// Sets `name` to `value` on behalf of option `by` (a command-line flag such as `--periods`, a
+    /// Python keyword), refused when one of the `--set` assignments `sets` names the same field
+    /// (which one should win would be a silent choice).
+    pub fn set_by_option(
+        &mut self,
+        sets: &[String],
+        name: &str,
+        by: &str,
+        value: f64,
+    ) -> Result<(), ConfigError> {
+        if let Some(s) = sets
+            .iter()
+            .find(|s| s.split_once('=').is_some_and(|(n, _)| n.trim() == name))
+        {
+            return Err(ConfigError::Twice {
+                name: name.into(),
+                by: by.into(),
+                set: s.clone(),
+            });
+        }
+        self.set(name, value)
     }
 
     /// Replaces the contact law (`[model.contact]`: the drive flank, and the back flank when it is
