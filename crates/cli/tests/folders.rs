@@ -331,3 +331,41 @@ fn a_refusal_comes_before_any_write_and_names_alone_do_not_make_a_folder_ours() 
     );
     std::fs::remove_dir_all(d).ok();
 }
+
+#[test]
+fn a_folder_named_like_a_result_file_is_refused_before_the_run() {
+    // it was refused only at its write, after the whole computation
+    let d = tmp("dirnamed");
+    let out = d.join("out");
+    assert_eq!(
+        geardyn(&[
+            "simulate",
+            "--preset",
+            "classic",
+            "--periods",
+            "3",
+            "--out",
+            s(&out)
+        ])
+        .0,
+        0
+    );
+    std::fs::remove_file(out.join("summary.json")).unwrap();
+    std::fs::create_dir_all(out.join("summary.json")).unwrap();
+    let t = Instant::now();
+    // a run of a minute or more were it not refused at once
+    let (code, err) = geardyn(&[
+        "simulate",
+        "--preset",
+        "breakage",
+        "--periods",
+        "3",
+        "--transient",
+        "100000",
+        "--out",
+        s(&out),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("named like a result file"), "{err}");
+    assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
+}

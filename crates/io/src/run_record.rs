@@ -114,10 +114,16 @@ pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
         let mut names: Vec<String> = Vec::new();
         let mut special = None;
         for e in rd.filter_map(|e| e.ok()) {
-            if e.file_type().is_ok_and(|t| !(t.is_file() || t.is_dir())) {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let special_here = e.file_type().is_ok_and(|t| {
+                // a folder where a result file goes (its name ends like one) is refused now, not
+                // after the computation at its write
+                !(t.is_file() || t.is_dir()) || (t.is_dir() && is_result_name(&name))
+            });
+            if special_here {
                 special.get_or_insert(e.path());
             }
-            names.push(e.file_name().to_string_lossy().into_owned());
+            names.push(name);
         }
         if !names.is_empty() && !is_ours(out, &names) {
             names.sort();
@@ -131,7 +137,7 @@ pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
         if let Some(p) = special {
             return Err(FolderError::Output(OutputError::Refused {
                 path: p.display().to_string(),
-                reason: "the output folder holds a symbolic link or special file there (geardyn never writes through one: remove it or choose another --out)".into(),
+                reason: "the output folder holds a symbolic link, a special file or a folder named like a result file there (geardyn never writes through one: remove it or choose another --out)".into(),
             }));
         }
     }
@@ -141,6 +147,14 @@ pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
         crate::safe_write::write_bytes(&marker, b"geardyn output folder\n")?;
     }
     Ok(())
+}
+
+/// Whether `name` ends like a file geardyn writes (a result, a figure, a record or a checkpoint).
+fn is_result_name(name: &str) -> bool {
+    const ENDINGS: [&str; 10] = [
+        ".csv", ".json", ".jsonl", ".npy", ".png", ".svg", ".html", ".toml", ".txt", ".md",
+    ];
+    ENDINGS.iter().any(|e| name.ends_with(e))
 }
 
 /// A folder is geardyn's when it holds its marker or lock, a `run.json` that is a run record
