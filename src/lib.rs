@@ -1,18 +1,51 @@
 //! geardyn: nonlinear dynamics of spur gear pairs.
 //!
-//! This facade re-exports the workspace crates under short names:
-//! [`solvers`] (hybrid-system trait, event-aware integrators), [`model`] (dimensionless mesh model,
-//! contact laws, presets, reference systems), [`analysis`] (simulation, sections, labels,
-//! Lyapunov exponents, sweeps) and [`io`] (config, CSV/JSON, plots).
+//! This facade re-exports the workspace crates under short names — [`solvers`] (hybrid-system
+//! trait, event-aware integrators, the lockstep lanes), [`physics`] (involute geometry, mesh
+//! stiffness, breakage, friction), [`scenario`] (a preset or configuration with overrides → the
+//! model that is integrated), [`model`] (dimensionless mesh model, contact laws, presets,
+//! reference systems), [`analysis`] (simulation, decided classification, sections, labels,
+//! Lyapunov exponents, sweeps, basins, continuation, maps) and [`io`] (configuration,
+//! CSV/JSON/NPY, figures) — and gathers what a Rust caller needs in [`prelude`].
 //!
 //! ```
-//! use geardyn::{analysis::simulate, model};
-//! let m = model::MeshModel::new(&model::presets::classic()).unwrap();
-//! let opts = simulate::SimOptions { transient_periods: 100, record_periods: 10, ..Default::default() };
-//! let res = simulate::simulate(&m, [0.0, 0.0], &opts).unwrap();
-//! assert_eq!(res.strobe.len(), 10);
+//! use geardyn::prelude::*;
+//! // the built-in default pair with one override, as `geardyn simulate --set omega=0.8`
+//! let mut cfg = Config::preset("classic").unwrap();
+//! cfg.set("omega", 0.8).unwrap();
+//! let scenario = cfg.resolve().unwrap();
+//! let opts = SimOptions { transient_periods: 200, record_periods: 10, ..Default::default() };
+//! let (_, summary, _) =
+//!     simulate_decided(scenario.model(), [0.0, 0.0], &opts, Decide::default()).unwrap();
+//! assert!(summary.motion.is_periodic());
+//! assert_eq!(summary.period, 1);
 //! ```
 pub use geardyn_analysis as analysis;
 pub use geardyn_io as io;
 pub use geardyn_model as model;
+pub use geardyn_physics as physics;
+pub use geardyn_scenario as scenario;
 pub use geardyn_solvers as solvers;
+
+/// What a Rust caller of geardyn needs most: a scenario from a preset or a configuration, the
+/// single-run and sweep analyses with their options, and their results.
+pub mod prelude {
+    pub use geardyn_analysis::basins::{basins, Axis, BasinOptions, BasinResult};
+    pub use geardyn_analysis::bifurcation::{
+        linspace, run_sweep, Section, SweepMode, SweepOptions, TaskResult,
+    };
+    pub use geardyn_analysis::classify::{simulate_decided, Decide, Motion};
+    pub use geardyn_analysis::continuation::{
+        continuation, ContinuationOptions, ContinuationResult,
+    };
+    pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
+    pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
+    pub use geardyn_io::Config;
+    pub use geardyn_model::{presets, MeshModel};
+    pub use geardyn_scenario::Scenario;
+}
+
+// The Rust example of README.md is compiled and run as a doctest of this crate.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

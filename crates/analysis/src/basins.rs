@@ -119,7 +119,7 @@ fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
 /// on the passes before it, so a resumed run reproduces the uninterrupted one exactly.
 ///
 /// With fixed-step RK4 on the gear model the cells of a pass run in lockstep lanes
-/// ([`crate::lanes::identify_lanes`]: the same outcomes as [`identify`]).
+/// ([`crate::lanes::identify_lanes`]: the same outcomes as [`identify`](crate::attractor::identify)).
 pub fn basins<S, F>(
     model: &S,
     opts: &BasinOptions,

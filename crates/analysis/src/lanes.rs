@@ -3,7 +3,7 @@
 //! [`geardyn_solvers::ensemble`], with the same recorded quantities.
 //!
 //! Each run is a work item: `transient_periods` discarded, then `record_periods` recorded by the
-//! scalar [`Recorder`](crate::simulate) of [`simulate`](crate::simulate::simulate). Steps the
+//! scalar [`Recorder`](mod@crate::simulate) of [`simulate`](crate::simulate::simulate). Steps the
 //! scalar integrator takes for a lane (events, breakpoints, impacts, sticking) go to that
 //! recorder as they are; a lockstep step is recorded by a vectorised copy of the recorder's
 //! per-step arithmetic (durations, Simpson integrals, ranges and force extrema with their
@@ -1000,7 +1000,7 @@ const LONE_RUNS: usize = 4;
 
 /// [`simulate_decided_from`](crate::classify::simulate_decided_from) of many runs of a lanes
 /// sweep at once: each `(model, first)` is a run of [`simulate_lanes`] with `opts` and its
-/// [`summarize`]; the decisions ([`Decision`](crate::classify::Decision), the code of
+/// `summarize`; the decisions (`Decision`, the code of
 /// [`simulate_decided_with`](crate::classify::simulate_decided_with)) go in rounds, each round
 /// running the TLEs asked for (scalar, in parallel) and all the integrations asked for
 /// (transient extensions, persistence checks, records again) together in the lanes. Those

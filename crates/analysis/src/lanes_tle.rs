@@ -13,7 +13,7 @@
 //! scalar integrator of the augmented system ([`Tangent`]), which locates the event and applies
 //! the jump, as it does for one run. At every stroboscopic instant the tangent is renormalised
 //! and its log growth accumulated, as in the scalar function. Covered: the models whose contact
-//! the lanes step themselves ([`lanes_cover_contact`](crate::lanes::lanes_cover_contact)).
+//! the lanes step themselves ([`crate::lanes::lanes_cover_contact`]).
 
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop)]
@@ -301,7 +301,7 @@ impl<'s, 'b, const L: usize> LaneDriver<'s, TangentLanes<'b>, 5, L> for TleDrive
 /// stroboscopic instant of `tau0` uses the tables of the runs of a sweep starting there).
 /// `None` where the integration failed or ended early. Results in input order; the models'
 /// contact must be covered by the lanes
-/// ([`lanes_cover_contact`](crate::lanes::lanes_cover_contact)), else their steps in contact go
+/// ([`crate::lanes::lanes_cover_contact`]), else their steps in contact go
 /// to the scalar integrator. The same results for any thread count.
 pub fn tle_lanes(
     runs: &[TleStart<'_>],

@@ -253,7 +253,7 @@ impl Checkpoint {
 
     /// Appends one record as a single complete line, written through to the operating system
     /// at once (a killed process loses nothing written) and synced to disk at most every
-    /// [`SYNC_INTERVAL`].
+    /// `SYNC_INTERVAL`.
     pub fn append<T: Serialize>(&self, rec: &T) -> Result<(), OutputError> {
         let line = json_line(&self.path, rec)?;
         let mut g = self.file.lock().unwrap_or_else(|e| e.into_inner());

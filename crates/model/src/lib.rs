@@ -7,7 +7,7 @@
 //! * [`MeshLanes`]: its batched counterpart (phase tables) for the lockstep ensemble RK4.
 //! * [`ContactLaw`], [`ImpactLaw`]: drive/back-side contact laws and the back-side impact law.
 //! * [`presets`]: `classic` (C1), `breakage`, `internal`.
-//! * [`reference`]: other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
+//! * [`reference`](mod@reference): other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
 //!   templates.
 #![warn(missing_docs)]
 // `!(v > 0.0)` is deliberate: it rejects NaN along with the out-of-range values.

@@ -80,7 +80,7 @@ pub struct Claim {
     /// The seed file and figure/table/section it comes from.
     pub source: String,
     /// The reading of the seed text it was measured under
-    /// ([`crate::interpretations::Interpretation::label`]; every axis of the seed).
+    /// (`Interpretation::label`; every axis of the seed).
     #[serde(default)]
     pub interpretation: String,
     /// What the seed gives (number, interval, label).

@@ -6,7 +6,7 @@
 //! Every section states its parameters (the seed's own where the seed gives them; where the seed
 //! is silent the choice is said on the page) and its method, and gives short readings generated
 //! from the data. Verdicts use the decided classification of every run
-//! ([`geardyn_analysis::classify::Motion`]) through [`classes`], which tolerates an isolated
+//! ([`geardyn_analysis::classify::Motion`]) through `classes`, which tolerates an isolated
 //! value at a bifurcation point.
 //!
 //! Studies are cached in `DIR/<preset>/<study>/section.json` (keyed by the full settings);
@@ -90,7 +90,7 @@ pub struct Section {
     /// Claims checked in this section, under the headline reading of the seed text.
     pub claims: Vec<Claim>,
     /// The same or related claims under the other readings the text allows
-    /// ([`interpretations`]): `claims_by_interpretation.csv` and the matrix on the page.
+    /// (`interpretations`): `claims_by_interpretation.csv` and the matrix on the page.
     #[serde(default)]
     pub alternatives: Vec<Claim>,
     /// Wall time of the study (s).
