@@ -91,3 +91,61 @@ fn the_reference_scanner_finds_references() {
         vec!["docs/model.md", "README.md"]
     );
 }
+
+/// References to example scripts and programs (`examples/NAME.py`, `examples/NAME.rs`, with an
+/// optional path before) in a text.
+fn example_references(text: &str) -> Vec<String> {
+    let mut refs = Vec::new();
+    for (pos, _) in text.match_indices("examples/") {
+        let bytes = text.as_bytes();
+        let mut start = pos;
+        while start > 0
+            && (bytes[start - 1].is_ascii_alphanumeric() || b"_-./".contains(&bytes[start - 1]))
+        {
+            start -= 1;
+        }
+        let mut end = pos + "examples/".len();
+        while end < bytes.len()
+            && (bytes[end].is_ascii_alphanumeric() || b"_-.".contains(&bytes[end]))
+        {
+            end += 1;
+        }
+        let r = text[start..end].trim_end_matches('.');
+        if r.ends_with(".py") || r.ends_with(".rs") {
+            refs.push(r.to_string());
+        }
+    }
+    refs
+}
+
+#[test]
+fn every_cited_example_is_in_the_repository() {
+    let root = root();
+    let mut all = vec![root.join("README.md")];
+    for d in [
+        "crates", "docs", "examples", "scripts", "src", "tests", "python",
+    ] {
+        if root.join(d).is_dir() {
+            files(&root.join(d), &mut all);
+        }
+    }
+    let mut missing = Vec::new();
+    // (this file's own examples of references are not citations)
+    for f in all
+        .iter()
+        .filter(|f| !f.ends_with("tests/doc_references.rs"))
+    {
+        let text = std::fs::read_to_string(f).unwrap_or_default();
+        for r in example_references(&text) {
+            let here = f.parent().unwrap().join(&r);
+            if !(root.join(&r).is_file() || here.is_file()) {
+                missing.push(format!("{}: {r}", f.strip_prefix(&root).unwrap().display()));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "cited examples missing: {missing:?}");
+    assert_eq!(
+        example_references("run `python python/examples/a.py --quick` or examples/b.rs."),
+        vec!["python/examples/a.py", "examples/b.rs"]
+    );
+}

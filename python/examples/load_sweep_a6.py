@@ -52,18 +52,18 @@ header = "F,label,period,healthy,impacts,max_impact_force,max_force"
 rows = [
     f"{F!r},{lab},{per},{str(h).lower()},{imp},{fi!r},{fm!r}"
     for F, lab, per, h, imp, fi, fm in zip(
-        runs["value"], runs["label"], runs["period"], runs["healthy"], runs["impacts"],
+        runs["F"], runs["label"], runs["period"], runs["healthy"], runs["impacts"],
         runs["max_impact_force"], runs["max_force"],
     )
 ]
 (out / "a6_runs.csv").write_text(header + "\n" + "\n".join(rows) + "\n")
 
 print(f"{'F':>8}  {'label':<32} {'impacts':>8} {'max impact force':>17}")
-for F, lab, imp, fi in zip(runs["value"], runs["label"], runs["impacts"], runs["max_impact_force"]):
+for F, lab, imp, fi in zip(runs["F"], runs["label"], runs["impacts"], runs["max_impact_force"]):
     print(f"{F:8.4f}  {lab:<32} {imp:8d} {fi:17.4f}")
 
 # the seed's statement: no impacts above F = 0.1, impacts below
-high = runs["value"] > 0.1
+high = runs["F"] > 0.1
 print(
     f"loads with impacts: {np.mean(runs['impacts'][~high] > 0):.0%} of F <= 0.1, "
     f"{np.mean(runs['impacts'][high] > 0):.0%} of F > 0.1"
@@ -82,7 +82,7 @@ else:
     fig, ax = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
     for a, sec, title in [(ax[0], "strobe", "stroboscopic section"), (ax[1], "impact", "impacts")]:
         m = pts["section"] == sec
-        a.plot(pts["value"][m], pts["x"][m], ",k" if sec == "strobe" else ".r", ms=2)
+        a.plot(pts["F"][m], pts["x"][m], ",k" if sec == "strobe" else ".r", ms=2)
         a.set_ylabel("x" if sec == "strobe" else "x at impact")
         a.set_title(title)
     ax[1].set_xlabel("F")

@@ -146,11 +146,16 @@ def _opt_float(name, v):
     return float(v)
 
 
+_COUNT_MAX = 2**62  # far above every count the library takes (each has its own, lower limit)
+
+
 def _count(name, v, lo=0):
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
         raise TypeError(f"{name}: an integer, not {type(v).__name__}")
     if v < lo:
         raise ValueError(f"bad {name} {v}: allowed >= {lo}")
+    if v > _COUNT_MAX:
+        raise ValueError(f"bad {name} {v:.3g}: far too large (every count is at most {_COUNT_MAX:.3g})")
     return int(v)
 
 
@@ -227,6 +232,25 @@ class Result:
     def to_dict(self):
         """The result's fields as a dict."""
         return {k: getattr(self, k) for k in self._fields}
+
+    def to_dataframe(self, table=None):
+        """A column table of the result as a ``pandas.DataFrame`` (pandas must be installed).
+
+        ``table`` names the field (``"runs"``, ``"points"``, ``"impact_force"``, ``"cells"``,
+        ...); by default the result's main table (``runs`` of a sweep). The columns are those of
+        the CLI's CSV file of that table.
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("to_dataframe needs pandas: pip install pandas") from None
+        name = table or getattr(self, "_main_table", None)
+        if name is None:
+            raise ValueError(f"{type(self).__name__} has no main table: give table=")
+        value = getattr(self, name, None)
+        if not isinstance(value, dict) or not value:
+            raise ValueError(f"{type(self).__name__}.{name} is not a column table")
+        return pd.DataFrame(value)
 
     def __repr__(self):
         parts = []
@@ -359,19 +383,24 @@ class SweepResult(Result):
     Attributes
     ----------
     points : dict of ndarray
-        One entry per section point (bifurcation.csv): ``value`` (float64), ``branch``
-        (``none``, ``up``, ``down``), ``ic`` (int64), ``section``, ``x``, ``v`` (float64),
-        ``label``.
+        One entry per section point, the columns of the CLI's bifurcation.csv: the swept
+        parameter under its own name (e.g. ``omega``, float64), ``branch`` (``none``, ``up``,
+        ``down``), ``ic`` (int64), ``section``, ``x``, ``v`` (float64), ``label``.
     runs : dict of ndarray
-        One entry per simulation (runs.csv): ``value, branch, ic, x0, v0, label, period (int64),
-        mesh_period`` (int64, mesh cycles; 0 where runs.csv leaves it empty), ``healthy (bool),
-        p_id, max_force, min_force, impacts (int64), max_impact_force, mean_x, rms_x, p2p_x,
-        mean_force, rms_force, p2p_force, tle`` (NaN when not computed),
-        ``motion`` (periodic, chaotic, quasi-periodic, unsettled, failed), ``transient_used``
-        (int64), ``final_x, final_v``.
+        One entry per simulation, the columns of the CLI's runs.csv (and of the report's
+        ``*_runs.csv``), in its order: the swept parameter under its own name, ``branch, ic, x0,
+        v0, class`` (periodic, quasi-periodic, chaotic, unsettled, diverged, failed), ``label``
+        (``n-p-q-r-s`` when periodic, else the class: no numbers), ``period, mesh_period``
+        (int64; 0: none), ``healthy, back_contact`` (bool), ``impacts`` (int64), ``p_rate,
+        q_rate, r_rate, s_rate`` (crossings per excitation period), ``p_id, max_force,
+        min_force, max_impact_force, mean_x, rms_x, p2p_x, mean_force, rms_force, p2p_force,
+        tle`` (NaN when not computed), ``decision_tle`` (the exponent the class was decided on),
+        ``transient_used`` (int64), ``decided_by``, ``periods_integrated`` (int64), ``final_x,
+        final_v``, ``reason`` (why a failed or diverged run has no verdict). The table is in
+        docs/configuration.md ("Result tables").
     impact_force : dict of ndarray
-        Largest impact force per recorded period per run (impact_force.csv): ``value, branch,
-        ic, period, impact_force``.
+        Largest impact force per recorded period per run (impact_force.csv): the swept
+        parameter, ``branch, ic, period, impact_force``.
     jumps : list of dict
         (response only) jumps between up and down sweeps (jumps.json).
     param : str
@@ -385,6 +414,7 @@ class SweepResult(Result):
     """
 
     _fields = ("points", "runs", "impact_force", "param", "values", "settings", "config")
+    _main_table = "runs"
 
 
 class BasinsResult(Result):
@@ -441,6 +471,7 @@ class ContinuationResult(Result):
     """
 
     _fields = ("points", "events", "intervals", "lost", "param", "values", "settings", "config")
+    _main_table = "points"
 
 
 class MapResult(Result):
@@ -458,6 +489,7 @@ class MapResult(Result):
     """
 
     _fields = ("values", "metric", "x_param", "x", "y_param", "y", "cells", "settings", "config")
+    _main_table = "cells"
 
 
 class StiffnessResult(Result):
@@ -477,6 +509,7 @@ class StiffnessResult(Result):
     """
 
     _fields = ("table", "pair", "config")
+    _main_table = "table"
 
 
 # --------------------------------------------------------------------------- functions
@@ -554,9 +587,10 @@ def simulate(
     trajectory_periods=10,
     set=None,
     progress=False,
+    out=None,
     **params,
 ):
-    """Integrate the model and classify the motion (``geardyn simulate``, without the files).
+    """Integrate the model and classify the motion (``geardyn simulate``).
 
     Parameters
     ----------
@@ -572,6 +606,11 @@ def simulate(
         Recorded excitation periods (the last ones) kept in ``trajectory``; None keeps all.
     progress : bool
         Print the elapsed time on ``sys.stderr``.
+    out : str or os.PathLike, optional
+        Also write the folder the CLI writes there (config.toml, trajectory.csv, strobe.csv,
+        events.csv, sections.csv, summary.json, the figures, run.json), with its rules: a new or
+        empty folder or one geardyn made, locked while the run writes (another run's folder is
+        refused at once, before any work).
 
     Returns
     -------
@@ -593,6 +632,7 @@ def simulate(
         integrator,
         trajectory_periods,
         bool(progress),
+        None if out is None else os.fspath(out),
     )
     d["events"] = _table(d["events"])
     d["sections"] = _table(d["sections"])

@@ -89,7 +89,7 @@ impl Sim {
         ];
         for (name, by, value) in options {
             if let Some(v) = value {
-                cfg.set_by_option(sets, name, by, v)?;
+                cfg.set_by_option(sets, "", name, by, v)?;
             }
         }
         if let Some(m) = &self.integrator {
@@ -291,7 +291,8 @@ fn derived<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
 
 /// `geardyn simulate` without the files: the same run, returned.
 #[pyfunction]
-#[pyo3(signature = (src, periods, transient, integrator, trajectory_periods, progress))]
+#[pyo3(signature = (src, periods, transient, integrator, trajectory_periods, progress, out))]
+#[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
     src: Source,
@@ -300,8 +301,10 @@ fn simulate<'py>(
     integrator: Option<String>,
     trajectory_periods: Option<u64>,
     progress: bool,
+    out: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let out = util::run(py, "simulate", progress, None, move |_ctl: &Ctl| {
+        let started = geardyn_io::run_record::now_unix_s();
         let mut cfg = src.config()?;
         Sim {
             periods,
@@ -321,30 +324,35 @@ fn simulate<'py>(
         }
         opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
         let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+        // the folder is claimed and locked before the run (as the CLI does): a folder another
+        // run holds, or one with foreign files, is refused at once
+        let lock = out
+            .as_ref()
+            .map(|dir| geardyn_io::run_record::prepare_folder(dir, "simulate", None, false))
+            .transpose()?;
         let t = std::time::Instant::now();
         let (res, summary, used) =
             simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
         let elapsed = t.elapsed().as_secs_f64();
+        let finished = geardyn_io::simulate_folder::Finished {
+            cfg: &cfg,
+            scenario: &scenario,
+            res: &res,
+            summary: &summary,
+            used: &used,
+            requested: &opts,
+            elapsed_s: elapsed,
+        };
+        if let (Some(dir), Some(_)) = (&out, &lock) {
+            geardyn_io::simulate_folder::write(dir, &finished, started)?;
+        }
         // summary.json of the CLI
         let mut v = serde_json::to_value(&summary)?;
-        if let Some(obj) = v.as_object_mut() {
-            let extra = serde_json::json!({
-                "parameters": scenario.record(),
-                "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
-                "excitation_period": model.excitation_period(),
-                "transient_periods": used.transient_periods,
-                "transient_requested": opts.transient_periods,
-                "record_periods": used.record_periods,
-                "record_requested": opts.record_periods,
-                "method": used.method,
-                "method_requested": opts.method,
-                "steps": res.steps,
-                "rhs_evals": res.rhs_evals,
-                "wall_time_s": elapsed,
-            });
-            if let serde_json::Value::Object(more) = extra {
-                obj.extend(more);
-            }
+        if let (Some(obj), serde_json::Value::Object(more)) = (
+            v.as_object_mut(),
+            geardyn_io::simulate_folder::summary_extra(&finished),
+        ) {
+            obj.extend(more);
         }
         let (dd, ds) = model.backlash_levels();
         Ok((
@@ -533,157 +541,27 @@ fn lyapunov<'py>(
     json_to_py(py, &v)
 }
 
-fn sweep_results<'py>(py: Python<'py>, results: &[TaskResult]) -> PyResult<Bound<'py, PyDict>> {
+/// The three tables of a sweep, with the CLI's columns (`geardyn_io::schema`): `points`
+/// (bifurcation.csv), `runs` (runs.csv) and `impact_force` (impact_force.csv).
+fn sweep_results<'py>(
+    py: Python<'py>,
+    param: &str,
+    results: &[TaskResult],
+) -> PyResult<Bound<'py, PyDict>> {
+    use geardyn_io::schema;
     let d = PyDict::new(py);
-    // bifurcation.csv
-    let pts = Columns::new(py);
-    let mut value = Vec::new();
-    let mut branch = Vec::new();
-    let mut ic = Vec::new();
-    let mut section = Vec::new();
-    let (mut x, mut v) = (Vec::new(), Vec::new());
-    let mut label = Vec::new();
-    for r in results {
-        for run in &r.runs {
-            for &(sec, px, pv) in &run.points {
-                value.push(r.value);
-                branch.push(r.task.branch_name().to_string());
-                ic.push(run.ic as i64);
-                section.push(sec.name().to_string());
-                x.push(px);
-                v.push(pv);
-                label.push(run.label.clone());
-            }
-        }
-    }
-    pts.f64("value", value)?;
-    pts.str("branch", branch)?;
-    pts.i64("ic", ic)?;
-    pts.str("section", section)?;
-    pts.f64("x", x)?;
-    pts.f64("v", v)?;
-    pts.str("label", label)?;
-    d.set_item("points", pts.dict)?;
-    // runs.csv (plus the decided class, the transient used and the means)
-    let runs: Vec<(&TaskResult, &geardyn_analysis::bifurcation::Run)> = results
-        .iter()
-        .flat_map(|r| r.runs.iter().map(move |run| (r, run)))
-        .collect();
-    let rc = Columns::new(py);
-    let f = |g: &dyn Fn(&TaskResult, &geardyn_analysis::bifurcation::Run) -> f64| -> Vec<f64> {
-        runs.iter().map(|(r, run)| g(r, run)).collect()
-    };
-    let amp = |g: fn(&geardyn_analysis::simulate::Amplitudes) -> f64| -> Vec<f64> {
-        runs.iter()
-            .map(|(_, run)| run.amplitudes.as_ref().map_or(f64::NAN, g))
-            .collect()
-    };
-    rc.f64("value", f(&|r, _| r.value))?;
-    rc.str(
-        "branch",
-        runs.iter()
-            .map(|(r, _)| r.task.branch_name().to_string())
-            .collect(),
+    d.set_item(
+        "points",
+        util::table(py, &schema::points_table(param, results))?,
     )?;
-    rc.i64("ic", runs.iter().map(|(_, run)| run.ic as i64).collect())?;
-    rc.f64("x0", f(&|_, run| run.y0[0]))?;
-    rc.f64("v0", f(&|_, run| run.y0[1]))?;
-    rc.str(
-        "label",
-        runs.iter().map(|(_, run)| run.label.clone()).collect(),
+    d.set_item(
+        "runs",
+        util::table(py, &schema::runs_table(param, results))?,
     )?;
-    rc.i64(
-        "period",
-        runs.iter().map(|(_, run)| run.period as i64).collect(),
+    d.set_item(
+        "impact_force",
+        util::table(py, &schema::impact_force_table(param, results))?,
     )?;
-    // mesh-cycle period (0: none, the excitation period is one mesh cycle or the motion is not
-    // periodic), as runs.csv (empty there)
-    rc.i64(
-        "mesh_period",
-        runs.iter()
-            .map(|(_, run)| run.mesh_period.map_or(0, |m| m as i64))
-            .collect(),
-    )?;
-    rc.boolean("healthy", runs.iter().map(|(_, run)| run.healthy).collect())?;
-    rc.f64("p_id", f(&|_, run| run.p_id))?;
-    rc.f64("max_force", f(&|_, run| run.max_force))?;
-    rc.f64("min_force", f(&|_, run| run.min_force))?;
-    rc.i64(
-        "impacts",
-        runs.iter().map(|(_, run)| run.impacts as i64).collect(),
-    )?;
-    rc.f64(
-        "max_impact_force",
-        f(&|_, run| {
-            run.impact_force_per_period
-                .iter()
-                .cloned()
-                .fold(0.0, f64::max)
-        }),
-    )?;
-    rc.f64("mean_x", amp(|a| a.mean_x))?;
-    rc.f64("rms_x", amp(|a| a.rms_x))?;
-    rc.f64("p2p_x", amp(|a| a.p2p_x))?;
-    rc.f64("mean_force", amp(|a| a.mean_force))?;
-    rc.f64("rms_force", amp(|a| a.rms_force))?;
-    rc.f64("p2p_force", amp(|a| a.p2p_force))?;
-    rc.f64("tle", f(&|_, run| run.tle.unwrap_or(f64::NAN)))?;
-    rc.str(
-        "motion",
-        runs.iter()
-            .map(|(_, run)| run.motion.word().to_string())
-            .collect(),
-    )?;
-    // the class under the name the CLI's and the report's runs tables use
-    rc.str(
-        "class",
-        runs.iter()
-            .map(|(_, run)| run.motion.word().to_string())
-            .collect(),
-    )?;
-    rc.i64(
-        "transient_used",
-        runs.iter()
-            .map(|(_, run)| run.transient_used as i64)
-            .collect(),
-    )?;
-    rc.str(
-        "decided_by",
-        runs.iter()
-            .map(|(_, run)| run.decided_by.name().to_string())
-            .collect(),
-    )?;
-    rc.i64(
-        "periods_integrated",
-        runs.iter()
-            .map(|(_, run)| run.periods_integrated as i64)
-            .collect(),
-    )?;
-    rc.f64("final_x", f(&|_, run| run.final_state[0]))?;
-    rc.f64("final_v", f(&|_, run| run.final_state[1]))?;
-    d.set_item("runs", rc.dict)?;
-    // impact_force.csv
-    let ifc = Columns::new(py);
-    let mut value = Vec::new();
-    let mut branch = Vec::new();
-    let mut ic = Vec::new();
-    let mut period = Vec::new();
-    let mut force = Vec::new();
-    for (r, run) in &runs {
-        for (j, fo) in run.impact_force_per_period.iter().enumerate() {
-            value.push(r.value);
-            branch.push(r.task.branch_name().to_string());
-            ic.push(run.ic as i64);
-            period.push(j as i64);
-            force.push(*fo);
-        }
-    }
-    ifc.f64("value", value)?;
-    ifc.str("branch", branch)?;
-    ifc.i64("ic", ic)?;
-    ifc.i64("period", period)?;
-    ifc.f64("impact_force", force)?;
-    d.set_item("impact_force", ifc.dict)?;
     Ok(d)
 }
 
@@ -704,14 +582,20 @@ fn sweep(
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();
-    Ok(run_sweep(scenario, opts, &done, |r| ctl.keep(r.clone()))?)
+    Ok(run_sweep(scenario, opts, &done, |r| {
+        ctl.keep((opts.param.clone(), r.clone()))
+    })?)
 }
 
 /// The partial result of an interrupted sweep: its finished values, as a sweep's result.
 fn kept_sweep(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
-    let mut results: Vec<TaskResult> = ctl.take_kept();
-    results.sort_by_key(|r| (r.task.branch, r.task.index));
-    Ok(Some(sweep_results(py, &results)?.into_any().unbind()))
+    let mut kept: Vec<(String, TaskResult)> = ctl.take_kept();
+    kept.sort_by_key(|(_, r)| (r.task.branch, r.task.index));
+    let param = kept.first().map_or("value".to_string(), |k| k.0.clone());
+    let results: Vec<TaskResult> = kept.into_iter().map(|k| k.1).collect();
+    Ok(Some(
+        sweep_results(py, &param, &results)?.into_any().unbind(),
+    ))
 }
 
 /// `geardyn bifurcation` without the files.
@@ -776,7 +660,7 @@ fn bifurcation<'py>(
             let results = sweep(ctl, &scenario, &opts)?;
             Ok((results, cfg, opts))
         })?;
-    let d = sweep_results(py, &results)?;
+    let d = sweep_results(py, &opts.param, &results)?;
     d.set_item("param", &opts.param)?;
     d.set_item("values", arr1(py, opts.values.clone()))?;
     d.set_item("settings", ser_to_py(py, &opts)?)?;
@@ -812,7 +696,7 @@ fn response<'py>(
         let results = sweep(ctl, &scenario, &opts)?;
         Ok((results, cfg, opts))
     })?;
-    let d = sweep_results(py, &results)?;
+    let d = sweep_results(py, &opts.param, &results)?;
     d.set_item("jumps", ser_to_py(py, &detect_jumps(&results))?)?;
     d.set_item("param", &opts.param)?;
     d.set_item("values", arr1(py, opts.values.clone()))?;

@@ -12,7 +12,8 @@ use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Maps an error to a Python exception with the message the CLI prints after `error: `
-/// (anyhow's `{:#}`): `OSError` for files that cannot be read or written, `RuntimeError` when an
+/// (anyhow's `{:#}`): `OSError` for files that cannot be read or written (and output folders that
+/// are refused), `RuntimeError` when an
 /// integration fails, `ValueError` for everything else (bad parameters and settings).
 pub fn to_pyerr(e: anyhow::Error) -> PyErr {
     let msg = format!("{e:#}");
@@ -24,6 +25,8 @@ pub fn to_pyerr(e: anyhow::Error) -> PyErr {
             .downcast_ref::<geardyn_io::output::OutputError>()
             .is_some()
             || c.downcast_ref::<std::io::Error>().is_some()
+            || c.downcast_ref::<geardyn_io::run_record::FolderError>()
+                .is_some()
     });
     let runtime = e.chain().any(|c| {
         c.downcast_ref::<geardyn_analysis::simulate::SimError>()
@@ -201,6 +204,35 @@ fn show_progress(py: Python<'_>, what: &str, ctl: &Ctl, started: Instant, end: b
     }
 }
 
+/// Workers of [`run`] still running (the last one to end withdraws a stop request).
+static WORKERS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// How long a new call waits for the worker of an interrupted one to end (it ends within a step
+/// or a period; after that the request is withdrawn anyway).
+const STALE_STOP_WAIT: Duration = Duration::from_secs(5);
+
+/// The `KeyboardInterrupt` of an interrupted call, with `partial` made of its finished items
+/// (when its worker has stopped: `stopped`).
+fn interrupted(
+    py: Python<'_>,
+    what: &str,
+    ctl: &Ctl,
+    partial: Option<Partial>,
+    stopped: bool,
+) -> PyResult<PyErr> {
+    let part = match partial {
+        Some(make) if stopped => make(py, ctl)?,
+        _ => None,
+    };
+    let e = PyKeyboardInterrupt::new_err(if part.is_some() {
+        format!("geardyn {what} interrupted: its finished items are in the exception's `partial`")
+    } else {
+        format!("geardyn {what} interrupted")
+    });
+    e.value(py).setattr("partial", part)?;
+    Ok(e)
+}
+
 /// Runs `f` on a worker thread with the interpreter released (the library's own thread pool does
 /// the parallel work), polling for Ctrl-C (KeyboardInterrupt) and, with `progress`, printing a
 /// progress line on `sys.stderr`.
@@ -229,26 +261,57 @@ where
             .unwrap_or_else(|e| e.into_inner())
             .recv_timeout(Duration::from_millis(50))
     };
+    // a stop requested for an earlier call whose worker is still winding down (its caller
+    // stopped waiting at a second Ctrl-C): let it end first, so that this call is not cut
+    let waited = Instant::now();
+    while geardyn_solvers::cancel::requested() && waited.elapsed() < STALE_STOP_WAIT {
+        py.detach(|| std::thread::sleep(Duration::from_millis(10)));
+        py.check_signals()?;
+    }
+    if geardyn_solvers::cancel::requested() {
+        geardyn_solvers::cancel::clear();
+    }
     let worker_ctl = ctl.clone();
-    std::thread::Builder::new()
+    WORKERS.fetch_add(1, Ordering::SeqCst);
+    let spawned = std::thread::Builder::new()
         .name(format!("geardyn-{what}"))
         .spawn(move || {
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&worker_ctl)));
-            let _ = tx.send(r);
-        })
-        .map_err(|e| PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+            // whether a stop was requested while this call ran (by its own Ctrl-C or another
+            // call's: the request is process-wide and stays up until every worker has ended, so
+            // a run cut by it always sees it here)
+            let cut = geardyn_solvers::cancel::requested();
+            let _ = tx.send((r, cut));
+            if WORKERS.fetch_sub(1, Ordering::SeqCst) == 1 {
+                geardyn_solvers::cancel::clear();
+            }
+        });
+    if let Err(e) = spawned {
+        WORKERS.fetch_sub(1, Ordering::SeqCst);
+        return Err(PyRuntimeError::new_err(format!(
+            "cannot start a worker thread: {e}"
+        )));
+    }
     let started = Instant::now();
     let mut last = Instant::now();
     loop {
         let r = py.detach(|| recv(&rx));
         match r {
-            Ok(Ok(res)) => {
+            Ok((Ok(_), true)) => {
+                // another call's Ctrl-C cut some of this call's runs: interrupted too, with
+                // what it finished before
+                if progress {
+                    show_progress(py, what, &ctl, started, true);
+                }
+                return Err(interrupted(py, what, &ctl, partial, true)?);
+            }
+            Ok((Ok(res), false)) => {
                 if progress {
                     show_progress(py, what, &ctl, started, true);
                 }
                 return res.map_err(to_pyerr);
             }
-            Ok(Err(payload)) => {
+            Ok((Err(payload), _)) => {
                 return Err(PyRuntimeError::new_err(format!(
                     "internal error in geardyn: {}",
                     panic_message(payload.as_ref())
@@ -278,23 +341,11 @@ where
                             }
                         }
                     }
-                    if stopped {
-                        geardyn_solvers::cancel::clear();
-                    }
+                    // (the request is withdrawn by the last worker to end)
                     if progress {
                         show_progress(py, what, &ctl, started, true);
                     }
-                    let part = match partial {
-                        Some(make) if stopped => make(py, &ctl)?,
-                        _ => None,
-                    };
-                    let e = PyKeyboardInterrupt::new_err(if part.is_some() {
-                        format!("geardyn {what} interrupted: its finished items are in the exception's `partial`")
-                    } else {
-                        format!("geardyn {what} interrupted")
-                    });
-                    e.value(py).setattr("partial", part)?;
-                    return Err(e);
+                    return Err(interrupted(py, what, &ctl, partial, stopped)?);
                 }
                 if progress && last.elapsed() >= Duration::from_millis(250) {
                     last = Instant::now();
@@ -303,4 +354,22 @@ where
             }
         }
     }
+}
+
+/// A result table ([`geardyn_io::schema::Table`]) as a dict of numpy arrays (`float64`, `int64`,
+/// `bool`) and numpy unicode arrays for names, keyed by the CSV column names.
+pub fn table<'py>(py: Python<'py>, t: &geardyn_io::schema::Table) -> PyResult<Bound<'py, PyDict>> {
+    use geardyn_io::schema::Values;
+    let c = Columns::new(py);
+    for col in &t.columns {
+        match &col.values {
+            Values::F64(v) => c.f64(&col.name, v.clone())?,
+            Values::I64(v) => c.i64(&col.name, v.clone())?,
+            // (absent: 0, as documented for the Python tables)
+            Values::OptI64(v) => c.i64(&col.name, v.iter().map(|x| x.unwrap_or(0)).collect())?,
+            Values::Bool(v) => c.boolean(&col.name, v.clone())?,
+            Values::Str(v) => c.str(&col.name, v.clone())?,
+        }
+    }
+    Ok(c.dict)
 }

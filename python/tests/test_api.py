@@ -1,5 +1,6 @@
 """The Python API: shapes, dtypes, configuration round trips, errors, Ctrl-C, the GIL."""
 
+import json
 import signal
 import threading
 import time
@@ -102,11 +103,11 @@ def test_lyapunov_fields():
 def test_bifurcation_shapes():
     r = geardyn.bifurcation(values=[0.8, 1.2, 1.6], periods=8, transient=30, mode="multi", ics=2,
                             sections="strobe,impact")
-    n = len(r.points["value"])
-    for k, kind in [("value", "f"), ("branch", "U"), ("ic", "i"), ("section", "U"), ("x", "f"),
+    n = len(r.points["omega"])
+    for k, kind in [("omega", "f"), ("branch", "U"), ("ic", "i"), ("section", "U"), ("x", "f"),
                     ("v", "f"), ("label", "U")]:
         assert r.points[k].shape == (n,) and r.points[k].dtype.kind == kind, k
-    assert r.runs["value"].shape == (6,)
+    assert r.runs["omega"].shape == (6,)
     assert r.runs["healthy"].dtype == np.bool_
     assert np.isnan(r.runs["tle"]).all()
     assert set(r.points["branch"]) == {"none"}
@@ -115,8 +116,8 @@ def test_bifurcation_shapes():
     # the motion: whole orbit periods, at least three, or the lengthened record of an undecided
     # run)
     strobe = r.points["section"] == "strobe"
-    for value, ic in zip(r.runs["value"], r.runs["ic"]):
-        mine = strobe & (r.points["value"] == value) & (r.points["ic"] == ic)
+    for value, ic in zip(r.runs["omega"], r.runs["ic"]):
+        mine = strobe & (r.points["omega"] == value) & (r.points["ic"] == ic)
         assert mine.sum() >= 8, (value, ic)
 
 
@@ -193,6 +194,10 @@ def _nested(depth):
         (lambda: geardyn.bifurcation(transient=5, transient_periods=7), ValueError, "given twice"),
         # a deeply nested dict: the documented ValueError, not RecursionError
         (lambda: geardyn.simulate(config=_nested(100_000)), ValueError, "nested too deeply"),
+        # huge integers: the field named, not a bare OverflowError
+        (lambda: geardyn.bifurcation(range=(0.5, 2, 10**30)), ValueError, "range count"),
+        (lambda: geardyn.bifurcation(mode="multi", ics=10**30), ValueError, "ics"),
+        (lambda: geardyn.basins(x=(-2, 2, 10**20)), ValueError, "x count"),
         # a huge number is printed as one, not with 300 digits
         (lambda: geardyn.basins(x=(1e300, -1e300, 10)), ValueError, "bad x (1e300, -1e300, 10)"),
     ],
@@ -258,14 +263,14 @@ def test_ctrl_c_keeps_the_finished_values(sigint):
         geardyn.bifurcation(range=(0.5, 2, 4000), **kw)
     timer.cancel()
     runs = e.value.partial.runs
-    n = len(runs["value"])
+    n = len(runs["omega"])
     assert 0 < n < 4000
     assert "error" not in set(runs["decided_by"])
-    v = sorted(set(runs["value"]))[:3]
+    v = sorted(set(runs["omega"]))[:3]
     again = geardyn.bifurcation(values=v, **kw).runs
-    for i, x in enumerate(runs["value"]):
+    for i, x in enumerate(runs["omega"]):
         if x in v:
-            j = list(again["value"]).index(x)
+            j = list(again["omega"]).index(x)
             assert runs["label"][i] == again["label"][j]
             assert runs["max_force"][i] == again["max_force"][j]
 
@@ -316,3 +321,89 @@ def test_report_quick_and_interrupt(tmp_path, sigint):
     assert index == out / "internal" / "index.html"
     assert index.is_file() and (out / "index.html").is_file()
     assert (out / "internal" / "claims.csv").is_file()
+
+
+def test_simulate_out_writes_the_cli_folder(tmp_path):
+    """`simulate(out=)` writes the folder the CLI writes (run.json, summary.json, ...) and locks
+    it as the CLI does: a folder of another kind is refused before any work."""
+    out = tmp_path / "run"
+    r = geardyn.simulate(omega=0.8, periods=5, transient=50, out=out)
+    names = {p.name for p in out.iterdir()}
+    for f in ["run.json", "summary.json", "config.toml", "trajectory.csv", "strobe.csv",
+              "events.csv", "sections.csv", "time_history.png", "phase_portrait.svg"]:
+        assert f in names, f
+    assert ".geardyn.lock" not in names
+    s = json.loads((out / "summary.json").read_text())
+    assert s["label"] == r.summary["label"] and s["rates"] == r.summary["rates"]
+    assert json.loads((out / "run.json").read_text())["kind"] == "simulate"
+    # a folder of a user's own files is not geardyn's
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    with pytest.raises(OSError):
+        geardyn.simulate(omega=0.8, out=mine)
+    assert (mine / "notes.txt").read_text() == "mine"
+
+
+def test_to_dataframe_has_the_runs_columns():
+    pd = pytest.importorskip("pandas")
+    r = geardyn.bifurcation(range=(0.5, 2, 12), periods=20, transient=100)
+    df = r.to_dataframe()
+    assert isinstance(df, pd.DataFrame)
+    assert list(df.columns) == list(r.runs) and len(df) == 12
+    assert list(df.columns[:1]) == ["omega"]
+    # labels carry no numbers: a groupby makes one group per motion, not per run
+    assert df.groupby("class").size().sum() == 12
+    assert set(df.loc[df["period"] == 0, "label"]) <= {"chaotic", "quasi-periodic", "unsettled"}
+    assert list(r.to_dataframe("points").columns) == list(r.points)
+
+
+def test_a_second_ctrl_c_leaves_the_module_working(sigint):
+    """Two Ctrl-C in a row (the second stops the waiting): later calls still run and are right
+    (the stop request was left up and cut every later run)."""
+    main = threading.main_thread().ident
+    timers = [threading.Timer(t, lambda: signal.pthread_kill(main, signal.SIGINT)) for t in (0.8, 0.86)]
+    for t in timers:
+        t.start()
+    with pytest.raises(KeyboardInterrupt):
+        geardyn.basins(omega=1.8, x=(-2, 2, 800), v=(-1.5, 1.5, 800))
+        time.sleep(1)  # (the second signal may land after the call)
+    for t in timers:
+        t.join()
+    s = geardyn.simulate(omega=0.8, periods=5, transient=50).summary
+    assert s["label"] == "1-1-0" and s["decided_by"] == "period_test"
+    b = geardyn.bifurcation(range=(0.5, 2, 12), periods=20, transient=100)
+    assert "failed" not in set(b.runs["class"])
+
+
+def test_ctrl_c_of_one_call_never_alters_another(sigint):
+    """A call running in another thread while Ctrl-C stops the main thread's call either
+    returns exactly what it returns undisturbed, or is interrupted too (with its finished
+    values): never a result with runs cut short."""
+    kw = dict(range=(0.5, 2, 600), integrator="rk4", periods=50, transient=100, decision_periods=500)
+    clean = geardyn.bifurcation(**kw).runs
+    box = {}
+
+    def background():
+        try:
+            box["runs"] = geardyn.bifurcation(**kw).runs
+        except KeyboardInterrupt as e:
+            box["partial"] = e.partial
+
+    th = threading.Thread(target=background)
+    th.start()
+    timer = ctrl_c_after(0.5)
+    with pytest.raises(KeyboardInterrupt):
+        geardyn.simulate(preset="breakage", periods=10_000_000)
+    timer.cancel()
+    th.join()
+    if "runs" in box:
+        for k in ["label", "class"]:
+            assert box["runs"][k].tolist() == clean[k].tolist()
+        assert_same = np.testing.assert_array_equal
+        assert_same(box["runs"]["max_force"], clean["max_force"])
+    else:
+        p = box["partial"].runs
+        assert "failed" not in set(p["class"])
+        for x, lab in zip(p["omega"], p["label"]):
+            assert lab == clean["label"][list(clean["omega"]).index(x)]

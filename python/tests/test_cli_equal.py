@@ -35,6 +35,10 @@ def column(path, name, kind=float):
     return [conv(r[j]) for r in rows]
 
 
+def header(path):
+    return read_csv(path)[0]
+
+
 def assert_same(a, b):
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
@@ -133,7 +137,11 @@ def test_bifurcation_equals_cli(cli, out, mode, extra):
         sections=["strobe", "impact", "ds_up"], **kw,
     )
     path = out / "bifurcation.csv"
-    assert_same(r.points["value"], column(path, "omega"))
+    # one schema: the same columns, in the same order, under the same names
+    assert list(r.points) == header(path)
+    assert list(r.runs) == header(out / "runs.csv")
+    assert list(r.impact_force) == header(out / "impact_force.csv")
+    assert_same(r.points["omega"], column(path, "omega"))
     for name in ["x", "v"]:
         assert_same(r.points[name], column(path, name))
     assert r.points["ic"].tolist() == column(path, "ic", int)
@@ -147,8 +155,13 @@ def test_bifurcation_equals_cli(cli, out, mode, extra):
     assert r.runs["period"].tolist() == column(runs, "period", int)
     assert r.runs["healthy"].tolist() == [s == "true" for s in column(runs, "healthy", str)]
     # the decision's record: one schema in both
-    for name in ["class", "decided_by"]:
+    for name in ["class", "decided_by", "reason"]:
         assert r.runs[name].tolist() == column(runs, name, str)
+    # labels carry no numbers: runs group by them
+    assert not any(ch.isdigit() for lab, p in zip(r.runs["label"], r.runs["period"]) if p == 0
+                   for ch in lab)
+    for name in ["p_rate", "q_rate", "decision_tle", "final_x", "final_v"]:
+        assert_same(r.runs[name], column(runs, name))
     assert r.runs["periods_integrated"].tolist() == column(runs, "periods_integrated", int)
 
 

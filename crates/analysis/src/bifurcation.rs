@@ -142,8 +142,13 @@ pub struct Run {
     pub ic: usize,
     /// Initial state.
     pub y0: [f64; 2],
-    /// Motion label (`failed: ...` if the integration failed).
+    /// Motion label: `n-p-q-r-s` when periodic, else the class word (`failed` when the
+    /// integration failed: the reason is in [`Run::motion`]).
     pub label: String,
+    /// Crossings per excitation period ([`Summary::rates`]); `None` in checkpoints written before
+    /// it was recorded.
+    #[serde(default)]
+    pub rates: Option<[f64; 4]>,
     /// Period (0 = chaotic/quasi-periodic or failed).
     pub period: usize,
     /// Healthy attractor.
@@ -181,6 +186,28 @@ pub struct Run {
     /// The evidence of the verdict ([`Summary::decided_by`]).
     #[serde(default)]
     pub decided_by: crate::classify::DecidedBy,
+}
+
+impl Run {
+    /// Whether the run touches the back side: an impact, back-side contact of a periodic orbit
+    /// (not healthy), or a recorded crossing into back-side contact.
+    pub fn touches_back_side(&self) -> bool {
+        self.impacts > 0
+            || (self.motion.is_periodic() && !self.healthy)
+            || self
+                .points
+                .iter()
+                .any(|p| matches!(p.0, Section::DsDown | Section::DdDown))
+    }
+
+    /// Why the run has no verdict (`failed` or `diverged`: the reason), else empty.
+    pub fn reason(&self) -> String {
+        match &self.motion {
+            Motion::Failed { reason } => reason.clone(),
+            m @ Motion::Diverged { .. } => m.describe(),
+            _ => String::new(),
+        }
+    }
 }
 
 /// The result of one task.
@@ -334,7 +361,8 @@ fn run_of(
             mesh_period: None,
             ic,
             y0,
-            label: format!("failed: {e}"),
+            label: "failed".into(),
+            rates: None,
             period: 0,
             healthy: false,
             // numbers of a failed run are meaningless; the label says so (0, not NaN, so that
@@ -377,6 +405,7 @@ fn run_of(
                 ic,
                 y0,
                 label: s.label,
+                rates: Some(s.rates),
                 period: s.period,
                 healthy: s.healthy,
                 p_id: s.p_id,

@@ -299,12 +299,18 @@ pub struct Summary {
     /// The decided class of the motion ([`crate::classify`]); [`summarize`] alone decides only
     /// "periodic" and otherwise says `unsettled`.
     pub motion: Motion,
-    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`) of a periodic motion; otherwise the class and
-    /// the mean crossings per excitation period as rates, e.g. `chaotic (0.84-0.31 per period)`.
+    /// Label `n-p-q-r-s` (`n-p-q` when `D_s = D_d`) of a periodic motion; otherwise the class
+    /// word alone (`chaotic`, `unsettled`, ...: a label carries no measured number, so that runs
+    /// group by it; the crossing rates are [`Summary::rates`]).
     pub label: String,
     /// Counts `p, q, r, s` over one motion period; if `n = 0` (not periodic) their totals over the
-    /// recorded periods (the label gives them per period).
+    /// recorded periods.
     pub counts: [u32; 4],
+    /// Crossings per excitation period of `x = D_s` upward, `x = -D_s` downward, `x = D_d`
+    /// upward and `x = -D_d` downward (`p, q, r, s` per period: the counts over one motion period
+    /// divided by its length, or the totals over the record divided by the recorded periods).
+    #[serde(default)]
+    pub rates: [f64; 4],
     /// Periodic without back-side contact or impact.
     pub healthy: bool,
     /// Dynamic instability proportion.
@@ -327,12 +333,8 @@ pub struct Summary {
 impl Summary {
     /// Sets the decided motion class (a non-periodic one) and rewrites the label's class word.
     pub fn set_motion(&mut self, motion: Motion) {
-        if let Some(rates) = self
-            .label
-            .split_once(" (")
-            .map(|(_, r)| r.trim_end_matches(')').to_string())
-        {
-            self.label = format!("{} ({rates})", motion.word());
+        if !self.motion.is_periodic() && !motion.is_periodic() {
+            self.label = motion.word().to_string();
         }
         self.motion = motion;
     }
@@ -815,16 +817,14 @@ pub fn summarize_tol(
         let parts: Vec<String> = counts[..n_lv].iter().map(|c| c.to_string()).collect();
         format!("{}-{}", period, parts.join("-"))
     } else {
-        // not periodic: crossings per excitation period, averaged over the record
-        let n = res.counts_per_period.len().max(1) as f64;
-        let parts: Vec<String> = (0..n_lv)
-            .map(|i| {
-                let tot: u32 = res.counts_per_period.iter().map(|r| r[i]).sum();
-                format!("{:.2}", tot as f64 / n)
-            })
-            .collect();
-        format!("unsettled ({} per period)", parts.join("-"))
+        Motion::default().word().to_string()
     };
+    let per = if period > 0 {
+        period
+    } else {
+        res.counts_per_period.len().max(1)
+    } as f64;
+    let rates = counts.map(|c| f64::from(c) / per);
     let [t_drive, t_sep, t_back] = res.durations;
     let total = t_drive + t_sep + t_back;
     let any_back = t_back > 0.0 || res.impacts > 0 || counts[1] > 0 || counts[3] > 0;
@@ -838,6 +838,7 @@ pub fn summarize_tol(
         },
         label,
         counts,
+        rates,
         healthy: period > 0 && !any_back,
         p_id: if total > 0.0 {
             (t_sep + t_back) / total

@@ -70,11 +70,18 @@ fn a_period_longer_than_the_test_is_not_quasi_periodic() {
 #[test]
 fn a_chaotic_motion_is_not_given_a_period() {
     let m = c1(&[("omega", 1.3)]);
-    let (_, s, _) =
+    let (res, s, _) =
         simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
     assert!(s.motion.is_chaotic(), "{:?}", s.motion);
     assert_eq!(s.period, 0);
-    assert!(s.label.starts_with("chaotic ("), "{}", s.label);
+    // the label is the class alone; the crossing rates are their own field: the record's totals
+    // per recorded period
+    assert_eq!(s.label, "chaotic");
+    let recorded = res.strobe.len() as f64;
+    for k in 0..4 {
+        assert_eq!(s.rates[k], f64::from(s.counts[k]) / recorded, "{k}");
+    }
+    assert!(s.rates[0] > 0.0, "{:?}", s.rates);
 }
 
 #[test]
@@ -95,7 +102,11 @@ fn undecided_without_evidence_is_unsettled_not_chaotic() {
         "{:?}",
         s.motion
     );
-    assert!(s.label.starts_with("unsettled ("), "{}", s.label);
+    assert_eq!(s.label, "unsettled");
+    // rates: the totals over the 50 recorded periods, per period
+    for k in 0..4 {
+        assert_eq!(s.rates[k], f64::from(s.counts[k]) / 50.0, "{k}");
+    }
 }
 
 /// Largest Floquet exponent of the period-1 orbit through `(t0, y)`, from the monodromy matrix

@@ -412,7 +412,12 @@ fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
     let (name, rest) = s
         .split_once(':')
         .with_context(|| format!("bad {what} '{s}': expected NAME:START:STOP:COUNT"))?;
-    let (lo, hi, n) = parse_range(rest)?;
+    let (lo, hi, n) = crate::sweep::parse_range_of(
+        rest,
+        what,
+        "NAME:START:STOP:COUNT, e.g. omega:0.5:2:40",
+        1_000_000,
+    )?;
     Ok((name.to_string(), linspace(lo, hi, n)))
 }
 

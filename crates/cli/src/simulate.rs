@@ -5,8 +5,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::simulate::Method;
-use geardyn_io::plot::{decimate, xy_chart, Chart, Mark, Series, PALETTE};
-use geardyn_io::{output, run_record};
+use geardyn_io::{run_record, simulate_folder};
 use std::path::PathBuf;
 
 /// Arguments of `geardyn simulate`.
@@ -82,7 +81,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     ];
     for (name, flag, value) in flags {
         if let Some(v) = value {
-            cfg.set_by_option(&args.cfg.sets, name, flag, v)?;
+            cfg.set_by_option(&args.cfg.sets, "--set ", name, flag, v)?;
         }
     }
     if let Some(m) = &args.integrator {
@@ -102,37 +101,18 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
     let elapsed = t.elapsed().as_secs_f64();
 
-    output::write_text(&out.join("config.toml"), &cfg.to_toml())?;
-    output::write_trajectory(&out.join("trajectory.csv"), &res)?;
-    output::write_strobe(&out.join("strobe.csv"), &res)?;
-    output::write_events(&out.join("events.csv"), &res)?;
-    output::write_sections(&out.join("sections.csv"), &res)?;
-    output::write_summary(
-        &out.join("summary.json"),
-        &summary,
-        serde_json::json!({
-            "parameters": scenario.record(),
-            "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
-            "excitation_period": model.excitation_period(),
-            "transient_periods": used.transient_periods,
-            "transient_requested": opts.transient_periods,
-            "record_periods": used.record_periods,
-            "record_requested": opts.record_periods,
-            "method": used.method,
-            "method_requested": opts.method,
-            "steps": res.steps,
-            "rhs_evals": res.rhs_evals,
-            "wall_time_s": elapsed,
-        }),
-    )?;
-    plots(out, model, &res)?;
-    run_record::write_run_record(
+    simulate_folder::write(
         out,
-        "simulate",
-        &cfg,
-        &scenario,
+        &simulate_folder::Finished {
+            cfg: &cfg,
+            scenario: &scenario,
+            res: &res,
+            summary: &summary,
+            used: &used,
+            requested: &opts,
+            elapsed_s: elapsed,
+        },
         started,
-        run_record::now_unix_s() - started,
     )?;
     if let geardyn_analysis::Motion::Diverged { .. } = summary.motion {
         anyhow::bail!(
@@ -177,110 +157,5 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         elapsed,
         out.display()
     );
-    Ok(())
-}
-
-fn plots(
-    out: &std::path::Path,
-    model: &geardyn_model::MeshModel,
-    res: &geardyn_analysis::SimResult,
-) -> Result<()> {
-    let ts = model.excitation_period();
-    // the time history and mesh force show the last few excitation periods
-    let shown = if model.cycles_per_period() > 1 {
-        1.0
-    } else {
-        5.0
-    };
-    let t_end = res.final_state.0;
-    let window: Vec<_> = res
-        .trajectory
-        .iter()
-        .filter(|p| p.tau >= t_end - shown * ts)
-        .collect();
-    let xs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.x)).collect();
-    let fs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.mesh_force)).collect();
-    let (dd, ds) = model.backlash_levels();
-    let (t0, t1) = (xs.first().map_or(0.0, |p| p.0), t_end);
-    let mut levels = vec![vec![(t0, ds), (t1, ds)], vec![(t0, -ds), (t1, -ds)]];
-    if dd != ds {
-        levels.push(vec![(t0, dd), (t1, dd)]);
-        levels.push(vec![(t0, -dd), (t1, -dd)]);
-    }
-    let xs = decimate(&xs, 20_000);
-    let mut series = vec![Series {
-        label: "x",
-        points: &xs,
-        mark: Mark::Line,
-        color: PALETTE[0],
-    }];
-    for (i, l) in levels.iter().enumerate() {
-        series.push(Series {
-            label: if i == 0 {
-                "±D_s"
-            } else if i == 2 {
-                "±D_d"
-            } else {
-                ""
-            },
-            points: l,
-            mark: Mark::Line,
-            color: if i < 2 { PALETTE[6] } else { PALETTE[4] },
-        });
-    }
-    xy_chart(
-        &out.join("time_history"),
-        &Chart {
-            title: "Time history",
-            x_label: "τ (dimensionless time)",
-            y_label: "x (units of b_c)",
-        },
-        &series,
-    )?;
-    let fs = decimate(&fs, 20_000);
-    xy_chart(
-        &out.join("mesh_force"),
-        &Chart {
-            title: "Dynamic mesh force",
-            x_label: "τ",
-            y_label: "F_m (units of k_av b_c)",
-        },
-        &[Series {
-            label: "",
-            points: &fs,
-            mark: Mark::Line,
-            color: PALETTE[1],
-        }],
-    )?;
-    let stride = (res.trajectory.len() / 40_000).max(1);
-    let phase: Vec<(f64, f64)> = res
-        .trajectory
-        .iter()
-        .step_by(stride)
-        .map(|p| (p.x, p.v))
-        .collect();
-    let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p[1], p[2])).collect();
-    xy_chart(
-        &out.join("phase_portrait"),
-        &Chart {
-            title: "Phase portrait and stroboscopic Poincaré section",
-            x_label: "x",
-            y_label: "x'",
-        },
-        &[
-            Series {
-                label: "trajectory",
-                points: &phase,
-                mark: Mark::Line,
-                color: PALETTE[5],
-            },
-            Series {
-                label: "Poincaré points",
-                points: &strobe,
-                mark: Mark::Dots(4),
-                color: PALETTE[1],
-            },
-        ],
-    )?;
     Ok(())
 }

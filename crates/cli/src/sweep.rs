@@ -82,7 +82,7 @@ impl SimArgs {
         ];
         for (name, flag, value) in flags {
             if let Some(v) = value {
-                cfg.set_by_option(sets, name, flag, v)?;
+                cfg.set_by_option(sets, "--set ", name, flag, v)?;
             }
         }
         if let Some(m) = &self.integrator {

@@ -142,6 +142,10 @@ fn bad_input_gives_one_line_errors() {
         ),
         (vec!["continuation", "--phase", "1e300"], "bad phase 1e300:"),
         (
+            vec!["map2d", "--x", "omega:0.5:2:1e9"],
+            "bad --x '0.5:2:1e9'",
+        ),
+        (
             vec!["bifurcation", "--range", "0.5:1e300:3"],
             "omega = 1e300: invalid omega = 1e300",
         ),

@@ -369,3 +369,43 @@ fn a_folder_named_like_a_result_file_is_refused_before_the_run() {
     assert!(err.contains("named like a result file"), "{err}");
     assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
 }
+
+#[test]
+fn a_report_folder_and_another_commands_folder_never_mix() {
+    // the report wrote its pages among simulate's files, and simulate into a report's folder
+    let d = tmp("mix");
+    let sim = d.join("sim");
+    assert_eq!(
+        geardyn(&["simulate", "--periods", "3", "--out", s(&sim)]).0,
+        0
+    );
+    let (code, err) = geardyn(&["report", "--preset", "classic", "--quick", "--out", s(&sim)]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("holds the results of `geardyn simulate`"),
+        "{err}"
+    );
+    assert!(!sim.join("classic").exists() && !sim.join("index.html").exists());
+    // a report root (as the report leaves it: its marker and a record of kind "reports")
+    let root = d.join("reports");
+    std::fs::create_dir_all(&root).unwrap();
+    std::fs::write(root.join(".geardyn"), "geardyn output folder\n").unwrap();
+    std::fs::write(
+        root.join("run.json"),
+        r#"{"kind": "reports", "version": "0.1.0"}"#,
+    )
+    .unwrap();
+    let (code, err) = geardyn(&["simulate", "--periods", "3", "--out", s(&root)]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("holds the results of `geardyn reports`"),
+        "{err}"
+    );
+    assert!(!root.join("summary.json").exists());
+    // --out naming a file: said so (it was "File exists (os error 17)")
+    let file = d.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let (code, err) = geardyn(&["simulate", "--periods", "3", "--out", s(&file)]);
+    assert_ne!(code, 0);
+    assert!(err.contains("is a file, not a folder"), "{err}");
+}

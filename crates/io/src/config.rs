@@ -126,13 +126,13 @@ pub enum ConfigError {
         msg: String,
     },
     /// A field given both by an option (a command-line flag, a Python keyword) and by `--set`.
-    #[error("{name} is given twice, by {by} and by --set {set}: give one of them")]
+    #[error("{name} is given twice, by {by} and by {set}: give one of them")]
     Twice {
         /// Field.
         name: String,
         /// The option that gives it.
         by: String,
-        /// The `--set` assignment that gives it too.
+        /// The assignment that gives it too, as the caller wrote it (`--set NAME=VALUE`).
         set: String,
     },
     /// A simulation setting out of range.
@@ -391,11 +391,13 @@ impl Config {
     }
 
     /// Sets `name` to `value` on behalf of option `by` (a command-line flag such as `--periods`, a
-    /// Python keyword), refused when one of the `--set` assignments `sets` names the same field
-    /// (which one should win would be a silent choice).
+    /// Python keyword), refused when one of the assignments `sets` (`NAME=VALUE`, given as
+    /// `via` says: `--set` on the command line) names the same field (which one should win would
+    /// be a silent choice).
     pub fn set_by_option(
         &mut self,
         sets: &[String],
+        via: &str,
         name: &str,
         by: &str,
         value: f64,
@@ -407,7 +409,7 @@ impl Config {
             return Err(ConfigError::Twice {
                 name: name.into(),
                 by: by.into(),
-                set: s.clone(),
+                set: format!("{via}{s}"),
             });
         }
         self.set(name, value)

@@ -110,6 +110,12 @@ pub const LOCK: &str = ".geardyn.lock";
 /// version (a user's own files, or `/`). Leaves the marker.
 pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
     let path = out.display().to_string();
+    if std::fs::metadata(out).is_ok_and(|m| !m.is_dir()) {
+        return Err(FolderError::Output(OutputError::Refused {
+            path,
+            reason: "it is a file, not a folder: --out names the folder the results go into".into(),
+        }));
+    }
     if let Ok(rd) = std::fs::read_dir(out) {
         let mut names: Vec<String> = Vec::new();
         let mut special = None;

@@ -17,121 +17,27 @@ fn num(v: f64) -> String {
     format!("{v}")
 }
 
-/// `bifurcation.csv`: `param,branch,ic,section,x,v,label`, one row per section point.
+/// `bifurcation.csv`: the columns of [`crate::schema::points_table`], every digit.
 pub fn write_bifurcation(
     path: &Path,
     param: &str,
     results: &[TaskResult],
 ) -> Result<(), OutputError> {
-    let header = [param, "branch", "ic", "section", "x", "v", "label"];
-    let rows = results.iter().flat_map(|r| {
-        r.runs.iter().flat_map(move |run| {
-            run.points.iter().map(move |&(sec, x, v)| {
-                vec![
-                    num(r.value),
-                    r.task.branch_name().to_string(),
-                    run.ic.to_string(),
-                    sec.name().to_string(),
-                    num(x),
-                    num(v),
-                    run.label.clone(),
-                ]
-            })
-        })
-    });
-    write_csv(path, &header, rows)
+    crate::schema::points_table(param, results).write_csv(path, crate::schema::full)
 }
 
-/// `runs.csv`: one row per simulation with its label, period (and mesh-cycle period on a pair
-/// whose excitation period holds several mesh cycles; empty otherwise), P_ID, forces,
-/// amplitudes and TLE.
+/// `runs.csv`: one row per simulation, the columns of [`crate::schema::runs_table`], every digit.
 pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<(), OutputError> {
-    let header = [
-        param,
-        "branch",
-        "ic",
-        "x0",
-        "v0",
-        "label",
-        "period",
-        "mesh_period",
-        "healthy",
-        "p_id",
-        "max_force",
-        "min_force",
-        "impacts",
-        "max_impact_force",
-        "rms_x",
-        "p2p_x",
-        "rms_force",
-        "p2p_force",
-        "tle",
-        "class",
-        "decided_by",
-        "periods_integrated",
-    ];
-    let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
-    let rows = results.iter().flat_map(|r| {
-        r.runs.iter().map(move |run| {
-            let a = run.amplitudes;
-            vec![
-                num(r.value),
-                r.task.branch_name().to_string(),
-                run.ic.to_string(),
-                num(run.y0[0]),
-                num(run.y0[1]),
-                run.label.clone(),
-                run.period.to_string(),
-                run.mesh_period.map_or(String::new(), |m| m.to_string()),
-                run.healthy.to_string(),
-                num(run.p_id),
-                num(run.max_force),
-                num(run.min_force),
-                run.impacts.to_string(),
-                num(run
-                    .impact_force_per_period
-                    .iter()
-                    .cloned()
-                    .fold(0.0, f64::max)),
-                opt(a.map(|a| a.rms_x)),
-                opt(a.map(|a| a.p2p_x)),
-                opt(a.map(|a| a.rms_force)),
-                opt(a.map(|a| a.p2p_force)),
-                opt(run.tle),
-                run.motion.word().to_string(),
-                run.decided_by.name().to_string(),
-                run.periods_integrated.to_string(),
-            ]
-        })
-    });
-    write_csv(path, &header, rows)
+    crate::schema::runs_table(param, results).write_csv(path, crate::schema::full)
 }
 
-/// `impact_force.csv`: the impact-force record of seed A — the largest back-side impact force in
-/// each recorded excitation period, per run (`param,branch,ic,period,impact_force`; 0 = no impact).
+/// `impact_force.csv`: the columns of [`crate::schema::impact_force_table`], every digit.
 pub fn write_impact_force(
     path: &Path,
     param: &str,
     results: &[TaskResult],
 ) -> Result<(), OutputError> {
-    let header = [param, "branch", "ic", "period", "impact_force"];
-    let rows = results.iter().flat_map(|r| {
-        r.runs.iter().flat_map(move |run| {
-            run.impact_force_per_period
-                .iter()
-                .enumerate()
-                .map(move |(j, f)| {
-                    vec![
-                        num(r.value),
-                        r.task.branch_name().to_string(),
-                        run.ic.to_string(),
-                        j.to_string(),
-                        num(*f),
-                    ]
-                })
-        })
-    });
-    write_csv(path, &header, rows)
+    crate::schema::impact_force_table(param, results).write_csv(path, crate::schema::full)
 }
 
 /// The name a run is drawn under: its label when periodic, else its decided class.

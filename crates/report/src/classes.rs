@@ -5,7 +5,7 @@
 //! values at bifurcation points: a single value whose class differs from both neighbours, which
 //! agree with each other, takes their class for verdicts (the figures and tables still show it).
 
-use geardyn_analysis::bifurcation::{Run, Section, TaskResult};
+use geardyn_analysis::bifurcation::{Run, TaskResult};
 use geardyn_analysis::classify::Motion;
 
 /// Class of a run.
@@ -58,16 +58,6 @@ pub fn name(run: &Run) -> String {
     }
 }
 
-/// Does the run touch the back side (impact, back-side contact, or a back-side section crossing)?
-pub fn back_contact(run: &Run) -> bool {
-    run.impacts > 0
-        || (run.motion.is_periodic() && !run.healthy)
-        || run
-            .points
-            .iter()
-            .any(|p| matches!(p.0, Section::DsDown | Section::DdDown))
-}
-
 /// One run of a sweep, as the verdicts see it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pt {
@@ -97,7 +87,7 @@ impl Pt {
             value,
             class: Class::of(run),
             name: name(run),
-            back: back_contact(run),
+            back: run.touches_back_side(),
             healthy: run.healthy && run.motion.is_periodic(),
             tle: run.tle,
             mesh_period: run.mesh_period,

@@ -134,6 +134,9 @@ pub fn folder_size(dir: &Path) -> u64 {
         .sum()
 }
 
+/// The `kind` of a report root's `run.json` (the root holds one folder per preset).
+pub const REPORTS_KIND: &str = "reports";
+
 /// Runs the study plan and writes the page into `OUT/<preset>/` (reports of different presets
 /// never share files), then `OUT/index.html` linking every preset's page present; returns the
 /// path of the preset's `index.html`.
@@ -152,6 +155,31 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
         )?;
     }
     geardyn_io::run_record::claim_folder(root)?;
+    // the root is a folder of reports: another command's folder is refused, and the root says
+    // what it is, so that no other command writes into it
+    let root_record = root.join("run.json");
+    match std::fs::read_to_string(&root_record)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v.get("kind").and_then(|k| k.as_str()).map(String::from))
+    {
+        Some(kind) if kind != REPORTS_KIND => {
+            return Err(geardyn_io::run_record::FolderError::OtherCommand {
+                path: root.display().to_string(),
+                other: kind,
+            }
+            .into())
+        }
+        Some(_) => {}
+        None => geardyn_io::output::write_json(
+            &root_record,
+            &serde_json::json!({
+                "kind": REPORTS_KIND,
+                "version": env!("CARGO_PKG_VERSION"),
+                "note": "a folder of geardyn reports: one sub-folder per preset",
+            }),
+        )?,
+    }
     let _lock = geardyn_io::run_record::prepare_folder(&dir, "report", None, false)?;
     let scenario = cfg.resolve()?;
     let t = std::time::Instant::now();

@@ -10,7 +10,6 @@ use anyhow::Result;
 use geardyn_analysis::attractor::IdentifyOptions;
 use geardyn_analysis::basins::{Axis, BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
-use geardyn_analysis::classify::Motion;
 use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::{Method, SimOptions};
@@ -156,7 +155,6 @@ pub fn sweep_figure(
     type ByName = BTreeMap<String, Vec<(f64, f64)>>;
     let mut extra: BTreeMap<&str, ByName> = BTreeMap::new();
     let mut point_rows: Vec<Vec<String>> = Vec::new();
-    let mut run_rows: Vec<Vec<String>> = Vec::new();
     let mut impact_rows: Vec<Vec<String>> = Vec::new();
     for r in results {
         for run in &r.runs {
@@ -233,33 +231,6 @@ pub fn sweep_figure(
                     ]);
                 }
             }
-            run_rows.push(vec![
-                exact(r.value),
-                r.task.branch_name().into(),
-                run.ic.to_string(),
-                exact(run.y0[0]),
-                exact(run.y0[1]),
-                run.motion.word().into(),
-                nm.clone(),
-                run.period.to_string(),
-                run.mesh_period.map_or(String::new(), |m| m.to_string()),
-                run.healthy.to_string(),
-                classes::back_contact(run).to_string(),
-                run.impacts.to_string(),
-                g(run.p_id),
-                g(run.max_force),
-                g(run.min_force),
-                g(run
-                    .impact_force_per_period
-                    .iter()
-                    .copied()
-                    .fold(0.0, f64::max)),
-                run.tle.map_or(String::new(), g),
-                decision_tle(&run.motion).map_or(String::new(), g),
-                run.transient_used.to_string(),
-                run.decided_by.name().to_string(),
-                run.periods_integrated.to_string(),
-            ]);
         }
     }
     // colour order: periodic labels by frequency, then the fixed classes
@@ -360,37 +331,11 @@ pub fn sweep_figure(
     let pts_csv = dir.join(format!("{name}_points.csv"));
     write_csv(
         &pts_csv,
-        &[param, "branch", "ic", "section", "x", "v", "motion"],
+        &[param, "branch", "ic", "section", "x", "v", "label"],
         point_rows,
     )?;
     let runs_csv = dir.join(format!("{name}_runs.csv"));
-    write_csv(
-        &runs_csv,
-        &[
-            param,
-            "branch",
-            "ic",
-            "x0",
-            "v0",
-            "class",
-            "motion",
-            "period",
-            "mesh_period",
-            "healthy",
-            "back_contact",
-            "impacts",
-            "p_id",
-            "max_force",
-            "min_force",
-            "max_impact_force",
-            "tle",
-            "decision_tle",
-            "transient_used",
-            "decided_by",
-            "periods_integrated",
-        ],
-        run_rows,
-    )?;
+    geardyn_io::schema::runs_table(param, results).write_csv(&runs_csv, g)?;
     let mut data = vec![pts_csv, runs_csv];
     if panels.impact_force {
         let p = dir.join(format!("{name}_impact_force.csv"));
@@ -402,17 +347,6 @@ pub fn sweep_figure(
         data.push(p);
     }
     Ok(ctx.fig(&stem, caption, &data))
-}
-
-/// The exponent a run's class was decided on (chaotic: the significantly positive TLE after the
-/// persistence run; quasi-periodic and unsettled: the TLE measured, if any): the `decision_tle`
-/// column, so that a chaotic row carries its evidence even without `--lyapunov` (`tle`).
-fn decision_tle(m: &Motion) -> Option<f64> {
-    match m {
-        Motion::Chaotic { tle, .. } | Motion::QuasiPeriodic { tle, .. } => Some(*tle),
-        Motion::Unsettled { tle, .. } => *tle,
-        _ => None,
-    }
 }
 
 /// Identification settings of basins and continuations: at most `transient` excitation periods

@@ -1,0 +1,310 @@
+//! The result tables geardyn writes, as data: one home for their column names, order, types and
+//! meaning, shared by the CLI's CSV files, the report's CSV files and the Python module's column
+//! dicts (docs/configuration.md, "Result tables", lists the same columns).
+//!
+//! A [`Table`] holds typed columns; [`Table::write_csv`] writes it (one number format per face:
+//! the CLI writes every digit, the report six significant ones), and the Python module turns each
+//! column into a numpy array of its type. A missing number (a TLE not computed, amplitudes of a
+//! failed run) is NaN in a column and an empty cell in a CSV file.
+
+use crate::output::{write_csv, OutputError};
+use geardyn_analysis::bifurcation::{Run, TaskResult};
+use geardyn_analysis::classify::Motion;
+use std::path::Path;
+
+/// The values of one column.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Values {
+    /// Numbers (NaN: none).
+    F64(Vec<f64>),
+    /// Counts and indices.
+    I64(Vec<i64>),
+    /// Counts that may be absent (an empty cell in CSV, 0 in Python).
+    OptI64(Vec<Option<i64>>),
+    /// Flags.
+    Bool(Vec<bool>),
+    /// Names.
+    Str(Vec<String>),
+}
+
+impl Values {
+    fn len(&self) -> usize {
+        match self {
+            Values::F64(v) => v.len(),
+            Values::I64(v) => v.len(),
+            Values::OptI64(v) => v.len(),
+            Values::Bool(v) => v.len(),
+            Values::Str(v) => v.len(),
+        }
+    }
+
+    fn cell(&self, i: usize, num: fn(f64) -> String) -> String {
+        match self {
+            Values::F64(v) if v[i].is_nan() => String::new(),
+            Values::F64(v) => num(v[i]),
+            Values::I64(v) => v[i].to_string(),
+            Values::OptI64(v) => v[i].map_or(String::new(), |x| x.to_string()),
+            Values::Bool(v) => v[i].to_string(),
+            Values::Str(v) => v[i].clone(),
+        }
+    }
+}
+
+/// A column: its name and values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    /// Name (the CSV header, the Python key).
+    pub name: String,
+    /// Values, one per row.
+    pub values: Values,
+    /// An input (a parameter value, an initial state): written with every digit whatever the
+    /// face's number format, so that it can be given back exactly.
+    pub exact: bool,
+}
+
+/// A table of equally long typed columns.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Table {
+    /// Columns in order.
+    pub columns: Vec<Column>,
+}
+
+impl Table {
+    fn push(&mut self, name: &str, values: Values) {
+        self.columns.push(Column {
+            name: name.into(),
+            values,
+            exact: false,
+        });
+    }
+
+    fn push_exact(&mut self, name: &str, values: Values) {
+        self.push(name, values);
+        if let Some(c) = self.columns.last_mut() {
+            c.exact = true;
+        }
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, |c| c.values.len())
+    }
+
+    /// The column called `name`.
+    pub fn column(&self, name: &str) -> Option<&Values> {
+        self.columns
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| &c.values)
+    }
+
+    /// Writes the table as CSV, measured numbers formatted by `num`, inputs with every digit
+    /// (NaN: an empty cell).
+    pub fn write_csv(&self, path: &Path, num: fn(f64) -> String) -> Result<(), OutputError> {
+        let header: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).collect();
+        let rows = (0..self.rows()).map(|i| {
+            self.columns
+                .iter()
+                .map(move |c| c.values.cell(i, if c.exact { full } else { num }))
+                .collect::<Vec<String>>()
+        });
+        write_csv(path, &header, rows)
+    }
+}
+
+/// Every digit (shortest round-trip form): the CLI's number format.
+pub fn full(v: f64) -> String {
+    format!("{v}")
+}
+
+/// The exponent a run's class was decided on (chaotic: the significantly positive TLE after the
+/// persistence run; quasi-periodic and unsettled: the TLE measured, if any), so that a chaotic
+/// row carries its evidence even without `--lyapunov`.
+pub fn decision_tle(m: &Motion) -> Option<f64> {
+    match m {
+        Motion::Chaotic { tle, .. } | Motion::QuasiPeriodic { tle, .. } => Some(*tle),
+        Motion::Unsettled { tle, .. } => *tle,
+        _ => None,
+    }
+}
+
+/// The runs table of a sweep (`runs.csv`): one row per run, the swept parameter `param` under
+/// its own name first. Columns (docs/configuration.md, "Result tables"):
+///
+/// | column | type | meaning |
+/// |---|---|---|
+/// | `<param>` | f64 | the swept parameter's value (dimensionless, or the `pair.*` field's unit) |
+/// | `branch` | str | `none`, `up`, `down` (continuation sweeps) |
+/// | `ic` | i64 | initial-state index (multi-initial), else 0 |
+/// | `x0`, `v0` | f64 | initial state |
+/// | `class` | str | periodic, quasi-periodic, chaotic, unsettled, diverged, failed |
+/// | `label` | str | `n-p-q-r-s` when periodic, else the class (no numbers) |
+/// | `period` | i64 | period in excitation periods (0 when not periodic) |
+/// | `mesh_period` | i64 | period in mesh cycles when an excitation period spans several (0: none) |
+/// | `healthy` | bool | periodic without back-side contact or impact |
+/// | `back_contact` | bool | touches the back side (impact, back contact, back-side crossing) |
+/// | `impacts` | i64 | back-side impacts in the record |
+/// | `p_rate` .. `s_rate` | f64 | crossings per excitation period of `x = D_s` up, `-D_s` down, `D_d` up, `-D_d` down |
+/// | `p_id` | f64 | dynamic instability proportion |
+/// | `max_force`, `min_force` | f64 | mesh-force extrema (units of `k_av b_c`) |
+/// | `max_impact_force` | f64 | largest back-side impact force (0: none) |
+/// | `mean_x` .. `p2p_force` | f64 | mean, RMS (alternating part) and peak-to-peak of `x` and the mesh force |
+/// | `tle` | f64 | top Lyapunov exponent when requested (per unit dimensionless time) |
+/// | `decision_tle` | f64 | the exponent the class was decided on |
+/// | `transient_used` | i64 | transient periods used (extended while undecided) |
+/// | `decided_by` | str | the evidence of the verdict |
+/// | `periods_integrated` | i64 | excitation periods followed in all |
+/// | `final_x`, `final_v` | f64 | state at the end of the record |
+/// | `reason` | str | why a failed or diverged run has no verdict, else empty |
+pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
+    let runs: Vec<(&TaskResult, &Run)> = results
+        .iter()
+        .flat_map(|r| r.runs.iter().map(move |run| (r, run)))
+        .collect();
+    let f = |g: &dyn Fn(&TaskResult, &Run) -> f64| {
+        Values::F64(runs.iter().map(|(r, u)| g(r, u)).collect())
+    };
+    let i = |g: &dyn Fn(&Run) -> i64| Values::I64(runs.iter().map(|(_, u)| g(u)).collect());
+    let b = |g: &dyn Fn(&Run) -> bool| Values::Bool(runs.iter().map(|(_, u)| g(u)).collect());
+    let s = |g: &dyn Fn(&TaskResult, &Run) -> String| {
+        Values::Str(runs.iter().map(|(r, u)| g(r, u)).collect())
+    };
+    let amp = |g: fn(&geardyn_analysis::simulate::Amplitudes) -> f64| {
+        f(&|_, u| u.amplitudes.as_ref().map_or(f64::NAN, g))
+    };
+    let rate = |k: usize| f(&|_, u| u.rates.map_or(f64::NAN, |r| r[k]));
+    let mut t = Table::default();
+    t.push_exact(param, f(&|r, _| r.value));
+    t.push("branch", s(&|r, _| r.task.branch_name().to_string()));
+    t.push("ic", i(&|u| u.ic as i64));
+    t.push_exact("x0", f(&|_, u| u.y0[0]));
+    t.push_exact("v0", f(&|_, u| u.y0[1]));
+    t.push("class", s(&|_, u| u.motion.word().to_string()));
+    t.push("label", s(&|_, u| u.label.clone()));
+    t.push("period", i(&|u| u.period as i64));
+    t.push(
+        "mesh_period",
+        Values::OptI64(
+            runs.iter()
+                .map(|(_, u)| u.mesh_period.map(|m| m as i64))
+                .collect(),
+        ),
+    );
+    t.push("healthy", b(&|u| u.healthy));
+    t.push("back_contact", b(&|u| u.touches_back_side()));
+    t.push("impacts", i(&|u| u.impacts as i64));
+    for (k, name) in ["p_rate", "q_rate", "r_rate", "s_rate"].iter().enumerate() {
+        t.push(name, rate(k));
+    }
+    t.push("p_id", f(&|_, u| u.p_id));
+    t.push("max_force", f(&|_, u| u.max_force));
+    t.push("min_force", f(&|_, u| u.min_force));
+    t.push(
+        "max_impact_force",
+        f(&|_, u| {
+            u.impact_force_per_period
+                .iter()
+                .copied()
+                .fold(0.0, f64::max)
+        }),
+    );
+    t.push("mean_x", amp(|a| a.mean_x));
+    t.push("rms_x", amp(|a| a.rms_x));
+    t.push("p2p_x", amp(|a| a.p2p_x));
+    t.push("mean_force", amp(|a| a.mean_force));
+    t.push("rms_force", amp(|a| a.rms_force));
+    t.push("p2p_force", amp(|a| a.p2p_force));
+    t.push("tle", f(&|_, u| u.tle.unwrap_or(f64::NAN)));
+    t.push(
+        "decision_tle",
+        f(&|_, u| decision_tle(&u.motion).unwrap_or(f64::NAN)),
+    );
+    t.push("transient_used", i(&|u| u.transient_used as i64));
+    t.push("decided_by", s(&|_, u| u.decided_by.name().to_string()));
+    t.push("periods_integrated", i(&|u| u.periods_integrated as i64));
+    t.push("final_x", f(&|_, u| u.final_state[0]));
+    t.push("final_v", f(&|_, u| u.final_state[1]));
+    t.push("reason", s(&|_, u| u.reason()));
+    t
+}
+
+/// The section points of a sweep (`bifurcation.csv`): `<param>, branch, ic, section, x, v,
+/// label`, one row per point (`section` one of strobe, ds_up, ds_down, dd_up, dd_down, impact;
+/// `x`, `v` the state there).
+pub fn points_table(param: &str, results: &[TaskResult]) -> Table {
+    let pts: Vec<(&TaskResult, &Run, f64, f64, &'static str)> = results
+        .iter()
+        .flat_map(|r| {
+            r.runs.iter().flat_map(move |run| {
+                run.points
+                    .iter()
+                    .map(move |&(sec, x, v)| (r, run, x, v, sec.name()))
+            })
+        })
+        .collect();
+    let mut t = Table::default();
+    t.push_exact(param, Values::F64(pts.iter().map(|p| p.0.value).collect()));
+    t.push(
+        "branch",
+        Values::Str(
+            pts.iter()
+                .map(|p| p.0.task.branch_name().to_string())
+                .collect(),
+        ),
+    );
+    t.push(
+        "ic",
+        Values::I64(pts.iter().map(|p| p.1.ic as i64).collect()),
+    );
+    t.push(
+        "section",
+        Values::Str(pts.iter().map(|p| p.4.to_string()).collect()),
+    );
+    t.push("x", Values::F64(pts.iter().map(|p| p.2).collect()));
+    t.push("v", Values::F64(pts.iter().map(|p| p.3).collect()));
+    t.push(
+        "label",
+        Values::Str(pts.iter().map(|p| p.1.label.clone()).collect()),
+    );
+    t
+}
+
+/// The impact-force record of a sweep (`impact_force.csv`): `<param>, branch, ic, period,
+/// impact_force`, the largest back-side impact force in each recorded excitation period of each
+/// run (0: no impact).
+pub fn impact_force_table(param: &str, results: &[TaskResult]) -> Table {
+    let rows: Vec<(&TaskResult, &Run, usize, f64)> = results
+        .iter()
+        .flat_map(|r| {
+            r.runs.iter().flat_map(move |run| {
+                run.impact_force_per_period
+                    .iter()
+                    .enumerate()
+                    .map(move |(j, &f)| (r, run, j, f))
+            })
+        })
+        .collect();
+    let mut t = Table::default();
+    t.push_exact(param, Values::F64(rows.iter().map(|p| p.0.value).collect()));
+    t.push(
+        "branch",
+        Values::Str(
+            rows.iter()
+                .map(|p| p.0.task.branch_name().to_string())
+                .collect(),
+        ),
+    );
+    t.push(
+        "ic",
+        Values::I64(rows.iter().map(|p| p.1.ic as i64).collect()),
+    );
+    t.push(
+        "period",
+        Values::I64(rows.iter().map(|p| p.2 as i64).collect()),
+    );
+    t.push(
+        "impact_force",
+        Values::F64(rows.iter().map(|p| p.3).collect()),
+    );
+    t
+}

@@ -1,0 +1,184 @@
+//! The folder of one simulation (`geardyn simulate`, Python `simulate(out=...)`): the resolved
+//! configuration, trajectory, stroboscopic points, events, section crossings, `summary.json`,
+//! the time-history, mesh-force and phase-portrait figures, and `run.json`. One home for what the
+//! folder holds and for the fields `summary.json` adds to the [`Summary`].
+
+use crate::output::{self, OutputError};
+use crate::plot::{decimate, xy_chart, Chart, Mark, PlotError, Series, PALETTE};
+use crate::{run_record, Config};
+use geardyn_analysis::simulate::{SimOptions, SimResult, Summary};
+use geardyn_scenario::Scenario;
+use std::path::Path;
+
+/// A finished simulation, as the folder records it.
+pub struct Finished<'a> {
+    /// The configuration, overrides applied.
+    pub cfg: &'a Config,
+    /// What was integrated.
+    pub scenario: &'a Scenario,
+    /// The record.
+    pub res: &'a SimResult,
+    /// Its decided summary.
+    pub summary: &'a Summary,
+    /// The settings of the record (transient as extended by the decision, method used).
+    pub used: &'a SimOptions,
+    /// The settings asked for.
+    pub requested: &'a SimOptions,
+    /// Wall time of the integration, seconds.
+    pub elapsed_s: f64,
+}
+
+/// Failure to write the folder.
+#[derive(Debug, thiserror::Error)]
+pub enum FolderWriteError {
+    /// A data file.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// A figure.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// The fields `summary.json` holds beside the [`Summary`]: the parameters integrated, contact
+/// durations, the excitation period, the transient and record used and asked for, the methods,
+/// the work and the wall time.
+pub fn summary_extra(f: &Finished<'_>) -> serde_json::Value {
+    let (res, used, opts) = (f.res, f.used, f.requested);
+    serde_json::json!({
+        "parameters": f.scenario.record(),
+        "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+        "excitation_period": f.scenario.model().excitation_period(),
+        "transient_periods": used.transient_periods,
+        "transient_requested": opts.transient_periods,
+        "record_periods": used.record_periods,
+        "record_requested": opts.record_periods,
+        "method": used.method,
+        "method_requested": opts.method,
+        "steps": res.steps,
+        "rhs_evals": res.rhs_evals,
+        "wall_time_s": f.elapsed_s,
+    })
+}
+
+/// Writes the folder `out` (prepared and locked by the caller:
+/// [`run_record::prepare_folder`]); `started_unix_s` is when the run began.
+pub fn write(out: &Path, f: &Finished<'_>, started_unix_s: f64) -> Result<(), FolderWriteError> {
+    let res = f.res;
+    output::write_text(&out.join("config.toml"), &f.cfg.to_toml())?;
+    output::write_trajectory(&out.join("trajectory.csv"), res)?;
+    output::write_strobe(&out.join("strobe.csv"), res)?;
+    output::write_events(&out.join("events.csv"), res)?;
+    output::write_sections(&out.join("sections.csv"), res)?;
+    output::write_summary(&out.join("summary.json"), f.summary, summary_extra(f))?;
+    plots(out, f.scenario.model(), res)?;
+    run_record::write_run_record(
+        out,
+        "simulate",
+        f.cfg,
+        f.scenario,
+        started_unix_s,
+        run_record::now_unix_s() - started_unix_s,
+    )?;
+    Ok(())
+}
+
+fn plots(out: &Path, model: &geardyn_model::MeshModel, res: &SimResult) -> Result<(), PlotError> {
+    let ts = model.excitation_period();
+    // the time history and mesh force show the last few excitation periods
+    let shown = if model.cycles_per_period() > 1 {
+        1.0
+    } else {
+        5.0
+    };
+    let t_end = res.final_state.0;
+    let window: Vec<_> = res
+        .trajectory
+        .iter()
+        .filter(|p| p.tau >= t_end - shown * ts)
+        .collect();
+    let xs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.x)).collect();
+    let fs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.mesh_force)).collect();
+    let (dd, ds) = model.backlash_levels();
+    let (t0, t1) = (xs.first().map_or(0.0, |p| p.0), t_end);
+    let mut levels = vec![vec![(t0, ds), (t1, ds)], vec![(t0, -ds), (t1, -ds)]];
+    if dd != ds {
+        levels.push(vec![(t0, dd), (t1, dd)]);
+        levels.push(vec![(t0, -dd), (t1, -dd)]);
+    }
+    let xs = decimate(&xs, 20_000);
+    let mut series = vec![Series {
+        label: "x",
+        points: &xs,
+        mark: Mark::Line,
+        color: PALETTE[0],
+    }];
+    for (i, l) in levels.iter().enumerate() {
+        series.push(Series {
+            label: if i == 0 {
+                "±D_s"
+            } else if i == 2 {
+                "±D_d"
+            } else {
+                ""
+            },
+            points: l,
+            mark: Mark::Line,
+            color: if i < 2 { PALETTE[6] } else { PALETTE[4] },
+        });
+    }
+    xy_chart(
+        &out.join("time_history"),
+        &Chart {
+            title: "Time history",
+            x_label: "τ (dimensionless time)",
+            y_label: "x (units of b_c)",
+        },
+        &series,
+    )?;
+    let fs = decimate(&fs, 20_000);
+    xy_chart(
+        &out.join("mesh_force"),
+        &Chart {
+            title: "Dynamic mesh force",
+            x_label: "τ",
+            y_label: "F_m (units of k_av b_c)",
+        },
+        &[Series {
+            label: "",
+            points: &fs,
+            mark: Mark::Line,
+            color: PALETTE[1],
+        }],
+    )?;
+    let stride = (res.trajectory.len() / 40_000).max(1);
+    let phase: Vec<(f64, f64)> = res
+        .trajectory
+        .iter()
+        .step_by(stride)
+        .map(|p| (p.x, p.v))
+        .collect();
+    let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p[1], p[2])).collect();
+    xy_chart(
+        &out.join("phase_portrait"),
+        &Chart {
+            title: "Phase portrait and stroboscopic Poincaré section",
+            x_label: "x",
+            y_label: "x'",
+        },
+        &[
+            Series {
+                label: "trajectory",
+                points: &phase,
+                mark: Mark::Line,
+                color: PALETTE[5],
+            },
+            Series {
+                label: "Poincaré points",
+                points: &strobe,
+                mark: Mark::Dots(4),
+                color: PALETTE[1],
+            },
+        ],
+    )?;
+    Ok(())
+}
