@@ -48,9 +48,11 @@ print(f"{len(r.values)} loads in {time.monotonic() - t:.1f} s")
 
 # %% one row per load: label, period, impacts, largest impact force
 runs = r.runs
+# (the runs table as the CLI writes it would be r.to_dataframe().to_csv(...) with pandas; here a
+# few columns with numpy only, numbers in shortest round-trip form)
 header = "F,label,period,healthy,impacts,max_impact_force,max_force"
 rows = [
-    f"{F!r},{lab},{per},{str(h).lower()},{imp},{fi!r},{fm!r}"
+    f"{float(F)!r},{lab},{per},{str(h).lower()},{imp},{float(fi)!r},{float(fm)!r}"
     for F, lab, per, h, imp, fi, fm in zip(
         runs["F"], runs["label"], runs["period"], runs["healthy"], runs["impacts"],
         runs["max_impact_force"], runs["max_force"],
