@@ -31,6 +31,12 @@ const NAMES: &[&str] = &[
     "rtol",
     "atol",
     "steps_per_cycle",
+    // given by a flag of every case too (--periods, --transient): refused as given twice
+    "record_periods",
+    "transient_periods",
+    "decision_periods",
+    "decision_budget",
+    "max_work",
     "pair.z1",
     "pair.mu",
     "pair.module_mm",
@@ -49,6 +55,8 @@ const VALUES: &[&str] = &[
     "-inf",
     "1e308",
     "-1e308",
+    "1e300",
+    "-1e300",
     "1e-308",
     "5e-324",
     "0",
@@ -113,6 +121,13 @@ fn check(args: &[String], out_dir: &std::path::Path) {
         assert_eq!(code, 2, "exit code {code} for {args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
         assert!(err.starts_with("error: "), "{args:?}: {err}");
+        // numbers are printed as numbers (1e300 was written out with 301 digits)
+        let longest = err
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest < 25, "a {longest}-digit number in {args:?}: {err}");
     }
 }
 

@@ -182,8 +182,31 @@ const OPERATING_MODEL_KEYS: &[&str] = &["omega", "F", "xi", "D_d", "D_s"];
 fn parse_err(msg: impl Into<String>) -> ConfigError {
     ConfigError::Parse {
         path: "<text>".into(),
-        msg: msg.into(),
+        msg: short_numbers(&msg.into()),
     }
+}
+
+/// `msg` with every number written out in more than 16 digits (the parser prints a float such as
+/// 1e300 in full, 301 digits) rewritten in exponent form.
+fn short_numbers(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len());
+    let mut rest = msg;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let end = tail
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(tail.len());
+        let number = &tail[..end];
+        let digits = number.chars().filter(char::is_ascii_digit).count();
+        match number.trim_end_matches('.').parse::<f64>() {
+            Ok(v) if digits > 16 => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(number),
+        }
+        rest = &tail[end..];
+    }
+    out.push_str(rest);
+    out
 }
 
 impl Config {
@@ -681,6 +704,22 @@ impl Config {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn long_numbers_in_parser_messages_are_shortened() {
+        let m = format!(
+            "invalid type: floating point `{}.0`, expected u32 at line 3",
+            "1".to_string() + &"0".repeat(300)
+        );
+        assert_eq!(
+            super::short_numbers(&m),
+            "invalid type: floating point `1e300`, expected u32 at line 3"
+        );
+        assert_eq!(
+            super::short_numbers("omega = 1.25 at 12"),
+            "omega = 1.25 at 12"
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -660,11 +660,11 @@ impl PairSpec {
                         - film;
                     if d[i] <= 0.0 {
                         return Err(PhysicsError::Geometry(format!(
-                            "the backlash closes in the {} zone at this operating point (static {} um, thermal growth {:.3} um, film {:.3} um)",
+                            "the backlash closes in the {} zone at this operating point (static {} um, thermal growth {} um, film {} um)",
                             if single { "single-tooth" } else { "double-tooth" },
-                            op.half_backlash_um,
-                            thermal * 1e6,
-                            film * 1e6
+                            geardyn_model::error::num(op.half_backlash_um),
+                            geardyn_model::error::num((thermal * 1e6 * 1e3).round() / 1e3),
+                            geardyn_model::error::num((film * 1e6 * 1e3).round() / 1e3)
                         )));
                     }
                 }
