@@ -216,9 +216,21 @@ impl ScenarioSpec {
         let mut v = toml::Value::try_from(pair).expect("pair serialises");
         let parts: Vec<&str> = field.split('.').collect();
         set_path(&mut v, &parts, value).map_err(|why| key_err(&name, why))?;
-        let spec: PairSpec = v
-            .try_into()
-            .map_err(|e: toml::de::Error| key_err(&name, e.message().to_string()))?;
+        let spec: PairSpec = v.try_into().map_err(|e: toml::de::Error| {
+            let m = e.message();
+            let why = if m.contains("expected u32") || m.contains("expected u64") {
+                format!("{value}: a whole number >= 0 is needed")
+            } else if let Some(f) = m.strip_prefix("missing field ") {
+                // (a sub-table the configuration does not have was begun with this one field)
+                format!(
+                    "this pair has no such table, and one needs {f} too: write the table in a \
+                     configuration file (`geardyn show` prints the pair)"
+                )
+            } else {
+                m.to_string()
+            };
+            key_err(&name, why)
+        })?;
         self.pair = Some(spec);
         Ok(())
     }
