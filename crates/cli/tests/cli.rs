@@ -141,6 +141,22 @@ fn bad_input_gives_one_line_errors() {
             "given twice",
         ),
         (vec!["continuation", "--phase", "1e300"], "bad phase 1e300:"),
+        // a pair field: the kind of value needed (it said "expected u32"), and a table the pair
+        // does not have (it said "missing field `torque_nm`")
+        (
+            vec!["simulate", "--preset", "breakage", "--set", "pair.z1=-1"],
+            "pair.z1: -1: a whole number >= 0 is needed",
+        ),
+        (
+            vec![
+                "simulate",
+                "--preset",
+                "breakage",
+                "--set",
+                "pair.operating.speed_rpm=1000",
+            ],
+            "this pair has no such table",
+        ),
         (
             vec!["map2d", "--x", "omega:0.5:2:1e9"],
             "bad --x '0.5:2:1e9'",
