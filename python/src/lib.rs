@@ -323,6 +323,7 @@ fn simulate<'py>(
             }
         }
         opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
+        cfg.check_work(model, &opts, 1, true)?;
         let y0 = [cfg.simulation.x0, cfg.simulation.v0];
         // the folder is claimed and locked before the run (as the CLI does): a folder another
         // run holds, or one with foreign files, is refused at once
@@ -567,6 +568,7 @@ fn sweep_results<'py>(
 
 fn sweep(
     ctl: &Ctl,
+    cfg: &Config,
     scenario: &geardyn_scenario::Scenario,
     opts: &SweepOptions,
 ) -> Result<Vec<TaskResult>> {
@@ -579,6 +581,12 @@ fn sweep(
             format!("--param {} = {}", opts.param, geardyn_model::error::num(*v))
         })?;
     }
+    let ics = match opts.mode {
+        SweepMode::Multi { ics, .. } => ics.max(1),
+        _ => 1,
+    };
+    // the CLI's cap on the whole call's work, before any work
+    cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();
@@ -657,7 +665,7 @@ fn bifurcation<'py>(
                 sections: secs,
                 lyapunov,
             };
-            let results = sweep(ctl, &scenario, &opts)?;
+            let results = sweep(ctl, &cfg, &scenario, &opts)?;
             Ok((results, cfg, opts))
         })?;
     let d = sweep_results(py, &opts.param, &results)?;
@@ -693,7 +701,7 @@ fn response<'py>(
             sections: vec![],
             lyapunov: false,
         };
-        let results = sweep(ctl, &scenario, &opts)?;
+        let results = sweep(ctl, &cfg, &scenario, &opts)?;
         Ok((results, cfg, opts))
     })?;
     let d = sweep_results(py, &opts.param, &results)?;
@@ -789,6 +797,7 @@ fn basins<'py>(
                 v: va,
                 identify,
             };
+            cfg.check_work(model, &opts.identify.sim, xa.n * va.n, false)?;
             ctl.set_total((xa.n * va.n) as u64, 0);
             let done: HashMap<usize, Outcome> = HashMap::new();
             let t = std::time::Instant::now();
@@ -869,6 +878,12 @@ fn continuation<'py>(
                 phase: check_phase(phase)?,
                 identify: identify_options(&cfg, &ident)?,
             };
+            cfg.check_work(
+                scenario.model(),
+                &opts.identify.sim,
+                opts.values.len() * opts.ics,
+                false,
+            )?;
             ctl.set_total(opts.values.len() as u64, 0);
             let done = HashMap::new();
             let r = run_continuation(&scenario, &opts, &done, |v| ctl.keep(v.clone()))?;
@@ -949,6 +964,12 @@ fn map2d<'py>(
                 lyapunov: metric == "tle",
             };
             opts.check_axes()?;
+            cfg.check_work(
+                scenario.model(),
+                &opts.sim,
+                opts.x_values.len() * opts.y_values.len(),
+                true,
+            )?;
             ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
             let done = HashMap::new();
             let cells = run_map2d(&scenario, &opts, &done, |c| ctl.keep(c.clone()))?;

@@ -407,3 +407,15 @@ def test_ctrl_c_of_one_call_never_alters_another(sigint):
         assert "failed" not in set(p["class"])
         for x, lab in zip(p["omega"], p["label"]):
             assert lab == clean["label"][list(clean["omega"]).index(x)]
+
+
+def test_work_above_the_cap_is_refused_at_once():
+    """The CLI's cap on a call's total work holds in Python too (the call ran for days)."""
+    t = time.monotonic()
+    with pytest.raises(ValueError, match="max_work"):
+        geardyn.simulate(periods=10**6, integrator="rk4", steps_per_cycle=10**6)
+    with pytest.raises(ValueError, match="above the cap"):
+        geardyn.bifurcation(range=(0.5, 2, 10**6), periods=10**6)
+    with pytest.raises(ValueError, match="above the cap"):
+        geardyn.basins(x=(-2, 2, 4000), v=(-1.5, 1.5, 4000), transient=10**6)
+    assert time.monotonic() - t < 5

@@ -48,7 +48,7 @@ pub fn check(runs: usize, per_run: f64, cap: f64) -> Result<f64, String> {
     // 20 ns per evaluation on one core: the order of the hours, not a promise
     let hours = total * 20e-9 / 3600.0;
     Err(format!(
-        "the requested work is about {total:.1e} right-hand-side evaluations ({runs} run(s) of {per_run:.1e}, about {hours:.0} core-hours), above the cap of {cap:.0e}: ask for fewer periods, steps or runs, or raise the cap with --max-work (config: simulation.max_work)"
+        "the requested work is about {total:.1e} right-hand-side evaluations ({runs} run(s) of {per_run:.1e}, about {hours:.0} core-hours), above the cap of {cap:.0e}: ask for fewer periods, steps or runs, or raise the cap with --max-work (config: simulation.max_work; Python: max_work=N)"
     ))
 }
 

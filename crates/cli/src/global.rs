@@ -1,7 +1,7 @@
 //! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{check_work, open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
+use crate::sweep::{open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
@@ -152,7 +152,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         v,
         identify: ident,
     };
-    check_work(&cfg, model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
+    cfg.check_work(model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
     let (cp, done) =
         open_checkpoint::<(usize, Outcome)>(&a.out, &cfg, "basins", &opts, a.sim.force)?;
     let done: HashMap<usize, Outcome> = done.into_iter().filter(|(c, _)| *c < x.n * v.n).collect();
@@ -295,8 +295,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         phase: check_phase(a.phase)?,
         identify: identify_options(&cfg, &a.ident)?,
     };
-    check_work(
-        &cfg,
+    cfg.check_work(
         scenario.model(),
         &opts.identify.sim,
         opts.values.len() * opts.ics,
@@ -445,7 +444,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         lyapunov: a.metric == "tle",
     };
     opts.check_axes()?;
-    check_work(&cfg, scenario.model(), &opts.sim, xv.len() * yv.len(), true)?;
+    cfg.check_work(scenario.model(), &opts.sim, xv.len() * yv.len(), true)?;
     let (cp, done) = open_checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts, a.sim.force)?;
     let total = xv.len() * yv.len();
     let done: HashMap<usize, MapCell> = done

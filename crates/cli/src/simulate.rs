@@ -95,7 +95,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
     let t = std::time::Instant::now();
     let out = &args.out;
-    crate::sweep::check_work(&cfg, model, &opts, 1, true)?;
+    cfg.check_work(model, &opts, 1, true)?;
     let _lock = run_record::prepare_folder(out, "simulate", None, false)?;
     let (res, summary, used) =
         simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;

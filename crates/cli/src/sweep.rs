@@ -225,21 +225,6 @@ impl<'a> Recorder<'a> {
     }
 }
 
-/// Refuses a command of `runs` runs with `sim` each (decided: the decision's worst case counts)
-/// whose estimated work is above the config's cap ([`geardyn_analysis::work`]).
-pub fn check_work(
-    cfg: &Config,
-    model: &geardyn_model::MeshModel,
-    sim: &geardyn_analysis::simulate::SimOptions,
-    runs: usize,
-    decided: bool,
-) -> Result<()> {
-    let per_run = geardyn_analysis::work::per_run(model, sim, decided);
-    geardyn_analysis::work::check(runs, per_run, cfg.simulation.max_work)
-        .map_err(|e| anyhow::anyhow!(e))?;
-    Ok(())
-}
-
 /// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
 pub fn run_checkpointed(
     cfg: &Config,
@@ -262,13 +247,7 @@ pub fn run_checkpointed(
         geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),
         _ => 1,
     };
-    check_work(
-        cfg,
-        scenario.model(),
-        &opts.sim,
-        opts.values.len() * ics,
-        true,
-    )?;
+    cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
     let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
     // a record is trusted only if it is one of this sweep's tasks, at its value, complete
     let runs_per_task = match opts.mode {

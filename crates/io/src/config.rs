@@ -135,6 +135,9 @@ pub enum ConfigError {
         /// The assignment that gives it too, as the caller wrote it (`--set NAME=VALUE`).
         set: String,
     },
+    /// A command's estimated work above `simulation.max_work` ([`Config::check_work`]).
+    #[error("{0}")]
+    Work(String),
     /// A simulation setting out of range.
     #[error("invalid simulation.{field} = {value}: allowed {allowed}")]
     Simulation {
@@ -411,6 +414,23 @@ impl Config {
             .parse()
             .map_err(|_| ConfigError::SetSyntax(assignment.into()))?;
         self.set(name.trim(), value)
+    }
+
+    /// Refuses, before any work, a command of `runs` runs of `model` with `sim` (`decided`: each
+    /// run decided, with the decision's worst case) whose estimated work
+    /// ([`geardyn_analysis::work`]) is above `simulation.max_work` — the one check of the CLI's
+    /// commands and the Python module's calls.
+    pub fn check_work(
+        &self,
+        model: &geardyn_model::MeshModel,
+        sim: &SimOptions,
+        runs: usize,
+        decided: bool,
+    ) -> Result<(), ConfigError> {
+        let per_run = geardyn_analysis::work::per_run(model, sim, decided);
+        geardyn_analysis::work::check(runs, per_run, self.simulation.max_work)
+            .map(|_| ())
+            .map_err(ConfigError::Work)
     }
 
     /// Sets `name` to `value` on behalf of option `by` (a command-line flag such as `--periods`, a
