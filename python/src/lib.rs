@@ -590,19 +590,16 @@ fn sweep(
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();
-    Ok(run_sweep(scenario, opts, &done, |r| {
-        ctl.keep((opts.param.clone(), r.clone()))
-    })?)
+    Ok(run_sweep(scenario, opts, &done, |r| ctl.keep(r.clone()))?)
 }
 
-/// The partial result of an interrupted sweep: its finished values, as a sweep's result.
-fn kept_sweep(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
-    let mut kept: Vec<(String, TaskResult)> = ctl.take_kept();
-    kept.sort_by_key(|(_, r)| (r.task.branch, r.task.index));
-    let param = kept.first().map_or("value".to_string(), |k| k.0.clone());
-    let results: Vec<TaskResult> = kept.into_iter().map(|k| k.1).collect();
+/// The partial result of an interrupted sweep of `param`: its finished values, as a sweep's
+/// result (the same columns when no value has finished).
+fn kept_sweep(py: Python<'_>, param: &str, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
+    let mut results: Vec<TaskResult> = ctl.take_kept();
+    results.sort_by_key(|r| (r.task.branch, r.task.index));
     Ok(Some(
-        sweep_results(py, &param, &results)?.into_any().unbind(),
+        sweep_results(py, param, &results)?.into_any().unbind(),
     ))
 }
 
@@ -626,48 +623,49 @@ fn bifurcation<'py>(
     lyapunov: bool,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (results, cfg, opts) =
-        util::run(py, "bifurcation", progress, Some(kept_sweep), move |ctl| {
-            let mut cfg = src.config()?;
-            sim.apply(&mut cfg, &src.sets)?;
-            let scenario = cfg.resolve()?;
-            let values = values_of(values, range)?;
-            let secs = sections(&sections_)?;
-            let region = attractor_region(scenario.model().backlash_levels().1);
-            let mode = match mode.as_str() {
-                "fixed" => SweepMode::Fixed,
-                "sweep" => SweepMode::Sweep,
-                "multi" => {
-                    if ics == 0 || ics > 100_000 {
-                        bail!("ics = {}: allowed 1 ..= 100000", ics);
-                    }
-                    SweepMode::Multi {
-                        ics,
-                        seed,
-                        x0_range: match x0_range {
-                            Some(p) => check_pair(p, "x0_range")?,
-                            None => region.0,
-                        },
-                        v0_range: match v0_range {
-                            Some(p) => check_pair(p, "v0_range")?,
-                            None => region.1,
-                        },
-                    }
+    let name = param.clone();
+    let partial: util::Partial = Box::new(move |py, ctl| kept_sweep(py, &name, ctl));
+    let (results, cfg, opts) = util::run(py, "bifurcation", progress, Some(partial), move |ctl| {
+        let mut cfg = src.config()?;
+        sim.apply(&mut cfg, &src.sets)?;
+        let scenario = cfg.resolve()?;
+        let values = values_of(values, range)?;
+        let secs = sections(&sections_)?;
+        let region = attractor_region(scenario.model().backlash_levels().1);
+        let mode = match mode.as_str() {
+            "fixed" => SweepMode::Fixed,
+            "sweep" => SweepMode::Sweep,
+            "multi" => {
+                if ics == 0 || ics > 100_000 {
+                    bail!("ics = {}: allowed 1 ..= 100000", ics);
                 }
-                other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
-            };
-            let opts = SweepOptions {
-                param,
-                values,
-                mode,
-                sim: cfg.sim_options()?,
-                y0: [cfg.simulation.x0, cfg.simulation.v0],
-                sections: secs,
-                lyapunov,
-            };
-            let results = sweep(ctl, &cfg, &scenario, &opts)?;
-            Ok((results, cfg, opts))
-        })?;
+                SweepMode::Multi {
+                    ics,
+                    seed,
+                    x0_range: match x0_range {
+                        Some(p) => check_pair(p, "x0_range")?,
+                        None => region.0,
+                    },
+                    v0_range: match v0_range {
+                        Some(p) => check_pair(p, "v0_range")?,
+                        None => region.1,
+                    },
+                }
+            }
+            other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
+        };
+        let opts = SweepOptions {
+            param,
+            values,
+            mode,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            sections: secs,
+            lyapunov,
+        };
+        let results = sweep(ctl, &cfg, &scenario, &opts)?;
+        Ok((results, cfg, opts))
+    })?;
     let d = sweep_results(py, &opts.param, &results)?;
     d.set_item("param", &opts.param)?;
     d.set_item("values", arr1(py, opts.values.clone()))?;
@@ -688,7 +686,9 @@ fn response<'py>(
     range: Option<(f64, f64, usize)>,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (results, cfg, opts) = util::run(py, "response", progress, Some(kept_sweep), move |ctl| {
+    let name = param.clone();
+    let partial: util::Partial = Box::new(move |py, ctl| kept_sweep(py, &name, ctl));
+    let (results, cfg, opts) = util::run(py, "response", progress, Some(partial), move |ctl| {
         let mut cfg = src.config()?;
         sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
@@ -766,8 +766,12 @@ fn basins<'py>(
     phase: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (r, cfg, opts, elapsed) =
-        util::run(py, "basins", progress, Some(kept_basins), move |ctl| {
+    let (r, cfg, opts, elapsed) = util::run(
+        py,
+        "basins",
+        progress,
+        Some(Box::new(kept_basins)),
+        move |ctl| {
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
@@ -803,7 +807,8 @@ fn basins<'py>(
             let t = std::time::Instant::now();
             let r = run_basins(model, &opts, &done, |c, o| ctl.keep((c, o.clone())));
             Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
-        })?;
+        },
+    )?;
     let d = PyDict::new(py);
     d.set_item("cells", arr2(py, r.cells.clone(), r.v.n, r.x.n)?)?;
     d.set_item(
@@ -852,7 +857,7 @@ fn continuation<'py>(
         py,
         "continuation",
         progress,
-        Some(util::kept_list::<ValueAttractors>),
+        Some(Box::new(util::kept_list::<ValueAttractors>)),
         move |ctl| {
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
@@ -942,7 +947,7 @@ fn map2d<'py>(
         py,
         "map2d",
         progress,
-        Some(util::kept_list::<MapCell>),
+        Some(Box::new(util::kept_list::<MapCell>)),
         move |ctl| {
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;

@@ -161,7 +161,7 @@ impl Ctl {
 }
 
 /// Builds the partial result of an interrupted call from its [`Ctl`] (`None`: nothing to offer).
-pub type Partial = fn(Python<'_>, &Ctl) -> PyResult<Option<Py<PyAny>>>;
+pub type Partial = Box<dyn FnOnce(Python<'_>, &Ctl) -> PyResult<Option<Py<PyAny>>>>;
 
 /// A [`Partial`]: the kept items of type `T`, as a list of plain Python objects (as in the CLI's
 /// checkpoint lines), in the order they finished.

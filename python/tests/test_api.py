@@ -419,3 +419,16 @@ def test_work_above_the_cap_is_refused_at_once():
     with pytest.raises(ValueError, match="above the cap"):
         geardyn.basins(x=(-2, 2, 4000), v=(-1.5, 1.5, 4000), transient=10**6)
     assert time.monotonic() - t < 5
+
+
+def test_an_empty_partial_has_the_columns_of_the_sweep(sigint):
+    """Interrupted before any value finished: the partial result still names the swept
+    parameter's column (it fell back to `value`)."""
+    timer = threading.Timer(0.05, lambda: signal.pthread_kill(threading.main_thread().ident, signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt) as e:
+        geardyn.bifurcation(param="F", range=(0.01, 0.2, 600), integrator="rk4", periods=50,
+                            transient=100, decision_periods=500)
+    timer.join()
+    p = e.value.partial
+    assert list(p.runs)[0] == "F" and list(p.points)[0] == "F" and p.param == "F"
