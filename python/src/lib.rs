@@ -631,29 +631,17 @@ fn bifurcation<'py>(
         let scenario = cfg.resolve()?;
         let values = values_of(values, range)?;
         let secs = sections(&sections_)?;
-        let region = attractor_region(scenario.model().backlash_levels().1);
-        let mode = match mode.as_str() {
-            "fixed" => SweepMode::Fixed,
-            "sweep" => SweepMode::Sweep,
-            "multi" => {
-                if ics == 0 || ics > 100_000 {
-                    bail!("ics = {}: allowed 1 ..= 100000", ics);
-                }
-                SweepMode::Multi {
-                    ics,
-                    seed,
-                    x0_range: match x0_range {
-                        Some(p) => check_pair(p, "x0_range")?,
-                        None => region.0,
-                    },
-                    v0_range: match v0_range {
-                        Some(p) => check_pair(p, "v0_range")?,
-                        None => region.1,
-                    },
-                }
-            }
-            other => bail!("bad mode '{other}': allowed fixed, sweep, multi"),
-        };
+        // (ranges given are checked as the CLI checks them, then the mode as one)
+        let x0_range = x0_range.map(|p| check_pair(p, "x0_range")).transpose()?;
+        let v0_range = v0_range.map(|p| check_pair(p, "v0_range")).transpose()?;
+        let mode = SweepMode::from_name(
+            &mode,
+            ics,
+            seed,
+            x0_range,
+            v0_range,
+            scenario.model().backlash_levels().1,
+        )?;
         let opts = SweepOptions {
             param,
             values,
@@ -863,9 +851,7 @@ fn continuation<'py>(
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let values = values_of(values, range)?;
-            if ics == 0 || ics > 100_000 {
-                bail!("ics = {}: allowed 1 ..= 100000", ics);
-            }
+            geardyn_analysis::bifurcation::check_ics(ics)?;
             let region = attractor_region(scenario.model().backlash_levels().1);
             let opts = ContinuationOptions {
                 param,

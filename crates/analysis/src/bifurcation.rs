@@ -95,6 +95,75 @@ pub enum SweepMode {
     },
 }
 
+/// Largest number of initial states per value of a multi-initial sweep or a continuation.
+pub const MAX_ICS: usize = 100_000;
+
+/// A sweep mode or initial-state setting out of range ([`SweepMode::from_name`], [`check_ics`]).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ModeError {
+    /// An unknown mode name.
+    #[error("bad mode '{0}': allowed fixed, sweep, multi")]
+    Name(String),
+    /// Initial states per value out of range.
+    #[error("bad ics {0}: allowed 1 ..= {MAX_ICS} (initial states per value)")]
+    Ics(usize),
+    /// A box of initial states that is not a finite interval.
+    #[error("bad {name} ({}, {}): finite MIN <= MAX", geardyn_model::error::num(.range.0), geardyn_model::error::num(.range.1))]
+    Range {
+        /// `x0_range` or `v0_range`.
+        name: &'static str,
+        /// The interval given.
+        range: (f64, f64),
+    },
+}
+
+/// Checks a number of initial states per value (`1 ..= MAX_ICS`).
+pub fn check_ics(ics: usize) -> Result<usize, ModeError> {
+    if (1..=MAX_ICS).contains(&ics) {
+        Ok(ics)
+    } else {
+        Err(ModeError::Ics(ics))
+    }
+}
+
+fn check_range(name: &'static str, r: (f64, f64)) -> Result<(f64, f64), ModeError> {
+    if r.0.is_finite() && r.1.is_finite() && r.0 <= r.1 {
+        Ok(r)
+    } else {
+        Err(ModeError::Range { name, range: r })
+    }
+}
+
+impl SweepMode {
+    /// The mode named `name` (`fixed`, `sweep` or `multi`) — the one place the CLI and the Python
+    /// module turn their options into a mode. For `multi`: `ics` initial states per value
+    /// ([`check_ics`]) drawn with `seed` from `x0_range` x `v0_range`, by default the
+    /// [`attractor_region`] of the largest half backlash `d_max`.
+    pub fn from_name(
+        name: &str,
+        ics: usize,
+        seed: u64,
+        x0_range: Option<(f64, f64)>,
+        v0_range: Option<(f64, f64)>,
+        d_max: f64,
+    ) -> Result<Self, ModeError> {
+        match name {
+            "fixed" => Ok(SweepMode::Fixed),
+            "sweep" => Ok(SweepMode::Sweep),
+            "multi" => {
+                let region = attractor_region(d_max);
+                Ok(SweepMode::Multi {
+                    ics: check_ics(ics)?,
+                    seed,
+                    x0_range: check_range("x0_range", x0_range.unwrap_or(region.0))?,
+                    v0_range: check_range("v0_range", v0_range.unwrap_or(region.1))?,
+                })
+            }
+            other => Err(ModeError::Name(other.to_string())),
+        }
+    }
+}
+
 /// Settings of a sweep.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SweepOptions {

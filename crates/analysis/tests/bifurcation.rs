@@ -154,3 +154,44 @@ fn invalid_values_are_rejected_before_work_starts() {
     o.param = "nonsense".into();
     assert!(run_sweep(&base, &o, &HashMap::new(), |_| {}).is_err());
 }
+
+#[test]
+fn a_mode_from_its_name_is_checked_once_for_every_face() {
+    use geardyn_analysis::bifurcation::{attractor_region, ModeError, MAX_ICS};
+    assert_eq!(
+        SweepMode::from_name("fixed", 0, 0, None, None, 1.0),
+        Ok(SweepMode::Fixed)
+    );
+    // multi: the attractor region of the largest half backlash by default
+    let region = attractor_region(1.2);
+    assert_eq!(
+        SweepMode::from_name("multi", 8, 3, None, None, 1.2),
+        Ok(SweepMode::Multi {
+            ics: 8,
+            seed: 3,
+            x0_range: region.0,
+            v0_range: region.1
+        })
+    );
+    assert_eq!(region.0, (-(1.2 + 3.6), 1.2 + 3.6));
+    assert_eq!(
+        SweepMode::from_name("multi", 0, 3, None, None, 1.0),
+        Err(ModeError::Ics(0))
+    );
+    assert_eq!(
+        SweepMode::from_name("multi", MAX_ICS + 1, 3, None, None, 1.0),
+        Err(ModeError::Ics(MAX_ICS + 1))
+    );
+    assert!(SweepMode::from_name("multi", MAX_ICS, 3, None, None, 1.0).is_ok());
+    assert!(matches!(
+        SweepMode::from_name("multi", 4, 3, Some((1.0, f64::NAN)), None, 1.0),
+        Err(ModeError::Range {
+            name: "x0_range",
+            ..
+        })
+    ));
+    assert_eq!(
+        SweepMode::from_name("both", 4, 3, None, None, 1.0),
+        Err(ModeError::Name("both".into()))
+    );
+}

@@ -2,11 +2,9 @@
 
 use crate::run_config::ConfigArgs;
 use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::bifurcation::{
-    attractor_region, detect_jumps, linspace, Section, SweepMode, SweepOptions,
-};
+use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
 use geardyn_io::{output, run_record, sweep_output};
 use std::path::PathBuf;
 
@@ -74,28 +72,20 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let secs = sections(&a.sections)?;
-    let region = attractor_region(scenario.model().backlash_levels().1);
-    let mode = match a.mode.as_str() {
-        "fixed" => SweepMode::Fixed,
-        "sweep" => SweepMode::Sweep,
-        _ => {
-            if a.ics == 0 || a.ics > 100_000 {
-                bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
-            }
-            SweepMode::Multi {
-                ics: a.ics,
-                seed: a.seed,
-                x0_range: match &a.x0_range {
-                    Some(s) => parse_pair(s, "--x0-range")?,
-                    None => region.0,
-                },
-                v0_range: match &a.v0_range {
-                    Some(s) => parse_pair(s, "--v0-range")?,
-                    None => region.1,
-                },
-            }
-        }
-    };
+    let mode = SweepMode::from_name(
+        &a.mode,
+        a.ics,
+        a.seed,
+        a.x0_range
+            .as_deref()
+            .map(|s| parse_pair(s, "--x0-range"))
+            .transpose()?,
+        a.v0_range
+            .as_deref()
+            .map(|s| parse_pair(s, "--v0-range"))
+            .transpose()?,
+        scenario.model().backlash_levels().1,
+    )?;
     let opts = SweepOptions {
         param: a.param.clone(),
         values: linspace(lo, hi, n),

@@ -275,9 +275,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
-    if a.ics == 0 || a.ics > 100_000 {
-        bail!("bad --ics {}: allowed 1 ..= 100000", a.ics);
-    }
+    geardyn_analysis::bifurcation::check_ics(a.ics)?;
     let region = attractor_region(scenario.model().backlash_levels().1);
     let opts = ContinuationOptions {
         param: a.param.clone(),
