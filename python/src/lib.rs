@@ -1013,47 +1013,14 @@ fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
     };
     let model = scenario.model();
     let d = PyDict::new(py);
-    let c = Columns::new(py);
     if let Some(pm) = &pair {
         let (dd, ds) = (scenario.params().d_double, scenario.params().d_single);
-        let rows = &pm.rows;
-        c.f64("position_cycles", rows.iter().map(|r| r.position).collect())?;
-        c.f64("k_pair1_N_per_m", rows.iter().map(|r| r.k_pair1).collect())?;
-        c.f64("k_pair2_N_per_m", rows.iter().map(|r| r.k_pair2).collect())?;
-        c.f64("k_mesh_N_per_m", rows.iter().map(|r| r.k_mesh).collect())?;
-        c.f64("share1", rows.iter().map(|r| r.share1).collect())?;
-        c.f64("share2", rows.iter().map(|r| r.share2).collect())?;
-        c.f64("h_drive", rows.iter().map(|r| r.h_drive).collect())?;
-        c.f64("h_back", rows.iter().map(|r| r.h_back).collect())?;
-        c.f64(
-            "half_backlash",
-            rows.iter()
-                .map(|r| if r.single { ds } else { dd })
-                .collect(),
-        )?;
-        c.str(
-            "zone",
-            rows.iter()
-                .map(|r| (if r.single { "single" } else { "double" }).to_string())
-                .collect(),
-        )?;
-        c.f64("mu1", rows.iter().map(|r| r.mu1).collect())?;
-        c.f64("mu2", rows.iter().map(|r| r.mu2).collect())?;
-        c.f64("film1_um", rows.iter().map(|r| r.film1 * 1e6).collect())?;
-        c.f64("lambda1", rows.iter().map(|r| r.lambda1).collect())?;
-        c.str(
-            "regime1",
-            rows.iter()
-                .map(|r| {
-                    (match r.regime1 {
-                        0 => "ehl",
-                        1 => "mixed",
-                        2 => "boundary",
-                        _ => "constant_mu",
-                    })
-                    .to_string()
-                })
-                .collect(),
+        d.set_item(
+            "table",
+            util::table(
+                py,
+                &geardyn_io::schema::pair_stiffness_table(pm.rows.iter(), dd, ds),
+            )?,
         )?;
         let info = PyDict::new(py);
         info.set_item("eps", pm.geom.eps)?;
@@ -1064,30 +1031,12 @@ fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
         info.set_item("samples_per_cycle", pm.spec.samples_per_cycle)?;
         d.set_item("pair", info)?;
     } else {
-        let n = 1024 * model.cycles_per_period() as usize;
-        let cy = model.cycles_per_period() as f64;
-        let rows: Vec<[f64; 5]> = (0..n)
-            .map(|i| {
-                let u = cy * i as f64 / n as f64;
-                let (hd, hb) = model.friction_factors_at(u);
-                [u, model.stiffness_at(u), hd, hb, model.backlash_at(u)]
-            })
-            .collect();
-        for (j, name) in [
-            "position_cycles",
-            "k_dimensionless",
-            "h_drive",
-            "h_back",
-            "half_backlash",
-        ]
-        .iter()
-        .enumerate()
-        {
-            c.f64(name, rows.iter().map(|r| r[j]).collect())?;
-        }
+        d.set_item(
+            "table",
+            util::table(py, &geardyn_io::schema::model_stiffness_table(model))?,
+        )?;
         d.set_item("pair", py.None())?;
     }
-    d.set_item("table", c.dict)?;
     d.set_item("config", config_py(py, &cfg)?)?;
     Ok(d.into_any())
 }

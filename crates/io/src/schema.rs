@@ -308,3 +308,95 @@ pub fn impact_force_table(param: &str, results: &[TaskResult]) -> Table {
     );
     t
 }
+
+/// The stiffness table of a physical pair (`stiffness.csv` of `geardyn stiffness`, of the report's
+/// pair sections and `geardyn.stiffness()`), one row per sample of `rows` (zone borders appear
+/// twice, one row from each side): `position_cycles` (mesh cycles), `k_pair1_N_per_m`,
+/// `k_pair2_N_per_m` (entering and leaving pair, 0 out of contact), `k_mesh_N_per_m`, `share1`,
+/// `share2` (load shares), `h_drive`, `h_back` (friction factors), `half_backlash` (units of
+/// `b_c`: `D_d` in double-tooth, `D_s` in single-tooth zones), `zone` (`double`, `single`), `mu1`,
+/// `mu2` (friction coefficients), `film1_um` (film thickness of the entering pair), `lambda1`
+/// (film parameter), `regime1` (`ehl`, `mixed`, `boundary`, `constant_mu`).
+pub fn pair_stiffness_table<'a>(
+    rows: impl Iterator<Item = &'a geardyn_physics::pair::StiffnessRow> + Clone,
+    d_double: f64,
+    d_single: f64,
+) -> Table {
+    let f = |g: fn(&geardyn_physics::pair::StiffnessRow) -> f64| {
+        Values::F64(rows.clone().map(g).collect())
+    };
+    let mut t = Table::default();
+    t.push("position_cycles", f(|r| r.position));
+    t.push("k_pair1_N_per_m", f(|r| r.k_pair1));
+    t.push("k_pair2_N_per_m", f(|r| r.k_pair2));
+    t.push("k_mesh_N_per_m", f(|r| r.k_mesh));
+    t.push("share1", f(|r| r.share1));
+    t.push("share2", f(|r| r.share2));
+    t.push("h_drive", f(|r| r.h_drive));
+    t.push("h_back", f(|r| r.h_back));
+    t.push(
+        "half_backlash",
+        Values::F64(
+            rows.clone()
+                .map(|r| if r.single { d_single } else { d_double })
+                .collect(),
+        ),
+    );
+    t.push(
+        "zone",
+        Values::Str(
+            rows.clone()
+                .map(|r| (if r.single { "single" } else { "double" }).to_string())
+                .collect(),
+        ),
+    );
+    t.push("mu1", f(|r| r.mu1));
+    t.push("mu2", f(|r| r.mu2));
+    t.push("film1_um", f(|r| r.film1 * 1e6));
+    t.push("lambda1", f(|r| r.lambda1));
+    t.push(
+        "regime1",
+        Values::Str(
+            rows.map(|r| {
+                (match r.regime1 {
+                    0 => "ehl",
+                    1 => "mixed",
+                    2 => "boundary",
+                    _ => "constant_mu",
+                })
+                .to_string()
+            })
+            .collect(),
+        ),
+    );
+    t
+}
+
+/// The stiffness table of a dimensionless model (no physical pair): `position_cycles`,
+/// `k_dimensionless` (`k / k_av`), `h_drive`, `h_back`, `half_backlash`, at 1024 samples per mesh
+/// cycle of the excitation period.
+pub fn model_stiffness_table(model: &geardyn_model::MeshModel) -> Table {
+    let n = 1024 * model.cycles_per_period() as usize;
+    let c = f64::from(model.cycles_per_period());
+    let rows: Vec<[f64; 5]> = (0..n)
+        .map(|i| {
+            let u = c * i as f64 / n as f64;
+            let (hd, hb) = model.friction_factors_at(u);
+            [u, model.stiffness_at(u), hd, hb, model.backlash_at(u)]
+        })
+        .collect();
+    let mut t = Table::default();
+    for (k, name) in [
+        "position_cycles",
+        "k_dimensionless",
+        "h_drive",
+        "h_back",
+        "half_backlash",
+    ]
+    .iter()
+    .enumerate()
+    {
+        t.push(name, Values::F64(rows.iter().map(|r| r[k]).collect()));
+    }
+    t
+}

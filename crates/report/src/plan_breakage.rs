@@ -134,7 +134,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
     let healthy = hs.build()?;
     let (dd, ds) = (base.params().d_double, base.params().d_single);
     let csv = dir.join("stiffness.csv");
-    write_stiffness_csv(&csv, pm)?;
+    write_stiffness_csv(&csv, pm, dd, ds)?;
     let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds)?
         .iter()
         .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
@@ -225,7 +225,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
                 f(share_double)
             ),
             Verdict::of(share_zone2 > 0.95 && share_double < 0.8),
-            "Load shares by pair stiffness (stiffness.csv, columns L1, L2).",
+            "Load shares by pair stiffness (stiffness.csv, columns share1, share2).",
         ),
     ];
     Ok(Section {
@@ -256,39 +256,13 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
     })
 }
 
-/// `stiffness.csv`: the pair's tables (six significant digits; every `step`-th sample when the
-/// table is long, lubrication columns only for a lubricated pair).
-pub fn write_stiffness_csv(path: &Path, pm: &PairModel) -> Result<()> {
-    use crate::shared::g;
-    let lubricated = pm.rows.iter().any(|r| r.regime1 >= 0);
+/// `stiffness.csv`: the pair's table with the columns of `geardyn stiffness`
+/// ([`geardyn_io::schema::pair_stiffness_table`]), six significant digits, every `step`-th sample
+/// when the table is long; `dd`, `ds` the half backlash of the double- and single-tooth zones.
+pub fn write_stiffness_csv(path: &Path, pm: &PairModel, dd: f64, ds: f64) -> Result<()> {
     let step = (pm.rows.len() / 6000).max(1);
-    let mut header = vec![
-        "position", "k_pair1", "k_pair2", "k_mesh", "L1", "L2", "h_drive", "h_back", "single",
-    ];
-    if lubricated {
-        header.extend(["mu1", "mu2", "lambda1", "regime1"]);
-    }
-    geardyn_io::output::write_csv(
-        path,
-        &header,
-        pm.rows.iter().step_by(step).map(|r| {
-            let mut v = vec![
-                g(r.position),
-                g(r.k_pair1),
-                g(r.k_pair2),
-                g(r.k_mesh),
-                g(r.share1),
-                g(r.share2),
-                g(r.h_drive),
-                g(r.h_back),
-                (r.single as u8).to_string(),
-            ];
-            if lubricated {
-                v.extend([g(r.mu1), g(r.mu2), g(r.lambda1), r.regime1.to_string()]);
-            }
-            v
-        }),
-    )?;
+    geardyn_io::schema::pair_stiffness_table(pm.rows.iter().step_by(step), dd, ds)
+        .write_csv(path, crate::shared::g)?;
     Ok(())
 }
 
