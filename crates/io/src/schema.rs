@@ -208,12 +208,17 @@ pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
                 .fold(0.0, f64::max)
         }),
     );
-    t.push("mean_x", amp(|a| a.mean_x));
-    t.push("rms_x", amp(|a| a.rms_x));
-    t.push("p2p_x", amp(|a| a.p2p_x));
-    t.push("mean_force", amp(|a| a.mean_force));
-    t.push("rms_force", amp(|a| a.rms_force));
-    t.push("p2p_force", amp(|a| a.p2p_force));
+    let amplitudes: [(&str, fn(&geardyn_analysis::simulate::Amplitudes) -> f64); 6] = [
+        ("mean_x", |a| a.mean_x),
+        ("rms_x", |a| a.rms_x),
+        ("p2p_x", |a| a.p2p_x),
+        ("mean_force", |a| a.mean_force),
+        ("rms_force", |a| a.rms_force),
+        ("p2p_force", |a| a.p2p_force),
+    ];
+    for (name, g) in amplitudes {
+        t.push(name, amp(g));
+    }
     t.push("tle", f(&|_, u| u.tle.unwrap_or(f64::NAN)));
     t.push(
         "decision_tle",
@@ -325,15 +330,21 @@ pub fn pair_stiffness_table<'a>(
     let f = |g: fn(&geardyn_physics::pair::StiffnessRow) -> f64| {
         Values::F64(rows.clone().map(g).collect())
     };
+    type Row = geardyn_physics::pair::StiffnessRow;
+    let numbers: [(&str, fn(&Row) -> f64); 8] = [
+        ("position_cycles", |r| r.position),
+        ("k_pair1_N_per_m", |r| r.k_pair1),
+        ("k_pair2_N_per_m", |r| r.k_pair2),
+        ("k_mesh_N_per_m", |r| r.k_mesh),
+        ("share1", |r| r.share1),
+        ("share2", |r| r.share2),
+        ("h_drive", |r| r.h_drive),
+        ("h_back", |r| r.h_back),
+    ];
     let mut t = Table::default();
-    t.push("position_cycles", f(|r| r.position));
-    t.push("k_pair1_N_per_m", f(|r| r.k_pair1));
-    t.push("k_pair2_N_per_m", f(|r| r.k_pair2));
-    t.push("k_mesh_N_per_m", f(|r| r.k_mesh));
-    t.push("share1", f(|r| r.share1));
-    t.push("share2", f(|r| r.share2));
-    t.push("h_drive", f(|r| r.h_drive));
-    t.push("h_back", f(|r| r.h_back));
+    for (name, g) in numbers {
+        t.push(name, f(g));
+    }
     t.push(
         "half_backlash",
         Values::F64(
