@@ -112,6 +112,9 @@ impl Table {
     }
 }
 
+/// A number column taken from a record of type `T`: its name and how to read it.
+type NumberColumn<T> = (&'static str, fn(&T) -> f64);
+
 /// Every digit (shortest round-trip form): the CLI's number format.
 pub fn full(v: f64) -> String {
     format!("{v}")
@@ -208,7 +211,7 @@ pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
                 .fold(0.0, f64::max)
         }),
     );
-    let amplitudes: [(&str, fn(&geardyn_analysis::simulate::Amplitudes) -> f64); 6] = [
+    let amplitudes: [NumberColumn<geardyn_analysis::simulate::Amplitudes>; 6] = [
         ("mean_x", |a| a.mean_x),
         ("rms_x", |a| a.rms_x),
         ("p2p_x", |a| a.p2p_x),
@@ -330,8 +333,7 @@ pub fn pair_stiffness_table<'a>(
     let f = |g: fn(&geardyn_physics::pair::StiffnessRow) -> f64| {
         Values::F64(rows.clone().map(g).collect())
     };
-    type Row = geardyn_physics::pair::StiffnessRow;
-    let numbers: [(&str, fn(&Row) -> f64); 8] = [
+    let numbers: [NumberColumn<geardyn_physics::pair::StiffnessRow>; 8] = [
         ("position_cycles", |r| r.position),
         ("k_pair1_N_per_m", |r| r.k_pair1),
         ("k_pair2_N_per_m", |r| r.k_pair2),
