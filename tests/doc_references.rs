@@ -24,6 +24,20 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Every file of the repository that may cite another: README.md and the sources, docs,
+/// examples, scripts and tests.
+fn documents(root: &Path) -> Vec<PathBuf> {
+    let mut all = vec![root.join("README.md")];
+    for d in [
+        "crates", "docs", "examples", "scripts", "src", "tests", "python",
+    ] {
+        if root.join(d).is_dir() {
+            files(&root.join(d), &mut all);
+        }
+    }
+    all
+}
+
 /// References to markdown files (with an optional path) in a text.
 fn md_references(text: &str) -> Vec<String> {
     let mut refs = Vec::new();
@@ -52,14 +66,7 @@ fn md_references(text: &str) -> Vec<String> {
 #[test]
 fn every_cited_document_is_in_the_repository() {
     let root = root();
-    let mut all = vec![root.join("README.md")];
-    for d in [
-        "crates", "docs", "examples", "scripts", "src", "tests", "python",
-    ] {
-        if root.join(d).is_dir() {
-            files(&root.join(d), &mut all);
-        }
-    }
+    let all = documents(&root);
     let mut missing = Vec::new();
     for f in &all {
         let text = std::fs::read_to_string(f).unwrap_or_default();
@@ -121,14 +128,7 @@ fn example_references(text: &str) -> Vec<String> {
 #[test]
 fn every_cited_example_is_in_the_repository() {
     let root = root();
-    let mut all = vec![root.join("README.md")];
-    for d in [
-        "crates", "docs", "examples", "scripts", "src", "tests", "python",
-    ] {
-        if root.join(d).is_dir() {
-            files(&root.join(d), &mut all);
-        }
-    }
+    let all = documents(&root);
     let mut missing = Vec::new();
     // (this file's own examples of references are not citations)
     for f in all

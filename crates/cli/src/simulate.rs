@@ -51,42 +51,18 @@ pub struct SimulateArgs {
 pub fn run(args: SimulateArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let mut cfg = args.cfg.config()?;
-    let flags = [
-        (
-            "record_periods",
-            "--periods",
-            args.periods.map(|p| p as f64),
-        ),
-        (
-            "transient_periods",
-            "--transient",
-            args.transient.map(|t| t as f64),
-        ),
-        (
-            "decision_periods",
-            "--decision-periods",
-            args.decision_periods.map(|n| n as f64),
-        ),
-        (
-            "decision_budget",
-            "--decision-budget",
-            args.decision_budget.map(|n| n as f64),
-        ),
-        ("max_work", "--max-work", args.max_work),
-        (
-            "steps_per_cycle",
-            "--steps-per-cycle",
-            args.steps_per_cycle.map(f64::from),
-        ),
-    ];
-    for (name, flag, value) in flags {
-        if let Some(v) = value {
-            cfg.set_by_option(&args.cfg.sets, "--set ", name, flag, v)?;
-        }
+    // the sweeps' flags, applied by the same code (simulate has no checkpoint: no --force)
+    crate::sweep::SimArgs {
+        periods: args.periods,
+        transient: args.transient,
+        integrator: args.integrator.clone(),
+        steps_per_cycle: args.steps_per_cycle,
+        decision_periods: args.decision_periods,
+        decision_budget: args.decision_budget,
+        max_work: args.max_work,
+        force: false,
     }
-    if let Some(m) = &args.integrator {
-        cfg.simulation.method = m.clone();
-    }
+    .apply(&mut cfg, &args.cfg.sets)?;
     let scenario = cfg.resolve().context("configuration rejected")?;
     let model = scenario.model();
     let mut opts = cfg.sim_options()?;
