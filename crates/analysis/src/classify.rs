@@ -387,6 +387,10 @@ enum Wait {
     TlePersist,
     /// The TLE where the work budget ran out before the horizon.
     TleBudget,
+    /// The full record where the work budget ran out after a block that recorded its
+    /// stroboscopic points only (the numbers an `unsettled` verdict reports), then
+    /// [`Wait::TleBudget`].
+    BudgetRecord,
     /// Transient extension `k`.
     Extend(u32),
     /// The TLE after the last extension.
@@ -432,6 +436,9 @@ pub struct Decision<'m> {
     persisted: bool,
     /// The period was read at the loose tolerance after a significantly negative exponent.
     loose_period: bool,
+    /// The current record holds the stroboscopic points only (a persistence block that was not
+    /// the last: [`SimOptions::strobe_only`]); it is recorded again before it is reported.
+    strobe_record: bool,
 }
 
 impl<'m> Decision<'m> {
@@ -462,6 +469,7 @@ impl<'m> Decision<'m> {
             budget_spent: false,
             persisted: false,
             loose_period: false,
+            strobe_record: false,
         };
         if d.runaway() {
             return d;
@@ -508,6 +516,12 @@ impl<'m> Decision<'m> {
                 if self.continued(res2, more, strict) {
                     self.persist(k + 1);
                 }
+            }
+            Wait::BudgetRecord => {
+                self.s = summarize(self.model, &res2, &more);
+                self.take(res2, &more);
+                let periods = tle_periods(&self.opts);
+                self.ask_tle(Wait::TleBudget, periods);
             }
             Wait::Extend(k) => {
                 self.last_opts = more;
@@ -656,6 +670,10 @@ impl<'m> Decision<'m> {
     /// decision) and the options actually used (`transient_periods`).
     pub fn finish(self) -> Result<(SimResult, Summary, SimOptions), SimError> {
         assert!(matches!(self.need, Need::Done), "not decided yet");
+        debug_assert!(
+            !self.strobe_record || matches!(self.s.motion, Motion::Diverged { .. }),
+            "a record of the strobe alone is never reported"
+        );
         match self.err {
             Some(e) => Err(e),
             None => {
@@ -728,9 +746,21 @@ impl<'m> Decision<'m> {
         // the horizon, or as far as the budget reaches when that is short of it
         let end = if left < horizon - done {
             if left < record {
-                // not even another block's record: the budget ends the decision here
+                // not even another block's record: the budget ends the decision here (with the
+                // record it reports, when the last block recorded its strobe alone)
                 self.budget_spent = true;
-                self.ask_tle(Wait::TleBudget, periods);
+                if self.strobe_record {
+                    let (t, y0) = self.res.final_state;
+                    let full = SimOptions {
+                        tau0: t,
+                        start_memory: self.res.final_memory,
+                        transient_periods: 0,
+                        ..self.opts
+                    };
+                    self.ask(Wait::BudgetRecord, Need::Sim { y0, opts: full });
+                } else {
+                    self.ask_tle(Wait::TleBudget, periods);
+                }
                 return;
             }
             done + left
@@ -744,9 +774,12 @@ impl<'m> Decision<'m> {
             .max(MIN_EXTENSION)
             .saturating_mul(1u64 << k.min(40));
         // the block that reaches the end records the requested length (the record a chaotic
-        // verdict reports); earlier ones record enough to show every period. Within a record of
-        // the horizon the last block is a record alone (it ends past it)
-        let record = if end - done <= block.saturating_add(record) {
+        // verdict reports); earlier ones record enough stroboscopic points to show every period,
+        // and nothing else (their only question is whether a period has appeared: a periodic
+        // one is recorded again by `settle`). Within a record of the horizon the last block is a
+        // record alone (it ends past it)
+        let last = end - done <= block.saturating_add(record);
+        let record = if last {
             self.opts.record_periods
         } else {
             record
@@ -757,6 +790,7 @@ impl<'m> Decision<'m> {
             start_memory: self.res.final_memory,
             transient_periods: transient,
             record_periods: record,
+            strobe_only: !last,
             ..self.opts
         };
         let y0 = self.res.final_state.1;
@@ -769,6 +803,7 @@ impl<'m> Decision<'m> {
     fn take(&mut self, mut res: SimResult, more: &SimOptions) {
         self.used.transient_periods += self.res.strobe.len() as u64 + more.transient_periods;
         self.used.record_periods = more.record_periods;
+        self.strobe_record = more.strobe_only;
         res.steps += self.res.steps;
         res.rhs_evals += self.res.rhs_evals;
         self.res = res;
@@ -825,7 +860,7 @@ impl<'m> Decision<'m> {
     /// record at hand stands.
     fn settle(&mut self, tol: f64) {
         self.ask(Wait::Done, Need::Done);
-        if self.settles >= MAX_EXTENSIONS {
+        if self.settles >= MAX_EXTENSIONS && !self.strobe_record {
             return;
         }
         let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
@@ -886,7 +921,7 @@ impl<'m> Decision<'m> {
         } else {
             self.opts.record_periods
         };
-        if on_cycle && (n == 0 || len.is_multiple_of(n)) && len <= want {
+        if on_cycle && (n == 0 || len.is_multiple_of(n)) && len <= want && !self.strobe_record {
             return;
         }
         // record again from the final state (on the orbit); a record of whole orbit periods

@@ -292,6 +292,8 @@ struct Job<'s> {
     rec: Option<Recorder<'s>>,
     /// Periods to record.
     record: u64,
+    /// The stroboscopic points only ([`SimOptions::strobe_only`]).
+    strobe_only: bool,
 }
 
 /// Lane driver of many [`simulate`](crate::simulate::simulate) runs.
@@ -312,11 +314,15 @@ impl<'s, const L: usize> SimDriver<'s, '_, L> {
         let o = self.opts;
         let job = self.jobs[l].as_mut().expect("busy lane");
         let traj_from = job.record.saturating_sub(o.trajectory_periods);
-        let rec = Recorder::new(job.model, false, o.samples_per_cycle, t, traj_from);
-        self.acc.load(l, &rec);
-        job.rec = Some(rec);
+        let rec = Recorder::new(job.model, false, o.samples_per_cycle, t, traj_from)
+            .strobe_only(job.strobe_only);
         job.phase = Phase::Record(job.record);
-        self.rec_mask |= 1 << l;
+        // (a record of the strobe alone takes no part in the lockstep recording)
+        if !job.strobe_only {
+            self.acc.load(l, &rec);
+            self.rec_mask |= 1 << l;
+        }
+        job.rec = Some(rec);
     }
 }
 
@@ -330,6 +336,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             memory,
             transient,
             record,
+            strobe_only,
         } = self.items.get(self.next)?;
         self.next += 1;
         self.jobs[l] = Some(Job {
@@ -338,6 +345,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             phase: Phase::Transient(transient),
             rec: None,
             record,
+            strobe_only,
         });
         if transient == 0 {
             self.start_record(l, t0);
@@ -424,19 +432,15 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
                 memory,
                 stats,
             } => {
-                let mut res = match job.rec.as_mut() {
-                    Some(rec) => {
+                let mut res = match job.rec.take() {
+                    Some(mut rec) => {
                         if recording {
-                            self.acc.store(l, rec);
+                            self.acc.store(l, &mut rec);
                         }
-                        std::mem::take(&mut rec.res)
+                        rec.finish()
                     }
                     None => SimResult::default(),
                 };
-                if res.max_force == f64::NEG_INFINITY {
-                    res.max_force = 0.0;
-                    res.min_force = 0.0;
-                }
                 res.steps = stats.steps;
                 res.rhs_evals = stats.rhs_evals;
                 res.final_state = (t, y);
@@ -467,6 +471,8 @@ struct Item<'s> {
     memory: f64,
     transient: u64,
     record: u64,
+    /// Record the stroboscopic points only ([`SimOptions::strobe_only`]).
+    strobe_only: bool,
 }
 
 /// Work items grouped by phase table.
@@ -629,6 +635,7 @@ pub fn simulate_lane_grid(
         memory: opts.start_memory,
         transient: opts.transient_periods,
         record: opts.record_periods,
+        strobe_only: opts.strobe_only,
     };
     simulate_items(&[item], opts, grid_tau0, Dispatch::Auto, usize::MAX)
         .pop()
@@ -651,6 +658,7 @@ fn simulate_lanes_on<const L: usize>(
             memory: opts.start_memory,
             transient: opts.transient_periods,
             record: opts.record_periods,
+            strobe_only: opts.strobe_only,
         })
         .collect();
     if L == 1 {
@@ -889,11 +897,7 @@ where
                 if recording {
                     self.acc.store(l, &mut rec);
                 }
-                let mut res = std::mem::take(&mut rec.res);
-                if res.max_force == f64::NEG_INFINITY {
-                    res.max_force = 0.0;
-                    res.min_force = 0.0;
-                }
+                let mut res = rec.finish();
                 res.steps = stats.steps;
                 res.rhs_evals = stats.rhs_evals;
                 res.final_state = (t, y);
@@ -1039,6 +1043,7 @@ pub fn decide_lanes(
                         memory: o.start_memory,
                         transient: o.transient_periods,
                         record: o.record_periods,
+                        strobe_only: o.strobe_only,
                     });
                     sim_of.push(i);
                 }

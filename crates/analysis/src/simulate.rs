@@ -113,6 +113,12 @@ pub struct SimOptions {
     /// the run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
     /// never chaotic (default [`crate::classify::DECISION_BUDGET`]).
     pub decision_budget: u64,
+    /// Record the stroboscopic points only (no statistics, forces, events or mesh-cycle strobe;
+    /// `x_range` from the points): the cheap record of a decision's persistence blocks, whose only
+    /// question is whether a period has appeared ([`crate::classify`]). Not an option of the
+    /// commands.
+    #[serde(skip)]
+    pub strobe_only: bool,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -133,6 +139,7 @@ impl Default for SimOptions {
             start_memory: 0.0,
             decision_periods: crate::classify::DECISION_PERIODS,
             decision_budget: crate::classify::DECISION_BUDGET,
+            strobe_only: false,
         }
     }
 }
@@ -411,6 +418,8 @@ pub(crate) struct Recorder<'a> {
     pub(crate) mesh_on: bool,
     pub(crate) mesh_dt: f64,
     pub(crate) next_mesh: u64,
+    /// The stroboscopic points only ([`SimOptions::strobe_only`]).
+    pub(crate) strobe_only: bool,
 }
 
 impl<'a> Recorder<'a> {
@@ -445,7 +454,34 @@ impl<'a> Recorder<'a> {
             mesh_on: model.cycles_per_period() > 1,
             mesh_dt: model.mesh_cycle_time(),
             next_mesh: 1,
+            strobe_only: false,
         }
+    }
+
+    /// The recorder of the stroboscopic points only ([`SimOptions::strobe_only`]).
+    pub(crate) fn strobe_only(mut self, on: bool) -> Self {
+        self.strobe_only = on;
+        self
+    }
+
+    /// The finished record: `x_range` of a record of the stroboscopic points only taken from
+    /// them, and the force extremes of a record without a force set to zero.
+    pub(crate) fn finish(mut self) -> SimResult {
+        if self.strobe_only {
+            self.res.x_range = self
+                .res
+                .strobe
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[1]), hi.max(p[1]))
+                });
+        }
+        let mut res = self.res;
+        if res.max_force == f64::NEG_INFINITY {
+            res.max_force = 0.0;
+            res.min_force = 0.0;
+        }
+        res
     }
 
     fn force(&mut self, t: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
@@ -483,6 +519,9 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
         after: &MeshMode,
         y_after: &[f64; 2],
     ) {
+        if self.strobe_only {
+            return;
+        }
         let (t0, t1) = (step.t0, step.t1);
         let dt = t1 - t0;
         let slot = match before.contact {
@@ -708,13 +747,10 @@ pub fn simulate(model: &MeshModel, y0: [f64; 2], opts: &SimOptions) -> Result<Si
         opts.samples_per_cycle,
         integ.t(),
         traj_from,
-    );
+    )
+    .strobe_only(opts.strobe_only);
     run_periods(&mut integ, period, opts.record_periods, &mut rec)?;
-    let mut res = rec.res;
-    if res.max_force == f64::NEG_INFINITY {
-        res.max_force = 0.0;
-        res.min_force = 0.0;
-    }
+    let mut res = rec.finish();
     let st = integ.stats();
     res.steps = st.steps;
     res.rhs_evals = st.rhs_evals;

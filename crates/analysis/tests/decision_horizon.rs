@@ -19,15 +19,19 @@ const RK4: Method = Method::Rk4 {
     steps_per_cycle: 512,
 };
 
-/// C1 at `omega` from rest, fixed-step RK4 512, decided with `opts` over the defaults.
+/// C1 at `omega` from rest, fixed-step RK4 512, decided with `opts` over the defaults. The
+/// record reported is a full one, whatever the persistence blocks recorded on the way (their
+/// records hold the stroboscopic points alone): forces, contact time and its rates.
 fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
     let opts = SimOptions {
         method: RK4,
         ..opts
     };
-    simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default())
-        .unwrap()
-        .1
+    let (res, s, _) = simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert!(res.max_force > 0.0 && s.max_force > 0.0, "{}", s.label);
+    assert!(res.durations.iter().sum::<f64>() > 0.0);
+    assert!(s.p_id > 0.0 && s.p_id < 1.0, "{}", s.p_id);
+    s
 }
 
 #[test]

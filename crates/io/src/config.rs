@@ -718,6 +718,7 @@ impl Config {
             start_memory: 0.0,
             decision_periods: s.decision_periods,
             decision_budget: s.decision_budget,
+            ..SimOptions::default()
         })
     }
 }

@@ -110,6 +110,11 @@ pub struct AffineTables<const L: usize> {
     /// NaN: none.
     key: [[f64; 5]; L],
     tab: Vec<[[f64; L]; 8]>,
+    /// Per lane, the RK4 step of free flight `x'' = F + xi omega^2 cos` with the lane's step `h`:
+    /// `x1 = x0 + h v0 + sep[0] + sep[1] s0_j`, `v1 = v0 + sep[2] + sep[3] s1_j` (`s0_j`, `s1_j`
+    /// the step's cosine sums of [`Row`]): `h^2 F / 2`, `h^2 xi omega^2 / 6`, `h F`,
+    /// `h xi omega^2 / 6`; and `h` itself (`sep[4]`).
+    sep: [[f64; L]; 5],
 }
 
 /// Lanes the fused kernel advances stage by stage together ([`MeshLanes::kernel`]). On the C1
@@ -147,6 +152,8 @@ struct Row {
     hd: [f64; 3],
     hb: [f64; 3],
     d: f64,
+    /// Cosine sums of the RK4 step of free flight: `cos0 + 2 cos_mid`, `cos0 + 4 cos_mid + cos_end`.
+    sep: [f64; 2],
     scalar: bool,
 }
 
@@ -324,6 +331,7 @@ impl MeshLanes {
                 hd: [0.0; 3],
                 hb: [0.0; 3],
                 d: model.backlash_at(pos(2 * j + 1)),
+                sep: [0.0; 2],
                 scalar: false,
             };
             for s in 0..3 {
@@ -336,6 +344,10 @@ impl MeshLanes {
                 r.dk[s] = kappa * dc;
                 (r.hd[s], r.hb[s]) = model.friction_factors_at(u);
             }
+            r.sep = [
+                r.cos[0] + 2.0 * r.cos[1],
+                r.cos[0] + 4.0 * r.cos[1] + r.cos[2],
+            ];
             rows.push(r);
         }
         // steps that may hold a segment border: (u_j - delta, u_{j+1} + delta], any wrap
@@ -443,6 +455,16 @@ impl MeshLanes {
             {
                 e[c][l] = v;
             }
+        }
+        let sep = [
+            h * h * 0.5 * ln.load,
+            h * h * (1.0 / 6.0) * ln.xiw2,
+            h * ln.load,
+            h * (1.0 / 6.0) * ln.xiw2,
+            h,
+        ];
+        for (c, v) in sep.into_iter().enumerate() {
+            w.sep[c][l] = v;
         }
         w.key[l] = [ln.w, ln.c, ln.load, ln.xiw2, h];
     }
@@ -862,8 +884,17 @@ impl MeshLanes {
     /// The affine step of every lane (see [`MeshLanes::kernel`] for the returned bits): in
     /// contact `y1 = P y0 + q_e + s q_o` from the lane's column of `w`, when separated the RK4
     /// step of `x'' = F + xi omega^2 cos` in closed form (`x0 + h v0 + h^2 (e0 + 2 em) / 6`,
-    /// `v0 + h (e0 + 4 em + ee) / 6`); then the end field and the interior bound as in the
-    /// RK4 kernel. Coefficients at the exact grid phases (no rounded-time correction).
+    /// `v0 + h (e0 + 4 em + ee) / 6`, from the lane's constants and the row's cosine sums); then
+    /// the end field and the interior bound. Coefficients at the exact grid phases, with the
+    /// lane's nominal step (no rounded-time correction).
+    ///
+    /// The interior bound is taken over `x` alone: both guards of the states this map covers
+    /// (`x -+ D`, drive or back contact and free flight of a bilateral linear law) depend on `x`
+    /// only, so the Hermite deviation of `x'` cannot move them (the bound of the RK4 stage kernel
+    /// and of the scalar integrator, over both components, is wider than they need here; it
+    /// flagged for the scalar integrator steps that could hold no event). And one finiteness test:
+    /// a finite end acceleration `F + xi w^2 cos - h_f (k (x - s D) + c x')` implies a finite
+    /// `x` and `x'` (an infinite or NaN one makes it infinite or NaN, `0 * inf` included).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn affine_kernel<const L: usize>(
@@ -874,13 +905,13 @@ impl MeshLanes {
         ln: &MeshLaneBlock<L>,
         w: &AffineTables<L>,
         y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u64 {
         let r = &self.rows[j];
         let e = &w.tab[j];
-        let [c0, cm, ce] = r.cos;
+        let ce = r.cos[2];
+        let [s0, s1] = r.sep;
         let (kke, hde, d) = (r.k[2], r.hd[2], r.d);
         // verdicts as lane bits, OR-reduced (as in the RK4 kernel): stays in registers
         let mut bits = [0u64; L];
@@ -890,35 +921,30 @@ impl MeshLanes {
             let s = sd - sb;
             let xc = e[0][l] * x0 + e[1][l] * v0 + (e[4][l] + s * e[6][l]);
             let vc = e[2][l] * x0 + e[3][l] * v0 + (e[5][l] + s * e[7][l]);
-            let h = t1[l] - t0[l];
-            // (the closed form with this step's own length, as the scalar integrator rounds it:
-            // a separated step tabulated with the nominal length rounds differently, and that
-            // moved the outcome of chaotic transients at 4 of the 200 values of W1)
-            let (load, xiw2) = (ln.load[l], ln.xiw2[l]);
-            let (e0, em, ee) = (load + xiw2 * c0, load + xiw2 * cm, load + xiw2 * ce);
-            let xs = x0 + h * v0 + h * h * (1.0 / 6.0) * (e0 + 2.0 * em);
-            let vs = v0 + h * (1.0 / 6.0) * (e0 + 4.0 * em + ee);
-            let contact = sd + sb > 0.0;
+            let xs = x0 + w.sep[4][l] * v0 + (w.sep[0][l] + w.sep[1][l] * s0);
+            let vs = v0 + (w.sep[2][l] + w.sep[3][l] * s1);
+            let on = sd + sb;
+            let contact = on > 0.0;
             let x1 = if contact { xc } else { xs };
             let v1 = if contact { vc } else { vs };
+            let ee = ln.load[l] + ln.xiw2[l] * ce;
             let fm = kke * (x1 - s * d) + ln.c[l] * v1;
-            let a1 = ee - (sd + sb) * hde * fm;
+            let a1 = ee - on * hde * fm;
             y1[0][l] = x1;
             y1[1][l] = v1;
             f1[0][l] = v1;
             f1[1][l] = a1;
-            // (f0[0] is v0 bit for bit, but reading v0 here made the baseline x86-64 copy 28 %
-            // slower, the AVX2 one 5 % faster and the AVX-512 one no faster)
-            let (clear, finite) = verdict(
-                [x0, v0],
-                [f0[0][l], f0[1][l]],
-                [x1, v1],
-                [v1, a1],
-                h,
-                d,
-                sd,
-                sb,
-            );
+            let finite = a1.abs() < f64::INFINITY;
+            // the interior bound over x (its derivative at the start is v0, at the end v1)
+            let h = t1[l] - t0[l];
+            let dx = x1 - x0;
+            let r2 = h * v0 - dx;
+            let r3 = dx - h * v1 - r2;
+            let margin = 0.25 * (r2.abs() + r3.abs());
+            let (lo, hi) = (min_fast(x0, x1), max_fast(x0, x1));
+            let ca = (lo - d > margin) | (hi - d < -margin);
+            let cb = (lo + d > margin) | (hi + d < -margin);
+            let clear = finite & ((sb != 0.0) | ca) & ((sd != 0.0) | cb);
             bits[l] = ((clear as u64) << l) | ((finite as u64) << (32 + l));
         }
         bits.iter().fold(0, |m, b| m | b)
@@ -1042,6 +1068,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
     fn new_work(&self) -> AffineTables<L> {
         AffineTables {
             key: [[f64::NAN; 5]; L],
+            sep: [[0.0; L]; 5],
             tab: if self.affine {
                 vec![[[0.0; L]; 8]; self.steps]
             } else {
@@ -1149,7 +1176,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         f1: &mut Soa<2, L>,
     ) -> u32 {
         let bits = if self.affine {
-            self.affine_kernel::<L>(j, t0, t1, ln, work, y0, f0, y1, f1)
+            self.affine_kernel::<L>(j, t0, t1, ln, work, y0, y1, f1)
         } else {
             self.stage_bits(j, t0, t1, grid, ln, y0, f0, y1, f1)
         };

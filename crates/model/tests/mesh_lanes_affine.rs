@@ -130,3 +130,67 @@ fn the_affine_map_is_taken_only_where_it_is_exact() {
     assert!(!table(&p, 512));
     assert!(!table(&presets::classic(), 4096));
 }
+
+/// The affine step tests finiteness once, on the end acceleration (an infinite or NaN `x` or
+/// `x'` makes it infinite or NaN in every contact state, `0 * inf` included): no lane with a
+/// non-finite start state, nor one whose step overflows, is ever taken in lockstep.
+#[test]
+fn the_affine_step_never_takes_a_non_finite_lane() {
+    let m = MeshModel::new(&presets::classic()).unwrap();
+    let n = 512;
+    let t = MeshLanes::new(&m, n, 0.0);
+    let h = m.mesh_cycle_time() / n as f64;
+    let states = [
+        ContactState::Drive,
+        ContactState::Separated,
+        ContactState::Back,
+    ];
+    let bad = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e308, -1e308];
+    for st in states {
+        let mut la = <MeshLanes as Lockstep<2, L>>::idle_lanes(&t);
+        let mut wa = <MeshLanes as Lockstep<2, L>>::new_work(&t);
+        for l in 0..L {
+            assert!(Lockstep::<2, L>::set_lane(
+                &t,
+                &mut la,
+                &mut wa,
+                l,
+                &m,
+                &mode(st),
+                h
+            ));
+        }
+        for (k, &b) in bad.iter().enumerate() {
+            for comp in 0..2 {
+                let mut y0 = [[0.0; L]; 2];
+                let x = match st {
+                    ContactState::Drive => 1.5,
+                    ContactState::Back => -1.5,
+                    _ => 0.0,
+                };
+                y0[0] = [x; L];
+                y0[comp][k] = b;
+                let f0 = [[0.0; L]; 2];
+                let (mut y1, mut f1) = ([[0.0; L]; 2], [[0.0; L]; 2]);
+                let j = 37;
+                let t0 = [j as f64 * h; L];
+                let t1 = [(j + 1) as f64 * h; L];
+                let grid = [j as f64; L];
+                let mask = Lockstep::<2, L>::step(
+                    &t, j, &t0, &t1, &grid, &la, &wa, &y0, &f0, &mut y1, &mut f1,
+                );
+                let finite = y1[0][k].is_finite() && y1[1][k].is_finite() && f1[1][k].is_finite();
+                assert!(
+                    mask & (1 << k) == 0 || finite,
+                    "{st:?}: component {comp} = {b:e} taken in lockstep to {:?}",
+                    [y1[0][k], y1[1][k], f1[1][k]]
+                );
+                if !b.is_finite() {
+                    assert_eq!(mask & (1 << k), 0, "{st:?}: {b:e} taken in lockstep");
+                }
+                // the finite neighbours still step
+                assert_ne!(mask & !(1 << k) & ((1 << L) - 1), 0, "{st:?}");
+            }
+        }
+    }
+}
