@@ -15,6 +15,7 @@ pub mod lanes;
 pub mod lanes_tle;
 pub mod lyapunov;
 pub mod map2d;
+pub mod orbits;
 pub mod period;
 pub mod simulate;
 pub mod tle_convergence;

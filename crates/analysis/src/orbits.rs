@@ -1,0 +1,963 @@
+//! Periodic orbits of the non-smooth model: shooting on the stroboscopic map, Floquet
+//! multipliers, pseudo-arclength continuation in any parameter, and the bifurcations along a
+//! branch (period doubling, fold, torus, grazing). docs/analyses.md, "Periodic orbits".
+//!
+//! * **The map.** `P_n(y)`: the state after `n` excitation periods from `y` at the stroboscopic
+//!   phase `tau0`, integrated by the adaptive Dormand–Prince integrator with exact event location.
+//!   Its Jacobian (the monodromy matrix `M` at a fixed point) comes from the variational equation
+//!   integrated with the flow, mapped by the saltation matrix at every contact event and impact
+//!   reset ([`Tangent`], the same code as the Lyapunov exponents): one run per column.
+//! * **Shooting.** Newton's method on `P_n(y) - y = 0` with the Jacobian `M - I`; the orbit's
+//!   Floquet multipliers are the eigenvalues of `M` (2 x 2: closed form, complex pairs kept).
+//! * **Continuation.** Pseudo-arclength in `(x, x', p)`: the tangent of the branch is the null
+//!   vector of `[M - I | dP/dp]` (`dP/dp` by central differences), the corrector Newton's method
+//!   on the fixed-point equation plus the arclength condition, so folds are passed and unstable
+//!   orbits followed like stable ones.
+//! * **Bifurcations**, located between two branch points where a test function changes sign:
+//!   period doubling `det(M + I)` (a multiplier through -1), torus `det(M) - 1` with a complex
+//!   pair (through the unit circle), fold the `p` component of the tangent (a multiplier through
+//!   +1: the branch turns back), grazing a change of the orbit's sequence of contact events (an
+//!   extremum of `x` reaches a contact boundary). Doubling, torus and grazing points are refined
+//!   by bisection in `p` (the orbit corrected at fixed `p`); the continuation goes on with the
+//!   new sequence of events, as the flow is exact on both sides.
+//! * **Branch switching** at a period doubling onto the doubled branch: Newton for `2n` periods
+//!   from the doubling point displaced along the eigenvector of the multiplier -1.
+//!
+//! Limits: near grazing the saltation matrix is unbounded (multipliers jump there, and Newton may
+//! need a smaller step); a contact law with memory (hysteresis of an impact in progress at the
+//! stroboscopic instant) adds a dimension the 2 x 2 map leaves out; a tooth resting on the back
+//! stop has a multiplier 0 (a perturbation annihilated).
+//!
+//! Units: dimensionless time `tau`, displacement in units of the length scale, the parameter in
+//! its own unit.
+
+use crate::driver::{run_periods, Observer};
+use crate::lyapunov::Tangent;
+use crate::simulate::{simulate, summarize, Method, SimOptions};
+use geardyn_model::{MeshMode, MeshModel};
+use geardyn_scenario::{Scenario, ScenarioError};
+use geardyn_solvers::dense::Step;
+use geardyn_solvers::{Integrator, Scheme, SolverError, Stop};
+use serde::Serialize;
+
+/// Settings of shooting and continuation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct OrbitOptions {
+    /// Excitation periods of the orbit (`n` of `P_n`).
+    pub period: u32,
+    /// Stroboscopic phase (start time of the map).
+    pub tau0: f64,
+    /// Relative tolerance of the integration.
+    pub rtol: f64,
+    /// Absolute tolerance of the integration.
+    pub atol: f64,
+    /// Newton converges when `|P_n(y) - y|` (max norm) is below `tol (1 + |y|)`.
+    pub tol: f64,
+    /// Most Newton iterations of one correction.
+    pub max_iter: u32,
+}
+
+impl Default for OrbitOptions {
+    fn default() -> Self {
+        OrbitOptions {
+            period: 1,
+            tau0: 0.0,
+            rtol: 1e-11,
+            atol: 1e-13,
+            tol: 1e-9,
+            max_iter: 30,
+        }
+    }
+}
+
+/// Largest orbit period accepted (excitation periods).
+pub const MAX_ORBIT_PERIOD: u32 = 256;
+
+/// Failure of an orbit computation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OrbitError {
+    /// The integration failed.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    /// The scenario refused a parameter value.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// Newton's method did not converge.
+    #[error("no periodic orbit of period {period} found near x = {x}, x' = {v}: Newton's method did not converge in {iterations} iterations (residual {residual:e}); start closer to the orbit (--set x0= --set v0=, a longer --transient) or try another --period")]
+    NoConvergence {
+        /// Period sought.
+        period: u32,
+        /// Last iterate.
+        x: f64,
+        /// Last iterate.
+        v: f64,
+        /// Iterations taken.
+        iterations: u32,
+        /// Last residual.
+        residual: f64,
+    },
+    /// A setting outside its range.
+    #[error("bad {field} {value}: allowed {allowed}")]
+    Setting {
+        /// The setting.
+        field: &'static str,
+        /// Its value.
+        value: String,
+        /// The range.
+        allowed: String,
+    },
+}
+
+/// A Floquet multiplier `re + i im`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Multiplier {
+    /// Real part.
+    pub re: f64,
+    /// Imaginary part.
+    pub im: f64,
+}
+
+impl Multiplier {
+    /// Modulus.
+    pub fn abs(&self) -> f64 {
+        self.re.hypot(self.im)
+    }
+}
+
+/// The eigenvalues of a 2 x 2 matrix, largest modulus first (a complex pair: positive imaginary
+/// part first).
+pub fn eigenvalues(m: &[[f64; 2]; 2]) -> [Multiplier; 2] {
+    let tr = m[0][0] + m[1][1];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let disc = 0.25 * tr * tr - det;
+    if disc >= 0.0 {
+        let s = disc.sqrt();
+        // the larger root without cancellation, the other from the product
+        let a = 0.5 * tr + if tr >= 0.0 { s } else { -s };
+        let b = if a != 0.0 { det / a } else { 0.5 * tr - s };
+        let (a, b) = if a.abs() >= b.abs() { (a, b) } else { (b, a) };
+        [Multiplier { re: a, im: 0.0 }, Multiplier { re: b, im: 0.0 }]
+    } else {
+        let im = (-disc).sqrt();
+        [
+            Multiplier { re: 0.5 * tr, im },
+            Multiplier {
+                re: 0.5 * tr,
+                im: -im,
+            },
+        ]
+    }
+}
+
+/// The map `P_n` at one point: the image, its Jacobian and the orbit's contact events.
+#[derive(Clone, Debug)]
+struct MapEval {
+    y: [f64; 2],
+    jac: [[f64; 2]; 2],
+    /// Contact state entered at each event, in order from the stroboscopic instant.
+    events: Vec<i8>,
+}
+
+/// Collects the contact state entered at each event.
+struct Events(Vec<i8>);
+
+impl<'m> Observer<Tangent<&'m MeshModel>, 5> for Events {
+    fn on_step(
+        &mut self,
+        _sys: &Tangent<&'m MeshModel>,
+        _step: &Step<5>,
+        before: &MeshMode,
+        _stop: Stop,
+        after: &MeshMode,
+        _y_after: &[f64; 5],
+    ) {
+        if before.contact != after.contact {
+            self.0.push(after.contact.code());
+        }
+    }
+}
+
+/// `n` periods of the flow and of the tangent `d` from `(t0, y)`.
+fn flow(
+    model: &MeshModel,
+    y: [f64; 2],
+    d: [f64; 2],
+    o: &OrbitOptions,
+    events: &mut Events,
+) -> Result<[f64; 5], OrbitError> {
+    let scheme = Scheme::DormandPrince {
+        rtol: o.rtol,
+        atol: o.atol,
+    };
+    let tan = Tangent {
+        sys: model,
+        saltation: true,
+    };
+    let mut it = Integrator::new(tan, scheme, o.tau0, [y[0], y[1], d[0], d[1], 0.0])?;
+    run_periods(
+        &mut it,
+        model.excitation_period(),
+        u64::from(o.period),
+        events,
+    )?;
+    Ok(*it.y())
+}
+
+/// `P_n(y)` with its Jacobian.
+fn map_eval(model: &MeshModel, y: [f64; 2], o: &OrbitOptions) -> Result<MapEval, OrbitError> {
+    let mut ev = Events(Vec::new());
+    let a = flow(model, y, [1.0, 0.0], o, &mut ev)?;
+    let b = flow(model, y, [0.0, 1.0], o, &mut Events(Vec::new()))?;
+    Ok(MapEval {
+        y: [a[0], a[1]],
+        jac: [[a[2], b[2]], [a[3], b[3]]],
+        events: ev.0,
+    })
+}
+
+/// The stroboscopic map `P_n(y)` of `model` (`n = opts.period` excitation periods from `y` at
+/// `opts.tau0`) and its Jacobian by the variational equation with saltation matrices.
+pub fn stroboscopic_map(
+    model: &MeshModel,
+    y: [f64; 2],
+    opts: &OrbitOptions,
+) -> Result<([f64; 2], [[f64; 2]; 2]), OrbitError> {
+    check(opts)?;
+    let e = map_eval(model, y, opts)?;
+    Ok((e.y, e.jac))
+}
+
+/// `P_n(y)` alone (no tangent).
+fn map_only(model: &MeshModel, y: [f64; 2], o: &OrbitOptions) -> Result<[f64; 2], OrbitError> {
+    let scheme = Scheme::DormandPrince {
+        rtol: o.rtol,
+        atol: o.atol,
+    };
+    let mut it = Integrator::new(model, scheme, o.tau0, y)?;
+    run_periods(
+        &mut it,
+        model.excitation_period(),
+        u64::from(o.period),
+        &mut crate::driver::Discard,
+    )?;
+    Ok(*it.y())
+}
+
+/// A periodic orbit: its point on the stroboscopic section and its stability.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Orbit {
+    /// Point `(x, x')` at the stroboscopic phase.
+    pub y: [f64; 2],
+    /// Excitation periods.
+    pub period: u32,
+    /// Monodromy matrix (the Jacobian of `P_n` at `y`).
+    pub monodromy: [[f64; 2]; 2],
+    /// Floquet multipliers, largest modulus first.
+    pub multipliers: [Multiplier; 2],
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// Contact state entered at each event over the orbit, from the stroboscopic instant.
+    pub events: Vec<i8>,
+    /// `|P_n(y) - y|` (max norm) at `y`.
+    pub residual: f64,
+    /// Newton iterations taken.
+    pub iterations: u32,
+}
+
+impl Orbit {
+    fn from_eval(y: [f64; 2], e: MapEval, period: u32, iterations: u32) -> Orbit {
+        let multipliers = eigenvalues(&e.jac);
+        let residual = (e.y[0] - y[0]).abs().max((e.y[1] - y[1]).abs());
+        Orbit {
+            y,
+            period,
+            monodromy: e.jac,
+            stable: multipliers[0].abs() < 1.0,
+            multipliers,
+            events: e.events,
+            residual,
+            iterations,
+        }
+    }
+
+    /// The event sequence as a cyclic word, rotated to its least rotation (an event moving
+    /// across the stroboscopic instant is no change of the orbit).
+    pub fn event_word(&self) -> Vec<i8> {
+        let e = &self.events;
+        (0..e.len().max(1))
+            .map(|k| {
+                let mut r = e[k.min(e.len())..].to_vec();
+                r.extend_from_slice(&e[..k.min(e.len())]);
+                r
+            })
+            .min()
+            .unwrap_or_default()
+    }
+}
+
+fn check(o: &OrbitOptions) -> Result<(), OrbitError> {
+    if o.period == 0 || o.period > MAX_ORBIT_PERIOD {
+        return Err(OrbitError::Setting {
+            field: "period",
+            value: o.period.to_string(),
+            allowed: format!("1 ..= {MAX_ORBIT_PERIOD}"),
+        });
+    }
+    for (field, v) in [("rtol", o.rtol), ("atol", o.atol), ("tol", o.tol)] {
+        if !(v > 0.0 && v < 1e-2) {
+            return Err(OrbitError::Setting {
+                field,
+                value: geardyn_model::error::num(v),
+                allowed: "(0, 0.01)".into(),
+            });
+        }
+    }
+    if !o.tau0.is_finite() {
+        return Err(OrbitError::Setting {
+            field: "tau0",
+            value: geardyn_model::error::num(o.tau0),
+            allowed: "a finite number".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Solves the 2 x 2 system `a z = b`; `None` when singular.
+fn solve2(a: &[[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    if det.is_nan() || det.abs() <= 1e-14 * scale * scale {
+        return None;
+    }
+    Some([
+        (b[0] * a[1][1] - b[1] * a[0][1]) / det,
+        (a[0][0] * b[1] - a[1][0] * b[0]) / det,
+    ])
+}
+
+/// Solves the 3 x 3 system `a z = b` by Gaussian elimination with partial pivoting.
+#[allow(clippy::needless_range_loop)]
+fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
+    for c in 0..3 {
+        let p = (c..3).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].is_nan() || a[p][c].abs() <= 1e-300 {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..3 {
+            let f = a[r][c] / a[c][c];
+            for k in c..3 {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut z = [0.0; 3];
+    for r in (0..3).rev() {
+        let mut s = b[r];
+        for k in r + 1..3 {
+            s -= a[r][k] * z[k];
+        }
+        z[r] = s / a[r][r];
+    }
+    z.iter().all(|v| v.is_finite()).then_some(z)
+}
+
+/// A periodic orbit of `n = opts.period` excitation periods near `y0` by Newton's method on the
+/// stroboscopic map (see the module doc).
+///
+/// Newton's method converges from a state near the orbit: a state on the attractor (after a
+/// transient), or a point of a neighbouring orbit.
+///
+/// ```
+/// use geardyn_analysis::orbits::{find_orbit, OrbitOptions};
+/// use geardyn_analysis::simulate::{simulate, SimOptions};
+/// use geardyn_model::{presets, MeshModel};
+/// // C1 at omega = 0.8: a stable period-1 orbit that leaves contact once per period
+/// let mut p = presets::classic();
+/// p.omega = 0.8;
+/// let m = MeshModel::new(&p).unwrap();
+/// let near = simulate(&m, [0.0, 0.0], &SimOptions { record_periods: 1, ..Default::default() })
+///     .unwrap()
+///     .final_state
+///     .1;
+/// let orbit = find_orbit(&m, near, &OrbitOptions::default()).unwrap();
+/// assert!(orbit.stable && orbit.residual < 1e-8 && orbit.events.len() == 2);
+/// ```
+pub fn find_orbit(
+    model: &MeshModel,
+    y0: [f64; 2],
+    opts: &OrbitOptions,
+) -> Result<Orbit, OrbitError> {
+    check(opts)?;
+    newton(model, y0, opts)
+}
+
+fn newton(model: &MeshModel, y0: [f64; 2], o: &OrbitOptions) -> Result<Orbit, OrbitError> {
+    let mut y = y0;
+    let mut residual = f64::INFINITY;
+    for it in 0..=o.max_iter {
+        let e = map_eval(model, y, o)?;
+        let r = [e.y[0] - y[0], e.y[1] - y[1]];
+        residual = r[0].abs().max(r[1].abs());
+        if !residual.is_finite() {
+            break;
+        }
+        if residual <= o.tol * (1.0 + y[0].abs().max(y[1].abs())) {
+            return Ok(Orbit::from_eval(y, e, o.period, it));
+        }
+        if it == o.max_iter {
+            break;
+        }
+        let a = [
+            [e.jac[0][0] - 1.0, e.jac[0][1]],
+            [e.jac[1][0], e.jac[1][1] - 1.0],
+        ];
+        let Some(mut dy) = solve2(&a, [-r[0], -r[1]]) else {
+            break;
+        };
+        // a damped step far from the orbit (the map is only piecewise smooth)
+        let scale = 1.0 + y[0].abs().max(y[1].abs());
+        let len = dy[0].abs().max(dy[1].abs());
+        if len > 0.5 * scale {
+            let f = 0.5 * scale / len;
+            dy = [dy[0] * f, dy[1] * f];
+        }
+        y = [y[0] + dy[0], y[1] + dy[1]];
+    }
+    Err(OrbitError::NoConvergence {
+        period: o.period,
+        x: y[0],
+        v: y[1],
+        iterations: o.max_iter,
+        residual,
+    })
+}
+
+/// Kind of a bifurcation point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BifurcationKind {
+    /// A multiplier through -1.
+    PeriodDoubling,
+    /// A multiplier through +1 (the branch turns back).
+    Fold,
+    /// A complex pair through the unit circle.
+    Torus,
+    /// The sequence of contact events changes (an extremum of `x` at a contact boundary).
+    Grazing,
+}
+
+impl BifurcationKind {
+    /// The name written in outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            BifurcationKind::PeriodDoubling => "period-doubling",
+            BifurcationKind::Fold => "fold",
+            BifurcationKind::Torus => "torus",
+            BifurcationKind::Grazing => "grazing",
+        }
+    }
+}
+
+/// A point of a branch.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BranchPoint {
+    /// Branch index (0 the first; a doubled branch the next).
+    pub branch: usize,
+    /// Parameter value.
+    pub param: f64,
+    /// The orbit.
+    pub orbit: Orbit,
+}
+
+/// A located bifurcation.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Bifurcation {
+    /// Kind.
+    pub kind: BifurcationKind,
+    /// Branch index.
+    pub branch: usize,
+    /// Parameter value.
+    pub param: f64,
+    /// The orbit there (on the side of the first of the two bracketing points).
+    pub orbit: Orbit,
+}
+
+/// Settings of a continuation.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ContinuationOptions {
+    /// Parameter continued (a name `Scenario::with` takes: omega, F, xi, c, kappa, pair.mu, ...).
+    pub param: String,
+    /// Start value (the first orbit is found here).
+    pub start: f64,
+    /// Stop value (the branch is followed until it leaves `[min(start, stop), max(start, stop)]`).
+    pub stop: f64,
+    /// Largest arclength step (in the scaled `(x, x', p)` space).
+    pub ds_max: f64,
+    /// Most branch points in all (every branch).
+    pub max_points: usize,
+    /// Follow the doubled branch from each period doubling (up to this period).
+    pub switch_up_to: u32,
+    /// Shooting settings.
+    pub orbit: OrbitOptions,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        ContinuationOptions {
+            param: "omega".into(),
+            start: 0.5,
+            stop: 2.0,
+            ds_max: 0.02,
+            max_points: 2000,
+            switch_up_to: 0,
+            orbit: OrbitOptions::default(),
+        }
+    }
+}
+
+/// Branches and bifurcations of a continuation.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Continuation {
+    /// Branch points, branch by branch, in the order followed.
+    pub points: Vec<BranchPoint>,
+    /// Bifurcations located.
+    pub bifurcations: Vec<Bifurcation>,
+    /// Why each branch ended (one line per branch).
+    pub ends: Vec<String>,
+}
+
+/// `P_n - y` and its derivatives in `(y, p)`: `[M - I | dP/dp]`.
+struct Extended {
+    orbit_eval: MapEval,
+    r: [f64; 2],
+    jac: [[f64; 3]; 2],
+}
+
+struct Problem<'a> {
+    base: &'a Scenario,
+    param: &'a str,
+    o: OrbitOptions,
+}
+
+impl Problem<'_> {
+    fn model(&self, p: f64) -> Result<Scenario, OrbitError> {
+        Ok(self.base.with(self.param, p)?)
+    }
+
+    fn dp(&self, p: f64) -> f64 {
+        1e-6 * p.abs().max(1e-2)
+    }
+
+    fn extended(&self, y: [f64; 2], p: f64) -> Result<Extended, OrbitError> {
+        let sc = self.model(p)?;
+        let e = map_eval(sc.model(), y, &self.o)?;
+        let h = self.dp(p);
+        let up = map_only(self.model(p + h)?.model(), y, &self.o)?;
+        let dn = map_only(self.model(p - h)?.model(), y, &self.o)?;
+        let r = [e.y[0] - y[0], e.y[1] - y[1]];
+        let jac = [
+            [e.jac[0][0] - 1.0, e.jac[0][1], (up[0] - dn[0]) / (2.0 * h)],
+            [e.jac[1][0], e.jac[1][1] - 1.0, (up[1] - dn[1]) / (2.0 * h)],
+        ];
+        Ok(Extended {
+            orbit_eval: e,
+            r,
+            jac,
+        })
+    }
+
+    /// The orbit at fixed `p` near `y` (natural-parameter correction).
+    fn at(&self, y: [f64; 2], p: f64) -> Result<Orbit, OrbitError> {
+        let sc = self.model(p)?;
+        newton(sc.model(), y, &self.o)
+    }
+}
+
+/// The unit null vector of the 2 x 3 matrix `j` (the cross product of its rows).
+fn null_vector(j: &[[f64; 3]; 2]) -> [f64; 3] {
+    let (a, b) = (j[0], j[1]);
+    let t = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let n = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+    [t[0] / n, t[1] / n, t[2] / n]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Test functions of a branch point: period doubling, torus (NaN without a complex pair).
+fn tests(o: &Orbit) -> (f64, f64) {
+    let m = &o.monodromy;
+    let pd = (m[0][0] + 1.0) * (m[1][1] + 1.0) - m[0][1] * m[1][0];
+    let complex = o.multipliers[0].im != 0.0;
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    (pd, if complex { det - 1.0 } else { f64::NAN })
+}
+
+/// Continues the branch of period-`opts.orbit.period` orbits through `y0` at `opts.start` in
+/// `opts.param` up to `opts.stop` (see the module doc).
+///
+/// ```
+/// use geardyn_analysis::orbits::{continue_orbits, BifurcationKind, ContinuationOptions};
+/// use geardyn_analysis::simulate::{simulate, SimOptions};
+/// use geardyn_scenario::ScenarioSpec;
+/// // case C1, the period-1 branch from omega = 0.8 to 0.95: it doubles near 0.88
+/// let sc = ScenarioSpec::preset("classic").unwrap().resolve().unwrap();
+/// let at = sc.with("omega", 0.8).unwrap();
+/// let sim = SimOptions { record_periods: 1, ..Default::default() };
+/// let near = simulate(at.model(), [0.0, 0.0], &sim).unwrap().final_state.1;
+/// let opts = ContinuationOptions { start: 0.8, stop: 0.95, ..Default::default() };
+/// let c = continue_orbits(&sc, near, &opts, &|_| {}).unwrap();
+/// let pd = c.bifurcations.iter().find(|b| b.kind == BifurcationKind::PeriodDoubling).unwrap();
+/// assert!((pd.param - 0.88).abs() < 0.01);
+/// ```
+pub fn continue_orbits(
+    base: &Scenario,
+    y0: [f64; 2],
+    opts: &ContinuationOptions,
+    progress: &(dyn Fn(&BranchPoint) + Sync),
+) -> Result<Continuation, OrbitError> {
+    check(&opts.orbit)?;
+    for (field, v) in [("start", opts.start), ("stop", opts.stop)] {
+        if !v.is_finite() {
+            return Err(OrbitError::Setting {
+                field,
+                value: geardyn_model::error::num(v),
+                allowed: "a finite number".into(),
+            });
+        }
+    }
+    if !(opts.ds_max > 0.0 && opts.ds_max.is_finite()) {
+        return Err(OrbitError::Setting {
+            field: "ds_max",
+            value: geardyn_model::error::num(opts.ds_max),
+            allowed: "> 0".into(),
+        });
+    }
+    let mut out = Continuation::default();
+    let mut queue: Vec<(u32, f64, [f64; 2], f64)> = vec![(opts.orbit.period, opts.start, y0, 0.0)];
+    while let Some((period, p0, y, dir)) = queue.pop() {
+        if out.points.len() >= opts.max_points {
+            break;
+        }
+        let branch = out.ends.len();
+        let prob = Problem {
+            base,
+            param: &opts.param,
+            o: OrbitOptions {
+                period,
+                ..opts.orbit
+            },
+        };
+        let doublings = follow(&prob, branch, p0, y, dir, opts, &mut out, progress)?;
+        for (p, y, v) in doublings {
+            if period * 2 <= opts.switch_up_to {
+                if let Some((y2, d2)) = switch(&prob, p, y, v, opts) {
+                    queue.push((period * 2, p, y2, d2));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A period doubling of a branch: the parameter, the orbit's point and the flip eigenvector.
+type Doubling = (f64, [f64; 2], [f64; 2]);
+
+/// Follows one branch from `(p0, y)`; returns its period doublings.
+#[allow(clippy::too_many_arguments)]
+fn follow(
+    prob: &Problem<'_>,
+    branch: usize,
+    p0: f64,
+    y: [f64; 2],
+    dir: f64,
+    opts: &ContinuationOptions,
+    out: &mut Continuation,
+    progress: &(dyn Fn(&BranchPoint) + Sync),
+) -> Result<Vec<Doubling>, OrbitError> {
+    let (lo, hi) = (opts.start.min(opts.stop), opts.start.max(opts.stop));
+    let first = match prob.at(y, p0) {
+        Ok(o) => o,
+        Err(e) if branch > 0 => {
+            out.ends
+                .push(format!("branch {branch}: no orbit at the start ({e})"));
+            return Ok(Vec::new());
+        }
+        Err(e) => return Err(e),
+    };
+    // the branch goes towards `stop` (or the direction given by a branch switch)
+    let want = if dir != 0.0 {
+        dir
+    } else if opts.stop >= opts.start {
+        1.0
+    } else {
+        -1.0
+    };
+    let mut cur = BranchPoint {
+        branch,
+        param: p0,
+        orbit: first,
+    };
+    progress(&cur);
+    out.points.push(cur.clone());
+    let ext = prob.extended(cur.orbit.y, p0)?;
+    let mut tan = null_vector(&ext.jac);
+    if tan[2] * want < 0.0 {
+        tan = [-tan[0], -tan[1], -tan[2]];
+    }
+    let mut ds = opts.ds_max * 0.25;
+    let ds_min = opts.ds_max * 1e-6;
+    let mut doublings = Vec::new();
+    let end = loop {
+        if out.points.len() >= opts.max_points {
+            break "the point limit was reached".to_string();
+        }
+        // predictor, corrector (pseudo-arclength)
+        let z0 = [cur.orbit.y[0], cur.orbit.y[1], cur.param];
+        let pred = [
+            z0[0] + ds * tan[0],
+            z0[1] + ds * tan[1],
+            z0[2] + ds * tan[2],
+        ];
+        let mut z = pred;
+        let mut done: Option<(Extended, u32)> = None;
+        for it in 0..8 {
+            let ext = match prob.extended([z[0], z[1]], z[2]) {
+                Ok(e) => e,
+                Err(_) => break,
+            };
+            let res = ext.r[0].abs().max(ext.r[1].abs());
+            let arc = dot([z[0] - pred[0], z[1] - pred[1], z[2] - pred[2]], tan);
+            if res <= prob.o.tol * (1.0 + z[0].abs().max(z[1].abs())) && arc.abs() < 1e-9 {
+                done = Some((ext, it));
+                break;
+            }
+            let a = [ext.jac[0], ext.jac[1], tan];
+            let Some(dz) = solve3(a, [-ext.r[0], -ext.r[1], -arc]) else {
+                break;
+            };
+            z = [z[0] + dz[0], z[1] + dz[1], z[2] + dz[2]];
+            if !z.iter().all(|v| v.is_finite()) {
+                break;
+            }
+        }
+        let Some((ext, iters)) = done else {
+            ds *= 0.5;
+            if ds < ds_min {
+                break format!(
+                    "the corrector failed at {} = {} (step below {ds_min:e})",
+                    prob.param, cur.param
+                );
+            }
+            continue;
+        };
+        let new_tan = {
+            let t = null_vector(&ext.jac);
+            if dot(t, tan) < 0.0 {
+                [-t[0], -t[1], -t[2]]
+            } else {
+                t
+            }
+        };
+        let next = BranchPoint {
+            branch,
+            param: z[2],
+            orbit: Orbit::from_eval([z[0], z[1]], ext.orbit_eval, prob.o.period, iters),
+        };
+        // a jump in the event sequence wider than one grazing, or a large turn of the tangent:
+        // a smaller step first
+        if dot(new_tan, tan) < 0.9 && ds > ds_min * 16.0 {
+            ds *= 0.5;
+            continue;
+        }
+        // bifurcations between cur and next
+        let (pd0, ns0) = tests(&cur.orbit);
+        let (pd1, ns1) = tests(&next.orbit);
+        if pd0 * pd1 < 0.0 {
+            if let Some(b) = locate(prob, &cur, &next, BifurcationKind::PeriodDoubling) {
+                let v = flip_vector(&b.orbit.monodromy);
+                doublings.push((b.param, b.orbit.y, v));
+                out.bifurcations.push(b);
+            }
+        }
+        if ns0 * ns1 < 0.0 {
+            if let Some(b) = locate(prob, &cur, &next, BifurcationKind::Torus) {
+                out.bifurcations.push(b);
+            }
+        }
+        if tan[2] * new_tan[2] < 0.0 {
+            // the turning point: the branch point of extreme parameter of a quadratic through
+            // the two points and their tangents is close enough at this step; refined by the
+            // smaller of the two
+            let b = if (next.param - cur.param) * tan[2] >= 0.0 {
+                &next
+            } else {
+                &cur
+            };
+            out.bifurcations.push(Bifurcation {
+                kind: BifurcationKind::Fold,
+                branch,
+                param: b.param,
+                orbit: b.orbit.clone(),
+            });
+        }
+        if cur.orbit.event_word() != next.orbit.event_word() {
+            if let Some(b) = locate(prob, &cur, &next, BifurcationKind::Grazing) {
+                out.bifurcations.push(b);
+            }
+        }
+        progress(&next);
+        out.points.push(next.clone());
+        cur = next;
+        tan = new_tan;
+        if iters <= 3 {
+            ds = (ds * 1.5).min(opts.ds_max);
+        }
+        if cur.param < lo || cur.param > hi {
+            break format!("{} left [{lo}, {hi}]", prob.param);
+        }
+        let scale = prob.base.model().backlash_levels().1.max(1.0);
+        if cur.orbit.y[0].abs() > crate::classify::DIVERGED_SCALES * scale {
+            break "the orbit ran away".to_string();
+        }
+    };
+    out.ends
+        .push(format!("branch {branch} (period {}): {end}", prob.o.period));
+    Ok(doublings)
+}
+
+/// The eigenvector of `m` for its multiplier nearest -1.
+fn flip_vector(m: &[[f64; 2]; 2]) -> [f64; 2] {
+    let mu = eigenvalues(m)
+        .into_iter()
+        .filter(|u| u.im == 0.0)
+        .min_by(|a, b| (a.re + 1.0).abs().total_cmp(&(b.re + 1.0).abs()))
+        .map(|u| u.re)
+        .unwrap_or(-1.0);
+    // (m - mu I) v = 0: v from the row of larger norm
+    let a = [m[0][0] - mu, m[0][1]];
+    let b = [m[1][0], m[1][1] - mu];
+    let r = if a[0].hypot(a[1]) >= b[0].hypot(b[1]) {
+        a
+    } else {
+        b
+    };
+    let v = [-r[1], r[0]];
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 {
+        [v[0] / n, v[1] / n]
+    } else {
+        [1.0, 0.0]
+    }
+}
+
+/// Bisection in `p` between two branch points whose test function (of `kind`) differs, each
+/// trial orbit corrected at fixed `p` from the interpolated point.
+fn locate(
+    prob: &Problem<'_>,
+    a: &BranchPoint,
+    b: &BranchPoint,
+    kind: BifurcationKind,
+) -> Option<Bifurcation> {
+    let value = |o: &Orbit| match kind {
+        BifurcationKind::PeriodDoubling => tests(o).0,
+        BifurcationKind::Torus => tests(o).1,
+        _ => 0.0,
+    };
+    let word_a = a.orbit.event_word();
+    let side_a = |o: &Orbit| match kind {
+        BifurcationKind::Grazing => o.event_word() == word_a,
+        _ => value(o) * value(&a.orbit) > 0.0,
+    };
+    let (mut pa, mut ya, mut oa) = (a.param, a.orbit.y, a.orbit.clone());
+    let (mut pb, mut yb) = (b.param, b.orbit.y);
+    for _ in 0..60 {
+        if (pb - pa).abs() <= 1e-10 * (1.0 + pa.abs()) {
+            break;
+        }
+        let pm = 0.5 * (pa + pb);
+        let ym = [0.5 * (ya[0] + yb[0]), 0.5 * (ya[1] + yb[1])];
+        let Ok(om) = prob.at(ym, pm) else {
+            break;
+        };
+        if side_a(&om) {
+            (pa, ya, oa) = (pm, om.y, om);
+        } else {
+            (pb, yb) = (pm, om.y);
+        }
+    }
+    Some(Bifurcation {
+        kind,
+        branch: a.branch,
+        param: 0.5 * (pa + pb),
+        orbit: oa,
+    })
+}
+
+/// The doubled orbit near a period doubling `(p, y)` with flip eigenvector `v`: Newton for twice
+/// the period from `y +- eps v`, slightly to either side of `p`; the start and direction of its
+/// branch.
+fn switch(
+    prob: &Problem<'_>,
+    p: f64,
+    y: [f64; 2],
+    v: [f64; 2],
+    opts: &ContinuationOptions,
+) -> Option<([f64; 2], f64)> {
+    let o2 = OrbitOptions {
+        period: prob.o.period * 2,
+        ..prob.o
+    };
+    let doubled = Problem {
+        base: prob.base,
+        param: prob.param,
+        o: o2,
+    };
+    let span = (opts.stop - opts.start).abs().max(1e-6);
+    for dp in [1e-3 * span, -1e-3 * span, 1e-2 * span, -1e-2 * span] {
+        for eps in [1e-2, 1e-3, 1e-1] {
+            let start = [y[0] + eps * v[0], y[1] + eps * v[1]];
+            if let Ok(o) = doubled.at(start, p + dp) {
+                // not the period-n orbit counted twice
+                let Ok(sc) = doubled.model(p + dp) else {
+                    continue;
+                };
+                let Ok(img) = map_only(sc.model(), o.y, &prob.o) else {
+                    continue;
+                };
+                let d = (img[0] - o.y[0]).abs().max((img[1] - o.y[1]).abs());
+                if d > 1e-6 * (1.0 + o.y[0].abs()) {
+                    return Some((o.y, dp.signum()));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The record of an orbit: its label, forces and P_ID from a simulation of three orbit periods
+/// from the orbit's point (DP5 at the project's default tolerance).
+pub fn describe_orbit(
+    model: &MeshModel,
+    o: &Orbit,
+    tau0: f64,
+) -> Result<crate::simulate::Summary, crate::simulate::SimError> {
+    let opts = SimOptions {
+        method: Method::default(),
+        transient_periods: 0,
+        record_periods: 3 * u64::from(o.period),
+        tau0,
+        max_period: (o.period as usize).max(32),
+        ..Default::default()
+    };
+    let res = simulate(model, o.y, &opts)?;
+    Ok(summarize(model, &res, &opts))
+}

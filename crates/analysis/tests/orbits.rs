@@ -1,0 +1,219 @@
+//! Periodic orbits by shooting (`geardyn_analysis::orbits`): the monodromy matrix against closed
+//! forms and a finite-difference Jacobian of the same map, and the bifurcations of a branch
+//! against the linear response and the brute-force diagram of case C1.
+
+use geardyn_analysis::orbits::{
+    continue_orbits, eigenvalues, find_orbit, stroboscopic_map, BifurcationKind,
+    ContinuationOptions, OrbitOptions,
+};
+use geardyn_analysis::simulate::{simulate, SimOptions};
+use geardyn_model::{presets, MeshModel, ModelParams};
+use geardyn_scenario::Scenario;
+use std::f64::consts::PI;
+
+/// The state of `m` after 300 periods from rest (near its attractor).
+fn settled(m: &MeshModel) -> [f64; 2] {
+    let opts = SimOptions {
+        transient_periods: 300,
+        record_periods: 1,
+        ..Default::default()
+    };
+    simulate(m, [0.0, 0.0], &opts).unwrap().final_state.1
+}
+
+/// C1 with constant stiffness (kappa = 0) and load `f`.
+fn linear(omega: f64, f: f64) -> ModelParams {
+    let mut p = presets::classic();
+    p.set("kappa", 0.0).unwrap();
+    p.set("F", f).unwrap();
+    p.set("omega", omega).unwrap();
+    p
+}
+
+/// Steady state of `x'' + c x' + (x - D) = F + xi w^2 cos(w t)` at `t = 0` (permanent drive
+/// contact): `D + F + Re[xi w^2 / (1 - w^2 + i c w)]` and its derivative.
+fn linear_response(p: &ModelParams) -> [f64; 2] {
+    let (w, c, xi, d, f) = (p.omega, p.c, p.xi, 1.0, p.load);
+    let (re, im) = (1.0 - w * w, c * w);
+    let den = re * re + im * im;
+    let a = xi * w * w;
+    // a / (re + i im) = a (re - i im) / den
+    let (zr, zi) = (a * re / den, -a * im / den);
+    // x = D + F + Re[z e^{i w t}], x' = Re[i w z e^{i w t}] at t = 0
+    [d + f + zr, -w * zi]
+}
+
+#[test]
+fn multipliers_of_a_linear_orbit_in_permanent_contact_have_modulus_exp_minus_c_pi_over_omega() {
+    for omega in [0.6, 0.8, 1.3] {
+        let p = linear(omega, 1.0);
+        let m = MeshModel::new(&p).unwrap();
+        let exact = linear_response(&p);
+        let o = find_orbit(
+            &m,
+            [exact[0] + 0.05, exact[1] - 0.02],
+            &OrbitOptions::default(),
+        )
+        .unwrap();
+        assert!(o.events.is_empty(), "permanent contact: {:?}", o.events);
+        assert!((o.y[0] - exact[0]).abs() < 1e-8 && (o.y[1] - exact[1]).abs() < 1e-8);
+        let want = (-p.c * PI / omega).exp();
+        for mu in o.multipliers {
+            assert!(
+                (mu.abs() - want).abs() < 1e-8,
+                "{omega}: {} vs {want}",
+                mu.abs()
+            );
+        }
+        // the pair's argument: the damped natural frequency times the period
+        let wd = (1.0 - 0.25 * p.c * p.c).sqrt();
+        let arg = o.multipliers[0].im.atan2(o.multipliers[0].re).abs();
+        let t = 2.0 * PI / omega;
+        let want_arg = (wd * t).rem_euclid(2.0 * PI);
+        let want_arg = want_arg.min(2.0 * PI - want_arg);
+        assert!(
+            (arg - want_arg).abs() < 1e-7,
+            "{omega}: {arg} vs {want_arg}"
+        );
+        assert!(o.stable);
+    }
+}
+
+#[test]
+fn the_monodromy_matrix_equals_a_finite_difference_jacobian_of_the_map() {
+    // C1 at omega = 0.8: a period-1 orbit with contact loss and re-entry (saltation at both)
+    let mut p = presets::classic();
+    p.set("omega", 0.8).unwrap();
+    let m = MeshModel::new(&p).unwrap();
+    let o = find_orbit(&m, settled(&m), &OrbitOptions::default()).unwrap();
+    assert!(o.events.len() >= 2, "{:?}", o.events);
+    let opts = OrbitOptions::default();
+    let (_, jac) = stroboscopic_map(&m, o.y, &opts).unwrap();
+    let h = 1e-6;
+    for k in 0..2 {
+        let mut a = o.y;
+        let mut b = o.y;
+        a[k] += h;
+        b[k] -= h;
+        let (fa, _) = stroboscopic_map(&m, a, &opts).unwrap();
+        let (fb, _) = stroboscopic_map(&m, b, &opts).unwrap();
+        for i in 0..2 {
+            let fd = (fa[i] - fb[i]) / (2.0 * h);
+            assert!(
+                (fd - jac[i][k]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "d{i}/d{k}: variational {} vs differences {fd}",
+                jac[i][k]
+            );
+        }
+    }
+    // and the multipliers from the same matrix
+    let mu = eigenvalues(&jac);
+    assert_eq!(mu, o.multipliers);
+}
+
+#[test]
+fn a_branch_finds_the_grazing_of_the_linear_orbit_where_its_amplitude_equals_the_load() {
+    // permanent contact while the response amplitude A(omega) stays below the load F: the orbit
+    // grazes x = D where A = F (then it separates once per period)
+    let f = 0.3;
+    let amp = |w: f64| {
+        let p = linear(w, f);
+        p.xi * w * w / ((1.0 - w * w).powi(2) + (p.c * w).powi(2)).sqrt()
+    };
+    let (mut a, mut b) = (0.6, 0.8);
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if amp(m) < f {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    let w_graze = 0.5 * (a + b);
+    let sc = Scenario::dimensionless(linear(0.6, f)).unwrap();
+    let y0 = linear_response(&linear(0.6, f));
+    let opts = ContinuationOptions {
+        param: "omega".into(),
+        start: 0.6,
+        stop: 0.8,
+        ..Default::default()
+    };
+    let c = continue_orbits(&sc, y0, &opts, &|_| {}).unwrap();
+    let g: Vec<_> = c
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::Grazing)
+        .collect();
+    assert_eq!(g.len(), 1, "{:?}", c.bifurcations);
+    assert!(
+        (g[0].param - w_graze).abs() < 1e-6,
+        "{} vs {w_graze}",
+        g[0].param
+    );
+    // along the branch: contact only before it, a separation per period after it
+    let k = c
+        .points
+        .iter()
+        .position(|p| !p.orbit.events.is_empty())
+        .unwrap();
+    assert!(c.points[..k].iter().all(|p| p.param < w_graze));
+    assert!(c.points[k..].iter().all(|p| p.orbit.events.len() == 2));
+    // past the grazing the separations soften the pair: the branch turns back (a fold) just
+    // above the grazing frequency, towards lower frequencies (the bent resonance of a pair with
+    // backlash)
+    let folds: Vec<f64> = c
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::Fold)
+        .map(|b| b.param)
+        .collect();
+    assert_eq!(folds.len(), 1, "{folds:?}");
+    assert!(folds[0] > w_graze && folds[0] < 0.8, "{folds:?}");
+    assert!(c.points.last().unwrap().param < 0.6);
+}
+
+#[test]
+fn the_period_one_branch_of_c1_doubles_where_the_diagram_does_and_goes_on_unstable() {
+    // the brute-force diagram (W1: 200 values of omega, RK4) shows period 1 up to 0.8769 and
+    // period 2 from 0.8844
+    let sc = Scenario::dimensionless(presets::classic()).unwrap();
+    let opts = ContinuationOptions {
+        param: "omega".into(),
+        start: 0.8,
+        stop: 0.95,
+        ..Default::default()
+    };
+    let y0 = settled(
+        &MeshModel::new(&{
+            let mut p = presets::classic();
+            p.set("omega", 0.8).unwrap();
+            p
+        })
+        .unwrap(),
+    );
+    let c = continue_orbits(&sc, y0, &opts, &|_| {}).unwrap();
+    let pd: Vec<_> = c
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::PeriodDoubling)
+        .collect();
+    assert_eq!(pd.len(), 1, "{:?}", c.bifurcations);
+    let w = pd[0].param;
+    assert!(w > 0.8769 && w < 0.8844, "{w}");
+    // a multiplier at -1 there
+    let mu = pd[0].orbit.multipliers;
+    assert!(
+        mu.iter().any(|m| (m.re + 1.0).abs() < 1e-4 && m.im == 0.0),
+        "{mu:?}"
+    );
+    for pt in &c.points {
+        assert_eq!(
+            pt.orbit.stable,
+            pt.param < w,
+            "{} {:?}",
+            pt.param,
+            pt.orbit.multipliers
+        );
+    }
+    assert!(c.points.iter().any(|p| p.param > 0.94));
+}
