@@ -70,6 +70,10 @@ impl Default for OrbitOptions {
     }
 }
 
+/// A located period doubling (torus) is smooth when a multiplier lies this close to -1 (the unit
+/// circle) there; farther, the multipliers jumped across at a grazing.
+const CRITICAL: f64 = 1e-2;
+
 /// Largest orbit period accepted (excitation periods).
 pub const MAX_ORBIT_PERIOD: u32 = 256;
 
@@ -707,6 +711,29 @@ fn follow(
         orbit: first,
     };
     progress(&cur);
+    let first_index = out.points.len();
+    let mut left_start = false;
+    // the first orbit's points on the section
+    let copies: Vec<[f64; 2]> = {
+        let one = OrbitOptions {
+            period: 1,
+            ..prob.o
+        };
+        let mut v = vec![cur.orbit.y];
+        if let Ok(m) = prob.model(p0) {
+            let mut y = cur.orbit.y;
+            for _ in 1..prob.o.period {
+                match map_only(m.model(), y, &one) {
+                    Ok(n) => {
+                        y = n;
+                        v.push(y);
+                    }
+                    Err(_) => break,
+                }
+            }
+        }
+        v
+    };
     out.points.push(cur.clone());
     let ext = prob.extended(cur.orbit.y, p0)?;
     let mut tan = null_vector(&ext.jac);
@@ -781,16 +808,27 @@ fn follow(
         // bifurcations between cur and next
         let (pd0, ns0) = tests(&cur.orbit);
         let (pd1, ns1) = tests(&next.orbit);
+        // (a multiplier that jumps across -1 or the unit circle at a grazing is no smooth
+        // bifurcation: the grazing is reported, the jump is not)
         if pd0 * pd1 < 0.0 {
             if let Some(b) = locate(prob, &cur, &next, BifurcationKind::PeriodDoubling) {
-                let v = flip_vector(&b.orbit.monodromy);
-                doublings.push((b.param, b.orbit.y, v));
-                out.bifurcations.push(b);
+                let critical = b
+                    .orbit
+                    .multipliers
+                    .iter()
+                    .any(|m| m.im == 0.0 && (m.re + 1.0).abs() < CRITICAL);
+                if critical && fresh(out, &b) {
+                    let v = flip_vector(&b.orbit.monodromy);
+                    doublings.push((b.param, b.orbit.y, v));
+                    out.bifurcations.push(b);
+                }
             }
         }
         if ns0 * ns1 < 0.0 {
             if let Some(b) = locate(prob, &cur, &next, BifurcationKind::Torus) {
-                out.bifurcations.push(b);
+                if (b.orbit.multipliers[0].abs() - 1.0).abs() < CRITICAL && fresh(out, &b) {
+                    out.bifurcations.push(b);
+                }
             }
         }
         if tan[2] * new_tan[2] < 0.0 {
@@ -802,16 +840,21 @@ fn follow(
             } else {
                 &cur
             };
-            out.bifurcations.push(Bifurcation {
+            let fold = Bifurcation {
                 kind: BifurcationKind::Fold,
                 branch,
                 param: b.param,
                 orbit: b.orbit.clone(),
-            });
+            };
+            if fresh(out, &fold) {
+                out.bifurcations.push(fold);
+            }
         }
         if cur.orbit.event_word() != next.orbit.event_word() {
             if let Some(b) = locate(prob, &cur, &next, BifurcationKind::Grazing) {
-                out.bifurcations.push(b);
+                if fresh(out, &b) {
+                    out.bifurcations.push(b);
+                }
             }
         }
         progress(&next);
@@ -828,10 +871,75 @@ fn follow(
         if cur.orbit.y[0].abs() > crate::classify::DIVERGED_SCALES * scale {
             break "the orbit ran away".to_string();
         }
+        // a closed branch (an isola, or a doubled branch that meets its parent again) is
+        // followed once around: it has closed when it comes back to the first orbit, at any of
+        // its points on the section (the same orbit, another phase)
+        let d = copies
+            .iter()
+            .map(|c| {
+                (cur.orbit.y[0] - c[0])
+                    .abs()
+                    .max((cur.orbit.y[1] - c[1]).abs())
+                    .max((cur.param - p0).abs())
+            })
+            .fold(f64::INFINITY, f64::min);
+        if d > 5.0 * opts.ds_max {
+            left_start = true;
+        } else if left_start && d < 0.5 * opts.ds_max {
+            break "the branch closed on itself".to_string();
+        }
+        // or it runs round a loop that does not hold its start (through non-smooth turning
+        // points): it has come back to a point of its own, many steps ago
+        let here = out.points.len() - 1;
+        let revisit = out.points[first_index..here.saturating_sub(10).max(first_index)]
+            .iter()
+            .any(|q| {
+                (cur.orbit.y[0] - q.orbit.y[0])
+                    .abs()
+                    .max((cur.orbit.y[1] - q.orbit.y[1]).abs())
+                    .max((cur.param - q.param).abs())
+                    < 0.1 * ds.min(opts.ds_max)
+            });
+        if revisit {
+            break "the branch closed on itself (a loop)".to_string();
+        }
+        // an orbit of even period that became the orbit of half its period counted twice: the
+        // doubled branch returned to its parent
+        if prob.o.period % 2 == 0 && out.points.len() - first_index > 2 {
+            let half = OrbitOptions {
+                period: prob.o.period / 2,
+                ..prob.o
+            };
+            if let Ok(img) = prob
+                .model(cur.param)
+                .and_then(|m| map_only(m.model(), cur.orbit.y, &half))
+            {
+                let r = (img[0] - cur.orbit.y[0])
+                    .abs()
+                    .max((img[1] - cur.orbit.y[1]).abs());
+                if r <= 1e3 * prob.o.tol * (1.0 + cur.orbit.y[0].abs()) {
+                    break format!(
+                        "the branch met the period-{} branch (at {} = {})",
+                        half.period, prob.param, cur.param
+                    );
+                }
+            }
+        }
     };
     out.ends
         .push(format!("branch {branch} (period {}): {end}", prob.o.period));
     Ok(doublings)
+}
+
+/// Whether `b` is not already listed: the same kind at the same parameter (to 1e-7) on a branch
+/// of the same period is the same point seen at another phase of the orbit (a branch of period
+/// `n` passes through each of its `n` points on the section).
+fn fresh(out: &Continuation, b: &Bifurcation) -> bool {
+    !out.bifurcations.iter().any(|o| {
+        o.kind == b.kind
+            && o.orbit.period == b.orbit.period
+            && (o.param - b.param).abs() <= 1e-7 * (1.0 + b.param.abs())
+    })
 }
 
 /// The eigenvector of `m` for its multiplier nearest -1.

@@ -4,6 +4,7 @@ mod bench;
 mod bifurcation;
 mod global;
 mod lyapunov;
+mod orbits;
 mod report;
 mod run_config;
 mod simulate;
@@ -56,6 +57,11 @@ enum Command {
     // negative values after a space (`--phase -0.1`) are values, not flags
     #[command(allow_negative_numbers = true)]
     Continuation(global::ContinuationArgs),
+    /// Periodic orbits by shooting: Floquet multipliers and stability of one orbit, or with
+    /// --param/--range its branches (stable and unstable) and their bifurcations (period doubling,
+    /// fold, torus, grazing).
+    #[command(allow_negative_numbers = true)]
+    Orbits(orbits::OrbitArgs),
     /// Two-parameter map of max mesh force, P_ID, period, TLE or motion class (resumable).
     // negative values after a space (`--phase -0.1`) are values, not flags
     #[command(allow_negative_numbers = true)]
@@ -114,6 +120,7 @@ fn main() {
         Command::Response(args) => bifurcation::response(args),
         Command::Basins(args) => global::basins_cmd(args),
         Command::Continuation(args) => global::continuation_cmd(args),
+        Command::Orbits(args) => orbits::run(args),
         Command::Map2d(args) => global::map_cmd(args),
         Command::Bench(args) => bench::run(args),
     };

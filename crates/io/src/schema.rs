@@ -413,3 +413,99 @@ pub fn model_stiffness_table(model: &geardyn_model::MeshModel) -> Table {
     }
     t
 }
+
+/// A periodic orbit of a branch with the numbers of its record (label, forces, P_ID).
+#[derive(Clone, Debug)]
+pub struct OrbitRow<'a> {
+    /// The branch point (parameter, orbit, multipliers).
+    pub point: &'a geardyn_analysis::orbits::BranchPoint,
+    /// Label of the orbit's record (n-p-q-r-s).
+    pub label: String,
+    /// Largest mesh force over the orbit.
+    pub max_force: f64,
+    /// Proportion of the orbit's time out of drive contact.
+    pub p_id: f64,
+}
+
+/// The multiplier columns `mu1_re, mu1_im, mu2_re, mu2_im` (largest modulus first).
+fn push_multipliers(t: &mut Table, mus: &[[geardyn_analysis::orbits::Multiplier; 2]]) {
+    for i in 0..2 {
+        t.push(
+            &format!("mu{}_re", i + 1),
+            Values::F64(mus.iter().map(|m| m[i].re).collect()),
+        );
+        t.push(
+            &format!("mu{}_im", i + 1),
+            Values::F64(mus.iter().map(|m| m[i].im).collect()),
+        );
+    }
+}
+
+/// The orbits of `geardyn orbits` (`branch.csv`): `<param>` (when continued), `branch, x, v,
+/// period, label, stable, mu1_re, mu1_im, mu2_re, mu2_im, max_force, p_id`; `x, v` the orbit's
+/// point at the stroboscopic phase.
+pub fn orbit_branch_table(param: Option<&str>, rows: &[OrbitRow<'_>]) -> Table {
+    let mut t = Table::default();
+    if let Some(param) = param {
+        t.push_exact(
+            param,
+            Values::F64(rows.iter().map(|r| r.point.param).collect()),
+        );
+    }
+    t.push(
+        "branch",
+        Values::I64(rows.iter().map(|r| r.point.branch as i64).collect()),
+    );
+    t.push_exact(
+        "x",
+        Values::F64(rows.iter().map(|r| r.point.orbit.y[0]).collect()),
+    );
+    t.push_exact(
+        "v",
+        Values::F64(rows.iter().map(|r| r.point.orbit.y[1]).collect()),
+    );
+    t.push(
+        "period",
+        Values::I64(rows.iter().map(|r| r.point.orbit.period as i64).collect()),
+    );
+    t.push(
+        "label",
+        Values::Str(rows.iter().map(|r| r.label.clone()).collect()),
+    );
+    t.push(
+        "stable",
+        Values::Bool(rows.iter().map(|r| r.point.orbit.stable).collect()),
+    );
+    let mus: Vec<_> = rows.iter().map(|r| r.point.orbit.multipliers).collect();
+    push_multipliers(&mut t, &mus);
+    t.push(
+        "max_force",
+        Values::F64(rows.iter().map(|r| r.max_force).collect()),
+    );
+    t.push("p_id", Values::F64(rows.iter().map(|r| r.p_id).collect()));
+    t
+}
+
+/// The bifurcations of `geardyn orbits` (`bifurcations.csv`): `kind` (period-doubling, fold,
+/// torus, grazing), `<param>, branch, x, v, period, mu1_re, mu1_im, mu2_re, mu2_im`.
+pub fn bifurcations_table(param: &str, b: &[geardyn_analysis::orbits::Bifurcation]) -> Table {
+    let mut t = Table::default();
+    t.push(
+        "kind",
+        Values::Str(b.iter().map(|b| b.kind.name().to_string()).collect()),
+    );
+    t.push_exact(param, Values::F64(b.iter().map(|b| b.param).collect()));
+    t.push(
+        "branch",
+        Values::I64(b.iter().map(|b| b.branch as i64).collect()),
+    );
+    t.push_exact("x", Values::F64(b.iter().map(|b| b.orbit.y[0]).collect()));
+    t.push_exact("v", Values::F64(b.iter().map(|b| b.orbit.y[1]).collect()));
+    t.push(
+        "period",
+        Values::I64(b.iter().map(|b| b.orbit.period as i64).collect()),
+    );
+    let mus: Vec<_> = b.iter().map(|b| b.orbit.multipliers).collect();
+    push_multipliers(&mut t, &mus);
+    t
+}
