@@ -33,7 +33,7 @@
 
 use crate::driver::{run_periods, Observer};
 use crate::lyapunov::Tangent;
-use crate::simulate::{simulate, summarize, Method, SimOptions};
+use crate::simulate::{simulate, Method, SimOptions};
 use geardyn_model::{MeshMode, MeshModel};
 use geardyn_scenario::{Scenario, ScenarioError};
 use geardyn_solvers::dense::Step;
@@ -160,6 +160,8 @@ struct MapEval {
     jac: [[f64; 2]; 2],
     /// Contact state entered at each event, in order from the stroboscopic instant.
     events: Vec<i8>,
+    /// Memory parameter of the mode at the end ([`geardyn_solvers::HybridSystem::memory`]).
+    memory: f64,
 }
 
 /// Collects the contact state entered at each event.
@@ -185,10 +187,11 @@ impl<'m> Observer<Tangent<&'m MeshModel>, 5> for Events {
 fn flow(
     model: &MeshModel,
     y: [f64; 2],
+    memory: f64,
     d: [f64; 2],
     o: &OrbitOptions,
     events: &mut Events,
-) -> Result<[f64; 5], OrbitError> {
+) -> Result<([f64; 5], f64), OrbitError> {
     let scheme = Scheme::DormandPrince {
         rtol: o.rtol,
         atol: o.atol,
@@ -197,25 +200,33 @@ fn flow(
         sys: model,
         saltation: true,
     };
-    let mut it = Integrator::new(tan, scheme, o.tau0, [y[0], y[1], d[0], d[1], 0.0])?;
+    let mut it =
+        Integrator::new(tan, scheme, o.tau0, [y[0], y[1], d[0], d[1], 0.0])?.with_memory(memory);
     run_periods(
         &mut it,
         model.excitation_period(),
         u64::from(o.period),
         events,
     )?;
-    Ok(*it.y())
+    use geardyn_solvers::HybridSystem;
+    Ok((*it.y(), model.memory(it.mode())))
 }
 
 /// `P_n(y)` with its Jacobian.
-fn map_eval(model: &MeshModel, y: [f64; 2], o: &OrbitOptions) -> Result<MapEval, OrbitError> {
+fn map_eval(
+    model: &MeshModel,
+    y: [f64; 2],
+    memory: f64,
+    o: &OrbitOptions,
+) -> Result<MapEval, OrbitError> {
     let mut ev = Events(Vec::new());
-    let a = flow(model, y, [1.0, 0.0], o, &mut ev)?;
-    let b = flow(model, y, [0.0, 1.0], o, &mut Events(Vec::new()))?;
+    let (a, memory_out) = flow(model, y, memory, [1.0, 0.0], o, &mut ev)?;
+    let (b, _) = flow(model, y, memory, [0.0, 1.0], o, &mut Events(Vec::new()))?;
     Ok(MapEval {
         y: [a[0], a[1]],
         jac: [[a[2], b[2]], [a[3], b[3]]],
         events: ev.0,
+        memory: memory_out,
     })
 }
 
@@ -227,17 +238,22 @@ pub fn stroboscopic_map(
     opts: &OrbitOptions,
 ) -> Result<([f64; 2], [[f64; 2]; 2]), OrbitError> {
     check(opts)?;
-    let e = map_eval(model, y, opts)?;
+    let e = map_eval(model, y, 0.0, opts)?;
     Ok((e.y, e.jac))
 }
 
 /// `P_n(y)` alone (no tangent).
-fn map_only(model: &MeshModel, y: [f64; 2], o: &OrbitOptions) -> Result<[f64; 2], OrbitError> {
+fn map_only(
+    model: &MeshModel,
+    y: [f64; 2],
+    memory: f64,
+    o: &OrbitOptions,
+) -> Result<[f64; 2], OrbitError> {
     let scheme = Scheme::DormandPrince {
         rtol: o.rtol,
         atol: o.atol,
     };
-    let mut it = Integrator::new(model, scheme, o.tau0, y)?;
+    let mut it = Integrator::new(model, scheme, o.tau0, y)?.with_memory(memory);
     run_periods(
         &mut it,
         model.excitation_period(),
@@ -266,6 +282,10 @@ pub struct Orbit {
     pub residual: f64,
     /// Newton iterations taken.
     pub iterations: u32,
+    /// Memory parameter of the mode at the stroboscopic instant (the hysteresis factor of an
+    /// impact in progress there, [`geardyn_solvers::HybridSystem::memory`]; 0 for laws without
+    /// memory): a simulation of the orbit starts with it.
+    pub memory: f64,
 }
 
 impl Orbit {
@@ -278,6 +298,7 @@ impl Orbit {
             monodromy: e.jac,
             stable: multipliers[0].abs() < 1.0,
             multipliers,
+            memory: e.memory,
             events: e.events,
             residual,
             iterations,
@@ -395,22 +416,32 @@ pub fn find_orbit(
     opts: &OrbitOptions,
 ) -> Result<Orbit, OrbitError> {
     check(opts)?;
-    newton(model, y0, opts)
+    newton(model, y0, 0.0, opts)
 }
 
-fn newton(model: &MeshModel, y0: [f64; 2], o: &OrbitOptions) -> Result<Orbit, OrbitError> {
+fn newton(
+    model: &MeshModel,
+    y0: [f64; 2],
+    memory0: f64,
+    o: &OrbitOptions,
+) -> Result<Orbit, OrbitError> {
     let mut y = y0;
+    // the memory at the start is the orbit's own at the end (a fixed point in it too: carried
+    // from one iterate to the next)
+    let mut memory = memory0;
     let mut residual = f64::INFINITY;
     for it in 0..=o.max_iter {
-        let e = map_eval(model, y, o)?;
+        let e = map_eval(model, y, memory, o)?;
         let r = [e.y[0] - y[0], e.y[1] - y[1]];
         residual = r[0].abs().max(r[1].abs());
         if !residual.is_finite() {
             break;
         }
-        if residual <= o.tol * (1.0 + y[0].abs().max(y[1].abs())) {
+        let settled = (e.memory - memory).abs() <= o.tol * (1.0 + memory.abs());
+        if residual <= o.tol * (1.0 + y[0].abs().max(y[1].abs())) && settled {
             return Ok(Orbit::from_eval(y, e, o.period, it));
         }
+        memory = e.memory;
         if it == o.max_iter {
             break;
         }
@@ -555,12 +586,12 @@ impl Problem<'_> {
         1e-6 * p.abs().max(1e-2)
     }
 
-    fn extended(&self, y: [f64; 2], p: f64) -> Result<Extended, OrbitError> {
+    fn extended(&self, y: [f64; 2], p: f64, memory: f64) -> Result<Extended, OrbitError> {
         let sc = self.model(p)?;
-        let e = map_eval(sc.model(), y, &self.o)?;
+        let e = map_eval(sc.model(), y, memory, &self.o)?;
         let h = self.dp(p);
-        let up = map_only(self.model(p + h)?.model(), y, &self.o)?;
-        let dn = map_only(self.model(p - h)?.model(), y, &self.o)?;
+        let up = map_only(self.model(p + h)?.model(), y, memory, &self.o)?;
+        let dn = map_only(self.model(p - h)?.model(), y, memory, &self.o)?;
         let r = [e.y[0] - y[0], e.y[1] - y[1]];
         let jac = [
             [e.jac[0][0] - 1.0, e.jac[0][1], (up[0] - dn[0]) / (2.0 * h)],
@@ -573,10 +604,11 @@ impl Problem<'_> {
         })
     }
 
-    /// The orbit at fixed `p` near `y` (natural-parameter correction).
-    fn at(&self, y: [f64; 2], p: f64) -> Result<Orbit, OrbitError> {
+    /// The orbit at fixed `p` near `y` (natural-parameter correction), the memory at the
+    /// stroboscopic instant starting from `memory`.
+    fn at(&self, y: [f64; 2], p: f64, memory: f64) -> Result<Orbit, OrbitError> {
         let sc = self.model(p)?;
-        newton(sc.model(), y, &self.o)
+        newton(sc.model(), y, memory, &self.o)
     }
 }
 
@@ -688,7 +720,7 @@ fn follow(
     progress: &(dyn Fn(&BranchPoint) + Sync),
 ) -> Result<Vec<Doubling>, OrbitError> {
     let (lo, hi) = (opts.start.min(opts.stop), opts.start.max(opts.stop));
-    let first = match prob.at(y, p0) {
+    let first = match prob.at(y, p0, 0.0) {
         Ok(o) => o,
         Err(e) if branch > 0 => {
             out.ends
@@ -723,7 +755,7 @@ fn follow(
         if let Ok(m) = prob.model(p0) {
             let mut y = cur.orbit.y;
             for _ in 1..prob.o.period {
-                match map_only(m.model(), y, &one) {
+                match map_only(m.model(), y, cur.orbit.memory, &one) {
                     Ok(n) => {
                         y = n;
                         v.push(y);
@@ -735,7 +767,7 @@ fn follow(
         v
     };
     out.points.push(cur.clone());
-    let ext = prob.extended(cur.orbit.y, p0)?;
+    let ext = prob.extended(cur.orbit.y, p0, cur.orbit.memory)?;
     let mut tan = null_vector(&ext.jac);
     if tan[2] * want < 0.0 {
         tan = [-tan[0], -tan[1], -tan[2]];
@@ -755,15 +787,20 @@ fn follow(
             z0[2] + ds * tan[2],
         ];
         let mut z = pred;
+        let mut memory = cur.orbit.memory;
         let mut done: Option<(Extended, u32)> = None;
         for it in 0..8 {
-            let ext = match prob.extended([z[0], z[1]], z[2]) {
+            let ext = match prob.extended([z[0], z[1]], z[2], memory) {
                 Ok(e) => e,
                 Err(_) => break,
             };
+            let settled =
+                (ext.orbit_eval.memory - memory).abs() <= prob.o.tol * (1.0 + memory.abs());
+            memory = ext.orbit_eval.memory;
             let res = ext.r[0].abs().max(ext.r[1].abs());
             let arc = dot([z[0] - pred[0], z[1] - pred[1], z[2] - pred[2]], tan);
-            if res <= prob.o.tol * (1.0 + z[0].abs().max(z[1].abs())) && arc.abs() < 1e-9 {
+            if res <= prob.o.tol * (1.0 + z[0].abs().max(z[1].abs())) && arc.abs() < 1e-9 && settled
+            {
                 done = Some((ext, it));
                 break;
             }
@@ -905,14 +942,14 @@ fn follow(
         }
         // an orbit of even period that became the orbit of half its period counted twice: the
         // doubled branch returned to its parent
-        if prob.o.period % 2 == 0 && out.points.len() - first_index > 2 {
+        if prob.o.period.is_multiple_of(2) && out.points.len() - first_index > 2 {
             let half = OrbitOptions {
                 period: prob.o.period / 2,
                 ..prob.o
             };
             if let Ok(img) = prob
                 .model(cur.param)
-                .and_then(|m| map_only(m.model(), cur.orbit.y, &half))
+                .and_then(|m| map_only(m.model(), cur.orbit.y, cur.orbit.memory, &half))
             {
                 let r = (img[0] - cur.orbit.y[0])
                     .abs()
@@ -993,7 +1030,7 @@ fn locate(
         }
         let pm = 0.5 * (pa + pb);
         let ym = [0.5 * (ya[0] + yb[0]), 0.5 * (ya[1] + yb[1])];
-        let Ok(om) = prob.at(ym, pm) else {
+        let Ok(om) = prob.at(ym, pm, oa.memory) else {
             break;
         };
         if side_a(&om) {
@@ -1033,12 +1070,12 @@ fn switch(
     for dp in [1e-3 * span, -1e-3 * span, 1e-2 * span, -1e-2 * span] {
         for eps in [1e-2, 1e-3, 1e-1] {
             let start = [y[0] + eps * v[0], y[1] + eps * v[1]];
-            if let Ok(o) = doubled.at(start, p + dp) {
+            if let Ok(o) = doubled.at(start, p + dp, 0.0) {
                 // not the period-n orbit counted twice
                 let Ok(sc) = doubled.model(p + dp) else {
                     continue;
                 };
-                let Ok(img) = map_only(sc.model(), o.y, &prob.o) else {
+                let Ok(img) = map_only(sc.model(), o.y, o.memory, &prob.o) else {
                     continue;
                 };
                 let d = (img[0] - o.y[0]).abs().max((img[1] - o.y[1]).abs());
@@ -1051,8 +1088,10 @@ fn switch(
     None
 }
 
-/// The record of an orbit: its label, forces and P_ID from a simulation of three orbit periods
-/// from the orbit's point (DP5 at the project's default tolerance).
+/// The record of an orbit: its label, forces and P_ID from a simulation of one orbit period
+/// from the orbit's point (DP5 at the project's default tolerance), read as that orbit
+/// ([`crate::simulate::summarize_orbit`]): an unstable orbit leaves its point only by the
+/// rounding of one orbit period, amplified by its multipliers.
 pub fn describe_orbit(
     model: &MeshModel,
     o: &Orbit,
@@ -1061,11 +1100,16 @@ pub fn describe_orbit(
     let opts = SimOptions {
         method: Method::default(),
         transient_periods: 0,
-        record_periods: 3 * u64::from(o.period),
+        record_periods: u64::from(o.period),
         tau0,
-        max_period: (o.period as usize).max(32),
+        start_memory: o.memory,
         ..Default::default()
     };
     let res = simulate(model, o.y, &opts)?;
-    Ok(summarize(model, &res, &opts))
+    Ok(crate::simulate::summarize_orbit(
+        model,
+        &res,
+        &opts,
+        o.period as usize,
+    ))
 }

@@ -830,6 +830,29 @@ pub fn summarize_tol(
         }
         _ => period,
     };
+    summary_of_period(model, res, opts, period, mesh_period)
+}
+
+/// The summary of a record of the orbit of `period` excitation periods, known by other means
+/// (shooting: [`crate::orbits`]): the record is read as that orbit (its last `period` periods
+/// give the counts) whatever the period test would say of a record this short.
+pub fn summarize_orbit(
+    model: &MeshModel,
+    res: &SimResult,
+    opts: &SimOptions,
+    period: usize,
+) -> Summary {
+    summary_of_period(model, res, opts, period, None)
+}
+
+/// The summary of a record whose period (0: none) is `period`.
+fn summary_of_period(
+    model: &MeshModel,
+    res: &SimResult,
+    opts: &SimOptions,
+    period: usize,
+    mesh_period: Option<usize>,
+) -> Summary {
     let counts = if period > 0 && res.counts_per_period.len() >= period {
         let mut c = [0u32; 4];
         for row in &res.counts_per_period[res.counts_per_period.len() - period..] {
