@@ -197,7 +197,7 @@ pub fn run(a: OrbitArgs) -> Result<()> {
             let shown = std::sync::atomic::AtomicUsize::new(0);
             let c = continue_orbits(&scenario, near, &opts, &|pt| {
                 let k = shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if k % 50 == 0 {
+                if k.is_multiple_of(50) {
                     eprintln!(
                         "  branch {} point {k}: {p} = {:.6}, x = {:.6}, {}",
                         pt.branch,
