@@ -6,10 +6,9 @@ use crate::sweep::parse_range;
 use anyhow::{bail, Result};
 use clap::Args;
 use geardyn_analysis::orbits::{
-    continue_orbits, describe_orbit, find_orbit, BranchPoint, Continuation, ContinuationOptions,
-    Orbit, OrbitOptions, MAX_ORBIT_PERIOD,
+    orbit_records, run_orbits, BranchPoint, Continuation, OrbitsRequest,
 };
-use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
+use geardyn_analysis::simulate::{simulate, SimOptions};
 use geardyn_io::figure::{palette, write_figure, Figure, Layer, LegendEntry, Panel, Style};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
@@ -58,86 +57,15 @@ pub struct OrbitArgs {
     out: PathBuf,
 }
 
-/// The orbit's period read from the motion after the transient, or `None` when not periodic.
-fn detected_period(sc: &Scenario, y: [f64; 2], tau0: f64) -> Result<Option<u32>> {
-    let opts = SimOptions {
-        transient_periods: 0,
-        record_periods: 3 * 32,
-        tau0,
-        ..Default::default()
-    };
-    let res = simulate(sc.model(), y, &opts)?;
-    let s = summarize(sc.model(), &res, &opts);
-    Ok((s.period > 0).then_some(s.period as u32))
-}
-
-fn rows<'a>(
-    sc: &Scenario,
-    param: Option<&str>,
-    pts: &'a [BranchPoint],
-    tau0: f64,
-) -> Vec<OrbitRow<'a>> {
-    pts.par_iter()
-        .map(|p| {
-            let here = match param {
-                Some(name) => sc.with(name, p.param).ok(),
-                None => Some(sc.clone()),
-            };
-            let s = here.and_then(|m| describe_orbit(m.model(), &p.orbit, tau0).ok());
-            OrbitRow {
-                point: p,
-                label: s.as_ref().map_or(String::new(), |s| s.label.clone()),
-                max_force: s.as_ref().map_or(f64::NAN, |s| s.max_force),
-                p_id: s.as_ref().map_or(f64::NAN, |s| s.p_id),
-            }
-        })
-        .collect()
-}
-
 pub fn run(a: OrbitArgs) -> Result<()> {
     let started = run_record::now_unix_s();
     let (cfg, scenario) = a.cfg.resolve()?;
-    if let Some(n) = a.period {
-        if n == 0 || n > MAX_ORBIT_PERIOD {
-            bail!("bad --period {n}: allowed 1 ..= {MAX_ORBIT_PERIOD}");
-        }
-    }
-    if a.transient > geardyn_analysis::simulate::MAX_PERIODS {
-        bail!(
-            "bad --transient {}: allowed 0 ..= {}",
-            a.transient,
-            geardyn_analysis::simulate::MAX_PERIODS
-        );
-    }
-    if !(a.ds > 0.0 && a.ds <= 1.0) {
-        bail!(
-            "bad --ds {}: allowed (0, 1]",
-            geardyn_model::error::num(a.ds)
-        );
-    }
-    if !(a.rtol >= 1e-14 && a.rtol <= 1e-6) {
-        bail!(
-            "bad --rtol {}: allowed [1e-14, 1e-6]",
-            geardyn_model::error::num(a.rtol)
-        );
-    }
     if a.diagram > 2000 {
         bail!("bad --diagram {}: allowed 0 ..= 2000", a.diagram);
-    }
-    if a.max_points == 0 || a.max_points > 1_000_000 {
-        bail!("bad --max-points {}: allowed 1 ..= 1000000", a.max_points);
-    }
-    if a.switch_up_to > MAX_ORBIT_PERIOD {
-        bail!(
-            "bad --switch-up-to {}: allowed 0 ..= {MAX_ORBIT_PERIOD}",
-            a.switch_up_to
-        );
     }
     let range = match (&a.param, &a.range) {
         (Some(p), Some(r)) => {
             let (lo, hi) = parse_two(r)?;
-            scenario.with(p, lo)?;
-            scenario.with(p, hi)?;
             Some((p.clone(), lo, hi))
         }
         (Some(_), None) => bail!("--param needs --range START:STOP"),
@@ -145,88 +73,46 @@ pub fn run(a: OrbitArgs) -> Result<()> {
         (None, None) => None,
     };
     let tau0 = cfg.simulation.tau0;
-    let start_sc = match &range {
-        Some((p, lo, _)) => scenario.with(p, *lo)?,
-        None => scenario.clone(),
-    };
-    // the start: the initial state after the transient (near an attractor)
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-    let near = if a.transient > 0 {
-        let opts = SimOptions {
-            transient_periods: a.transient - 1,
-            record_periods: 1,
-            tau0,
-            ..Default::default()
-        };
-        simulate(start_sc.model(), y0, &opts)?.final_state.1
-    } else {
-        y0
-    };
-    let period = match a.period {
-        Some(n) => n,
-        None => match detected_period(&start_sc, near, tau0)? {
-            Some(n) => n,
-            None => bail!(
-                "the motion from x0 = {}, v0 = {} is not periodic after {} periods (within 32): \
-                 give --period N to seek an orbit of N excitation periods (stable or not) near it",
-                y0[0],
-                y0[1],
-                a.transient
-            ),
-        },
-    };
-    let orbit = OrbitOptions {
-        period,
+    let req = OrbitsRequest {
+        range: range.clone(),
+        period: a.period,
+        transient: a.transient,
+        y0,
         tau0,
+        ds: a.ds,
+        max_points: a.max_points,
+        switch_up_to: a.switch_up_to,
         rtol: a.rtol,
-        atol: a.rtol * 1e-2,
-        ..Default::default()
     };
+    // every setting is checked before the folder is touched
+    req.check(&scenario)?;
     let lock = run_record::prepare_folder(&a.out, "orbits", None, false)?;
-    let (result, param) = match &range {
-        Some((p, lo, hi)) => {
-            let opts = ContinuationOptions {
-                param: p.clone(),
-                start: *lo,
-                stop: *hi,
-                ds_max: a.ds,
-                max_points: a.max_points,
-                switch_up_to: a.switch_up_to,
-                orbit,
-            };
-            let shown = std::sync::atomic::AtomicUsize::new(0);
-            let c = continue_orbits(&scenario, near, &opts, &|pt| {
-                let k = shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if k.is_multiple_of(50) {
-                    eprintln!(
-                        "  branch {} point {k}: {p} = {:.6}, x = {:.6}, {}",
-                        pt.branch,
-                        pt.param,
-                        pt.orbit.y[0],
-                        if pt.orbit.stable {
-                            "stable"
-                        } else {
-                            "unstable"
-                        }
-                    );
-                }
-            })?;
-            (c, Some(p.as_str()))
+    let shown = std::sync::atomic::AtomicUsize::new(0);
+    let result = run_orbits(&scenario, &req, &|pt| {
+        let k = shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if k > 0 && k.is_multiple_of(100) {
+            eprintln!(
+                "  {k} orbits; branch {} at {} = {:.6}",
+                pt.branch,
+                a.param.as_deref().unwrap_or("-"),
+                pt.param
+            );
         }
-        None => {
-            let o: Orbit = find_orbit(start_sc.model(), near, &orbit)?;
-            let c = Continuation {
-                points: vec![BranchPoint {
-                    branch: 0,
-                    param: f64::NAN,
-                    orbit: o,
-                }],
-                ..Default::default()
-            };
-            (c, None)
-        }
-    };
-    let table = rows(&scenario, param, &result.points, tau0);
+    })?;
+    let param = range.as_ref().map(|r| r.0.as_str());
+    let records = orbit_records(&scenario, param, &result.points, tau0);
+    let table: Vec<OrbitRow<'_>> = result
+        .points
+        .iter()
+        .zip(records)
+        .map(|(point, (label, max_force, p_id))| OrbitRow {
+            point,
+            label,
+            max_force,
+            p_id,
+        })
+        .collect();
     orbit_branch_table(param, &table).write_csv(&a.out.join("branch.csv"), full)?;
     if let Some(p) = param {
         bifurcations_table(p, &result.bifurcations)

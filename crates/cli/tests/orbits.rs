@@ -99,8 +99,8 @@ fn bad_settings_are_refused_with_the_flag_and_its_range() {
     let out = tmp("bad");
     let o = out.to_str().unwrap();
     for (args, want) in [
-        (vec!["--period", "0"], "--period"),
-        (vec!["--period", "100000"], "--period"),
+        (vec!["--period", "0"], "bad period 0"),
+        (vec!["--period", "100000"], "bad period"),
         (vec!["--range", "0.5:1"], "--range needs --param"),
         (vec!["--param", "omega"], "--param needs --range"),
         (vec!["--param", "omega", "--range", "0.5:nan"], "--range"),
@@ -108,10 +108,13 @@ fn bad_settings_are_refused_with_the_flag_and_its_range() {
         (vec!["--param", "nonsense", "--range", "0.5:1"], "nonsense"),
         (
             vec!["--param", "omega", "--range", "0.5:1", "--ds", "-1"],
-            "--ds",
+            "bad ds",
         ),
-        (vec!["--rtol", "0.5"], "--rtol"),
-        (vec!["--transient", "0", "--set", "x0=50"], "no periodic orbit"),
+        (vec!["--rtol", "0.5"], "bad rtol"),
+        (
+            vec!["--transient", "0", "--set", "x0=50"],
+            "no periodic orbit",
+        ),
     ] {
         let mut a = vec!["orbits", "--preset", "classic", "--out", o];
         a.extend(args.iter().copied());
