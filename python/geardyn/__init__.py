@@ -70,6 +70,7 @@ __all__ = [
     "response",
     "basins",
     "continuation",
+    "orbits",
     "map2d",
     "stiffness",
     "report",
@@ -79,6 +80,7 @@ __all__ = [
     "SweepResult",
     "BasinsResult",
     "ContinuationResult",
+    "OrbitsResult",
     "MapResult",
     "StiffnessResult",
 ]
@@ -472,6 +474,27 @@ class ContinuationResult(Result):
 
     _fields = ("points", "events", "intervals", "lost", "param", "values", "settings", "config")
     _main_table = "points"
+
+
+class OrbitsResult(Result):
+    """Result of :func:`orbits`.
+
+    Attributes
+    ----------
+    branch : dict of ndarray
+        One row per orbit (branch.csv): the continued parameter under its own name (absent for
+        one orbit), ``branch`` (int64), ``x``, ``v`` (the orbit's point at the stroboscopic
+        phase), ``period`` (int64), ``label``, ``stable`` (bool), the Floquet multipliers
+        ``mu1_re, mu1_im, mu2_re, mu2_im`` (largest modulus first), ``max_force``, ``p_id``.
+    bifurcations : dict of ndarray
+        (bifurcations.csv) ``kind`` (``period-doubling``, ``fold``, ``torus``, ``grazing``), the
+        parameter, ``branch``, ``x``, ``v``, ``period`` and the multipliers; empty for one orbit.
+    ends : list of str
+        Why each branch ended.
+    """
+
+    _fields = ("branch", "bifurcations", "ends", "config")
+    _main_table = "branch"
 
 
 class MapResult(Result):
@@ -1022,6 +1045,71 @@ def continuation(
     )
     d["points"] = _table(d["points"])
     return ContinuationResult(**d)
+
+
+def orbits(
+    preset=None,
+    config=None,
+    *,
+    param=None,
+    range=None,
+    period=None,
+    transient=300,
+    ds=0.02,
+    max_points=2000,
+    switch_up_to=0,
+    rtol=1e-11,
+    set=None,
+    progress=False,
+    **params,
+):
+    """Periodic orbits by shooting (``geardyn orbits``, without the files).
+
+    Without ``param``: one orbit near the motion after ``transient`` periods from the initial
+    state (``x0``, ``v0``), with its Floquet multipliers. With ``param`` and ``range=(start,
+    stop)``: its branch (stable and unstable orbits, by pseudo-arclength continuation) and the
+    bifurcations on it (period doubling, fold, torus, grazing).
+
+    Parameters
+    ----------
+    param : str, optional
+        Parameter continued (``omega``, ``F``, ``xi``, ``c``, ``kappa``, ``pair.mu``, ...).
+    range : (start, stop), optional
+        The first orbit is found at ``start``.
+    period : int, optional
+        Excitation periods of the orbit; default: the period of the motion after the transient.
+    transient : int
+        Periods simulated before Newton's method starts.
+    ds, max_points, switch_up_to, rtol
+        Largest arclength step, most branch points, branch switching at doublings up to this
+        period (0: none), relative tolerance of the integration.
+
+    Returns
+    -------
+    OrbitsResult
+        ``branch`` and ``bifurcations`` (the CLI's columns), ``ends``.
+    """
+    if (param is None) != (range is None):
+        raise ValueError("param and range go together: param=NAME, range=(START, STOP)")
+    start = stop = None
+    if range is not None:
+        start, stop = _pair("range", range)
+    d = _geardyn.orbits(
+        _source(preset, config, set, params),
+        None if param is None else str(param),
+        start,
+        stop,
+        None if period is None else _count("period", period, 1),
+        _count("transient", transient),
+        float(ds),
+        _count("max_points", max_points, 1),
+        _count("switch_up_to", switch_up_to),
+        float(rtol),
+        bool(progress),
+    )
+    d["branch"] = _table(d["branch"])
+    d["bifurcations"] = _table(d["bifurcations"])
+    return OrbitsResult(**d)
 
 
 def _axis(name, a):

@@ -1041,6 +1041,86 @@ fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
     Ok(d.into_any())
 }
 
+/// `geardyn orbits` without the files: one orbit, or the branches over `range` and their
+/// bifurcations (the library's `OrbitsRequest`, the CLI's columns).
+#[pyfunction]
+#[pyo3(signature = (src, param, start, stop, period, transient, ds, max_points, switch_up_to, rtol, progress))]
+#[allow(clippy::too_many_arguments)]
+fn orbits<'py>(
+    py: Python<'py>,
+    src: Source,
+    param: Option<String>,
+    start: Option<f64>,
+    stop: Option<f64>,
+    period: Option<u64>,
+    transient: u64,
+    ds: f64,
+    max_points: usize,
+    switch_up_to: u64,
+    rtol: f64,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use geardyn_analysis::orbits::{orbit_records, run_orbits, OrbitsRequest, MAX_ORBIT_PERIOD};
+    use geardyn_io::schema::{bifurcations_table, orbit_branch_table, OrbitRow};
+    let (cfg, table, bifs, ends) = util::run(py, "orbits", progress, None, move |_ctl: &Ctl| {
+        let cfg = src.config()?;
+        let scenario = cfg.resolve()?;
+        let range = match (param, start, stop) {
+            (Some(p), Some(a), Some(b)) => Some((p, a, b)),
+            (None, None, None) => None,
+            _ => bail!("param and range go together: param=NAME, range=(START, STOP)"),
+        };
+        let tau0 = cfg.simulation.tau0;
+        // (a count beyond u32 is out of range as any count above the limit)
+        let period = match period {
+            Some(n) => Some(u32::try_from(n).map_err(|_| {
+                anyhow::anyhow!("bad period {n}: allowed 1 ..= {MAX_ORBIT_PERIOD}")
+            })?),
+            None => None,
+        };
+        let switch_up_to = u32::try_from(switch_up_to).map_err(|_| {
+            anyhow::anyhow!("bad switch_up_to {switch_up_to}: allowed 0 ..= {MAX_ORBIT_PERIOD}")
+        })?;
+        let req = OrbitsRequest {
+            range: range.clone(),
+            period,
+            transient,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            tau0,
+            ds,
+            max_points,
+            switch_up_to,
+            rtol,
+        };
+        let c = run_orbits(&scenario, &req, &|_| {})?;
+        let name = range.as_ref().map(|r| r.0.as_str());
+        let records = orbit_records(&scenario, name, &c.points, tau0);
+        let rows: Vec<OrbitRow<'_>> = c
+            .points
+            .iter()
+            .zip(records)
+            .map(|(point, (label, max_force, p_id))| OrbitRow {
+                point,
+                label,
+                max_force,
+                p_id,
+            })
+            .collect();
+        let table = orbit_branch_table(name, &rows);
+        let bifs = name.map(|n| bifurcations_table(n, &c.bifurcations));
+        Ok((cfg, table, bifs, c.ends.clone()))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("branch", util::table(py, &table)?)?;
+    match bifs {
+        Some(b) => d.set_item("bifurcations", util::table(py, &b)?)?,
+        None => d.set_item("bifurcations", PyDict::new(py))?,
+    }
+    d.set_item("ends", ends)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
 /// `geardyn report` (run in-process; the Python wrapper runs it in a child process so that
 /// Ctrl-C can stop it).
 #[pyfunction]
@@ -1084,6 +1164,7 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(response, m)?)?;
     m.add_function(wrap_pyfunction!(basins, m)?)?;
     m.add_function(wrap_pyfunction!(continuation, m)?)?;
+    m.add_function(wrap_pyfunction!(orbits, m)?)?;
     m.add_function(wrap_pyfunction!(map2d, m)?)?;
     m.add_function(wrap_pyfunction!(stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
