@@ -18,7 +18,7 @@ use geardyn_io::figure::{
     RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
 };
 use geardyn_io::output::write_csv;
-use geardyn_io::plot::PlotColor;
+use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_model::MeshModel;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
@@ -590,7 +590,14 @@ pub fn continuation_figure(
     values.sort_by(f64::total_cmp);
     values.dedup();
     let stem = dir.join(name);
-    geardyn_io::sweep_output::plot_continuation(&stem, title, param, &values, c)?;
+    geardyn_io::sweep_output::plot_continuation(
+        &stem,
+        title,
+        param,
+        &values,
+        c,
+        &mut geardyn_io::figure::LabelColors::default(),
+    )?;
     let br_csv = dir.join(format!("{name}_branches.csv"));
     write_csv(
         &br_csv,
@@ -688,7 +695,7 @@ pub fn map_figure(
         .iter()
         .map(|v| {
             if v.is_finite() {
-                geardyn_io::plot::colormap((v - lo) / (hi - lo).max(1e-12))
+                geardyn_io::figure::colormap((v - lo) / (hi - lo).max(1e-12))
             } else {
                 OTHER
             }
