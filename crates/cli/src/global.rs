@@ -9,8 +9,10 @@ use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{attractor_region, linspace};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
+use geardyn_io::figure::{
+    colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
+};
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::figure::{colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED};
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use std::collections::HashMap;
 use std::path::PathBuf;

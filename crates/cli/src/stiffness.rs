@@ -3,8 +3,8 @@
 use crate::run_config::ConfigArgs;
 use anyhow::Result;
 use clap::Args;
-use geardyn_io::output::write_text;
 use geardyn_io::figure::{palette, write_figure, Figure, Layer, Panel, Style};
+use geardyn_io::output::write_text;
 use geardyn_io::run_record;
 use std::path::PathBuf;
 

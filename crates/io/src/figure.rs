@@ -459,7 +459,9 @@ fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) ->
     let (w, _) = area.dim_in_pixel();
     let chars = title.chars().count().max(1) as f64;
     // DejaVu Sans: about 0.55 em per character
-    ((w as f64 - 20.0) / (0.56 * chars)).floor().clamp(13.0, 20.0) as u32
+    ((w as f64 - 20.0) / (0.56 * chars))
+        .floor()
+        .clamp(13.0, 20.0) as u32
 }
 
 fn draw_legend<DB: DrawingBackend>(
@@ -1130,8 +1132,10 @@ mod tests {
     fn labels_keep_their_colours_and_legends_stay_short() {
         let mut colors = LabelColors::default();
         let names: Vec<String> = (1..=15).map(|k| format!("P{k}")).collect();
-        let mut groups: BTreeMap<String, Vec<(f64, f64)>> =
-            names.iter().map(|n| (n.clone(), vec![(0.0, 0.0)])).collect();
+        let mut groups: BTreeMap<String, Vec<(f64, f64)>> = names
+            .iter()
+            .map(|n| (n.clone(), vec![(0.0, 0.0)]))
+            .collect();
         groups.insert("chaotic".into(), vec![(1.0, 1.0)]);
         let mut order = names.clone();
         order.insert(3, "chaotic".into());
@@ -1145,7 +1149,12 @@ mod tests {
         let c3 = colors.get("P3").unwrap();
         let again: BTreeMap<String, Vec<(f64, f64)>> =
             [("P3".to_string(), vec![]), ("P9".to_string(), vec![])].into();
-        let g2 = categorical_keyed(again, &["P9".into(), "P3".into()], &class_color, &mut colors);
+        let g2 = categorical_keyed(
+            again,
+            &["P9".into(), "P3".into()],
+            &class_color,
+            &mut colors,
+        );
         assert_eq!(g2.iter().find(|x| x.0 == "P3").unwrap().1, c3);
         assert_ne!(g2[0].1, c3);
     }

@@ -236,7 +236,9 @@ pub fn pair_figures(
         write_figure(
             &stem_l,
             &Figure {
-                title: titled("Lubrication along the cycle, friction coefficients and film parameter"),
+                title: titled(
+                    "Lubrication along the cycle, friction coefficients and film parameter",
+                ),
                 x_label: "position (mesh cycles)".into(),
                 x_range: Some((lo, hi)),
                 panels: vec![

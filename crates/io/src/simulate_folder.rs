@@ -3,11 +3,10 @@
 //! the time-history, mesh-force and phase-portrait figures, and `run.json`. One home for what the
 //! folder holds and for the fields `summary.json` adds to the [`Summary`].
 
-use crate::output::{self, OutputError};
 use crate::figure::{
-    decimate, palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style,
-    CHAOTIC,
+    decimate, palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style, CHAOTIC,
 };
+use crate::output::{self, OutputError};
 use crate::{run_record, Config};
 use geardyn_analysis::simulate::{SimOptions, SimResult, Summary};
 use geardyn_scenario::Scenario;

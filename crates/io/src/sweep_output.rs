@@ -7,9 +7,9 @@ use crate::figure::{
     LegendEntry, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
-use plotters::style::RGBColor;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
+use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -166,19 +166,13 @@ pub fn plot_bifurcation(
             });
         }
         // the most frequent motion first, the rarer ones drawn over it
-        out.extend(
-            order
-                .iter()
-                .rev()
-                .filter(|n| !grouped(n))
-                .filter_map(|n| {
-                    get(n).map(|points| Layer {
-                        style: Style::Dots(dot_radius(points.len(), values)),
-                        points,
-                        color: color_of(n),
-                    })
-                }),
-        );
+        out.extend(order.iter().rev().filter(|n| !grouped(n)).filter_map(|n| {
+            get(n).map(|points| Layer {
+                style: Style::Dots(dot_radius(points.len(), values)),
+                points,
+                color: color_of(n),
+            })
+        }));
         out
     };
     let mut panels: Vec<figure::Panel> = sections

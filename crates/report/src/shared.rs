@@ -13,12 +13,12 @@ use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
 use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_io::figure::{
     categorical, palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel,
     RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
 };
 use geardyn_io::output::write_csv;
-use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_model::MeshModel;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
