@@ -207,6 +207,31 @@ pub fn tick(v: f64) -> String {
     }
 }
 
+/// A tick label of an axis whose ticks are about `step` apart: [`tick`], with as many decimals
+/// as the step needs when four significant digits cannot tell neighbouring ticks apart (a time
+/// axis near 1e5 with ticks 10 apart reads `100030`, not `1.00e5`).
+pub fn axis_tick(v: f64, step: f64) -> String {
+    let a = v.abs();
+    if !(v.is_finite() && step.is_finite() && step > 0.0) || a < 1e-12 || a >= 1e12 {
+        return tick(v);
+    }
+    if step >= a * 2e-4 && a < 1e5 {
+        return tick(v);
+    }
+    let decimals = (-step.log10()).ceil().clamp(0.0, 8.0) as usize;
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
 /// A finite range covering `lo..hi` with 4 % padding; a degenerate range (constant data) is
 /// widened to a visible band around the value.
 pub fn padded(lo: f64, hi: f64) -> (f64, f64) {
@@ -418,9 +443,11 @@ fn reduced_polyline(
         }
         let first = col[0];
         let last = *col.last().unwrap_or(&first);
-        let lo = *col.iter().min_by_key(|p| p.1).unwrap_or(&first);
-        let hi = *col.iter().max_by_key(|p| p.1).unwrap_or(&first);
-        for p in [first, lo, hi, last] {
+        let lo = (0..col.len()).min_by_key(|&i| col[i].1).unwrap_or(0);
+        let hi = (0..col.len()).max_by_key(|&i| col[i].1).unwrap_or(0);
+        // the extremes in the order they are reached: a monotonic run draws no zigzag
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        for p in [first, col[a], col[b], last] {
             if cur.last() != Some(&p) {
                 cur.push(p);
             }
@@ -596,13 +623,15 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
             .y_label_area_size(70)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(|x| x.to_string())?;
-        let fmt = |v: &f64| tick(*v);
+        let (xs, ys) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / y_ticks as f64);
+        let fmt = |v: &f64| axis_tick(*v, xs);
+        let fmt_y = |v: &f64| axis_tick(*v, ys);
         let blank = |_: &f64| String::new();
         let mut mesh = ctx.configure_mesh();
         mesh.x_labels(10)
             .y_labels(y_ticks)
             .x_label_formatter(&fmt)
-            .y_label_formatter(&fmt)
+            .y_label_formatter(&fmt_y)
             .y_desc(panel.y_label.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 14))
@@ -762,13 +791,15 @@ fn draw_raster<DB: DrawingBackend>(
         .y_label_area_size(70)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
         .map_err(|x| x.to_string())?;
-    let fmt = |v: &f64| tick(*v);
+    let (xs, ys) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / 10.0);
+    let fmt = |v: &f64| axis_tick(*v, xs);
+    let fmt_y = |v: &f64| axis_tick(*v, ys);
     ctx.configure_mesh()
         .disable_mesh()
         .x_labels(10)
         .y_labels(10)
         .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .y_label_formatter(&fmt_y)
         .x_desc(fig.x_label.as_str())
         .y_desc(fig.y_label.as_str())
         .label_style(("sans-serif", 13))
@@ -844,7 +875,7 @@ fn draw_raster<DB: DrawingBackend>(
             .disable_x_axis()
             .disable_mesh()
             .y_labels(8)
-            .y_label_formatter(&fmt)
+            .y_label_formatter(&|v: &f64| axis_tick(*v, (hi - lo) / 8.0))
             .label_style(("sans-serif", 12))
             .draw()
             .map_err(|x| x.to_string())?;
@@ -1054,6 +1085,10 @@ mod tests {
         assert_eq!(tick(1234.5678), "1235");
         assert_eq!(tick(0.012345), "0.01235");
         assert_eq!(tick(2e-7), "2.00e-7");
+        assert_eq!(axis_tick(100030.0, 10.0), "100030");
+        assert_eq!(axis_tick(3105.5, 0.5), "3105.5");
+        assert_eq!(axis_tick(0.3, 0.1), "0.3");
+        assert_eq!(axis_tick(1234.5678, 100.0), "1235");
     }
 
     #[test]

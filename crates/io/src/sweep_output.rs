@@ -65,23 +65,40 @@ pub fn operating_point(source: &str, p: &geardyn_model::ModelParams, swept: &[&s
     parts.join(", ")
 }
 
-/// Half-size in pixels of the dots of a scatter layer of `points` points over `values` values
-/// of the parameter: a layer of few points per value (periodic branches) in dots large enough to
-/// be seen, and the larger the fewer the values; dense layers (chaotic bands) in small dots.
-/// Never below 2 (a 4-pixel square) for a layer of at most 16 points per value.
-pub fn dot_radius(points: usize, values: usize) -> u32 {
-    let per_value = points as f64 / values.max(1) as f64;
-    let sparse = match values {
-        0..=60 => 4,
-        61..=400 => 3,
+/// Points of a scatter layer that fall apart on a figure, per value of the parameter the layer
+/// has points at: `y` told apart to 1/500 of the layer's `y` range (a periodic run records the
+/// same stroboscopic points again every period).
+fn distinct_per_value(points: &[(f64, f64)]) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .map(|p| p.1)
+        .filter(|y| y.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |r, y| {
+            (r.0.min(y), r.1.max(y))
+        });
+    let q = ((hi - lo) / 500.0).max(1e-12 * lo.abs().max(hi.abs()).max(1.0));
+    let mut keys: Vec<(u64, i64)> = points
+        .iter()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .map(|p| (p.0.to_bits(), ((p.1 - lo) / q).round() as i64))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    let mut xs: Vec<u64> = keys.iter().map(|k| k.0).collect();
+    xs.dedup();
+    keys.len() as f64 / xs.len().max(1) as f64
+}
+
+/// Half-size in pixels of the dots of a scatter layer over a sweep of `values` values: a layer
+/// of few distinct points per value (periodic branches) in dots the larger the fewer the values
+/// (8 pixels for up to 30 values, 6 for up to 100); denser layers (chaotic bands) and long sweeps
+/// in 4-pixel dots, never smaller (visible at 100 % zoom).
+pub fn dot_radius(points: &[(f64, f64)], values: usize) -> u32 {
+    let per_value = distinct_per_value(points);
+    match (per_value <= 16.0, values) {
+        (true, 0..=30) => 4,
+        (true, 31..=100) => 3,
         _ => 2,
-    };
-    if per_value <= 16.0 {
-        sparse
-    } else if per_value <= 64.0 {
-        2
-    } else {
-        1
     }
 }
 
@@ -160,7 +177,7 @@ pub fn plot_bifurcation(
             .collect();
         if !rest.is_empty() {
             out.push(Layer {
-                style: Style::Dots(dot_radius(rest.len(), values)),
+                style: Style::Dots(dot_radius(&rest, values)),
                 points: rest,
                 color: OTHER,
             });
@@ -168,7 +185,7 @@ pub fn plot_bifurcation(
         // the most frequent motion first, the rarer ones drawn over it
         out.extend(order.iter().rev().filter(|n| !grouped(n)).filter_map(|n| {
             get(n).map(|points| Layer {
-                style: Style::Dots(dot_radius(points.len(), values)),
+                style: Style::Dots(dot_radius(&points, values)),
                 points,
                 color: color_of(n),
             })
@@ -565,7 +582,7 @@ pub fn plot_continuation(
                     layers: colored
                         .into_iter()
                         .map(|(_, c, points)| Layer {
-                            style: Style::Dots(dot_radius(points.len(), values.len())),
+                            style: Style::Dots(dot_radius(&points, values.len())),
                             points,
                             color: c,
                         })
@@ -578,4 +595,34 @@ pub fn plot_continuation(
             ..Default::default()
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn periodic_branches_get_visible_dots() {
+        // a period-1 run records its one stroboscopic point 100 times per value
+        let periodic: Vec<(f64, f64)> = (0..40)
+            .flat_map(|i| std::iter::repeat_n((i as f64, 0.01 * i as f64), 100))
+            .collect();
+        assert_eq!(dot_radius(&periodic, 40), 3);
+        assert_eq!(dot_radius(&periodic, 12), 4);
+        assert_eq!(dot_radius(&periodic, 400), 2);
+        // a chaotic band: hundreds of distinct points per value
+        let chaotic: Vec<(f64, f64)> = (0..4)
+            .flat_map(|i| (0..300).map(move |k| (i as f64, k as f64)))
+            .collect();
+        assert_eq!(dot_radius(&chaotic, 40), 2);
+        assert_eq!(dot_radius(&[], 40), 3);
+    }
+
+    #[test]
+    fn titles_leave_the_swept_parameter_out() {
+        let p = geardyn_model::presets::by_name("classic").unwrap();
+        let t = operating_point("preset classic", &p, &["omega"]);
+        assert!(t.starts_with("preset classic, F = "), "{t}");
+        assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
+    }
 }
