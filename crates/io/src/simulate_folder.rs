@@ -4,7 +4,8 @@
 //! folder holds and for the fields `summary.json` adds to the [`Summary`].
 
 use crate::figure::{
-    decimate, palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style, CHAOTIC,
+    decimate, palette, tick, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style,
+    CHAOTIC,
 };
 use crate::output::{self, OutputError};
 use crate::{run_record, Config};
@@ -120,12 +121,12 @@ fn plots(
     let mut layers = vec![level(ds, CHAOTIC), level(-ds, CHAOTIC)];
     let mut legend = vec![
         LegendEntry::line("x", palette(0)),
-        LegendEntry::line("±D_s", CHAOTIC),
+        LegendEntry::line(format!("±D_s = {}", tick(ds)), CHAOTIC),
     ];
     if dd != ds {
         layers.push(level(dd, gold));
         layers.push(level(-dd, gold));
-        legend.push(LegendEntry::line("±D_d", gold));
+        legend.push(LegendEntry::line(format!("±D_d = {}", tick(dd)), gold));
     }
     layers.push(Layer {
         points: decimate(&xs, 20_000),

@@ -309,7 +309,7 @@ pub fn plot_response(
             });
             periodic.push(Layer {
                 points: line,
-                style: Style::Dots(2),
+                style: Style::Dots(3),
                 color: palette(k),
             });
             for (v, y, c) in pts {
