@@ -212,7 +212,7 @@ pub fn tick(v: f64) -> String {
 /// axis near 1e5 with ticks 10 apart reads `100030`, not `1.00e5`).
 pub fn axis_tick(v: f64, step: f64) -> String {
     let a = v.abs();
-    if !(v.is_finite() && step.is_finite() && step > 0.0) || a < 1e-12 || a >= 1e12 {
+    if !(v.is_finite() && step.is_finite() && step > 0.0 && (1e-12..1e12).contains(&a)) {
         return tick(v);
     }
     if step >= a * 2e-4 && a < 1e5 {
