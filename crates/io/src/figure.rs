@@ -445,7 +445,15 @@ fn reduced_polyline(
         let last = *col.last().unwrap_or(&first);
         let lo = (0..col.len()).min_by_key(|&i| col[i].1).unwrap_or(0);
         let hi = (0..col.len()).max_by_key(|&i| col[i].1).unwrap_or(0);
-        // the extremes in the order they are reached: a monotonic run draws no zigzag
+        // a column spanning at most 2 pixels: one point (no staircase of stubs on a smooth
+        // curve); else the extremes in the order they are reached (no zigzag)
+        if col[hi].1 - col[lo].1 <= 2 {
+            if cur.last() != Some(&first) {
+                cur.push(first);
+            }
+            col.clear();
+            return;
+        }
         let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
         for p in [first, col[a], col[b], last] {
             if cur.last() != Some(&p) {
@@ -1198,6 +1206,32 @@ mod tests {
     fn constant_ranges_are_widened() {
         let (a, b) = padded(1.0, 1.0);
         assert!(a < 1.0 && b > 1.0 && b - a >= 0.2);
+    }
+
+    #[test]
+    fn smooth_lines_are_reduced_without_stubs() {
+        // 10 points per pixel column of a gentle slope: one point per column
+        let pts: Vec<(f64, f64)> = (0..1000)
+            .map(|i| (i as f64 / 10.0, i as f64 / 100.0))
+            .collect();
+        let runs = reduced_polyline(&pts, |x, y| (x.floor() as i32, (-y).round() as i32));
+        assert_eq!(runs.len(), 1);
+        assert_eq!(runs[0].len(), 100);
+        assert!(runs[0].windows(2).all(|w| w[1].0 == w[0].0 + 1));
+        // a jump inside a column keeps its extremes; a NaN breaks the line
+        let pts = [
+            (0.0, 0.0),
+            (0.5, 50.0),
+            (0.9, 0.0),
+            (f64::NAN, 0.0),
+            (2.0, 1.0),
+            (3.0, 1.0),
+        ];
+        let runs = reduced_polyline(&pts, |x, y| (x.floor() as i32, y as i32));
+        assert_eq!(
+            runs,
+            vec![vec![(0, 0), (0, 50), (0, 0)], vec![(2, 1), (3, 1)]]
+        );
     }
 
     #[test]
