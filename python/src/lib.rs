@@ -39,6 +39,16 @@ struct Source {
 }
 
 impl Source {
+    /// What the model comes from, for figure titles (as `ConfigArgs::source` of the CLI).
+    fn source(&self) -> String {
+        match (&self.preset, &self.config_path, &self.config_json) {
+            (_, Some(path), _) => format!("config {path}"),
+            (_, None, Some(_)) => "config dict".into(),
+            (Some(name), None, None) => format!("preset {name}"),
+            (None, None, None) => "preset classic".into(),
+        }
+    }
+
     /// The configuration with all overrides applied (as `ConfigArgs::config` of the CLI).
     fn config(&self) -> Result<Config> {
         let mut c = match (&self.preset, &self.config_path, &self.config_json) {
@@ -335,7 +345,9 @@ fn simulate<'py>(
         let (res, summary, used) =
             simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
         let elapsed = t.elapsed().as_secs_f64();
+        let source = src.source();
         let finished = geardyn_io::simulate_folder::Finished {
+            source: &source,
             cfg: &cfg,
             scenario: &scenario,
             res: &res,

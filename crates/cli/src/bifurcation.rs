@@ -111,13 +111,19 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     sweep_output::write_bifurcation(&a.out.join("bifurcation.csv"), &a.param, &results)?;
     sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
     sweep_output::write_impact_force(&a.out.join("impact_force.csv"), &a.param, &results)?;
-    let title = format!("Bifurcation diagram over {} ({} mode)", a.param, a.mode);
+    let title = format!(
+        "Bifurcation diagram over {} ({} mode): {}",
+        a.param,
+        a.mode,
+        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
+    );
     sweep_output::plot_bifurcation(
         &a.out.join("bifurcation"),
         &a.param,
         &results,
         &secs,
         &title,
+        &mut geardyn_io::figure::LabelColors::default(),
     )?;
     let runs: usize = results.iter().map(|r| r.runs.len()).sum();
     println!(
@@ -183,7 +189,11 @@ pub fn response(a: ResponseArgs) -> Result<()> {
         &a.out.join("response"),
         &a.param,
         &results,
-        &format!("Frequency response over {}", a.param),
+        &format!(
+            "Frequency response over {}: {}",
+            a.param,
+            sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
+        ),
     )?;
     for j in &jumps {
         println!(

@@ -9,8 +9,10 @@ use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{attractor_region, linspace};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
+use geardyn_io::figure::{
+    colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
+};
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::plot::{colormap, raster_chart, Chart, Raster};
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -190,17 +192,11 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         m.remove("cells");
     }
     write_json(&a.out.join("attractors.json"), &summary)?;
-    let title = {
-        let p = scenario.params();
-        format!(
-            "Basins of attraction: {}, omega = {}, F = {}, xi = {}, phase {}",
-            a.cfg.source(),
-            geardyn_model::error::num(p.omega),
-            geardyn_model::error::num(p.load),
-            geardyn_model::error::num(p.xi),
-            a.phase
-        )
-    };
+    let title = format!(
+        "Basins of attraction (initial phase {}): {}",
+        a.phase,
+        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[])
+    );
     sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
     for at in &r.attractors {
         println!(
@@ -351,12 +347,15 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     sweep_output::plot_continuation(
         &a.out.join("continuation"),
         &format!(
-            "Attractor continuation over {} ({} initial states per value)",
-            a.param, a.ics
+            "Attractor continuation over {} ({} initial states per value): {}",
+            a.param,
+            a.ics,
+            sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
         ),
         &a.param,
         &opts.values,
         &r,
+        &mut LabelColors::default(),
     )?;
     for iv in &r.intervals {
         let fmt = |l: &Vec<(usize, String, f64, f64)>| {
@@ -519,7 +518,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
             if v.is_finite() {
                 colormap((v - lo) / span)
             } else {
-                plotters::style::RGBColor(170, 170, 170)
+                UNSETTLED
             }
         })
         .collect();
@@ -531,24 +530,35 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         }
     };
     let (dx, dy) = (cell(&xv), cell(&yv));
-    let title = format!("{} over ({}, {})", a.metric, xp, yp);
-    raster_chart(
+    let title = format!(
+        "{} over ({}, {}): {}",
+        a.metric,
+        xp,
+        yp,
+        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&xp, &yp])
+    );
+    write_raster(
         &a.out.join("map"),
-        &Chart {
-            title: &title,
-            x_label: &xp,
-            y_label: &yp,
-        },
-        &Raster {
+        &RasterFigure {
+            title,
+            x_label: xp.clone(),
+            y_label: yp.clone(),
             x: (xv[0] - dx / 2.0, xv[xv.len() - 1] + dx / 2.0, xv.len()),
             y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
-            colors: &colors,
+            colors,
+            legend: if vals.iter().any(|v| !v.is_finite()) {
+                vec![LegendEntry::dot("no value (failed run)", UNSETTLED)]
+            } else {
+                vec![]
+            },
+            legend_title: String::new(),
+            colorbar: Some((
+                if lo.is_finite() { lo } else { 0.0 },
+                if hi.is_finite() { hi } else { 1.0 },
+                a.metric.clone(),
+            )),
+            marks: vec![],
         },
-        &[],
-        Some((
-            if lo.is_finite() { lo } else { 0.0 },
-            if hi.is_finite() { hi } else { 1.0 },
-        )),
     )?;
     println!(
         "{}x{} cells in {:.2} s; {} in [{:.4}, {:.4}] -> {}",

@@ -80,6 +80,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     simulate_folder::write(
         out,
         &simulate_folder::Finished {
+            source: &args.cfg.source(),
             cfg: &cfg,
             scenario: &scenario,
             res: &res,

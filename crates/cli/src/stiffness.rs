@@ -3,8 +3,8 @@
 use crate::run_config::ConfigArgs;
 use anyhow::Result;
 use clap::Args;
+use geardyn_io::figure::{palette, write_figure, Figure, Layer, Panel, Style};
 use geardyn_io::output::write_text;
-use geardyn_io::plot::{stacked_chart, Mark, Panel, Series, PALETTE};
 use geardyn_io::run_record;
 use std::path::PathBuf;
 
@@ -40,7 +40,9 @@ pub fn run(a: StiffnessArgs) -> Result<()> {
         let mut healthy_spec = pm.spec.clone();
         healthy_spec.breakage = None;
         let healthy = healthy_spec.build()?;
-        geardyn_io::pair_plots::pair_figures(&a.out, pm, &healthy, dd, ds)?;
+        let context =
+            geardyn_io::sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[]);
+        geardyn_io::pair_plots::pair_figures(&a.out, pm, &healthy, dd, ds, &context)?;
         println!(
             "eps = {:.4}{}, k_av = {:.4e} N/m, omega_n = {:.4e} rad/s; tables for {} cycle(s) x {} samples built in {:.3} s -> {}",
             pm.geom.eps,
@@ -66,21 +68,24 @@ pub fn run(a: StiffnessArgs) -> Result<()> {
             .into_iter()
             .zip(column("k_dimensionless"))
             .collect();
-
-        stacked_chart(
+        write_figure(
             &a.out.join("stiffness"),
-            "Dimensionless mesh stiffness k/k_av",
-            "position (mesh cycles)",
-            (0.0, c),
-            &[Panel {
-                y_label: "k",
-                series: vec![Series {
-                    label: "",
-                    points: &k,
-                    mark: Mark::Line,
-                    color: PALETTE[0],
+            &Figure {
+                title: format!("Dimensionless mesh stiffness k/k_av: {}", a.cfg.source()),
+                x_label: "position (mesh cycles)".into(),
+                x_range: Some((0.0, c)),
+                panels: vec![Panel {
+                    y_label: "k/k_av".into(),
+                    layers: vec![Layer {
+                        points: k,
+                        style: Style::Line(2),
+                        color: palette(0),
+                    }],
+                    ..Default::default()
                 }],
-            }],
+                panel_height: 400,
+                ..Default::default()
+            },
         )?;
         println!(
             "dimensionless model (no [pair]): {} samples -> {}",

@@ -11,13 +11,29 @@
 //! * [`palette`] gives many distinct colours (Okabe–Ito, then Kelly's colours of maximum
 //!   contrast), so that a diagram with twenty attractors does not cycle through eight colours.
 //!
-//! PNG and SVG are drawn by the same code (plotters, embedded DejaVu Sans).
+//! * Broken data never stop a figure: non-finite points are skipped (they break a line), axis
+//!   ranges stay finite and ordered ([`axis_range`]), far points are clipped.
+//!
+//! PNG and SVG are drawn by the same code (plotters, with the DejaVu Sans font embedded in the
+//! binary: `assets/`, Bitstream Vera licence; no system fonts or libraries).
 
-use crate::plot::{colormap, register_font};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+pub use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Once;
+
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+/// Registers the embedded font under the family name `sans-serif` (idempotent).
+pub fn register_font() {
+    REGISTER.call_once(|| {
+        // the embedded file is a valid TTF; a failure here is a build defect
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
 
 /// Figure failure.
 #[derive(Debug, thiserror::Error)]
@@ -33,8 +49,13 @@ pub const CHAOTIC: RGBColor = RGBColor(0, 0, 0);
 pub const QUASI: RGBColor = RGBColor(90, 90, 90);
 /// Colour of undecided (unsettled) motions.
 pub const UNSETTLED: RGBColor = RGBColor(175, 175, 175);
-/// Colour of failed runs and of a remainder group.
-pub const OTHER: RGBColor = RGBColor(205, 205, 205);
+/// Colour of failed runs and of a remainder group ("N other labels"): a light brown, apart
+/// from the greys of [`QUASI`] and [`UNSETTLED`] and from the [`palette`].
+pub const OTHER: RGBColor = RGBColor(166, 118, 60);
+
+/// Most entries of a categorical legend: beyond it the rarest labels are drawn as one group
+/// "N other labels" in [`OTHER`].
+pub const LEGEND_MAX: usize = 10;
 
 const DISTINCT: [RGBColor; 24] = [
     // Okabe–Ito (without black)
@@ -186,18 +207,190 @@ pub fn tick(v: f64) -> String {
     }
 }
 
+/// A tick label of an axis whose ticks are about `step` apart: [`tick`], with as many decimals
+/// as the step needs when four significant digits cannot tell neighbouring ticks apart (a time
+/// axis near 1e5 with ticks 10 apart reads `100030`, not `1.00e5`).
+pub fn axis_tick(v: f64, step: f64) -> String {
+    let a = v.abs();
+    if !(v.is_finite() && step.is_finite() && step > 0.0 && (1e-12..1e12).contains(&a)) {
+        return tick(v);
+    }
+    if step >= a * 2e-4 && a < 1e5 {
+        return tick(v);
+    }
+    let decimals = (-step.log10()).ceil().clamp(0.0, 8.0) as usize;
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
 /// A finite range covering `lo..hi` with 4 % padding; a degenerate range (constant data) is
 /// widened to a visible band around the value.
 pub fn padded(lo: f64, hi: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) || lo > hi {
         return (0.0, 1.0);
     }
+    let (lo, hi) = (
+        lo.clamp(-AXIS_LIMIT, AXIS_LIMIT),
+        hi.clamp(-AXIS_LIMIT, AXIS_LIMIT),
+    );
     let w = hi - lo;
     if w <= 1e-9 * lo.abs().max(hi.abs()).max(1e-12) {
         let s = (0.1 * lo.abs()).max(0.5);
         return (lo - s, hi + s);
     }
     (lo - 0.04 * w, hi + 0.04 * w)
+}
+
+/// Largest magnitude of an axis end: wider data are drawn clipped. Keeps every axis width (and
+/// the tick spacing derived from it) finite: an axis from -1e308 to 1e308 is infinitely wide in
+/// `f64`, and the tick search never ends on it.
+pub const AXIS_LIMIT: f64 = 1e300;
+
+/// A finite, ordered axis range of non-zero width from the ends `lo`, `hi` (as given by a caller):
+/// NaN ends are dropped (both: `(0, 1)`), infinite or larger ends clamped to [`AXIS_LIMIT`], a
+/// width below `1e-12` of the magnitude widened about the centre.
+pub fn axis_range(lo: f64, hi: f64) -> (f64, f64) {
+    let clamp = |v: f64| (!v.is_nan()).then(|| v.clamp(-AXIS_LIMIT, AXIS_LIMIT));
+    let (lo, hi) = match (clamp(lo), clamp(hi)) {
+        (Some(a), Some(b)) => (a.min(b), a.max(b)),
+        (Some(a), None) | (None, Some(a)) => (a, a),
+        (None, None) => return (0.0, 1.0),
+    };
+    let min_w = 1e-12 * lo.abs().max(hi.abs()).max(1.0);
+    if hi - lo >= min_w {
+        (lo, hi)
+    } else {
+        let m = 0.5 * lo + 0.5 * hi;
+        (m - 0.5 * min_w, m + 0.5 * min_w)
+    }
+}
+
+/// The plot box extended by its own size on every side: data are clipped to it, so that no pixel
+/// coordinate is far outside the image (the rasteriser walks a line pixel by pixel, unclipped).
+#[derive(Clone, Copy, Debug)]
+struct ClipBox {
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+impl ClipBox {
+    fn around(x: (f64, f64), y: (f64, f64)) -> Self {
+        let (wx, wy) = (x.1 - x.0, y.1 - y.0);
+        ClipBox {
+            x: (x.0 - wx, x.1 + wx),
+            y: (y.0 - wy, y.1 + wy),
+        }
+    }
+
+    fn contains(&self, p: (f64, f64)) -> bool {
+        p.0 >= self.x.0 && p.0 <= self.x.1 && p.1 >= self.y.0 && p.1 <= self.y.1
+    }
+
+    /// The part of the segment `a`-`b` inside the box (Liang–Barsky). The ends of a segment
+    /// inside the box are returned exactly; a cut point lies exactly on the border it crosses,
+    /// its other coordinate interpolated from the nearer end and kept inside the box (far ends
+    /// cancel digits: the cut may then be off along the border, never outside it).
+    fn clip(&self, a: (f64, f64), b: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        if !(dx.is_finite() && dy.is_finite()) {
+            return None;
+        }
+        // entry and exit parameters along a -> b, and the border (0..4) that set each
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let (mut k0, mut k1) = (None, None);
+        for (k, (p, q)) in [
+            (-dx, a.0 - self.x.0),
+            (dx, self.x.1 - a.0),
+            (-dy, a.1 - self.y.0),
+            (dy, self.y.1 - a.1),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+            } else if p < 0.0 {
+                if q / p > t0 {
+                    t0 = q / p;
+                    k0 = Some(k);
+                }
+            } else if q / p < t1 {
+                t1 = q / p;
+                k1 = Some(k);
+            }
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let border = [self.x.0, self.x.1, self.y.0, self.y.1];
+        let cut = |t: f64, k: Option<usize>, end: (f64, f64)| match k {
+            None => end,
+            Some(k) => {
+                // interpolate from the nearer end
+                let (p, q, u) = if t <= 0.5 { (a, b, t) } else { (b, a, 1.0 - t) };
+                let v = (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1));
+                if k < 2 {
+                    (border[k], v.1.clamp(self.y.0, self.y.1))
+                } else {
+                    (v.0.clamp(self.x.0, self.x.1), border[k])
+                }
+            }
+        };
+        Some((cut(t0, k0, a), cut(t1, k1, b)))
+    }
+
+    /// The pieces of a polyline inside the box: a non-finite point breaks it, segments leaving
+    /// the box are cut at its border.
+    fn polyline(&self, points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+        let mut runs = vec![];
+        let mut cur: Vec<(f64, f64)> = vec![];
+        let mut prev: Option<(f64, f64)> = None;
+        let flush = |cur: &mut Vec<(f64, f64)>, runs: &mut Vec<Vec<(f64, f64)>>| {
+            if cur.len() > 1 {
+                runs.push(std::mem::take(cur));
+            } else {
+                cur.clear();
+            }
+        };
+        for &p in points {
+            if !(p.0.is_finite() && p.1.is_finite()) {
+                flush(&mut cur, &mut runs);
+                prev = None;
+                continue;
+            }
+            if let Some(a) = prev {
+                match self.clip(a, p) {
+                    None => flush(&mut cur, &mut runs),
+                    Some((c, d)) => {
+                        if cur.last() != Some(&c) {
+                            flush(&mut cur, &mut runs);
+                            cur.push(c);
+                        }
+                        cur.push(d);
+                        if d != p {
+                            flush(&mut cur, &mut runs);
+                        }
+                    }
+                }
+            } else if self.contains(p) {
+                cur.push(p);
+            }
+            prev = Some(p);
+        }
+        flush(&mut cur, &mut runs);
+        runs
+    }
 }
 
 fn data_range(points: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
@@ -250,9 +443,19 @@ fn reduced_polyline(
         }
         let first = col[0];
         let last = *col.last().unwrap_or(&first);
-        let lo = *col.iter().min_by_key(|p| p.1).unwrap_or(&first);
-        let hi = *col.iter().max_by_key(|p| p.1).unwrap_or(&first);
-        for p in [first, lo, hi, last] {
+        let lo = (0..col.len()).min_by_key(|&i| col[i].1).unwrap_or(0);
+        let hi = (0..col.len()).max_by_key(|&i| col[i].1).unwrap_or(0);
+        // a column spanning at most 2 pixels: one point (no staircase of stubs on a smooth
+        // curve); else the extremes in the order they are reached (no zigzag)
+        if col[hi].1 - col[lo].1 <= 2 {
+            if cur.last() != Some(&first) {
+                cur.push(first);
+            }
+            col.clear();
+            return;
+        }
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        for p in [first, col[a], col[b], last] {
             if cur.last() != Some(&p) {
                 cur.push(p);
             }
@@ -285,6 +488,16 @@ fn reduced_polyline(
 }
 
 type Err = String;
+
+/// Font size of a title: 20, smaller for a long title so that it fits the width (not below 13).
+fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) -> u32 {
+    let (w, _) = area.dim_in_pixel();
+    let chars = title.chars().count().max(1) as f64;
+    // DejaVu Sans: about 0.55 em per character
+    ((w as f64 - 20.0) / (0.56 * chars))
+        .floor()
+        .clamp(13.0, 20.0) as u32
+}
 
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -351,7 +564,9 @@ fn draw_legend<DB: DrawingBackend>(
 fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -> Result<(), Err> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
-    let root = root.titled(&fig.title, ("sans-serif", 20)).map_err(e)?;
+    let root = root
+        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
+        .map_err(e)?;
     let (w, _) = root.dim_in_pixel();
     let lw = legend_width(&fig.legend, &fig.legend_title);
     let (main, side) = root.split_horizontally(w.saturating_sub(lw));
@@ -369,7 +584,7 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
         })
         .map_or((0.0, 1.0), |(a, b)| {
             if fig.x_range.is_some() && b > a {
-                (a, b)
+                axis_range(a, b)
             } else {
                 padded(a, b)
             }
@@ -403,6 +618,8 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
             )
             .map_or((0.0, 1.0), |(a, b)| padded(a, b))
         });
+        let yr = axis_range(yr.0, yr.1);
+        let clip = ClipBox::around(xr, yr);
         let (_, ph) = area.dim_in_pixel();
         let y_ticks = ((ph as usize) / 28).clamp(2, 8);
         let mut ctx = ChartBuilder::on(&area)
@@ -414,13 +631,15 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
             .y_label_area_size(70)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(|x| x.to_string())?;
-        let fmt = |v: &f64| tick(*v);
+        let (xs, ys) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / y_ticks as f64);
+        let fmt = |v: &f64| axis_tick(*v, xs);
+        let fmt_y = |v: &f64| axis_tick(*v, ys);
         let blank = |_: &f64| String::new();
         let mut mesh = ctx.configure_mesh();
         mesh.x_labels(10)
             .y_labels(y_ticks)
             .x_label_formatter(&fmt)
-            .y_label_formatter(&fmt)
+            .y_label_formatter(&fmt_y)
             .y_desc(panel.y_label.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 14))
@@ -475,7 +694,8 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
                     }
                 }
                 Style::Line(wd) => {
-                    for run in reduced_polyline(&layer.points, map) {
+                    let runs = clip.polyline(&layer.points);
+                    for run in runs.iter().flat_map(|r| reduced_polyline(r, map)) {
                         let run: Vec<(i32, i32)> = run
                             .into_iter()
                             .map(|(x, y)| (x.clamp(-pw, 2 * pw), y.clamp(-ph, 2 * ph)))
@@ -561,7 +781,9 @@ fn draw_raster<DB: DrawingBackend>(
 ) -> Result<(), Err> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
-    let root = root.titled(&fig.title, ("sans-serif", 20)).map_err(e)?;
+    let root = root
+        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
+        .map_err(e)?;
     let (w, _) = root.dim_in_pixel();
     let lw = legend_width(&fig.legend, &fig.legend_title).max(if fig.colorbar.is_some() {
         150
@@ -570,19 +792,22 @@ fn draw_raster<DB: DrawingBackend>(
     });
     let (main, side) = root.split_horizontally(w.saturating_sub(lw));
     let (nx, ny) = (fig.x.2.max(1), fig.y.2.max(1));
+    let (xr, yr) = (axis_range(fig.x.0, fig.x.1), axis_range(fig.y.0, fig.y.1));
     let mut ctx = ChartBuilder::on(&main)
         .margin(10)
         .x_label_area_size(44)
         .y_label_area_size(70)
-        .build_cartesian_2d(fig.x.0..fig.x.1, fig.y.0..fig.y.1)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
         .map_err(|x| x.to_string())?;
-    let fmt = |v: &f64| tick(*v);
+    let (xs, ys) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / 10.0);
+    let fmt = |v: &f64| axis_tick(*v, xs);
+    let fmt_y = |v: &f64| axis_tick(*v, ys);
     ctx.configure_mesh()
         .disable_mesh()
         .x_labels(10)
         .y_labels(10)
         .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .y_label_formatter(&fmt_y)
         .x_desc(fig.x_label.as_str())
         .y_desc(fig.y_label.as_str())
         .label_style(("sans-serif", 13))
@@ -596,10 +821,7 @@ fn draw_raster<DB: DrawingBackend>(
         let (a, b) = ctx.backend_coord(&(x, y));
         (a - px.start, b - py.start)
     };
-    let (dx, dy) = (
-        (fig.x.1 - fig.x.0) / nx as f64,
-        (fig.y.1 - fig.y.0) / ny as f64,
-    );
+    let (dx, dy) = ((xr.1 - xr.0) / nx as f64, (yr.1 - yr.0) / ny as f64);
     for iy in 0..ny {
         let mut ix = 0;
         while ix < nx {
@@ -611,15 +833,16 @@ fn draw_raster<DB: DrawingBackend>(
             while end < nx && fig.colors.get(iy * nx + end) == Some(&col) {
                 end += 1;
             }
-            let a = map(fig.x.0 + ix as f64 * dx, fig.y.0 + (iy + 1) as f64 * dy);
-            let b = map(fig.x.0 + end as f64 * dx, fig.y.0 + iy as f64 * dy);
+            let a = map(xr.0 + ix as f64 * dx, yr.0 + (iy + 1) as f64 * dy);
+            let b = map(xr.0 + end as f64 * dx, yr.0 + iy as f64 * dy);
             pixel
                 .draw(&Rectangle::new([a, b], col.filled()))
                 .map_err(e)?;
             ix = end;
         }
     }
-    for &(x, y) in &fig.marks {
+    let inside = |x: f64, y: f64| x >= xr.0 && x <= xr.1 && y >= yr.0 && y <= yr.1;
+    for &(x, y) in fig.marks.iter().filter(|p| inside(p.0, p.1)) {
         let p = map(x, y);
         for (style, s) in [(WHITE.stroke_width(4), 6), (BLACK.stroke_width(2), 5)] {
             pixel
@@ -644,7 +867,7 @@ fn draw_raster<DB: DrawingBackend>(
             sh * 11 / 20
         });
         let (lo, hi) = if hi > lo {
-            (*lo, *hi)
+            axis_range(*lo, *hi)
         } else {
             padded(*lo, *hi)
         };
@@ -660,7 +883,7 @@ fn draw_raster<DB: DrawingBackend>(
             .disable_x_axis()
             .disable_mesh()
             .y_labels(8)
-            .y_label_formatter(&fmt)
+            .y_label_formatter(&|v: &f64| axis_tick(*v, (hi - lo) / 8.0))
             .label_style(("sans-serif", 12))
             .draw()
             .map_err(|x| x.to_string())?;
@@ -713,12 +936,54 @@ pub type Group = (String, RGBColor, Vec<(f64, f64)>);
 /// Points of one name, or none.
 pub type PointsOf<'a> = &'a dyn Fn(&str) -> Option<Vec<(f64, f64)>>;
 
-/// Groups of a categorical layer: `(name, points)` in order of first appearance, with their
-/// colours; beyond [`DISTINCT_COLORS`] groups, the rarest are merged into one "other" group.
-pub fn categorical(
+/// Colours keyed by label: a label gets a colour of [`palette`] the first time it is asked
+/// for and keeps it, so that the figures of one command colour a label alike. Classes of
+/// motion have their fixed colours ([`class_color`]).
+#[derive(Clone, Debug, Default)]
+pub struct LabelColors {
+    assigned: BTreeMap<String, RGBColor>,
+}
+
+impl LabelColors {
+    /// The colour of `label`, assigned now if it has none.
+    pub fn color(&mut self, label: &str) -> RGBColor {
+        if let Some(c) = class_color(label) {
+            return c;
+        }
+        let next = self.assigned.len();
+        *self
+            .assigned
+            .entry(label.to_string())
+            .or_insert_with(|| palette(next))
+    }
+
+    /// The colour of `label` if it has one.
+    pub fn get(&self, label: &str) -> Option<RGBColor> {
+        class_color(label).or_else(|| self.assigned.get(label).copied())
+    }
+}
+
+/// Fixed colours of the classes of motion that carry no label: chaotic black, quasi-periodic
+/// dark grey, unsettled and "not periodic" grey, failed and diverged [`OTHER`].
+pub fn class_color(name: &str) -> Option<RGBColor> {
+    match name {
+        "chaotic" => Some(CHAOTIC),
+        "quasi-periodic" => Some(QUASI),
+        "unsettled" | "not periodic" => Some(UNSETTLED),
+        "failed" | "diverged" => Some(OTHER),
+        _ => None,
+    }
+}
+
+/// Groups of a categorical layer: `(name, points)` in the given order (names not in `order`
+/// after, alphabetically), with their colours (`fixed`, else from `colors`). At most
+/// [`LEGEND_MAX`] groups: beyond that, the fixed ones and the first others are kept and the rest
+/// merged into one group "N other labels" in [`OTHER`].
+pub fn categorical_keyed(
     groups: BTreeMap<String, Vec<(f64, f64)>>,
     order: &[String],
     fixed: &dyn Fn(&str) -> Option<RGBColor>,
+    colors: &mut LabelColors,
 ) -> Vec<Group> {
     let mut named: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut groups = groups;
@@ -728,6 +993,12 @@ pub fn categorical(
         }
     }
     named.extend(groups);
+    let n_fixed = named.iter().filter(|(n, _)| fixed(n).is_some()).count();
+    let free = if named.len() <= LEGEND_MAX {
+        named.len()
+    } else {
+        (LEGEND_MAX - 1).saturating_sub(n_fixed)
+    };
     let mut out = Vec::new();
     let mut other: Vec<(f64, f64)> = Vec::new();
     let mut others = 0;
@@ -735,8 +1006,9 @@ pub fn categorical(
     for (name, pts) in named {
         if let Some(c) = fixed(&name) {
             out.push((name, c, pts));
-        } else if k < DISTINCT_COLORS {
-            out.push((name, palette(k), pts));
+        } else if k < free {
+            let c = colors.color(&name);
+            out.push((name, c, pts));
             k += 1;
         } else {
             others += 1;
@@ -745,6 +1017,66 @@ pub fn categorical(
     }
     if others > 0 {
         out.push((format!("{others} other labels"), OTHER, other));
+    }
+    out
+}
+
+/// [`categorical_keyed`] with colours of its own.
+pub fn categorical(
+    groups: BTreeMap<String, Vec<(f64, f64)>>,
+    order: &[String],
+    fixed: &dyn Fn(&str) -> Option<RGBColor>,
+) -> Vec<Group> {
+    categorical_keyed(groups, order, fixed, &mut LabelColors::default())
+}
+
+/// A perceptually ordered colour map (viridis, five stops, linear in between) for `t` in `[0, 1]`
+/// (non-finite `t`: the low end).
+pub fn colormap(t: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * 4.0;
+    let i = (x as usize).min(3);
+    let f = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let l = |p: f64, q: f64| (p + (q - p) * f).round() as u8;
+    RGBColor(l(a.0, b.0), l(a.1, b.1), l(a.2, b.2))
+}
+
+/// Keeps at most `max` points of a polyline, preserving each bucket's min and max in `y`
+/// (so peaks of a long time history survive decimation).
+pub fn decimate(points: &[(f64, f64)], max: usize) -> Vec<(f64, f64)> {
+    if points.len() <= max || max < 4 {
+        return points.to_vec();
+    }
+    let buckets = max / 2;
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(max + 2);
+    for chunk in points.chunks(per) {
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(chunk[a]);
+        if b != a {
+            out.push(chunk[b]);
+        }
     }
     out
 }
@@ -761,6 +1093,10 @@ mod tests {
         assert_eq!(tick(1234.5678), "1235");
         assert_eq!(tick(0.012345), "0.01235");
         assert_eq!(tick(2e-7), "2.00e-7");
+        assert_eq!(axis_tick(100030.0, 10.0), "100030");
+        assert_eq!(axis_tick(3105.5, 0.5), "3105.5");
+        assert_eq!(axis_tick(0.3, 0.1), "0.3");
+        assert_eq!(axis_tick(1234.5678, 100.0), "1235");
     }
 
     #[test]
@@ -773,16 +1109,129 @@ mod tests {
             for j in 0..i {
                 assert!(d(palette(i), palette(j)) > 50.0, "{i} {j}");
             }
-            for fixed in [CHAOTIC, QUASI, UNSETTLED] {
+            for fixed in [CHAOTIC, QUASI, UNSETTLED, OTHER] {
                 assert!(d(palette(i), fixed) > 50.0, "{i}");
             }
         }
     }
 
     #[test]
+    fn decimation_keeps_extremes() {
+        let pts: Vec<(f64, f64)> = (0..10_000)
+            .map(|i| {
+                (
+                    i as f64,
+                    if i == 4321 {
+                        9.0
+                    } else {
+                        (i as f64 * 0.01).sin()
+                    },
+                )
+            })
+            .collect();
+        let d = decimate(&pts, 500);
+        assert!(d.len() <= 502);
+        assert!(d.iter().any(|p| p.1 == 9.0));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+    }
+
+    #[test]
+    fn polylines_are_broken_at_non_finite_points_and_clipped() {
+        let b = ClipBox::around((0.0, 1.0), (0.0, 1.0)); // [-1, 2] x [-1, 2]
+        let nan = f64::NAN;
+        let runs = b.polyline(&[(0.0, 0.0), (0.5, 0.5), (nan, 0.0), (1.0, 1.0), (1.5, 0.0)]);
+        assert_eq!(
+            runs,
+            vec![vec![(0.0, 0.0), (0.5, 0.5)], vec![(1.0, 1.0), (1.5, 0.0)]]
+        );
+        // leaving and re-entering the box: cut at its border, inner points exact
+        let runs = b.polyline(&[(0.0, 0.0), (0.0, 1e300), (1.0, 1.0), (1.0, 1.5)]);
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[0], vec![(0.0, 0.0), (0.0, 2.0)]);
+        assert_eq!(runs[1].last(), Some(&(1.0, 1.5)));
+        assert!((runs[1][0].1 - 2.0).abs() < 1e-12);
+        // entirely outside
+        assert!(b.polyline(&[(5.0, 5.0), (6.0, 7.0)]).is_empty());
+        // crossing the box from far away on both sides
+        let runs = b.polyline(&[(-1e300, 0.5), (1e300, 0.5)]);
+        assert_eq!(runs, vec![vec![(-1.0, 0.5), (2.0, 0.5)]]);
+        // an overflowing difference is dropped, not drawn
+        assert!(b.polyline(&[(-f64::MAX, 0.0), (f64::MAX, 0.0)]).is_empty());
+    }
+
+    #[test]
+    fn other_is_not_a_grey() {
+        // the remainder group must not be mistaken for unsettled runs
+        let d = |a: RGBColor, b: RGBColor| {
+            let s = |x: u8, y: u8| (x as f64 - y as f64).powi(2);
+            (s(a.0, b.0) + s(a.1, b.1) + s(a.2, b.2)).sqrt()
+        };
+        assert!(d(OTHER, UNSETTLED) > 100.0 && d(OTHER, QUASI) > 80.0);
+        let chroma = OTHER.0.max(OTHER.1).max(OTHER.2) - OTHER.0.min(OTHER.1).min(OTHER.2);
+        assert!(chroma > 80);
+    }
+
+    #[test]
+    fn labels_keep_their_colours_and_legends_stay_short() {
+        let mut colors = LabelColors::default();
+        let names: Vec<String> = (1..=15).map(|k| format!("P{k}")).collect();
+        let mut groups: BTreeMap<String, Vec<(f64, f64)>> = names
+            .iter()
+            .map(|n| (n.clone(), vec![(0.0, 0.0)]))
+            .collect();
+        groups.insert("chaotic".into(), vec![(1.0, 1.0)]);
+        let mut order = names.clone();
+        order.insert(3, "chaotic".into());
+        let g = categorical_keyed(groups, &order, &class_color, &mut colors);
+        assert_eq!(g.len(), LEGEND_MAX);
+        assert_eq!(g.last().unwrap().0, "7 other labels");
+        assert_eq!(g.last().unwrap().1, OTHER);
+        assert_eq!(g.last().unwrap().2.len(), 7);
+        assert!(g.iter().any(|x| x.0 == "chaotic" && x.1 == CHAOTIC));
+        // a second figure of the same command: the same colour for the same label
+        let c3 = colors.get("P3").unwrap();
+        let again: BTreeMap<String, Vec<(f64, f64)>> =
+            [("P3".to_string(), vec![]), ("P9".to_string(), vec![])].into();
+        let g2 = categorical_keyed(
+            again,
+            &["P9".into(), "P3".into()],
+            &class_color,
+            &mut colors,
+        );
+        assert_eq!(g2.iter().find(|x| x.0 == "P3").unwrap().1, c3);
+        assert_ne!(g2[0].1, c3);
+    }
+
+    #[test]
     fn constant_ranges_are_widened() {
         let (a, b) = padded(1.0, 1.0);
         assert!(a < 1.0 && b > 1.0 && b - a >= 0.2);
+    }
+
+    #[test]
+    fn smooth_lines_are_reduced_without_stubs() {
+        // 10 points per pixel column of a gentle slope: one point per column
+        let pts: Vec<(f64, f64)> = (0..1000)
+            .map(|i| (i as f64 / 10.0, i as f64 / 100.0))
+            .collect();
+        let runs = reduced_polyline(&pts, |x, y| (x.floor() as i32, (-y).round() as i32));
+        assert_eq!(runs.len(), 1);
+        assert_eq!(runs[0].len(), 100);
+        assert!(runs[0].windows(2).all(|w| w[1].0 == w[0].0 + 1));
+        // a jump inside a column keeps its extremes; a NaN breaks the line
+        let pts = [
+            (0.0, 0.0),
+            (0.5, 50.0),
+            (0.9, 0.0),
+            (f64::NAN, 0.0),
+            (2.0, 1.0),
+            (3.0, 1.0),
+        ];
+        let runs = reduced_polyline(&pts, |x, y| (x.floor() as i32, y as i32));
+        assert_eq!(
+            runs,
+            vec![vec![(0, 0), (0, 50), (0, 0)], vec![(2, 1), (3, 1)]]
+        );
     }
 
     #[test]

@@ -9,7 +9,6 @@ pub mod figure;
 pub mod npy;
 pub mod output;
 pub mod pair_plots;
-pub mod plot;
 pub mod sweep_output;
 
 pub mod run_record;

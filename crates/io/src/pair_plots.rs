@@ -23,14 +23,23 @@ fn broken_line(rows: &[(f64, Option<f64>)], lo: f64, hi: f64) -> Vec<(f64, f64)>
 }
 
 /// Writes the pair's figures into `dir`; returns `(stem, caption)` of each. `healthy` is the
-/// same pair without breakage; `(dd, ds)` the dimensionless half backlash of the two zones.
+/// same pair without breakage; `(dd, ds)` the dimensionless half backlash of the two zones;
+/// `context` (e.g. the preset and operating point) ends each title when not empty.
 pub fn pair_figures(
     dir: &Path,
     pm: &PairModel,
     healthy: &PairModel,
     dd: f64,
     ds: f64,
+    context: &str,
 ) -> Result<Vec<(PathBuf, String)>, FigureError> {
+    let titled = |t: &str| {
+        if context.is_empty() {
+            t.to_string()
+        } else {
+            format!("{t}: {context}")
+        }
+    };
     let broken = pm.eps_b.is_some();
     let cycles = pm.cycles as f64;
     let hk: Vec<(f64, f64)> = (0..pm.cycles)
@@ -60,11 +69,11 @@ pub fn pair_figures(
     write_figure(
         &stem,
         &Figure {
-            title: if broken {
-                "Mesh stiffness over one pinion revolution: healthy and broken pair".into()
+            title: titled(if broken {
+                "Mesh stiffness over one pinion revolution, healthy and broken pair"
             } else {
-                "Mesh stiffness over the mesh cycle".into()
-            },
+                "Mesh stiffness over the mesh cycle"
+            }),
             x_label: "position (mesh cycles)".into(),
             x_range: Some((0.0, cycles)),
             panels: vec![Panel {
@@ -107,7 +116,7 @@ pub fn pair_figures(
         write_figure(
             &stem,
             &Figure {
-                title: "Mesh stiffness around the chipped tooth's cycle".into(),
+                title: titled("Mesh stiffness around the chipped tooth's cycle"),
                 x_label: "position (mesh cycles)".into(),
                 x_range: Some((lo, hi)),
                 panels: vec![Panel {
@@ -171,7 +180,7 @@ pub fn pair_figures(
     write_figure(
         &stem,
         &Figure {
-            title: "Pair stiffness, load sharing, friction factors and half backlash".into(),
+            title: titled("Pair stiffness, load sharing, friction factors and half backlash"),
             x_label: "position (mesh cycles)".into(),
             x_range: Some((lo, hi)),
             panels: vec![
@@ -227,8 +236,9 @@ pub fn pair_figures(
         write_figure(
             &stem_l,
             &Figure {
-                title: "Lubrication along the cycle: friction coefficients and film parameter"
-                    .into(),
+                title: titled(
+                    "Lubrication along the cycle, friction coefficients and film parameter",
+                ),
                 x_label: "position (mesh cycles)".into(),
                 x_range: Some((lo, hi)),
                 panels: vec![

@@ -3,8 +3,11 @@
 //! the time-history, mesh-force and phase-portrait figures, and `run.json`. One home for what the
 //! folder holds and for the fields `summary.json` adds to the [`Summary`].
 
+use crate::figure::{
+    decimate, palette, tick, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style,
+    CHAOTIC,
+};
 use crate::output::{self, OutputError};
-use crate::plot::{decimate, xy_chart, Chart, Mark, PlotError, Series, PALETTE};
 use crate::{run_record, Config};
 use geardyn_analysis::simulate::{SimOptions, SimResult, Summary};
 use geardyn_scenario::Scenario;
@@ -12,6 +15,8 @@ use std::path::Path;
 
 /// A finished simulation, as the folder records it.
 pub struct Finished<'a> {
+    /// What the model comes from, for the figures' titles (`preset classic`, `config <file>`).
+    pub source: &'a str,
     /// The configuration, overrides applied.
     pub cfg: &'a Config,
     /// What was integrated.
@@ -36,7 +41,7 @@ pub enum FolderWriteError {
     Output(#[from] OutputError),
     /// A figure.
     #[error(transparent)]
-    Plot(#[from] PlotError),
+    Figure(#[from] FigureError),
 }
 
 /// The fields `summary.json` holds beside the [`Summary`]: the parameters integrated, contact
@@ -70,7 +75,8 @@ pub fn write(out: &Path, f: &Finished<'_>, started_unix_s: f64) -> Result<(), Fo
     output::write_events(&out.join("events.csv"), res)?;
     output::write_sections(&out.join("sections.csv"), res)?;
     output::write_summary(&out.join("summary.json"), f.summary, summary_extra(f))?;
-    plots(out, f.scenario.model(), res)?;
+    let title_tail = crate::sweep_output::operating_point(f.source, f.scenario.params(), &[]);
+    plots(out, f.scenario.model(), res, &title_tail)?;
     run_record::write_run_record(
         out,
         "simulate",
@@ -82,7 +88,13 @@ pub fn write(out: &Path, f: &Finished<'_>, started_unix_s: f64) -> Result<(), Fo
     Ok(())
 }
 
-fn plots(out: &Path, model: &geardyn_model::MeshModel, res: &SimResult) -> Result<(), PlotError> {
+/// The time history, mesh force and phase portrait; `op` (the operating point) ends each title.
+fn plots(
+    out: &Path,
+    model: &geardyn_model::MeshModel,
+    res: &SimResult,
+    op: &str,
+) -> Result<(), FigureError> {
     let ts = model.excitation_period();
     // the time history and mesh force show the last few excitation periods
     let shown = if model.cycles_per_period() > 1 {
@@ -100,55 +112,68 @@ fn plots(out: &Path, model: &geardyn_model::MeshModel, res: &SimResult) -> Resul
     let fs: Vec<(f64, f64)> = window.iter().map(|p| (p.tau, p.mesh_force)).collect();
     let (dd, ds) = model.backlash_levels();
     let (t0, t1) = (xs.first().map_or(0.0, |p| p.0), t_end);
-    let mut levels = vec![vec![(t0, ds), (t1, ds)], vec![(t0, -ds), (t1, -ds)]];
+    let level = |v: f64, color| Layer {
+        points: vec![(t0, v), (t1, v)],
+        style: Style::Line(1),
+        color,
+    };
+    let gold = palette(4);
+    let mut layers = vec![level(ds, CHAOTIC), level(-ds, CHAOTIC)];
+    let mut legend = vec![
+        LegendEntry::line("x", palette(0)),
+        LegendEntry::line(format!("±D_s = {}", tick(ds)), CHAOTIC),
+    ];
     if dd != ds {
-        levels.push(vec![(t0, dd), (t1, dd)]);
-        levels.push(vec![(t0, -dd), (t1, -dd)]);
+        layers.push(level(dd, gold));
+        layers.push(level(-dd, gold));
+        legend.push(LegendEntry::line(format!("±D_d = {}", tick(dd)), gold));
     }
-    let xs = decimate(&xs, 20_000);
-    let mut series = vec![Series {
-        label: "x",
-        points: &xs,
-        mark: Mark::Line,
-        color: PALETTE[0],
-    }];
-    for (i, l) in levels.iter().enumerate() {
-        series.push(Series {
-            label: if i == 0 {
-                "±D_s"
-            } else if i == 2 {
-                "±D_d"
-            } else {
-                ""
-            },
-            points: l,
-            mark: Mark::Line,
-            color: if i < 2 { PALETTE[6] } else { PALETTE[4] },
-        });
-    }
-    xy_chart(
+    layers.push(Layer {
+        points: decimate(&xs, 20_000),
+        style: Style::Line(1),
+        color: palette(0),
+    });
+    let x_range = Some((t0, t1));
+    let periods = if shown > 1.0 {
+        "last 5 excitation periods"
+    } else {
+        "last excitation period"
+    };
+    write_figure(
         &out.join("time_history"),
-        &Chart {
-            title: "Time history",
-            x_label: "τ (dimensionless time)",
-            y_label: "x (units of b_c)",
+        &Figure {
+            title: format!("Time history ({periods}): {op}"),
+            x_label: "τ (dimensionless time)".into(),
+            x_range,
+            panels: vec![Panel {
+                y_label: "x (units of b_c)".into(),
+                layers,
+                ..Default::default()
+            }],
+            legend,
+            panel_height: 460,
+            ..Default::default()
         },
-        &series,
     )?;
-    let fs = decimate(&fs, 20_000);
-    xy_chart(
+    write_figure(
         &out.join("mesh_force"),
-        &Chart {
-            title: "Dynamic mesh force",
-            x_label: "τ",
-            y_label: "F_m (units of k_av b_c)",
+        &Figure {
+            title: format!("Dynamic mesh force ({periods}): {op}"),
+            x_label: "τ (dimensionless time)".into(),
+            x_range,
+            panels: vec![Panel {
+                y_label: "F_m (units of k_av b_c)".into(),
+                layers: vec![Layer {
+                    points: decimate(&fs, 20_000),
+                    style: Style::Line(1),
+                    color: palette(1),
+                }],
+                hlines: vec![0.0],
+                ..Default::default()
+            }],
+            panel_height: 460,
+            ..Default::default()
         },
-        &[Series {
-            label: "",
-            points: &fs,
-            mark: Mark::Line,
-            color: PALETTE[1],
-        }],
     )?;
     let stride = (res.trajectory.len() / 40_000).max(1);
     let phase: Vec<(f64, f64)> = res
@@ -158,27 +183,35 @@ fn plots(out: &Path, model: &geardyn_model::MeshModel, res: &SimResult) -> Resul
         .map(|p| (p.x, p.v))
         .collect();
     let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p[1], p[2])).collect();
-    xy_chart(
+    write_figure(
         &out.join("phase_portrait"),
-        &Chart {
-            title: "Phase portrait and stroboscopic Poincaré section",
-            x_label: "x",
-            y_label: "x'",
+        &Figure {
+            title: format!("Phase portrait and stroboscopic Poincaré section: {op}"),
+            x_label: "x (units of b_c)".into(),
+            panels: vec![Panel {
+                y_label: "x'".into(),
+                layers: vec![
+                    Layer {
+                        points: phase,
+                        style: Style::Line(1),
+                        color: palette(5),
+                    },
+                    Layer {
+                        points: strobe,
+                        style: Style::Dots(4),
+                        color: palette(1),
+                    },
+                ],
+                ..Default::default()
+            }],
+            legend: vec![
+                LegendEntry::line("trajectory", palette(5)),
+                LegendEntry::dot("Poincaré points", palette(1)),
+            ],
+            width: 1000,
+            panel_height: 640,
+            ..Default::default()
         },
-        &[
-            Series {
-                label: "trajectory",
-                points: &phase,
-                mark: Mark::Line,
-                color: PALETTE[5],
-            },
-            Series {
-                label: "Poincaré points",
-                points: &strobe,
-                mark: Mark::Dots(4),
-                color: PALETTE[1],
-            },
-        ],
     )?;
     Ok(())
 }

@@ -3,13 +3,13 @@
 //! pixel, many distinct colours).
 
 use crate::figure::{
-    self, palette, write_figure, write_raster, Figure, FigureError, Layer, LegendEntry,
-    RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
+    self, palette, write_figure, write_raster, Figure, FigureError, LabelColors, Layer,
+    LegendEntry, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
-use crate::plot::PlotColor;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
+use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -49,13 +49,56 @@ fn run_name(run: &geardyn_analysis::bifurcation::Run) -> String {
     }
 }
 
-fn fixed_color(name: &str) -> Option<PlotColor> {
-    match name {
-        "chaotic" => Some(CHAOTIC),
-        "quasi-periodic" => Some(QUASI),
-        "unsettled" => Some(UNSETTLED),
-        "failed" | "diverged" => Some(OTHER),
-        _ => None,
+/// The operating point for a figure's title: what the model comes from (`source`, e.g.
+/// `preset classic`), then omega, F and xi, those in `swept` (the figure's axes) left out:
+/// `preset classic, omega = 1.2, F = 0.1, xi = 0.05`.
+pub fn operating_point(source: &str, p: &geardyn_model::ModelParams, swept: &[&str]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    if !source.is_empty() {
+        parts.push(source.to_string());
+    }
+    for (name, v) in [("omega", p.omega), ("F", p.load), ("xi", p.xi)] {
+        if !swept.contains(&name) {
+            parts.push(format!("{name} = {}", figure::tick(v)));
+        }
+    }
+    parts.join(", ")
+}
+
+/// Points of a scatter layer that fall apart on a figure, per value of the parameter the layer
+/// has points at: `y` told apart to 1/500 of the layer's `y` range (a periodic run records the
+/// same stroboscopic points again every period).
+fn distinct_per_value(points: &[(f64, f64)]) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .map(|p| p.1)
+        .filter(|y| y.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |r, y| {
+            (r.0.min(y), r.1.max(y))
+        });
+    let q = ((hi - lo) / 500.0).max(1e-12 * lo.abs().max(hi.abs()).max(1.0));
+    let mut keys: Vec<(u64, i64)> = points
+        .iter()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .map(|p| (p.0.to_bits(), ((p.1 - lo) / q).round() as i64))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    let mut xs: Vec<u64> = keys.iter().map(|k| k.0).collect();
+    xs.dedup();
+    keys.len() as f64 / xs.len().max(1) as f64
+}
+
+/// Half-size in pixels of the dots of a scatter layer over a sweep of `values` values: a layer
+/// of few distinct points per value (periodic branches) in dots the larger the fewer the values
+/// (8 pixels for up to 30 values, 6 for up to 100); denser layers (chaotic bands) and long sweeps
+/// in 4-pixel dots, never smaller (visible at 100 % zoom).
+pub fn dot_radius(points: &[(f64, f64)], values: usize) -> u32 {
+    let per_value = distinct_per_value(points);
+    match (per_value <= 16.0, values) {
+        (true, 0..=30) => 4,
+        (true, 31..=100) => 3,
+        _ => 2,
     }
 }
 
@@ -76,14 +119,17 @@ fn value_range(results: &[TaskResult]) -> (f64, f64) {
 /// level and impact sections) against the parameter, the TLE below when computed; the legend
 /// (its own column) names each motion. Continuation branches are coloured up/down; otherwise
 /// points are coloured by the decided motion (label of periodic runs; chaotic, quasi-periodic,
-/// unsettled), with up to [`figure::DISTINCT_COLORS`] distinct colours. Scatter points are
-/// merged per pixel, so the SVG stays small for any number of points.
+/// unsettled) from `colors` (a label keeps its colour in every figure of a command), at most
+/// [`LEGEND_MAX`] legend entries (the rarest labels as "N other labels"). Dots are sized by
+/// the points per value ([`dot_radius`]). Scatter points are merged per pixel, so the SVG stays
+/// small for any number of points.
 pub fn plot_bifurcation(
     stem: &Path,
     param: &str,
     results: &[TaskResult],
     sections: &[Section],
     title: &str,
+    colors: &mut LabelColors,
 ) -> Result<(), FigureError> {
     let sweep = results.iter().any(|r| r.task.branch > 0);
     let mut groups: BTreeMap<String, BTreeMap<Section, Vec<(f64, f64)>>> = BTreeMap::new();
@@ -111,27 +157,40 @@ pub fn plot_bifurcation(
     order.sort_by(|a, b| counts[b].cmp(&counts[a]).then(a.cmp(b)));
     let flat: BTreeMap<String, Vec<(f64, f64)>> =
         order.iter().map(|n| (n.clone(), vec![])).collect();
-    let colored = figure::categorical(flat, &order, &fixed_color);
+    let colored = figure::categorical_keyed(flat, &order, &figure::class_color, colors);
     let color_of = |n: &str| colored.iter().find(|c| c.0 == n).map_or(OTHER, |c| c.1);
-    // dots as large as the columns of values leave room for: single pixels vanish (and their
-    // colours cannot be told apart) on a sweep of a few values
-    let radius = match results.len() {
-        0..=40 => 3,
-        41..=150 => 2,
-        _ => 1,
+    let values = {
+        let mut v: Vec<f64> = results.iter().map(|r| r.value).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v.len()
     };
+    // the labels grouped as "N other labels" are drawn as one layer under that name
+    let grouped = |n: &str| !colored.iter().any(|c| c.0 == n);
     let layers = |get: figure::PointsOf| -> Vec<Layer> {
-        order
+        let mut out: Vec<Layer> = Vec::new();
+        let rest: Vec<(f64, f64)> = order
             .iter()
-            .rev()
-            .filter_map(|n| {
-                get(n).map(|points| Layer {
-                    points,
-                    style: Style::Dots(radius),
-                    color: color_of(n),
-                })
+            .filter(|n| grouped(n))
+            .filter_map(|n| get(n))
+            .flatten()
+            .collect();
+        if !rest.is_empty() {
+            out.push(Layer {
+                style: Style::Dots(dot_radius(&rest, values)),
+                points: rest,
+                color: OTHER,
+            });
+        }
+        // the most frequent motion first, the rarer ones drawn over it
+        out.extend(order.iter().rev().filter(|n| !grouped(n)).filter_map(|n| {
+            get(n).map(|points| Layer {
+                style: Style::Dots(dot_radius(&points, values)),
+                points,
+                color: color_of(n),
             })
-            .collect()
+        }));
+        out
     };
     let mut panels: Vec<figure::Panel> = sections
         .iter()
@@ -208,36 +267,82 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
     write_csv(path, &header, rows)
 }
 
-/// Frequency-response figure: RMS of `x` and of `F_m`, up and down sweeps (legend beside the
-/// panels).
+/// Frequency-response figure: RMS of `x` and of `F_m` over the parameter, up and down sweeps
+/// (legend beside the panels). Lines join periodic values only: a chaotic, quasi-periodic or
+/// unsettled value is a dot in its class colour (black, dark grey, grey), and the line breaks
+/// there.
 pub fn plot_response(
     stem: &Path,
     param: &str,
     results: &[TaskResult],
     title: &str,
 ) -> Result<(), FigureError> {
-    let branch =
-        |b: u8, f: &dyn Fn(&geardyn_analysis::simulate::Amplitudes) -> f64| -> Vec<(f64, f64)> {
-            let mut v: Vec<(f64, f64)> = results
+    type Amp = geardyn_analysis::simulate::Amplitudes;
+    // (value, amplitude, class name of a non-periodic run) of one branch, by value
+    let branch = |b: u8, f: &dyn Fn(&Amp) -> f64| -> Vec<(f64, f64, Option<String>)> {
+        let mut v: Vec<(f64, f64, Option<String>)> = results
+            .iter()
+            .filter(|r| r.task.branch == b)
+            .filter_map(|r| {
+                let run = &r.runs[0];
+                let class = (!run.motion.is_periodic()).then(|| run_name(run));
+                run.amplitudes.map(|a| (r.value, f(&a), class))
+            })
+            .collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
+    };
+    let mut classes: Vec<String> = Vec::new();
+    let mut layers_of = |f: &dyn Fn(&Amp) -> f64| -> Vec<Layer> {
+        let mut periodic = Vec::new();
+        let mut other: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+        for (k, b) in [1u8, 2].into_iter().enumerate() {
+            let pts = branch(b, f);
+            let line: Vec<(f64, f64)> = pts
                 .iter()
-                .filter(|r| r.task.branch == b)
-                .filter_map(|r| r.runs[0].amplitudes.map(|a| (r.value, f(&a))))
+                .map(|p| (p.0, if p.2.is_none() { p.1 } else { f64::NAN }))
                 .collect();
-            v.sort_by(|a, b| a.0.total_cmp(&b.0));
-            v
-        };
-    let line = |points: Vec<(f64, f64)>, k: usize| Layer {
-        points,
-        style: Style::Line(2),
-        color: palette(k),
+            periodic.push(Layer {
+                points: line.clone(),
+                style: Style::Line(2),
+                color: palette(k),
+            });
+            periodic.push(Layer {
+                points: line,
+                style: Style::Dots(3),
+                color: palette(k),
+            });
+            for (v, y, c) in pts {
+                if let Some(c) = c {
+                    other.entry(c).or_default().push((v, y));
+                }
+            }
+        }
+        for (c, pts) in other {
+            if !classes.contains(&c) {
+                classes.push(c.clone());
+            }
+            periodic.push(Layer {
+                points: pts,
+                style: Style::Dots(3),
+                color: figure::class_color(&c).unwrap_or(OTHER),
+            });
+        }
+        periodic
     };
-    let dots = |points: Vec<(f64, f64)>, k: usize| Layer {
-        points,
-        style: Style::Dots(2),
-        color: palette(k),
-    };
-    let (ux, dx) = (branch(1, &|a| a.rms_x), branch(2, &|a| a.rms_x));
-    let (uf, df) = (branch(1, &|a| a.rms_force), branch(2, &|a| a.rms_force));
+    let x_layers = layers_of(&|a| a.rms_x);
+    let f_layers = layers_of(&|a| a.rms_force);
+    let mut legend = vec![
+        LegendEntry::line("sweep up (periodic)", palette(0)),
+        LegendEntry::line("sweep down (periodic)", palette(1)),
+    ];
+    classes.sort();
+    legend.extend(classes.iter().map(|c| {
+        LegendEntry::dot(
+            format!("{c} (no line)"),
+            figure::class_color(c).unwrap_or(OTHER),
+        )
+    }));
     write_figure(
         stem,
         &Figure {
@@ -247,24 +352,17 @@ pub fn plot_response(
             panels: vec![
                 figure::Panel {
                     y_label: "RMS of x (AC)".into(),
-                    layers: vec![
-                        line(ux.clone(), 0),
-                        dots(ux, 0),
-                        line(dx.clone(), 1),
-                        dots(dx, 1),
-                    ],
+                    layers: x_layers,
                     ..Default::default()
                 },
                 figure::Panel {
                     y_label: "RMS of F_m (AC)".into(),
-                    layers: vec![line(uf, 0), line(df, 1)],
+                    layers: f_layers,
                     ..Default::default()
                 },
             ],
-            legend: vec![
-                LegendEntry::line("sweep up", palette(0)),
-                LegendEntry::line("sweep down", palette(1)),
-            ],
+            legend,
+            legend_title: "branch / motion".into(),
             ..Default::default()
         },
     )
@@ -272,22 +370,45 @@ pub fn plot_response(
 
 /// Basin image: one distinct colour per attractor (id order), divergent cells black, unresolved
 /// grey, crosses at the attractors' stroboscopic points; the legend (beside the image) names each
-/// attractor with its label, health and basin share. Equal-colour runs are merged.
+/// attractor with its label, health and basin share. At most [`LEGEND_MAX`] legend entries: the
+/// attractors of the smallest basins beyond that are drawn as one group "N other attractors"
+/// (light brown). Equal-colour runs are merged.
 pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), FigureError> {
-    let black = PlotColor(0, 0, 0);
-    let colors: Vec<PlotColor> = r
+    let black = CHAOTIC;
+    let fixed = usize::from(r.diverged > 0.0) + usize::from(r.failed > 0.0);
+    let room = if r.attractors.len() + fixed <= LEGEND_MAX {
+        r.attractors.len()
+    } else {
+        LEGEND_MAX.saturating_sub(fixed + 1)
+    };
+    // the attractors of the largest basins are named, in id order
+    let mut by_share: Vec<usize> = (0..r.attractors.len()).collect();
+    by_share.sort_by(|&a, &b| {
+        r.attractors[b]
+            .fraction
+            .total_cmp(&r.attractors[a].fraction)
+            .then(a.cmp(&b))
+    });
+    let mut named: Vec<usize> = by_share[..room].to_vec();
+    named.sort_by_key(|&i| r.attractors[i].id);
+    let color_of_id: BTreeMap<usize, RGBColor> = named
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| (r.attractors[i].id, palette(k)))
+        .collect();
+    let colors: Vec<RGBColor> = r
         .cells
         .iter()
         .map(|&c| match c {
             -1 => black,
-            i if i >= 0 => palette(i as usize),
-            _ => OTHER,
+            i if i >= 0 => color_of_id.get(&(i as usize)).copied().unwrap_or(OTHER),
+            _ => UNSETTLED,
         })
         .collect();
-    let mut legend: Vec<LegendEntry> = r
-        .attractors
+    let mut legend: Vec<LegendEntry> = named
         .iter()
-        .map(|at| {
+        .map(|&i| {
+            let at = &r.attractors[i];
             LegendEntry::dot(
                 format!(
                     "#{} {}{}, {} ({:.1} %)",
@@ -310,10 +431,24 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
                     },
                     100.0 * at.fraction
                 ),
-                palette(at.id),
+                color_of_id[&at.id],
             )
         })
         .collect();
+    if named.len() < r.attractors.len() {
+        let rest: f64 = by_share[room..]
+            .iter()
+            .map(|&i| r.attractors[i].fraction)
+            .sum();
+        legend.push(LegendEntry::dot(
+            format!(
+                "{} other attractors ({:.1} %)",
+                r.attractors.len() - named.len(),
+                100.0 * rest
+            ),
+            OTHER,
+        ));
+    }
     if r.diverged > 0.0 {
         legend.push(LegendEntry::dot(
             format!("divergent ({:.1} %)", 100.0 * r.diverged),
@@ -323,7 +458,7 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
     if r.failed > 0.0 {
         legend.push(LegendEntry::dot(
             format!("unresolved ({:.1} %)", 100.0 * r.failed),
-            OTHER,
+            UNSETTLED,
         ));
     }
     let (nx, nv) = (r.x.n.max(1), r.v.n.max(1));
@@ -362,6 +497,7 @@ pub fn plot_continuation(
     param: &str,
     values: &[f64],
     r: &geardyn_analysis::continuation::ContinuationResult,
+    colors: &mut LabelColors,
 ) -> Result<(), FigureError> {
     let name = |p: &geardyn_analysis::continuation::BranchPoint| {
         if p.period > 0 {
@@ -383,9 +519,12 @@ pub fn plot_continuation(
         }
         tree.entry(n).or_default().push((p.value, p.x));
     }
-    let colored = figure::categorical(tree, &order, &|n: &str| {
-        (n == "not periodic").then_some(UNSETTLED)
-    });
+    let colored = figure::categorical_keyed(
+        tree,
+        &order,
+        &|n: &str| (n == "not periodic").then_some(UNSETTLED),
+        colors,
+    );
     let share = |healthy: bool| -> Vec<(f64, f64)> {
         values
             .iter()
@@ -443,8 +582,8 @@ pub fn plot_continuation(
                     layers: colored
                         .into_iter()
                         .map(|(_, c, points)| Layer {
+                            style: Style::Dots(dot_radius(&points, values.len())),
                             points,
-                            style: Style::Dots(2),
                             color: c,
                         })
                         .collect(),
@@ -456,4 +595,34 @@ pub fn plot_continuation(
             ..Default::default()
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn periodic_branches_get_visible_dots() {
+        // a period-1 run records its one stroboscopic point 100 times per value
+        let periodic: Vec<(f64, f64)> = (0..40)
+            .flat_map(|i| std::iter::repeat_n((i as f64, 0.01 * i as f64), 100))
+            .collect();
+        assert_eq!(dot_radius(&periodic, 40), 3);
+        assert_eq!(dot_radius(&periodic, 12), 4);
+        assert_eq!(dot_radius(&periodic, 400), 2);
+        // a chaotic band: hundreds of distinct points per value
+        let chaotic: Vec<(f64, f64)> = (0..4)
+            .flat_map(|i| (0..300).map(move |k| (i as f64, k as f64)))
+            .collect();
+        assert_eq!(dot_radius(&chaotic, 40), 2);
+        assert_eq!(dot_radius(&[], 40), 3);
+    }
+
+    #[test]
+    fn titles_leave_the_swept_parameter_out() {
+        let p = geardyn_model::presets::by_name("classic").unwrap();
+        let t = operating_point("preset classic", &p, &["omega"]);
+        assert!(t.starts_with("preset classic, F = "), "{t}");
+        assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
+    }
 }

@@ -1,9 +1,10 @@
-//! Charts of extreme or broken data finish (issue 13): axis ranges stay finite, tick searches
-//! bounded, non-finite points skipped and far points clipped.
+//! Figures of extreme or broken data finish (issue 13): axis ranges stay finite, tick searches
+//! bounded, non-finite points skipped and far points clipped; NaN, infinite or empty data never
+//! panic.
 
-use geardyn_io::plot::{
-    axis_range, raster_chart, stacked_chart, xy_chart, Chart, Mark, Panel, Raster, Series,
-    AXIS_LIMIT, PALETTE,
+use geardyn_io::figure::{
+    axis_range, palette, write_figure, write_raster, Figure, Layer, LegendEntry, Panel,
+    RasterFigure, Style, AXIS_LIMIT,
 };
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -29,11 +30,25 @@ fn tmp(name: &str) -> PathBuf {
     dir
 }
 
-const CHART: Chart<'static> = Chart {
-    title: "t",
-    x_label: "x",
-    y_label: "y",
-};
+fn figure(points: Vec<(f64, f64)>, style: Style, x_range: Option<(f64, f64)>) -> Figure {
+    Figure {
+        title: "t".into(),
+        x_label: "x".into(),
+        x_range,
+        panels: vec![Panel {
+            y_label: "y".into(),
+            layers: vec![Layer {
+                points,
+                style,
+                color: palette(0),
+            }],
+            hlines: vec![0.0, f64::NAN, f64::INFINITY],
+            ..Default::default()
+        }],
+        legend: vec![LegendEntry::line("a", palette(0))],
+        ..Default::default()
+    }
+}
 
 #[test]
 fn axis_ranges_are_finite_and_ordered() {
@@ -61,7 +76,7 @@ fn axis_ranges_are_finite_and_ordered() {
 }
 
 #[test]
-fn xy_chart_of_extreme_data_finishes() {
+fn figure_of_extreme_data_finishes() {
     let dir = tmp("xy");
     within_a_minute("xy", move || {
         let sets: Vec<Vec<(f64, f64)>> = vec![
@@ -83,50 +98,41 @@ fn xy_chart_of_extreme_data_finishes() {
             vec![],
         ];
         for (k, pts) in sets.iter().enumerate() {
-            for mark in [Mark::Line, Mark::Dots(2)] {
-                xy_chart(
+            for style in [Style::Line(1), Style::Dots(2)] {
+                write_figure(
                     &dir.join(format!("c{k}")),
-                    &CHART,
-                    &[Series {
-                        label: "a",
-                        points: pts,
-                        mark,
-                        color: PALETTE[0],
-                    }],
+                    &figure(pts.clone(), style, None),
                 )
                 .unwrap();
                 let svg = std::fs::read_to_string(dir.join(format!("c{k}.svg"))).unwrap();
                 assert!(svg.contains("<svg") && !svg.contains("NaN"), "set {k}");
             }
         }
+        // no panel at all
+        write_figure(&dir.join("empty"), &Figure::default()).unwrap();
         std::fs::remove_dir_all(dir).ok();
     });
 }
 
 #[test]
-fn stacked_chart_with_unbounded_x_range_finishes() {
+fn figure_with_unbounded_x_range_finishes() {
     let dir = tmp("stacked");
     within_a_minute("stacked", move || {
-        let pts = [(0.0, 0.0), (1e300, 1.0), (2.0, f64::NAN), (3.0, -1e300)];
+        let pts = vec![(0.0, 0.0), (1e300, 1.0), (2.0, f64::NAN), (3.0, -1e300)];
         for (k, xr) in [
             (0.0, 1.0),
             (f64::NEG_INFINITY, f64::INFINITY),
             (f64::NAN, f64::NAN),
             (-1e308, 1e308),
+            (1.0, 1.0),
         ]
         .into_iter()
         .enumerate()
         {
-            let panels = [Panel {
-                y_label: "y",
-                series: vec![Series {
-                    label: "",
-                    points: &pts,
-                    mark: Mark::Line,
-                    color: PALETTE[1],
-                }],
-            }];
-            stacked_chart(&dir.join(format!("s{k}")), "t", "x", xr, &panels).unwrap();
+            let mut fig = figure(pts.clone(), Style::Line(2), Some(xr));
+            fig.panels.push(fig.panels[0].clone());
+            fig.panels[1].y_range = Some((f64::NAN, f64::INFINITY));
+            write_figure(&dir.join(format!("s{k}")), &fig).unwrap();
         }
         std::fs::remove_dir_all(dir).ok();
     });
@@ -136,27 +142,29 @@ fn stacked_chart_with_unbounded_x_range_finishes() {
 fn raster_with_unbounded_ranges_finishes() {
     let dir = tmp("raster");
     within_a_minute("raster", move || {
-        let colors = [PALETTE[0]; 4];
-        let r = Raster {
+        let colors = vec![palette(0); 4];
+        let fig = RasterFigure {
+            title: "t".into(),
             x: (0.0, f64::INFINITY, 2),
             y: (f64::NAN, -1e308, 2),
-            colors: &colors,
+            colors: colors.clone(),
+            colorbar: Some((f64::NAN, f64::INFINITY, "m".into())),
+            marks: vec![(f64::NAN, 0.0), (f64::INFINITY, 1.0)],
+            ..Default::default()
         };
-        raster_chart(
-            &dir.join("r"),
-            &CHART,
-            &r,
-            &[],
-            Some((f64::NAN, f64::INFINITY)),
-        )
-        .unwrap();
+        write_raster(&dir.join("r"), &fig).unwrap();
         // more cells than colours: drawn partly
-        let r = Raster {
+        let fig = RasterFigure {
             x: (0.0, 1.0, 3),
             y: (0.0, 1.0, 3),
-            colors: &colors,
+            colors,
+            colorbar: Some((1.0, 1.0, "m".into())),
+            legend: vec![LegendEntry::dot("a", palette(1))],
+            ..Default::default()
         };
-        raster_chart(&dir.join("r2"), &CHART, &r, &[], Some((1.0, 1.0))).unwrap();
+        write_raster(&dir.join("r2"), &fig).unwrap();
+        // no cells at all
+        write_raster(&dir.join("r3"), &RasterFigure::default()).unwrap();
         std::fs::remove_dir_all(dir).ok();
     });
 }

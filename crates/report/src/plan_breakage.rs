@@ -135,7 +135,7 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
     let (dd, ds) = (base.params().d_double, base.params().d_single);
     let csv = dir.join("stiffness.csv");
     write_stiffness_csv(&csv, pm, dd, ds)?;
-    let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds)?
+    let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds, "")?
         .iter()
         .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
         .collect();
@@ -1087,7 +1087,7 @@ fn load_sensitivity(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     })
 }
 
-fn class_color(p: &Pt) -> (geardyn_io::plot::PlotColor, &'static str) {
+fn class_color(p: &Pt) -> (geardyn_io::figure::RGBColor, &'static str) {
     match p.class {
         Class::Periodic(_) if !p.back => (palette(0), "periodic, no impact"),
         Class::Periodic(_) => (palette(1), "periodic with impacts"),

@@ -316,10 +316,11 @@ fn stiffness(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<S
     let (dd, ds) = (base.params().d_double, base.params().d_single);
     let csv = dir.join("stiffness.csv");
     crate::plan_breakage::write_stiffness_csv(&csv, pm, dd, ds)?;
-    let mut figs: Vec<crate::Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, pm, dd, ds)?
-        .iter()
-        .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
-        .collect();
+    let mut figs: Vec<crate::Figure> =
+        geardyn_io::pair_plots::pair_figures(dir, pm, pm, dd, ds, "")?
+            .iter()
+            .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
+            .collect();
     // variants without the prescribed k_av (which would rescale every variant to 4e8 N/m)
     use geardyn_physics::mesh_stiffness::HertzModel;
     let variant = |hertz: HertzModel, thermal: bool| -> Result<PairModel> {

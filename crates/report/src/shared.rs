@@ -13,12 +13,12 @@ use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
 use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_io::figure::{
     categorical, palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel,
     RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
 };
 use geardyn_io::output::write_csv;
-use geardyn_io::plot::PlotColor;
 use geardyn_model::MeshModel;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
@@ -590,7 +590,14 @@ pub fn continuation_figure(
     values.sort_by(f64::total_cmp);
     values.dedup();
     let stem = dir.join(name);
-    geardyn_io::sweep_output::plot_continuation(&stem, title, param, &values, c)?;
+    geardyn_io::sweep_output::plot_continuation(
+        &stem,
+        title,
+        param,
+        &values,
+        c,
+        &mut geardyn_io::figure::LabelColors::default(),
+    )?;
     let br_csv = dir.join(format!("{name}_branches.csv"));
     write_csv(
         &br_csv,
@@ -688,7 +695,7 @@ pub fn map_figure(
         .iter()
         .map(|v| {
             if v.is_finite() {
-                geardyn_io::plot::colormap((v - lo) / (hi - lo).max(1e-12))
+                geardyn_io::figure::colormap((v - lo) / (hi - lo).max(1e-12))
             } else {
                 OTHER
             }
