@@ -74,6 +74,10 @@ impl Default for OrbitOptions {
 /// circle) there; farther, the multipliers jumped across at a grazing.
 const CRITICAL: f64 = 1e-2;
 
+/// Largest residual `|P_n(y) - y| / (1 + |y|)` accepted as the integration's noise floor when
+/// Newton's steps stop reducing it (see [`find_orbit`]).
+pub const NOISE_FLOOR: f64 = 1e-6;
+
 /// Largest orbit period accepted (excitation periods).
 pub const MAX_ORBIT_PERIOD: u32 = 256;
 
@@ -81,7 +85,7 @@ pub const MAX_ORBIT_PERIOD: u32 = 256;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum OrbitError {
     /// The integration failed.
-    #[error(transparent)]
+    #[error("integrating the orbit failed: {0} (a larger rtol, or a shorter period, may pass)")]
     Solver(#[from] SolverError),
     /// The scenario refused a parameter value.
     #[error(transparent)]
@@ -101,8 +105,10 @@ pub enum OrbitError {
         residual: f64,
     },
     /// The motion after the transient is not periodic and no period was given.
-    #[error("the motion from x0 = {x0}, v0 = {v0} is not periodic after {transient} periods (within 32): give period N (--period N) to seek an orbit of N excitation periods (stable or not) near it")]
+    #[error("the motion from x0 = {x0}, v0 = {v0} is {motion} after {transient} periods (decided as geardyn simulate decides it): give period N (--period N) to seek an orbit of N excitation periods (stable or not) near it, or start elsewhere (x0, v0)")]
     NotPeriodic {
+        /// The decided motion.
+        motion: String,
         /// Initial state.
         x0: f64,
         /// Initial state.
@@ -426,7 +432,28 @@ pub fn find_orbit(
     opts: &OrbitOptions,
 ) -> Result<Orbit, OrbitError> {
     check(opts)?;
-    newton(model, y0, 0.0, opts)
+    let o = newton(model, y0, 0.0, opts)?;
+    minimal(model, o, opts)
+}
+
+/// The orbit at its least period: an orbit of `n` periods that is a fixed point of `P_d` for a
+/// divisor `d` of `n` is the orbit of period `d` (its multipliers are those of `P_d`, not their
+/// `n/d`-th powers).
+fn minimal(model: &MeshModel, o: Orbit, opts: &OrbitOptions) -> Result<Orbit, OrbitError> {
+    let n = o.period;
+    for d in (1..n).filter(|d| n.is_multiple_of(*d)) {
+        let od = OrbitOptions { period: d, ..*opts };
+        let Ok(img) = map_only(model, o.y, o.memory, &od) else {
+            continue;
+        };
+        let r = (img[0] - o.y[0]).abs().max((img[1] - o.y[1]).abs());
+        if r <= 100.0 * NOISE_FLOOR * (1.0 + o.y[0].abs().max(o.y[1].abs())) {
+            if let Ok(od_orbit) = newton(model, o.y, o.memory, &od) {
+                return Ok(od_orbit);
+            }
+        }
+    }
+    Ok(o)
 }
 
 fn newton(
@@ -443,12 +470,17 @@ fn newton(
     for it in 0..=o.max_iter {
         let e = map_eval(model, y, memory, o)?;
         let r = [e.y[0] - y[0], e.y[1] - y[1]];
+        let before = residual;
         residual = r[0].abs().max(r[1].abs());
         if !residual.is_finite() {
             break;
         }
         let settled = (e.memory - memory).abs() <= o.tol * (1.0 + memory.abs());
-        if residual <= o.tol * (1.0 + y[0].abs().max(y[1].abs())) && settled {
+        let scale = 1.0 + y[0].abs().max(y[1].abs());
+        // converged, or at the integration's noise floor: a small residual that Newton's steps
+        // no longer halve (a map of many mesh cycles carries an error above `tol`)
+        let floor = residual <= NOISE_FLOOR * scale && residual > 0.5 * before;
+        if (residual <= o.tol * scale || floor) && settled {
             return Ok(Orbit::from_eval(y, e, o.period, it));
         }
         memory = e.memory;
@@ -688,12 +720,34 @@ pub fn continue_orbits(
         });
     }
     let mut out = Continuation::default();
-    let mut queue: Vec<(u32, f64, [f64; 2], f64)> = vec![(opts.orbit.period, opts.start, y0, 0.0)];
+    // the first orbit at its least period (a period given as a multiple of it would follow the
+    // powers of its multipliers)
+    let first = {
+        let m = base.with(&opts.param, opts.start)?;
+        let o = newton(m.model(), y0, 0.0, &opts.orbit)?;
+        minimal(m.model(), o, &opts.orbit)?
+    };
+    let mut queue: Vec<(u32, f64, [f64; 2], f64)> = vec![(first.period, opts.start, first.y, 0.0)];
     while let Some((period, p0, y, dir)) = queue.pop() {
         if out.points.len() >= opts.max_points {
             break;
         }
         let branch = out.ends.len();
+        if dir != 0.0 {
+            let near = out.points.iter().find(|q| {
+                q.orbit.period == period
+                    && (q.param - p0).abs() <= 2.0 * opts.ds_max
+                    && (q.orbit.y[0] - y[0]).abs().max((q.orbit.y[1] - y[1]).abs())
+                        <= 2.0 * opts.ds_max
+            });
+            if let Some(q) = near {
+                out.ends.push(format!(
+                    "branch {branch} (period {period}): already followed as branch {}",
+                    q.branch
+                ));
+                continue;
+            }
+        }
         let prob = Problem {
             base,
             param: &opts.param,
@@ -730,7 +784,17 @@ fn follow(
     progress: &(dyn Fn(&BranchPoint) + Sync),
 ) -> Result<Vec<Doubling>, OrbitError> {
     let (lo, hi) = (opts.start.min(opts.stop), opts.start.max(opts.stop));
-    let first = match prob.at(y, p0, 0.0) {
+    let first = match prob
+        .at(y, p0, 0.0)
+        .and_then(|o| minimal(prob.model(p0)?.model(), o, &prob.o))
+    {
+        Ok(o) if o.period != prob.o.period && branch > 0 => {
+            out.ends.push(format!(
+                "branch {branch}: the doubled orbit found is the period-{} orbit",
+                o.period
+            ));
+            return Ok(Vec::new());
+        }
         Ok(o) => o,
         Err(e) if branch > 0 => {
             out.ends
@@ -798,6 +862,7 @@ fn follow(
         ];
         let mut z = pred;
         let mut memory = cur.orbit.memory;
+        let mut last_res = f64::INFINITY;
         let mut done: Option<(Extended, u32)> = None;
         for it in 0..8 {
             let ext = match prob.extended([z[0], z[1]], z[2], memory) {
@@ -809,8 +874,11 @@ fn follow(
             memory = ext.orbit_eval.memory;
             let res = ext.r[0].abs().max(ext.r[1].abs());
             let arc = dot([z[0] - pred[0], z[1] - pred[1], z[2] - pred[2]], tan);
-            if res <= prob.o.tol * (1.0 + z[0].abs().max(z[1].abs())) && arc.abs() < 1e-9 && settled
-            {
+            let scale = 1.0 + z[0].abs().max(z[1].abs());
+            // converged, or at the integration's noise floor (as `newton`)
+            let floor = res <= NOISE_FLOOR * scale && res > 0.5 * last_res;
+            last_res = res;
+            if (res <= prob.o.tol * scale || floor) && arc.abs() < 1e-9 && settled {
                 done = Some((ext, it));
                 break;
             }
@@ -893,8 +961,40 @@ fn follow(
                 param: b.param,
                 orbit: b.orbit.clone(),
             };
-            if fresh(out, &fold) {
-                out.bifurcations.push(fold);
+            // a doubled branch turns at the doubling it was born from (the vertex of the
+            // pitchfork of the twice-iterated map): that is the doubling, not a fold
+            let birth = out
+                .bifurcations
+                .iter()
+                .find(|d| {
+                    d.kind == BifurcationKind::PeriodDoubling
+                        && 2 * d.orbit.period == fold.orbit.period
+                        && (d.param - fold.param).abs() <= 1e-3 * (1.0 + d.param.abs())
+                })
+                .map(|d| (d.param, d.orbit.period));
+            match birth {
+                // the branch has come round to a doubling of its parent: beyond it, it would
+                // retrace itself at the other phase
+                Some((pd, n)) if left_start => {
+                    progress(&next);
+                    out.points.push(next.clone());
+                    break format!(
+                        "the branch reached the period doubling of the period-{n} branch at {} = {pd}",
+                        prob.param
+                    );
+                }
+                Some(_) => {}
+                None => {
+                    // a turn at a grazing is the grazing (reported as such)
+                    let at_grazing = out.bifurcations.iter().any(|g| {
+                        g.kind == BifurcationKind::Grazing
+                            && g.orbit.period == fold.orbit.period
+                            && (g.param - fold.param).abs() <= 1e-4 * (1.0 + g.param.abs())
+                    }) || cur.orbit.event_word() != next.orbit.event_word();
+                    if !at_grazing && fresh(out, &fold) {
+                        out.bifurcations.push(fold);
+                    }
+                }
             }
         }
         if cur.orbit.event_word() != next.orbit.event_word() {
@@ -903,6 +1003,9 @@ fn follow(
                     out.bifurcations.push(b);
                 }
             }
+        }
+        if next.param < lo || next.param > hi {
+            break format!("{} left [{lo}, {hi}]", prob.param);
         }
         progress(&next);
         out.points.push(next.clone());
@@ -1080,7 +1183,11 @@ fn switch(
     for dp in [1e-3 * span, -1e-3 * span, 1e-2 * span, -1e-2 * span] {
         for eps in [1e-2, 1e-3, 1e-1] {
             let start = [y[0] + eps * v[0], y[1] + eps * v[1]];
-            if let Ok(o) = doubled.at(start, p + dp, 0.0) {
+            let found = doubled
+                .at(start, p + dp, 0.0)
+                .ok()
+                .filter(|o| (o.y[0] - y[0]).abs().max((o.y[1] - y[1]).abs()) <= 0.5);
+            if let Some(o) = found {
                 // not the period-n orbit counted twice
                 let Ok(sc) = doubled.model(p + dp) else {
                     continue;
@@ -1250,40 +1357,50 @@ pub fn run_orbits(
         Some((p, lo, _)) => sc.with(p, *lo)?,
         None => sc.clone(),
     };
-    let near = if req.transient > 0 {
-        let opts = SimOptions {
-            transient_periods: req.transient - 1,
-            record_periods: 1,
-            tau0: req.tau0,
-            ..Default::default()
-        };
-        simulate(start.model(), req.y0, &opts)
-            .map_err(|crate::simulate::SimError::Solver(e)| OrbitError::Solver(e))?
-            .final_state
-            .1
-    } else {
-        req.y0
-    };
-    let period = match req.period {
-        Some(n) => n,
+    let solver = |crate::simulate::SimError::Solver(e)| OrbitError::Solver(e);
+    let (near, period) = match req.period {
+        Some(n) => {
+            let near = if req.transient > 0 {
+                let opts = SimOptions {
+                    transient_periods: req.transient - 1,
+                    record_periods: 1,
+                    tau0: req.tau0,
+                    ..Default::default()
+                };
+                simulate(start.model(), req.y0, &opts)
+                    .map_err(solver)?
+                    .final_state
+                    .1
+            } else {
+                req.y0
+            };
+            (near, n)
+        }
         None => {
+            // the period as `geardyn simulate` decides it (transients extended where the motion
+            // is still settling), and the start from the decided record's end
             let opts = SimOptions {
-                transient_periods: 0,
+                transient_periods: req.transient,
                 record_periods: 3 * 32,
                 tau0: req.tau0,
                 ..Default::default()
             };
-            let res = simulate(start.model(), near, &opts)
-                .map_err(|crate::simulate::SimError::Solver(e)| OrbitError::Solver(e))?;
-            let s = crate::simulate::summarize(start.model(), &res, &opts);
-            if s.period == 0 {
+            let (res, s, _) = crate::classify::simulate_decided(
+                start.model(),
+                req.y0,
+                &opts,
+                crate::classify::Decide::default(),
+            )
+            .map_err(solver)?;
+            if !s.motion.is_periodic() {
                 return Err(OrbitError::NotPeriodic {
                     x0: req.y0[0],
                     v0: req.y0[1],
-                    transient: req.transient,
+                    transient: s.periods_integrated,
+                    motion: s.label.clone(),
                 });
             }
-            s.period as u32
+            (res.final_state.1, s.period as u32)
         }
     };
     let orbit = OrbitOptions {
@@ -1344,6 +1461,43 @@ pub fn orbit_records(
                 Some(s) => (s.label, s.max_force, s.p_id),
                 None => (String::new(), f64::NAN, f64::NAN),
             }
+        })
+        .collect()
+}
+
+/// The brute-force diagram an orbit figure draws beneath the branches: strobe points
+/// `(value, x)` of a plain simulation (300 + 60 periods from `y0`, DP5, no decision) at `n`
+/// values of `[lo, hi]` of `param`, in parallel; a value whose run fails draws nothing.
+pub fn strobe_diagram(
+    sc: &Scenario,
+    param: &str,
+    lo: f64,
+    hi: f64,
+    n: usize,
+    y0: [f64; 2],
+    tau0: f64,
+) -> Vec<(f64, f64)> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let values = crate::bifurcation::linspace(lo.min(hi), lo.max(hi), n.max(2));
+    use rayon::prelude::*;
+    values
+        .par_iter()
+        .flat_map_iter(|&v| {
+            let opts = SimOptions {
+                transient_periods: 300,
+                record_periods: 60,
+                tau0,
+                ..Default::default()
+            };
+            let pts: Vec<(f64, f64)> = sc
+                .with(param, v)
+                .ok()
+                .and_then(|m| simulate(m.model(), y0, &opts).ok())
+                .map(|r| r.strobe.iter().map(|p| (v, p[1])).collect())
+                .unwrap_or_default();
+            pts
         })
         .collect()
 }

@@ -169,7 +169,8 @@ fn a_branch_finds_the_grazing_of_the_linear_orbit_where_its_amplitude_equals_the
         .collect();
     assert_eq!(folds.len(), 1, "{folds:?}");
     assert!(folds[0] > w_graze && folds[0] < 0.8, "{folds:?}");
-    assert!(c.points.last().unwrap().param < 0.6);
+    assert!(c.points.last().unwrap().param < 0.62);
+    assert!(c.ends[0].contains("left [0.6, 0.8]"), "{:?}", c.ends);
 }
 
 #[test]
@@ -215,7 +216,8 @@ fn the_period_one_branch_of_c1_doubles_where_the_diagram_does_and_goes_on_unstab
             pt.orbit.multipliers
         );
     }
-    assert!(c.points.iter().any(|p| p.param > 0.94));
+    assert!(c.points.iter().any(|p| p.param > 0.93));
+    assert!(c.ends[0].contains("left"), "{:?}", c.ends);
 }
 
 #[test]

@@ -5,16 +5,10 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::parse_range;
 use anyhow::{bail, Result};
 use clap::Args;
-use geardyn_analysis::orbits::{
-    orbit_records, run_orbits, BranchPoint, Continuation, OrbitsRequest,
-};
-use geardyn_analysis::simulate::{simulate, SimOptions};
-use geardyn_io::figure::{palette, write_figure, Figure, Layer, LegendEntry, Panel, Style};
+use geardyn_analysis::orbits::{orbit_records, run_orbits, strobe_diagram, OrbitsRequest};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
 use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, OrbitRow};
-use geardyn_scenario::Scenario;
-use rayon::prelude::*;
 use std::path::PathBuf;
 
 /// Arguments of `geardyn orbits`.
@@ -113,6 +107,13 @@ pub fn run(a: OrbitArgs) -> Result<()> {
             p_id,
         })
         .collect();
+    // a rerun in the folder replaces what an earlier run wrote and this one does not
+    for stale in ["bifurcations.csv", "branch.png", "branch.svg"] {
+        let f = a.out.join(stale);
+        if f.is_file() {
+            std::fs::remove_file(&f)?;
+        }
+    }
     orbit_branch_table(param, &table).write_csv(&a.out.join("branch.csv"), full)?;
     if let Some(p) = param {
         bifurcations_table(p, &result.bifurcations)
@@ -128,8 +129,13 @@ pub fn run(a: OrbitArgs) -> Result<()> {
         None => Vec::new(),
     };
     if let Some((p, lo, hi)) = &range {
-        let diagram = brute_force(&scenario, p, *lo, *hi, a.diagram, y0, tau0);
-        plot(&a, &scenario, p, &result, &diagram)?;
+        let diagram = strobe_diagram(&scenario, p, *lo, *hi, a.diagram, y0, tau0);
+        let title = format!(
+            "Periodic orbits over {p}: {} ({})",
+            a.cfg.source(),
+            geardyn_io::describe::operating_point_without(&scenario, p)
+        );
+        geardyn_io::sweep_output::plot_orbits(&a.out.join("branch"), &title, p, &result, &diagram)?;
     }
     run_record::write_sweep_record(
         &a.out,
@@ -212,163 +218,4 @@ fn parse_two(s: &str) -> Result<(f64, f64)> {
         return Err(bad());
     }
     Ok((lo, hi))
-}
-
-/// Strobe points `(value, x)` of a plain simulation at `n` values of the range (300 + 60
-/// periods from `y0`), for the figure.
-fn brute_force(
-    sc: &Scenario,
-    param: &str,
-    lo: f64,
-    hi: f64,
-    n: usize,
-    y0: [f64; 2],
-    tau0: f64,
-) -> Vec<(f64, f64)> {
-    if n == 0 {
-        return Vec::new();
-    }
-    let values = geardyn_analysis::bifurcation::linspace(lo.min(hi), lo.max(hi), n.max(2));
-    values
-        .par_iter()
-        .flat_map_iter(|&v| {
-            let opts = SimOptions {
-                transient_periods: 300,
-                record_periods: 60,
-                tau0,
-                ..Default::default()
-            };
-            let pts: Vec<(f64, f64)> = sc
-                .with(param, v)
-                .ok()
-                .and_then(|m| simulate(m.model(), y0, &opts).ok())
-                .map(|r| r.strobe.iter().map(|p| (v, p[1])).collect())
-                .unwrap_or_default();
-            pts
-        })
-        .collect()
-}
-
-/// The branches (stable: solid lines, unstable: dots), the bifurcation points, and the
-/// brute-force diagram in grey beneath.
-fn plot(
-    a: &OrbitArgs,
-    sc: &Scenario,
-    param: &str,
-    c: &Continuation,
-    diagram: &[(f64, f64)],
-) -> Result<()> {
-    let mut layers = Vec::new();
-    let mut legend = Vec::new();
-    if !diagram.is_empty() {
-        let grey = plotters::style::RGBColor(120, 120, 120);
-        layers.push(Layer {
-            points: diagram.to_vec(),
-            style: Style::Dots(1),
-            color: grey,
-        });
-        legend.push(LegendEntry::dot("simulated (strobe)", grey));
-    }
-    // one colour per orbit period (the branches of one period share it)
-    let mut periods: Vec<u32> = c.points.iter().map(|p| p.orbit.period).collect();
-    periods.sort_unstable();
-    periods.dedup();
-    let branches = c.ends.len().max(1);
-    for (k, &period) in periods.iter().enumerate() {
-        let color = palette(k);
-        let mut any_stable = false;
-        let mut any_unstable = false;
-        for b in 0..branches {
-            let pts: Vec<&BranchPoint> = c
-                .points
-                .iter()
-                .filter(|p| p.branch == b && p.orbit.period == period)
-                .collect();
-            if pts.is_empty() {
-                continue;
-            }
-            // stable stretches as lines (a NaN breaks the line where the orbit is unstable),
-            // unstable ones as dots
-            let stable: Vec<(f64, f64)> = pts
-                .iter()
-                .map(|p| {
-                    if p.orbit.stable {
-                        (p.param, p.orbit.y[0])
-                    } else {
-                        (f64::NAN, f64::NAN)
-                    }
-                })
-                .collect();
-            let unstable: Vec<(f64, f64)> = pts
-                .iter()
-                .filter(|p| !p.orbit.stable)
-                .map(|p| (p.param, p.orbit.y[0]))
-                .collect();
-            any_stable |= pts.iter().any(|p| p.orbit.stable);
-            any_unstable |= !unstable.is_empty();
-            layers.push(Layer {
-                points: stable,
-                style: Style::Line(2),
-                color,
-            });
-            layers.push(Layer {
-                points: unstable,
-                style: Style::Dots(1),
-                color,
-            });
-        }
-        if any_stable {
-            legend.push(LegendEntry::line(format!("period {period}, stable"), color));
-        }
-        if any_unstable {
-            legend.push(LegendEntry::dot(
-                format!("period {period}, unstable"),
-                color,
-            ));
-        }
-    }
-    for (kind, color) in [
-        ("period-doubling", plotters::style::RGBColor(200, 0, 0)),
-        ("fold", plotters::style::RGBColor(0, 0, 0)),
-        ("torus", plotters::style::RGBColor(128, 0, 160)),
-        ("grazing", plotters::style::RGBColor(0, 140, 60)),
-    ] {
-        let pts: Vec<(f64, f64)> = c
-            .bifurcations
-            .iter()
-            .filter(|b| b.kind.name() == kind)
-            .map(|b| (b.param, b.orbit.y[0]))
-            .collect();
-        if !pts.is_empty() {
-            layers.push(Layer {
-                points: pts,
-                style: Style::Dots(4),
-                color,
-            });
-            legend.push(LegendEntry::dot(kind, color));
-        }
-    }
-    let fig = Figure {
-        title: format!(
-            "Periodic orbits over {param}: {} ({})",
-            a.cfg.source(),
-            // the operating point without the swept parameter
-            geardyn_io::describe::operating_point(sc)
-                .split(", ")
-                .filter(|s| !s.starts_with(&format!("{param} =")))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        x_label: param.to_string(),
-        panels: vec![Panel {
-            y_label: "x at the strobe".into(),
-            layers,
-            weight: 1.6,
-            ..Default::default()
-        }],
-        legend,
-        ..Default::default()
-    };
-    write_figure(&a.out.join("branch"), &fig)?;
-    Ok(())
 }

@@ -111,10 +111,7 @@ fn bad_settings_are_refused_with_the_flag_and_its_range() {
             "bad ds",
         ),
         (vec!["--rtol", "0.5"], "bad rtol"),
-        (
-            vec!["--transient", "0", "--set", "x0=50"],
-            "no periodic orbit",
-        ),
+        (vec!["--set", "omega=1.3"], "is chaotic"),
     ] {
         let mut a = vec!["orbits", "--preset", "classic", "--out", o];
         a.extend(args.iter().copied());

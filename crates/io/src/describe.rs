@@ -16,6 +16,17 @@ pub fn operating_point(sc: &Scenario) -> String {
     )
 }
 
+/// [`operating_point`] without the parameter `param` (a swept one: its value is the axis of a
+/// figure, not a fixed setting).
+pub fn operating_point_without(sc: &Scenario, param: &str) -> String {
+    let head = format!("{param} =");
+    operating_point(sc)
+        .split(", ")
+        .filter(|s| !s.starts_with(&head))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Derived quantities as `# ` comment lines.
 pub fn describe(sc: &Scenario) -> Result<String, ConfigError> {
     let mut s = String::new();

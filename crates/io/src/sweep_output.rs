@@ -4,7 +4,7 @@
 
 use crate::figure::{
     self, palette, write_figure, write_raster, Figure, FigureError, LabelColors, Layer,
-    LegendEntry, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
+    LegendEntry, Panel, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
 use geardyn_analysis::basins::BasinResult;
@@ -625,4 +625,121 @@ mod tests {
         assert!(t.starts_with("preset classic, F = "), "{t}");
         assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
     }
+}
+
+/// Figure of periodic-orbit branches (`geardyn orbits`, the report): stable stretches as lines,
+/// unstable ones as dots, one colour per orbit period, the bifurcation points marked, over the
+/// brute-force diagram `diagram` (`(value, x)` strobe points, grey). `title` states the preset and
+/// the fixed parameters.
+pub fn plot_orbits(
+    stem: &Path,
+    title: &str,
+    param: &str,
+    c: &geardyn_analysis::orbits::Continuation,
+    diagram: &[(f64, f64)],
+) -> Result<(), FigureError> {
+    use geardyn_analysis::orbits::BranchPoint;
+    let mut layers = Vec::new();
+    let mut legend = Vec::new();
+    if !diagram.is_empty() {
+        let grey = RGBColor(120, 120, 120);
+        layers.push(Layer {
+            points: diagram.to_vec(),
+            style: Style::Dots(1),
+            color: grey,
+        });
+        legend.push(LegendEntry::dot("simulated (strobe)", grey));
+    }
+    // one colour per orbit period (the branches of one period share it)
+    let mut periods: Vec<u32> = c.points.iter().map(|p| p.orbit.period).collect();
+    periods.sort_unstable();
+    periods.dedup();
+    let branches = c.ends.len().max(1);
+    for (k, &period) in periods.iter().enumerate() {
+        let color = palette(k);
+        let mut any_stable = false;
+        let mut any_unstable = false;
+        for b in 0..branches {
+            let pts: Vec<&BranchPoint> = c
+                .points
+                .iter()
+                .filter(|p| p.branch == b && p.orbit.period == period)
+                .collect();
+            if pts.is_empty() {
+                continue;
+            }
+            // stable stretches as lines (a NaN breaks the line where the orbit is unstable),
+            // unstable ones as dots
+            let stable: Vec<(f64, f64)> = pts
+                .iter()
+                .map(|p| {
+                    if p.orbit.stable {
+                        (p.param, p.orbit.y[0])
+                    } else {
+                        (f64::NAN, f64::NAN)
+                    }
+                })
+                .collect();
+            let unstable: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| !p.orbit.stable)
+                .map(|p| (p.param, p.orbit.y[0]))
+                .collect();
+            any_stable |= pts.iter().any(|p| p.orbit.stable);
+            any_unstable |= !unstable.is_empty();
+            layers.push(Layer {
+                points: stable,
+                style: Style::Line(2),
+                color,
+            });
+            layers.push(Layer {
+                points: unstable,
+                style: Style::Dots(1),
+                color,
+            });
+        }
+        if any_stable {
+            legend.push(LegendEntry::line(format!("period {period}, stable"), color));
+        }
+        if any_unstable {
+            legend.push(LegendEntry::dot(
+                format!("period {period}, unstable"),
+                color,
+            ));
+        }
+    }
+    for (kind, color) in [
+        ("period-doubling", RGBColor(200, 0, 0)),
+        ("fold", RGBColor(0, 0, 0)),
+        ("torus", RGBColor(128, 0, 160)),
+        ("grazing", RGBColor(0, 140, 60)),
+    ] {
+        let pts: Vec<(f64, f64)> = c
+            .bifurcations
+            .iter()
+            .filter(|b| b.kind.name() == kind)
+            .map(|b| (b.param, b.orbit.y[0]))
+            .collect();
+        if !pts.is_empty() {
+            layers.push(Layer {
+                points: pts,
+                style: Style::Dots(4),
+                color,
+            });
+            legend.push(LegendEntry::dot(kind, color));
+        }
+    }
+    let fig = Figure {
+        title: title.to_string(),
+        x_label: param.to_string(),
+        panels: vec![Panel {
+            y_label: "x at the strobe".into(),
+            layers,
+            weight: 1.6,
+            ..Default::default()
+        }],
+        legend,
+        ..Default::default()
+    };
+    write_figure(stem, &fig)
 }
