@@ -145,7 +145,10 @@ def _opt_float(name, v):
         return None
     if isinstance(v, (bool, np.bool_)):
         raise TypeError(f"{name}: a number, not a bool")
-    return float(v)
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: a number, not {type(v).__name__}") from None
 
 
 _COUNT_MAX = 2**62  # far above every count the library takes (each has its own, lower limit)
@@ -1101,10 +1104,10 @@ def orbits(
         stop,
         None if period is None else _count("period", period, 1),
         _count("transient", transient),
-        float(ds),
+        _opt_float("ds", ds),
         _count("max_points", max_points, 1),
         _count("switch_up_to", switch_up_to),
-        float(rtol),
+        _opt_float("rtol", rtol),
         bool(progress),
     )
     d["branch"] = _table(d["branch"])

@@ -53,3 +53,8 @@ def test_bad_settings_name_the_setting(kw, text):
     with pytest.raises(ValueError) as e:
         geardyn.orbits("classic", **kw)
     assert text in str(e.value)
+
+
+def test_a_non_number_names_the_setting():
+    with pytest.raises(TypeError, match="ds"):
+        geardyn.orbits("classic", param="omega", range=(0.5, 1), ds="a")
