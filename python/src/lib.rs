@@ -1072,8 +1072,8 @@ fn orbits<'py>(
     rtol: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use geardyn_analysis::orbits::{orbit_records, run_orbits, OrbitsRequest, MAX_ORBIT_PERIOD};
-    use geardyn_io::schema::{bifurcations_table, orbit_branch_table, OrbitRow};
+    use geardyn_analysis::orbits::{run_orbits, OrbitsRequest, MAX_ORBIT_PERIOD};
+    use geardyn_io::schema::{bifurcations_table, orbit_branch_table, orbit_rows};
     let (cfg, table, bifs, ends) = util::run(py, "orbits", progress, None, move |_ctl: &Ctl| {
         let cfg = src.config()?;
         let scenario = cfg.resolve()?;
@@ -1106,18 +1106,7 @@ fn orbits<'py>(
         };
         let c = run_orbits(&scenario, &req, &|_| {})?;
         let name = range.as_ref().map(|r| r.0.as_str());
-        let records = orbit_records(&scenario, name, &c.points, tau0);
-        let rows: Vec<OrbitRow<'_>> = c
-            .points
-            .iter()
-            .zip(records)
-            .map(|(point, (label, max_force, p_id))| OrbitRow {
-                point,
-                label,
-                max_force,
-                p_id,
-            })
-            .collect();
+        let rows = orbit_rows(&scenario, name, &c.points, tau0);
         let table = orbit_branch_table(name, &rows);
         let bifs = name.map(|n| bifurcations_table(n, &c.bifurcations));
         Ok((cfg, table, bifs, c.ends.clone()))

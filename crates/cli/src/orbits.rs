@@ -5,10 +5,10 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::parse_range;
 use anyhow::{bail, Result};
 use clap::Args;
-use geardyn_analysis::orbits::{orbit_records, run_orbits, strobe_diagram, OrbitsRequest};
+use geardyn_analysis::orbits::{run_orbits, strobe_diagram, OrbitsRequest};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
-use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, OrbitRow};
+use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
 use std::path::PathBuf;
 
 /// Arguments of `geardyn orbits`.
@@ -95,18 +95,7 @@ pub fn run(a: OrbitArgs) -> Result<()> {
         }
     })?;
     let param = range.as_ref().map(|r| r.0.as_str());
-    let records = orbit_records(&scenario, param, &result.points, tau0);
-    let table: Vec<OrbitRow<'_>> = result
-        .points
-        .iter()
-        .zip(records)
-        .map(|(point, (label, max_force, p_id))| OrbitRow {
-            point,
-            label,
-            max_force,
-            p_id,
-        })
-        .collect();
+    let table = orbit_rows(&scenario, param, &result.points, tau0);
     // a rerun in the folder replaces what an earlier run wrote and this one does not
     for stale in ["bifurcations.csv", "branch.png", "branch.svg"] {
         let f = a.out.join(stale);

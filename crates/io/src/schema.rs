@@ -427,6 +427,28 @@ pub struct OrbitRow<'a> {
     pub p_id: f64,
 }
 
+/// The rows of the orbits of a branch: each point with its record
+/// ([`geardyn_analysis::orbits::orbit_records`]: label, forces and P_ID at its parameter value;
+/// `param` the continued parameter, `None` for one orbit at `sc`).
+pub fn orbit_rows<'a>(
+    sc: &geardyn_scenario::Scenario,
+    param: Option<&str>,
+    points: &'a [geardyn_analysis::orbits::BranchPoint],
+    tau0: f64,
+) -> Vec<OrbitRow<'a>> {
+    let records = geardyn_analysis::orbits::orbit_records(sc, param, points, tau0);
+    points
+        .iter()
+        .zip(records)
+        .map(|(point, (label, max_force, p_id))| OrbitRow {
+            point,
+            label,
+            max_force,
+            p_id,
+        })
+        .collect()
+}
+
 /// The multiplier columns `mu1_re, mu1_im, mu2_re, mu2_im` (largest modulus first).
 fn push_multipliers(t: &mut Table, mus: &[[geardyn_analysis::orbits::Multiplier; 2]]) {
     for i in 0..2 {

@@ -206,10 +206,8 @@ fn orbits_study(
     base: &geardyn_scenario::Scenario,
     dir: &std::path::Path,
 ) -> Result<Section> {
-    use geardyn_analysis::orbits::{
-        orbit_records, run_orbits, strobe_diagram, BifurcationKind, OrbitsRequest,
-    };
-    use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, OrbitRow};
+    use geardyn_analysis::orbits::{run_orbits, strobe_diagram, BifurcationKind, OrbitsRequest};
+    use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
     let (lo, hi) = (0.5, 2.0);
     let req = OrbitsRequest {
         range: Some(("omega".into(), lo, hi)),
@@ -217,18 +215,7 @@ fn orbits_study(
         ..Default::default()
     };
     let c = run_orbits(base, &req, &|_| {})?;
-    let records = orbit_records(base, Some("omega"), &c.points, req.tau0);
-    let rows: Vec<OrbitRow<'_>> = c
-        .points
-        .iter()
-        .zip(records)
-        .map(|(point, (label, max_force, p_id))| OrbitRow {
-            point,
-            label,
-            max_force,
-            p_id,
-        })
-        .collect();
+    let rows = orbit_rows(base, Some("omega"), &c.points, req.tau0);
     let branch_csv = dir.join("branch.csv");
     let bif_csv = dir.join("bifurcations.csv");
     orbit_branch_table(Some("omega"), &rows).write_csv(&branch_csv, full)?;
