@@ -5,7 +5,7 @@ use crate::{rel, Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::basins::{basins, BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{run_sweep, SweepOptions, TaskResult};
-use geardyn_analysis::classify::DECISION_PERIODS;
+use geardyn_analysis::classify::{DECISION_BUDGET, DECISION_PERIODS};
 use geardyn_analysis::continuation::{
     continuation, ContinuationOptions, ContinuationResult, ValueAttractors,
 };
@@ -46,6 +46,11 @@ fn bar(len: u64, msg: &str) -> ProgressBar {
 /// Decision horizon of a `--quick` report (excitation periods): a coarse look, an order of
 /// magnitude below the measured transients that the default horizon covers; the page says so.
 pub const QUICK_DECISION_PERIODS: u64 = 1_000;
+/// Work budget of one run's decision in a `--quick` report (right-hand-side evaluations): a tenth
+/// of the default. It binds only where one excitation period costs more than 10^5 evaluations
+/// (the broken pair below omega = 0.2: ~2.3 10^5 per revolution at 0.1), whose runs are then
+/// `unsettled` (decided by `budget`) in the quick report instead of costing a minute each.
+pub const QUICK_DECISION_BUDGET: u64 = DECISION_BUDGET / 10;
 
 impl Ctx {
     /// `quick` or `full`, by mode.
@@ -65,6 +70,7 @@ impl Ctx {
             transient_periods: self.n(transient.0, transient.1),
             record_periods: self.n(record.0, record.1),
             decision_periods: self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS),
+            decision_budget: self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET),
             ..Default::default()
         }
     }
@@ -86,7 +92,7 @@ impl Ctx {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 10, "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "geardyn": env!("CARGO_PKG_VERSION") }),
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 10, "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "decision_budget": self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET), "geardyn": env!("CARGO_PKG_VERSION") }),
         )?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {

@@ -17,6 +17,12 @@ fn refs(html: &str, attr: &str) -> Vec<String> {
 fn quick(preset: &str) -> (PathBuf, PathBuf, String) {
     let out = std::env::temp_dir().join(format!("geardyn-report-{preset}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
+    quick_into(preset, &out)
+}
+
+/// The quick report of `preset` into `out` (beside what is already there).
+fn quick_into(preset: &str, out: &Path) -> (PathBuf, PathBuf, String) {
+    let out = out.to_path_buf();
     let cfg = Config::preset(preset).unwrap();
     let opts = ReportOptions {
         preset: preset.into(),
@@ -27,6 +33,24 @@ fn quick(preset: &str) -> (PathBuf, PathBuf, String) {
     assert_eq!(index, out.join(preset).join("index.html"));
     let html = std::fs::read_to_string(&index).unwrap();
     (out.clone(), out.join(preset), html)
+}
+
+/// Every file under `dir` with its bytes, sorted by path.
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((p.clone(), std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
 }
 
 fn non_empty(p: &Path) -> bool {
@@ -196,7 +220,27 @@ fn quick_seed_reports_have_data_budget_and_honest_claims() {
     for (preset, min_reproduced, min_with_partly) in
         [("internal", 0.2, 0.6), ("breakage", 0.5, 0.55)]
     {
-        let (out, page_dir, html) = quick(preset);
+        // the internal page is written beside a classic one, which it must leave untouched
+        // (each preset owns its folder; the top index links both)
+        let (out, page_dir, html) = if preset == "internal" {
+            // (its own folder: the classic test above runs at the same time)
+            let out =
+                std::env::temp_dir().join(format!("geardyn-report-beside-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&out);
+            let (out, classic_dir, _) = quick_into("classic", &out);
+            let before = snapshot(&classic_dir);
+            let r = quick_into(preset, &out);
+            assert_eq!(
+                before,
+                snapshot(&classic_dir),
+                "the internal report touched classic/"
+            );
+            let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+            assert!(index.contains("classic/index.html") && index.contains("internal/index.html"));
+            r
+        } else {
+            quick(preset)
+        };
         let n = check_figures(&page_dir, &html);
         assert!(n >= 10, "{preset}: {n} figures");
         let size = folder_size(&page_dir);
