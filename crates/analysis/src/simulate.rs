@@ -91,7 +91,8 @@ pub struct SimOptions {
     /// Keep the trajectory: uniform samples (`samples_per_cycle` per mesh cycle, from the dense
     /// output) plus both sides of every event.
     pub trajectory: bool,
-    /// Trajectory samples per mesh cycle.
+    /// Trajectory samples per mesh cycle (at least: at low meshing frequency more, so that every
+    /// natural period holds [`MIN_SAMPLES_PER_NATURAL_PERIOD`] samples).
     pub samples_per_cycle: u32,
     /// Keep the trajectory of the last this many recorded excitation periods only (all of them
     /// by default; the strobe, events and statistics always cover every recorded period).
@@ -422,6 +423,29 @@ pub(crate) struct Recorder<'a> {
     pub(crate) strobe_only: bool,
 }
 
+/// Fewest trajectory samples per natural period `2 pi / sqrt(k_peak)` of the stiffest mesh state
+/// (dimensionless time): a curve drawn through the samples stays smooth where a mesh cycle spans
+/// many natural oscillations (the broken pair at `omega` = 0.1: ten per mesh cycle, which 24
+/// samples per cycle drew as a star of straight lines).
+pub const MIN_SAMPLES_PER_NATURAL_PERIOD: u32 = 32;
+
+/// Time between trajectory samples: `samples_per_cycle` per mesh cycle, or finer when the
+/// natural period asks for it ([`MIN_SAMPLES_PER_NATURAL_PERIOD`]; only when the trajectory is
+/// kept, so that other runs pay nothing for the stiffness scan).
+fn sample_step(model: &MeshModel, samples_per_cycle: u32, keep_traj: bool) -> f64 {
+    let per_cycle = model.mesh_cycle_time() / samples_per_cycle.max(1) as f64;
+    if !keep_traj {
+        return per_cycle;
+    }
+    let k = model.peak_stiffness();
+    let natural = 2.0 * std::f64::consts::PI / k.max(1.0).sqrt();
+    if natural.is_finite() {
+        per_cycle.min(natural / MIN_SAMPLES_PER_NATURAL_PERIOD as f64)
+    } else {
+        per_cycle
+    }
+}
+
 impl<'a> Recorder<'a> {
     pub(crate) fn new(
         model: &'a MeshModel,
@@ -444,7 +468,7 @@ impl<'a> Recorder<'a> {
             period: 0,
             traj_from,
             last_end: None,
-            sample_dt: model.mesh_cycle_time() / samples_per_cycle.max(1) as f64,
+            sample_dt: sample_step(model, samples_per_cycle, keep_traj),
             next_sample: 0,
             sample_origin: t_start,
             levels: [ds, -ds, dd, -dd],

@@ -454,3 +454,40 @@ fn trajectory_window_keeps_the_last_periods_on_the_same_uniform_grid() {
         b.trajectory.len()
     );
 }
+
+/// A kept trajectory resolves the natural oscillation at low meshing frequency: C1 (k = 1 +- 0.2,
+/// natural period 2 pi / sqrt(1.2) = 5.74) at omega = 0.1 spans eleven natural periods per mesh
+/// cycle, so 24 samples per cycle (2.2 per natural period) would draw a star of chords; the
+/// sampler takes at least 32 per natural period there, and exactly `samples_per_cycle` per mesh
+/// cycle where that is finer (omega = 1 with 128 per cycle).
+#[test]
+fn trajectory_sampling_follows_the_natural_period_at_low_frequency() {
+    let m = MeshModel::new(&presets::classic()).unwrap();
+    assert!((m.peak_stiffness() - 1.2).abs() < 1e-9, "{}", m.peak_stiffness());
+    let spacing = |omega: f64, samples_per_cycle: u32| {
+        let mut p = presets::classic();
+        p.omega = omega;
+        let m = MeshModel::new(&p).unwrap();
+        let r = simulate(
+            &m,
+            [0.0, 0.0],
+            &SimOptions {
+                transient_periods: 2,
+                record_periods: 1,
+                trajectory: true,
+                samples_per_cycle,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // the widest gap (events only add points between uniform samples)
+        let mut gaps: Vec<f64> = r.trajectory.windows(2).map(|w| w[1].tau - w[0].tau).collect();
+        gaps.sort_by(f64::total_cmp);
+        (gaps[gaps.len() - 1], m.mesh_cycle_time())
+    };
+    let natural = 2.0 * std::f64::consts::PI / 1.2f64.sqrt();
+    let (gap, _) = spacing(0.1, 24);
+    assert!(gap <= natural / 32.0 * (1.0 + 1e-9), "{gap} vs {}", natural / 32.0);
+    let (gap, cycle) = spacing(1.0, 128);
+    assert!((gap - cycle / 128.0).abs() < 1e-9 * cycle, "{gap} vs {}", cycle / 128.0);
+}

@@ -734,6 +734,22 @@ impl MeshModel {
         }
     }
 
+    /// Largest mesh stiffness over the excitation period (dimensionless, units of the mean
+    /// stiffness), sampled 64 times per segment and at both ends of each: the stiffest contact
+    /// state sets the shortest natural period `2 pi / sqrt(k)` a trajectory must resolve.
+    pub fn peak_stiffness(&self) -> f64 {
+        let mut k = f64::NEG_INFINITY;
+        for s in &self.segs {
+            let w = s.end - s.start;
+            for i in 0..=64 {
+                // (the end itself belongs to the next segment)
+                let u = s.start + w * (i as f64 / 64.0) * (1.0 - 1e-12);
+                k = k.max(self.stiffness_at(u));
+            }
+        }
+        k
+    }
+
     /// Right-hand side of the excitation, `F + xi*omega^2*cos(omega*tau)` (the acceleration of a
     /// separated tooth pair).
     #[inline]

@@ -28,7 +28,7 @@ fn claims_table(claims: &[&Claim]) -> String {
     // the reading of the seed text each claim uses, when the plan has readings
     let readings = claims.iter().any(|c| !c.interpretation.is_empty());
     let mut s = String::from(
-        "<table><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th>",
+        "<table id=\"claims-table\"><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th>",
     );
     if readings {
         s.push_str("<th>reading of the text</th>");

@@ -1671,13 +1671,13 @@ fn portraits(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             &sim,
             geardyn_analysis::classify::Decide::default(),
         )?;
-        let traj: Vec<(f64, f64)> = r.trajectory.iter().map(|p| (p.x, p.v)).collect();
-        let strobe: Vec<(f64, f64)> = r.strobe.iter().map(|p| (p[1], p[2])).collect();
-        let impacts: Vec<(f64, f64)> = r
+        let traj: Vec<[f64; 3]> = r.trajectory.iter().map(|p| [p.tau, p.x, p.v]).collect();
+        let strobe: Vec<[f64; 3]> = r.strobe.clone();
+        let impacts: Vec<[f64; 3]> = r
             .events
             .iter()
             .filter(|e| e.kind == EventKind::Impact)
-            .map(|e| (e.x, e.v_before))
+            .map(|e| [e.tau, e.x, e.v_before])
             .collect();
         let motion = if summary.motion.is_periodic() {
             summary.label.clone()

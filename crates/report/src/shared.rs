@@ -978,16 +978,21 @@ pub fn portrait_figure(
     dir: &Path,
     name: &str,
     title: &str,
-    series: [(&str, Vec<(f64, f64)>); 3],
+    series: [(&str, Vec<[f64; 3]>); 3],
     caption: &str,
 ) -> Result<Figure> {
     let name = &safe(name);
     let mut rows = Vec::new();
     for (label, pts) in &series {
-        rows.extend(pts.iter().map(|p| vec![label.to_string(), g(p.0), g(p.1)]));
+        rows.extend(
+            pts.iter()
+                .map(|p| vec![label.to_string(), g(p[0]), g(p[1]), g(p[2])]),
+        );
     }
     let cols = [palette(0), palette(1), palette(2)];
+    let xv = |pts: Vec<[f64; 3]>| -> Vec<(f64, f64)> { pts.iter().map(|p| (p[1], p[2])).collect() };
     let [(l0, p0), (l1, p1), (l2, p2)] = series;
+    let (p0, p1, p2) = (xv(p0), xv(p1), xv(p2));
     let stem = dir.join(name);
     write_figure(
         &stem,
@@ -1026,7 +1031,7 @@ pub fn portrait_figure(
         },
     )?;
     let csv = dir.join(format!("{name}.csv"));
-    write_csv(&csv, &["series", "x", "v"], rows)?;
+    write_csv(&csv, &["series", "tau", "x", "v"], rows)?;
     Ok(ctx.fig(&stem, caption, &[csv]))
 }
 
