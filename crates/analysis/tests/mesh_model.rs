@@ -463,7 +463,11 @@ fn trajectory_window_keeps_the_last_periods_on_the_same_uniform_grid() {
 #[test]
 fn trajectory_sampling_follows_the_natural_period_at_low_frequency() {
     let m = MeshModel::new(&presets::classic()).unwrap();
-    assert!((m.peak_stiffness() - 1.2).abs() < 1e-9, "{}", m.peak_stiffness());
+    assert!(
+        (m.peak_stiffness() - 1.2).abs() < 1e-9,
+        "{}",
+        m.peak_stiffness()
+    );
     let spacing = |omega: f64, samples_per_cycle: u32| {
         let mut p = presets::classic();
         p.omega = omega;
@@ -481,13 +485,25 @@ fn trajectory_sampling_follows_the_natural_period_at_low_frequency() {
         )
         .unwrap();
         // the widest gap (events only add points between uniform samples)
-        let mut gaps: Vec<f64> = r.trajectory.windows(2).map(|w| w[1].tau - w[0].tau).collect();
+        let mut gaps: Vec<f64> = r
+            .trajectory
+            .windows(2)
+            .map(|w| w[1].tau - w[0].tau)
+            .collect();
         gaps.sort_by(f64::total_cmp);
         (gaps[gaps.len() - 1], m.mesh_cycle_time())
     };
     let natural = 2.0 * std::f64::consts::PI / 1.2f64.sqrt();
     let (gap, _) = spacing(0.1, 24);
-    assert!(gap <= natural / 32.0 * (1.0 + 1e-9), "{gap} vs {}", natural / 32.0);
+    assert!(
+        gap <= natural / 32.0 * (1.0 + 1e-9),
+        "{gap} vs {}",
+        natural / 32.0
+    );
     let (gap, cycle) = spacing(1.0, 128);
-    assert!((gap - cycle / 128.0).abs() < 1e-9 * cycle, "{gap} vs {}", cycle / 128.0);
+    assert!(
+        (gap - cycle / 128.0).abs() < 1e-9 * cycle,
+        "{gap} vs {}",
+        cycle / 128.0
+    );
 }

@@ -222,10 +222,15 @@ fn quick_seed_reports_have_data_budget_and_honest_claims() {
     {
         // the internal page is written beside a classic one, which it must leave untouched
         // (each preset owns its folder; the top index links both)
+        // (its own folder: the classic test above runs at the same time; with
+        // GEARDYN_KEEP_REPORTS=DIR the three pages stay in DIR for the browser check of CI,
+        // scripts/check-report.sh --dir DIR)
+        let keep = std::env::var_os("GEARDYN_KEEP_REPORTS").map(PathBuf::from);
+        let beside = keep.clone().unwrap_or_else(|| {
+            std::env::temp_dir().join(format!("geardyn-report-beside-{}", std::process::id()))
+        });
         let (out, page_dir, html) = if preset == "internal" {
-            // (its own folder: the classic test above runs at the same time)
-            let out =
-                std::env::temp_dir().join(format!("geardyn-report-beside-{}", std::process::id()));
+            let out = beside.clone();
             let _ = std::fs::remove_dir_all(&out);
             let (out, classic_dir, _) = quick_into("classic", &out);
             let before = snapshot(&classic_dir);
@@ -238,6 +243,8 @@ fn quick_seed_reports_have_data_budget_and_honest_claims() {
             let index = std::fs::read_to_string(out.join("index.html")).unwrap();
             assert!(index.contains("classic/index.html") && index.contains("internal/index.html"));
             r
+        } else if keep.is_some() {
+            quick_into(preset, &beside)
         } else {
             quick(preset)
         };
@@ -303,6 +310,8 @@ fn quick_seed_reports_have_data_budget_and_honest_claims() {
         } else {
             assert!(p24.is_empty());
         }
-        std::fs::remove_dir_all(out).ok();
+        if keep.is_none() {
+            std::fs::remove_dir_all(out).ok();
+        }
     }
 }
