@@ -606,6 +606,25 @@ pub struct Continuation {
     pub ends: Vec<String>,
 }
 
+impl Continuation {
+    /// Appends the branches of `other` (a continuation from another start over the same
+    /// parameter), numbered after this one's.
+    pub fn merge(mut self, other: Continuation) -> Continuation {
+        let offset = self.ends.len();
+        self.points.extend(other.points.into_iter().map(|mut p| {
+            p.branch += offset;
+            p
+        }));
+        self.bifurcations
+            .extend(other.bifurcations.into_iter().map(|mut b| {
+                b.branch += offset;
+                b
+            }));
+        self.ends.extend(other.ends);
+        self
+    }
+}
+
 /// `P_n - y` and its derivatives in `(y, p)`: `[M - I | dP/dp]`.
 struct Extended {
     orbit_eval: MapEval,

@@ -206,8 +206,7 @@ fn orbits_study(
     base: &geardyn_scenario::Scenario,
     dir: &std::path::Path,
 ) -> Result<Section> {
-    use geardyn_analysis::orbits::{run_orbits, strobe_diagram, BifurcationKind, OrbitsRequest};
-    use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
+    use geardyn_analysis::orbits::{run_orbits, BifurcationKind, OrbitsRequest};
     let (lo, hi) = (0.5, 2.0);
     let req = OrbitsRequest {
         range: Some(("omega".into(), lo, hi)),
@@ -215,22 +214,16 @@ fn orbits_study(
         ..Default::default()
     };
     let c = run_orbits(base, &req, &|_| {})?;
-    let rows = orbit_rows(base, Some("omega"), &c.points, req.tau0);
-    let branch_csv = dir.join("branch.csv");
-    let bif_csv = dir.join("bifurcations.csv");
-    orbit_branch_table(Some("omega"), &rows).write_csv(&branch_csv, full)?;
-    bifurcations_table("omega", &c.bifurcations).write_csv(&bif_csv, full)?;
-    let diagram = strobe_diagram(base, "omega", lo, hi, ctx.n(40, 60), req.y0, req.tau0);
-    let stem = dir.join("orbits_omega");
-    geardyn_io::sweep_output::plot_orbits(
-        &stem,
-        &format!(
-            "C1: periodic orbits over omega ({})",
-            geardyn_io::describe::operating_point_without(base, "omega")
-        ),
+    let (fig, readings) = crate::shared::orbit_figure(
+        ctx,
+        dir,
+        base,
         "omega",
+        (lo, hi),
+        req.y0,
         &c,
-        &diagram,
+        "C1: periodic orbits over omega",
+        "Stable orbits (lines) and unstable ones (dots) by period, bifurcation points marked, over the simulated stroboscopic points (grey).",
     )?;
     // the period-1 branch's first doubling, against the brute-force diagram's (0.877-0.884 at
     // 200 values; docs/model.md §6: near 0.9)
@@ -241,30 +234,6 @@ fn orbits_study(
         .map(|b| b.param)
         .fold(f64::INFINITY, f64::min);
     let ok = (0.85..0.95).contains(&pd1);
-    let unstable = c.points.iter().filter(|p| !p.orbit.stable).count();
-    let mut readings = vec![format!(
-        "{} orbits on {} branches ({} unstable: orbits a forward simulation never shows).",
-        c.points.len(),
-        c.ends.len(),
-        unstable
-    )];
-    for kind in [
-        BifurcationKind::PeriodDoubling,
-        BifurcationKind::Fold,
-        BifurcationKind::Grazing,
-        BifurcationKind::Torus,
-    ] {
-        let at: Vec<String> = c
-            .bifurcations
-            .iter()
-            .filter(|b| b.kind == kind)
-            .map(|b| format!("{} (period {})", f(b.param), b.orbit.period))
-            .collect();
-        if !at.is_empty() {
-            readings.push(format!("{} at omega = {}.", kind.name(), at.join(", ")));
-        }
-    }
-    readings.extend(c.ends.iter().map(|e| format!("Branch {e}.")));
     Ok(Section {
         id: "orbits".into(),
         title: "C1: periodic orbits, their stability and bifurcations over omega".into(),
@@ -276,11 +245,7 @@ fn orbits_study(
             f(base.params().c)
         ),
         method: "Shooting on the stroboscopic map (Newton, monodromy matrix from the variational equation with saltation matrices, DP5 rtol 1e-11), pseudo-arclength continuation from the period-1 orbit at omega = 0.5, branch switching at period doublings up to period 4; the brute-force diagram beneath: 300 + 60 periods from (0, 0).".into(),
-        figures: vec![ctx.fig(
-            &stem,
-            "Stable orbits (lines) and unstable ones (dots) by period, bifurcation points marked, over the simulated stroboscopic points (grey).",
-            &[branch_csv, bif_csv],
-        )],
+        figures: vec![fig],
         readings,
         tables: vec![],
         claims: vec![Claim::new(

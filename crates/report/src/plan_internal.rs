@@ -177,6 +177,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         })?,
     );
     out.push(ctx.study("xi_sweep", &(), |dir| xi_sweep(ctx, &lin, &base, dir))?);
+    out.push(ctx.study("orbits_xi", &(), |dir| orbits_xi(ctx, &lin, dir))?);
     out.push(ctx.study("map_xi_F", &(), |dir| map_xi_f(ctx, &lin, dir))?);
     out.push(ctx.study("attractors_omega", &(), |dir| {
         attractors_omega(ctx, &lin, dir)
@@ -2486,6 +2487,137 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         readings: vec![format!("Continuation: {} intervals, {} events (tree_F_branches.csv).", c.intervals.len(), c.events.len())],
         tables,
         claims,
+        alternatives: vec![],
+        seconds: 0.0,
+    })
+}
+
+/// Periodic-orbit branches over xi at the seed's F = 0.05, omega = 1.5 (linear law): the
+/// period-1 branch from rest and the branch of the period-2 attractor, which explain the
+/// multi-initial diagram's coexistence of 1-0-0-1-0 with a period 2 (incomplete bifurcation A).
+fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
+    use geardyn_analysis::orbits::{run_orbits, BifurcationKind, Continuation, OrbitsRequest};
+    let set = [
+        ("F", 0.05),
+        ("omega", 1.5),
+        ("D_d", DD_SEED),
+        ("D_s", DS_SEED),
+    ];
+    let b = lin.with_all(&set)?;
+    let (lo, hi) = (0.001, 0.045);
+    let p1 = run_orbits(
+        &b,
+        &OrbitsRequest {
+            range: Some(("xi".into(), lo, hi)),
+            ..Default::default()
+        },
+        &|_| {},
+    )?;
+    // the period-2 attractor at xi = 0.02, reached from the first initial state of a small
+    // grid that leads to it, followed down and up from there
+    let at = 0.02;
+    let mut start = None;
+    'grid: for x0 in [0.5, 1.5, 0.0, 1.0, 2.0, -0.5] {
+        for v0 in [-0.5, 0.5, 0.0, -1.0, 1.0] {
+            let one = OrbitsRequest {
+                range: None,
+                y0: [x0, v0],
+                ..Default::default()
+            };
+            if let Ok(c) = run_orbits(&b.with("xi", at)?, &one, &|_| {}) {
+                if let Some(p) = c.points.first().filter(|p| p.orbit.period == 2) {
+                    start = Some(p.orbit.y);
+                    break 'grid;
+                }
+            }
+        }
+    }
+    let mut c: Continuation = p1;
+    if let Some(y0) = start {
+        for stop in [lo, hi] {
+            let req = OrbitsRequest {
+                range: Some(("xi".into(), at, stop)),
+                period: Some(2),
+                transient: 0,
+                y0,
+                ..Default::default()
+            };
+            c = c.merge(run_orbits(&b, &req, &|_| {})?);
+        }
+    }
+    let (fig, mut readings) = crate::shared::orbit_figure(
+        ctx,
+        dir,
+        &b,
+        "xi",
+        (lo, hi),
+        [0.0, 0.0],
+        &c,
+        "Seed B: periodic orbits over xi",
+        "Linear contact law at F = 0.05, omega = 1.5, D_d = 0.9, D_s = 1: the period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02, stable orbits as lines and unstable ones as dots, bifurcation points marked, over the stroboscopic points simulated from rest (grey).",
+    )?;
+    // the period-1 orbit's stable range, the period-2 attractor's birth (fold) and end
+    let stable_end = |period: u32| -> Option<f64> {
+        c.bifurcations
+            .iter()
+            .filter(|x| x.orbit.period == period && x.kind == BifurcationKind::PeriodDoubling)
+            .map(|x| x.param)
+            .reduce(f64::min)
+    };
+    let p1_end = stable_end(1);
+    let fold2 = c
+        .bifurcations
+        .iter()
+        .filter(|x| x.orbit.period == 2 && x.kind == BifurcationKind::Fold)
+        .map(|x| x.param)
+        .reduce(f64::min);
+    let p2_end = stable_end(2);
+    let p1_stable_at_fold = match fold2 {
+        Some(xf) => c.points.iter().any(|p| {
+            p.orbit.period == 1
+                && p.orbit.stable
+                && p.param > xf
+                && p1_end.is_none_or(|e| p.param < e)
+        }),
+        None => false,
+    };
+    let window = match (fold2, p2_end.or(p1_end)) {
+        (Some(a), Some(e)) if p1_stable_at_fold && a < e => Some((a, e.min(p1_end.unwrap_or(e)))),
+        _ => None,
+    };
+    if let Some((a, e)) = window {
+        readings.push(format!(
+            "Stable period-1 and period-2 orbits coexist for xi in ({}, {}): the period-2 orbit is born at a fold at xi = {} together with an unstable period-2 orbit (the saddle between the two basins), not from the period-1 orbit, which stays stable until xi = {}.",
+            f(a),
+            f(e),
+            f(a),
+            p1_end.map_or("the end of the range".into(), f)
+        ));
+    }
+    let claim = Claim::new(
+        "At the incomplete bifurcation the old period-1 solution stays stable while a new period-2 motion appears beside it",
+        format!("{B003} §4 (xi study); {B004} §4.4 (point A)"),
+        "P1 stable + new P2",
+        match window {
+            Some((a, e)) => format!("P2 born at a fold at xi = {}; P1 and P2 both stable over ({}, {})", f(a), f(a), f(e)),
+            None => match start {
+                Some(_) => "no stable coexistence window on the branches".into(),
+                None => "no period-2 attractor found at xi = 0.02".into(),
+            },
+        },
+        Verdict::of(window.is_some()),
+        "Shooting and pseudo-arclength continuation of the period-1 branch (from rest) and of the period-2 attractor's branch (found at xi = 0.02); reproduced when the period-2 branch has a fold inside the period-1 orbit's stable range, so that both are stable beside each other.",
+    );
+    Ok(Section {
+        id: "orbits_xi".into(),
+        title: "Periodic orbits over xi: what the incomplete bifurcation is".into(),
+        seed_ref: format!("{B003} §4; {B004} §4.4"),
+        parameters: format!("xi in [{lo}, {hi}], F = 0.05, omega = 1.5, D_d = {DD_SEED}, D_s = {DS_SEED}, linear contact law"),
+        method: "Shooting on the stroboscopic map (Newton, monodromy matrix from the variational equation with saltation matrices, DP5 rtol 1e-11) and pseudo-arclength continuation over xi; the period-2 start is the period-2 attractor reached at xi = 0.02 from the first of a grid of initial states that leads to it.".into(),
+        figures: vec![fig],
+        readings,
+        tables: vec![],
+        claims: vec![claim],
         alternatives: vec![],
         seconds: 0.0,
     })

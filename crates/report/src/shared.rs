@@ -1035,6 +1035,68 @@ pub fn portrait_figure(
     Ok(ctx.fig(&stem, caption, &[csv]))
 }
 
+/// The figure and files of periodic-orbit branches over `param` in `[lo, hi]`: `branch.csv`
+/// and `bifurcations.csv` (the CLI's `geardyn orbits` tables), the branches drawn over the
+/// brute-force stroboscopic diagram from `y0`, and readings (orbits, unstable ones,
+/// bifurcations by kind, why each branch ended).
+#[allow(clippy::too_many_arguments)]
+pub fn orbit_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    base: &geardyn_scenario::Scenario,
+    param: &str,
+    (lo, hi): (f64, f64),
+    y0: [f64; 2],
+    c: &geardyn_analysis::orbits::Continuation,
+    title: &str,
+    caption: &str,
+) -> Result<(Figure, Vec<String>)> {
+    use geardyn_analysis::orbits::{strobe_diagram, BifurcationKind};
+    use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
+    let rows = orbit_rows(base, Some(param), &c.points, 0.0);
+    let branch_csv = dir.join("branch.csv");
+    let bif_csv = dir.join("bifurcations.csv");
+    orbit_branch_table(Some(param), &rows).write_csv(&branch_csv, full)?;
+    bifurcations_table(param, &c.bifurcations).write_csv(&bif_csv, full)?;
+    let diagram = strobe_diagram(base, param, lo, hi, ctx.n(40, 60), y0, 0.0);
+    let stem = dir.join(format!("orbits_{param}"));
+    geardyn_io::sweep_output::plot_orbits(
+        &stem,
+        &format!(
+            "{title} ({})",
+            geardyn_io::describe::operating_point_without(base, param)
+        ),
+        param,
+        c,
+        &diagram,
+    )?;
+    let unstable = c.points.iter().filter(|p| !p.orbit.stable).count();
+    let mut readings = vec![format!(
+        "{} orbits on {} branches ({} unstable: orbits a forward simulation never shows).",
+        c.points.len(),
+        c.ends.len(),
+        unstable
+    )];
+    for kind in [
+        BifurcationKind::PeriodDoubling,
+        BifurcationKind::Fold,
+        BifurcationKind::Grazing,
+        BifurcationKind::Torus,
+    ] {
+        let at: Vec<String> = c
+            .bifurcations
+            .iter()
+            .filter(|b| b.kind == kind)
+            .map(|b| format!("{} (period {})", f(b.param), b.orbit.period))
+            .collect();
+        if !at.is_empty() {
+            readings.push(format!("{} at {param} = {}.", kind.name(), at.join(", ")));
+        }
+    }
+    readings.extend(c.ends.iter().map(|e| format!("Branch {e}.")));
+    Ok((ctx.fig(&stem, caption, &[branch_csv, bif_csv]), readings))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
