@@ -132,7 +132,10 @@ pub struct StatusArgs {
 }
 
 fn list(v: &[usize]) -> String {
-    v.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(",")
+    v.iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 pub fn status(a: StatusArgs) -> Result<()> {

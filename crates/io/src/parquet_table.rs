@@ -68,14 +68,20 @@ pub fn write_table(path: &Path, table: &Table) -> Result<(), OutputError> {
             let values = &table.columns[k].values;
             k += 1;
             let r = match (col.untyped(), values) {
-                (ColumnWriter::DoubleColumnWriter(w), Values::F64(v)) => w.write_batch(v, None, None),
-                (ColumnWriter::Int64ColumnWriter(w), Values::I64(v)) => w.write_batch(v, None, None),
+                (ColumnWriter::DoubleColumnWriter(w), Values::F64(v)) => {
+                    w.write_batch(v, None, None)
+                }
+                (ColumnWriter::Int64ColumnWriter(w), Values::I64(v)) => {
+                    w.write_batch(v, None, None)
+                }
                 (ColumnWriter::Int64ColumnWriter(w), Values::OptI64(v)) => {
                     let present: Vec<i64> = v.iter().flatten().copied().collect();
                     let def: Vec<i16> = v.iter().map(|x| i16::from(x.is_some())).collect();
                     w.write_batch(&present, Some(&def), None)
                 }
-                (ColumnWriter::BoolColumnWriter(w), Values::Bool(v)) => w.write_batch(v, None, None),
+                (ColumnWriter::BoolColumnWriter(w), Values::Bool(v)) => {
+                    w.write_batch(v, None, None)
+                }
                 (ColumnWriter::ByteArrayColumnWriter(w), Values::Str(v)) => {
                     let b: Vec<ByteArray> = v.iter().map(|s| ByteArray::from(s.as_str())).collect();
                     w.write_batch(&b, None, None)

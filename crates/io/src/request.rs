@@ -112,10 +112,7 @@ impl MapRequest {
             "map2d",
             &self.config,
             scenario,
-            &[
-                run_record::Swept::of(xp, xv),
-                run_record::Swept::of(yp, yv),
-            ],
+            &[run_record::Swept::of(xp, xv), run_record::Swept::of(yp, yv)],
             started_unix_s,
             run_record::now_unix_s() - started_unix_s,
         )?;

@@ -247,13 +247,25 @@ pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -
     let mut t = Table::default();
     t.push_exact(x, f(&|c| c.x));
     t.push_exact(y, f(&|c| c.y));
-    t.push("label", Values::Str(cells.iter().map(|c| c.label.clone()).collect()));
-    t.push("period", Values::I64(cells.iter().map(|c| c.period as i64).collect()));
-    t.push("healthy", Values::Bool(cells.iter().map(|c| c.healthy).collect()));
+    t.push(
+        "label",
+        Values::Str(cells.iter().map(|c| c.label.clone()).collect()),
+    );
+    t.push(
+        "period",
+        Values::I64(cells.iter().map(|c| c.period as i64).collect()),
+    );
+    t.push(
+        "healthy",
+        Values::Bool(cells.iter().map(|c| c.healthy).collect()),
+    );
     t.push("max_force", f(&|c| c.max_force));
     t.push("min_force", f(&|c| c.min_force));
     t.push("p_id", f(&|c| c.p_id));
-    t.push("impacts", Values::I64(cells.iter().map(|c| c.impacts as i64).collect()));
+    t.push(
+        "impacts",
+        Values::I64(cells.iter().map(|c| c.impacts as i64).collect()),
+    );
     t.push("tle", f(&|c| c.tle.unwrap_or(f64::NAN)));
     t
 }

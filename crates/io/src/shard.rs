@@ -186,8 +186,16 @@ fn shard_table(shape: &[usize], chunk: &[usize]) -> Vec<ShardSpec> {
         }
         out.push(ShardSpec {
             shard: s,
-            start: coords.iter().enumerate().map(|(d, &k)| per_dim[d][k].0).collect(),
-            stop: coords.iter().enumerate().map(|(d, &k)| per_dim[d][k].1).collect(),
+            start: coords
+                .iter()
+                .enumerate()
+                .map(|(d, &k)| per_dim[d][k].0)
+                .collect(),
+            stop: coords
+                .iter()
+                .enumerate()
+                .map(|(d, &k)| per_dim[d][k].1)
+                .collect(),
             chunk: coords,
         });
     }
@@ -530,7 +538,8 @@ pub fn open(store: &Path) -> Result<Plan, ShardError> {
             store.display()
         ))
     };
-    let v: Value = serde_json::from_slice(&bytes).map_err(|e| corrupt(format!("zarr.json: {e}")))?;
+    let v: Value =
+        serde_json::from_slice(&bytes).map_err(|e| corrupt(format!("zarr.json: {e}")))?;
     let g = v
         .get("attributes")
         .and_then(|a| a.get("geardyn"))
@@ -538,7 +547,9 @@ pub fn open(store: &Path) -> Result<Plan, ShardError> {
     let format = g.get("format").and_then(Value::as_str).unwrap_or("");
     let version = g.get("version").and_then(Value::as_str).unwrap_or("");
     if format != FORMAT {
-        return Err(corrupt(format!("format '{format}', this geardyn reads {FORMAT}")));
+        return Err(corrupt(format!(
+            "format '{format}', this geardyn reads {FORMAT}"
+        )));
     }
     if version != env!("CARGO_PKG_VERSION") {
         return Err(input(format!(
@@ -859,8 +870,12 @@ fn read_marker<T: serde::de::DeserializeOwned>(
     shard: usize,
 ) -> Result<T, ShardError> {
     let path = marker_path(store, shard);
-    let bytes = read_bounded(&path, MAX_MARKER)
-        .map_err(|e| input(format!("shard {shard}: cannot read {}: {e}", path.display())))?;
+    let bytes = read_bounded(&path, MAX_MARKER).map_err(|e| {
+        input(format!(
+            "shard {shard}: cannot read {}: {e}",
+            path.display()
+        ))
+    })?;
     let m: Marker<T> = serde_json::from_slice(&bytes).map_err(|e| {
         input(format!(
             "shard {shard}: {} is corrupt ({e}): remove it and run the shard again",
@@ -945,8 +960,7 @@ pub fn merge(store: &Path, out: Option<&Path>) -> Result<Merged, ShardError> {
             }
             results.sort_by_key(|t| t.task.index);
             let n = r.options.values.len();
-            if results.len() != n || results.iter().enumerate().any(|(i, t)| t.task.index != i)
-            {
+            if results.len() != n || results.iter().enumerate().any(|(i, t)| t.task.index != i) {
                 return Err(input(format!(
                     "STORE {}: the shards hold {} values, not the sweep's {n}: remove shards/ and run them again",
                     store.display(),
@@ -955,10 +969,7 @@ pub fn merge(store: &Path, out: Option<&Path>) -> Result<Merged, ShardError> {
             }
             r.write_folder(&out, &scenario, &results, started)?;
             let runs = results.iter().map(|t| t.runs.len()).sum();
-            (
-                runs,
-                crate::schema::runs_table(&r.options.param, &results),
-            )
+            (runs, crate::schema::runs_table(&r.options.param, &results))
         }
     };
     let parquet = write_parquet(&out, &plan, &table)?;
