@@ -572,7 +572,7 @@ pub fn open(store: &Path) -> Result<Plan, ShardError> {
     if dims != p.dims
         || shape != p.shape
         || p.chunk.len() != shape.len()
-        || p.chunk.iter().any(|&c| c == 0)
+        || p.chunk.contains(&0)
         || p.chunk[split..] != shape[split..]
         || p.shards != shard_table(&p.shape, &p.chunk)
     {
