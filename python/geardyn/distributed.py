@@ -25,6 +25,7 @@ submits only the shards still missing. Shards never write the same file, so no l
 from __future__ import annotations
 
 import os
+import uuid
 
 from . import _geardyn
 
@@ -81,9 +82,9 @@ def run(store, client=None, shards=None) -> list:
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True)
         client = Client(cluster)
     try:
-        # pure=False: a rerun after a failure submits the shard again
+        # a fresh key per call: a rerun after a failure submits the shard again
         futures = [
-            client.submit(_task, store, s, key=f"geardyn-shard-{s}-{os.getpid()}", pure=False)
+            client.submit(_task, store, s, key=f"geardyn-shard-{s}-{uuid.uuid4().hex}")
             for s in todo
         ]
         wait(futures)

@@ -1019,7 +1019,11 @@ fn map2d<'py>(
 /// of a sharded plan (geardyn_io::shard) and returns `(shard, points, already_done)`.
 #[pyfunction]
 #[pyo3(signature = (store, shard))]
-fn run_shard(py: Python<'_>, store: String, shard: Option<usize>) -> PyResult<(usize, usize, bool)> {
+fn run_shard(
+    py: Python<'_>,
+    store: String,
+    shard: Option<usize>,
+) -> PyResult<(usize, usize, bool)> {
     util::run(py, "run-shard", false, None, move |_| {
         let i = shard::shard_index(shard)?;
         let r = shard::run_shard(std::path::Path::new(&store), i)?;

@@ -923,10 +923,11 @@ pub fn merge(store: &Path, out: Option<&Path>) -> Result<Merged, ShardError> {
         )));
     }
     let out = out.unwrap_or(store).to_path_buf();
-    std::fs::create_dir_all(&out).map_err(|source| OutputError::Io {
-        path: out.display().to_string(),
-        source,
-    })?;
+    if out != store {
+        // another folder: one geardyn may write into (new, empty or its own)
+        crate::run_record::claim_folder(&out)
+            .map_err(|e| input(format!("--out {}: {e}", out.display())))?;
+    }
     let scenario = plan
         .request
         .config()
