@@ -44,8 +44,9 @@ enum PlanCommand {
 /// The shard count of a plan.
 #[derive(Args, Debug)]
 struct Shards {
-    /// Number of shards (one chunk of the store's arrays each; when the grid's shape allows no
-    /// regular chunking into exactly N, the largest count below N, printed).
+    /// Number of shards, at most the grid's points (one chunk of the store's arrays each when the
+    /// grid's shape allows a regular chunking into N, else runs of single-row or single-cell
+    /// chunks).
     #[arg(long)]
     shards: usize,
 }
@@ -73,12 +74,6 @@ pub fn plan(a: PlanArgs) -> Result<()> {
             p.done
         );
     } else {
-        if p.shards != n {
-            eprintln!(
-                "note: {n} shards asked; the grid's shape allows {} equal chunks at most below it",
-                p.shards
-            );
-        }
         println!(
             "planned {command} in {} shards -> {} (run: geardyn run-shard {} --shard I, I in 0..={}, or a Slurm array --array=0-{})",
             p.shards,

@@ -5,7 +5,8 @@
 //! * [`plan`] writes the store: the resolved [`Request`] (the options the single command would
 //!   use), the geardyn version, a hash of the request and the shard table as attributes of the
 //!   root group, the coordinate arrays, and the metadata of every result array (inline
-//!   consolidated). One chunk of the result arrays is one shard.
+//!   consolidated). A shard writes whole chunks of the result arrays: one chunk when the grid allows
+//!   a regular chunking into the shards asked, else a run of row or cell chunks.
 //! * [`run_shard`] computes one shard with the library functions of the single command
 //!   ([`geardyn_analysis::map2d::map2d_cells`], [`geardyn_analysis::bifurcation::run_sweep_tasks`]:
 //!   the lanes, the same per-point results whatever the grouping of the points), writes its chunk
@@ -63,18 +64,42 @@ fn input(s: impl Into<String>) -> ShardError {
     ShardError::Input(s.into())
 }
 
-/// One shard: its chunk's grid coordinates and the region it covers (`start..stop` per
-/// dimension of the grid).
+/// One chunk of the result arrays: its coordinates in the chunk grid and the region of the grid
+/// it covers (`start..stop` per dimension).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ShardSpec {
-    /// Shard index (the Slurm array index).
-    pub shard: usize,
+pub struct ChunkSpec {
     /// Chunk coordinates in the chunk grid.
     pub chunk: Vec<usize>,
     /// First index of the region, per grid dimension.
     pub start: Vec<usize>,
     /// One past the last index, per grid dimension.
     pub stop: Vec<usize>,
+}
+
+/// One shard: the chunks it alone writes (one, when the grid's shape allows a regular chunking
+/// into the shards asked; else a run of consecutive row or cell chunks).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardSpec {
+    /// Shard index (the Slurm array index).
+    pub shard: usize,
+    /// Its chunks, in row-major order.
+    pub chunks: Vec<ChunkSpec>,
+}
+
+impl ShardSpec {
+    /// Points of the grid (cells, or values x initial states) the shard covers.
+    pub fn points(&self) -> usize {
+        self.chunks
+            .iter()
+            .map(|c| {
+                c.start
+                    .iter()
+                    .zip(&c.stop)
+                    .map(|(a, b)| b - a)
+                    .product::<usize>()
+            })
+            .sum()
+    }
 }
 
 /// The plan a store holds (the root group's attribute `geardyn`).
@@ -92,7 +117,7 @@ pub struct Plan {
     pub dims: Vec<String>,
     /// The grid's shape.
     pub shape: Vec<usize>,
-    /// The chunk shape (one chunk is one shard).
+    /// The chunk shape (a chunk belongs to one shard).
     pub chunk: Vec<usize>,
     /// The shard table.
     pub shards: Vec<ShardSpec>,
@@ -125,81 +150,84 @@ fn chunk_options(len: usize) -> Vec<(usize, usize)> {
     out
 }
 
-/// The chunk shape splitting a `shape` grid (the first one or two dimensions split, the rest
-/// whole) into `n` chunks, or the largest count below `n` that a regular chunk grid allows;
-/// whole rows preferred (the last split dimension split as little as possible).
+/// The chunk shape of a `shape` grid split along its first one or two dimensions (the rest
+/// whole) for `n` shards: a regular chunking into exactly `n` chunks when one exists (whole rows
+/// preferred: the second dimension split as little as possible), else single rows (single cells
+/// when there are fewer rows than shards), grouped into shards by [`shard_table`].
 fn chunking(shape: &[usize], split_dims: usize, n: usize) -> Vec<usize> {
     let mut chunk = shape.to_vec();
-    match split_dims {
-        1 => {
-            let (c, _) = chunk_options(shape[0])
-                .into_iter()
-                .filter(|&(_, k)| k <= n)
-                .max_by_key(|&(_, k)| k)
-                .unwrap_or((shape[0], 1));
-            chunk[0] = c;
-        }
-        _ => {
-            let rows = chunk_options(shape[0]);
-            let cols = chunk_options(shape[1]);
-            let mut best: Option<(usize, usize, usize, usize)> = None; // (count, -colsplit)
-            for &(cy, ky) in &rows {
-                for &(cx, kx) in &cols {
-                    let k = ky * kx;
-                    if k > n {
-                        continue;
-                    }
-                    let better = match best {
-                        None => true,
-                        Some((bk, _, _, bkx)) => k > bk || (k == bk && kx < bkx),
-                    };
-                    if better {
-                        best = Some((k, cy, cx, kx));
-                    }
-                }
+    if split_dims == 1 {
+        chunk[0] = chunk_options(shape[0])
+            .into_iter()
+            .find(|&(_, k)| k == n)
+            .map_or(1, |(c, _)| c);
+        return chunk;
+    }
+    let rows = chunk_options(shape[0]);
+    let cols = chunk_options(shape[1]);
+    let mut best: Option<(usize, usize, usize)> = None; // (column chunks, cy, cx)
+    for &(cy, ky) in &rows {
+        for &(cx, kx) in &cols {
+            if ky * kx == n && best.is_none_or(|b| kx < b.0) {
+                best = Some((kx, cy, cx));
             }
-            if let Some((_, cy, cx, _)) = best {
-                chunk[0] = cy;
-                chunk[1] = cx;
+        }
+    }
+    match best {
+        Some((_, cy, cx)) => {
+            chunk[0] = cy;
+            chunk[1] = cx;
+        }
+        None => {
+            chunk[0] = 1;
+            if shape[0] < n {
+                chunk[1] = 1;
             }
         }
     }
     chunk
 }
 
-/// The shard table of a grid of `shape` on chunks of `chunk` (row-major chunk order).
-fn shard_table(shape: &[usize], chunk: &[usize]) -> Vec<ShardSpec> {
+/// The shard table of a grid of `shape` on chunks of `chunk` for `n` shards: the chunks in
+/// row-major order, split into `n` runs of consecutive chunks as equal as can be.
+fn shard_table(shape: &[usize], chunk: &[usize], n: usize) -> Vec<ShardSpec> {
     let per_dim: Vec<Vec<(usize, usize)>> = shape
         .iter()
         .zip(chunk)
         .map(|(&l, &c)| spans(l, c))
         .collect();
-    let mut out = Vec::new();
     let counts: Vec<usize> = per_dim.iter().map(Vec::len).collect();
     let total: usize = counts.iter().product();
-    for s in 0..total {
-        let mut rem = s;
-        let mut coords = vec![0; counts.len()];
-        for d in (0..counts.len()).rev() {
-            coords[d] = rem % counts[d];
-            rem /= counts[d];
-        }
-        out.push(ShardSpec {
+    let chunks: Vec<ChunkSpec> = (0..total)
+        .map(|s| {
+            let mut rem = s;
+            let mut coords = vec![0; counts.len()];
+            for d in (0..counts.len()).rev() {
+                coords[d] = rem % counts[d];
+                rem /= counts[d];
+            }
+            ChunkSpec {
+                start: coords
+                    .iter()
+                    .enumerate()
+                    .map(|(d, &k)| per_dim[d][k].0)
+                    .collect(),
+                stop: coords
+                    .iter()
+                    .enumerate()
+                    .map(|(d, &k)| per_dim[d][k].1)
+                    .collect(),
+                chunk: coords,
+            }
+        })
+        .collect();
+    let n = n.clamp(1, total.max(1));
+    (0..n)
+        .map(|s| ShardSpec {
             shard: s,
-            start: coords
-                .iter()
-                .enumerate()
-                .map(|(d, &k)| per_dim[d][k].0)
-                .collect(),
-            stop: coords
-                .iter()
-                .enumerate()
-                .map(|(d, &k)| per_dim[d][k].1)
-                .collect(),
-            chunk: coords,
-        });
-    }
-    out
+            chunks: chunks[s * total / n..(s + 1) * total / n].to_vec(),
+        })
+        .collect()
 }
 
 /// A result variable: name, type, extra trailing dimensions (name, length), attributes.
@@ -457,7 +485,7 @@ pub fn plan(store: &Path, request: Request, shards: usize) -> Result<Planned, Sh
         )));
     }
     let chunk = chunking(&shape, split, shards);
-    let table = shard_table(&shape, &chunk);
+    let table = shard_table(&shape, &chunk, shards);
     let p = Plan {
         format: FORMAT.into(),
         version: env!("CARGO_PKG_VERSION").into(),
@@ -574,7 +602,8 @@ pub fn open(store: &Path) -> Result<Plan, ShardError> {
         || p.chunk.len() != shape.len()
         || p.chunk.contains(&0)
         || p.chunk[split..] != shape[split..]
-        || p.shards != shard_table(&p.shape, &p.chunk)
+        || p.shards.is_empty()
+        || p.shards != shard_table(&p.shape, &p.chunk, p.shards.len())
     {
         return Err(corrupt("its shard table does not fit its request".into()));
     }
@@ -656,19 +685,19 @@ pub struct ShardRun {
     pub already: bool,
 }
 
-/// The flat positions in a chunk of `chunk` shape of the region `start..stop` (grid
+/// The flat positions in a chunk of `chunk` shape of its region `c.start..c.stop` (grid
 /// coordinates), in row-major order of the region, with their grid coordinates.
-fn region(spec: &ShardSpec, chunk: &[usize]) -> Vec<(usize, Vec<usize>)> {
-    let dims = spec.start.len();
+fn region(c: &ChunkSpec, chunk: &[usize]) -> Vec<(usize, Vec<usize>)> {
+    let dims = c.start.len();
     let mut out = Vec::new();
-    let mut idx = spec.start.clone();
-    if spec.start.iter().zip(&spec.stop).any(|(a, b)| a >= b) {
+    let mut idx = c.start.clone();
+    if c.start.iter().zip(&c.stop).any(|(a, b)| a >= b) {
         return out;
     }
     loop {
         let mut flat = 0;
         for d in 0..dims {
-            flat = flat * chunk[d] + (idx[d] - spec.start[d]);
+            flat = flat * chunk[d] + (idx[d] - c.start[d]);
         }
         out.push((flat, idx.clone()));
         let mut d = dims;
@@ -678,10 +707,10 @@ fn region(spec: &ShardSpec, chunk: &[usize]) -> Vec<(usize, Vec<usize>)> {
             }
             d -= 1;
             idx[d] += 1;
-            if idx[d] < spec.stop[d] {
+            if idx[d] < c.stop[d] {
                 break;
             }
-            idx[d] = spec.start[d];
+            idx[d] = c.start[d];
         }
     }
 }
@@ -747,11 +776,24 @@ fn run_values(u: &geardyn_analysis::bifurcation::Run, strobe: usize) -> Vec<Chun
     v
 }
 
-/// Writes the chunk of shard `spec` of every variable from `point`, the values at a grid point.
+/// Writes the chunks of shard `spec` of every variable from `point`, the values at a grid point.
 fn write_chunks(
     store: &Path,
     plan: &Plan,
     spec: &ShardSpec,
+    point: &dyn Fn(&[usize]) -> Vec<Chunk>,
+) -> Result<(), ShardError> {
+    for c in &spec.chunks {
+        write_chunk_of(store, plan, c, point)?;
+    }
+    Ok(())
+}
+
+/// Writes chunk `spec` of every variable from `point`.
+fn write_chunk_of(
+    store: &Path,
+    plan: &Plan,
+    spec: &ChunkSpec,
     point: &dyn Fn(&[usize]) -> Vec<Chunk>,
 ) -> Result<(), ShardError> {
     let vars = variables(&plan.request);
@@ -791,12 +833,7 @@ pub fn run_shard(store: &Path, shard: usize) -> Result<ShardRun, ShardError> {
             n - 1
         ))
     })?;
-    let points: usize = spec
-        .start
-        .iter()
-        .zip(&spec.stop)
-        .map(|(a, b)| b - a)
-        .product();
+    let points = spec.points();
     if is_done(store, &plan, shard) {
         return Ok(ShardRun {
             shard,
@@ -811,8 +848,10 @@ pub fn run_shard(store: &Path, shard: usize) -> Result<ShardRun, ShardError> {
     let marker = match &plan.request {
         Request::Map2d(r) => {
             let nx = r.options.x_values.len();
-            let indices: Vec<usize> = region(&spec, &plan.chunk)
-                .into_iter()
+            let indices: Vec<usize> = spec
+                .chunks
+                .iter()
+                .flat_map(|c| region(c, &plan.chunk))
                 .map(|(_, at)| at[0] * nx + at[1])
                 .collect();
             let cells = map2d_cells(&scenario, &r.options, &indices, |_| {})
@@ -832,7 +871,10 @@ pub fn run_shard(store: &Path, shard: usize) -> Result<ShardRun, ShardError> {
             })
         }
         Request::Bifurcation(r) => {
-            let tasks: Vec<Task> = (spec.start[0]..spec.stop[0])
+            let tasks: Vec<Task> = spec
+                .chunks
+                .iter()
+                .flat_map(|c| c.start[0]..c.stop[0])
                 .map(|index| Task { index, branch: 0 })
                 .collect();
             let results = run_sweep_tasks(&scenario, &r.options, &tasks, |_| {})
@@ -1027,15 +1069,29 @@ mod tests {
         // 5 rows cannot make 4 row chunks: 2 x 2 blocks do
         assert_eq!(chunking(&[5, 6], 2, 4), vec![3, 3]);
         assert_eq!(chunking(&[8, 6], 2, 4), vec![2, 6]);
-        assert_eq!(shard_table(&[5, 6], &[3, 3]).len(), 4);
-        // prime counts beyond a side: the largest count below
-        assert_eq!(shard_table(&[3, 3], &chunking(&[3, 3], 2, 7)).len(), 6);
         assert_eq!(chunking(&[10, 8], 1, 4), vec![3, 8]);
-        let t = shard_table(&[5, 6], &[3, 3]);
-        assert_eq!(t[3].start, vec![3, 3]);
-        assert_eq!(t[3].stop, vec![5, 6]);
-        let r = region(&t[3], &[3, 3]);
+        let t = shard_table(&[5, 6], &[3, 3], 4);
+        assert_eq!(t.len(), 4);
+        assert_eq!(t[3].chunks[0].start, vec![3, 3]);
+        assert_eq!(t[3].chunks[0].stop, vec![5, 6]);
+        let r = region(&t[3].chunks[0], &[3, 3]);
         assert_eq!(r.len(), 6);
         assert_eq!(r[4], (4, vec![4, 4]));
+    }
+
+    #[test]
+    fn counts_no_regular_grid_makes_group_row_or_cell_chunks() {
+        // 9 values in 4 shards: single values, 2 + 2 + 2 + 3
+        assert_eq!(chunking(&[9], 1, 4), vec![1]);
+        let t = shard_table(&[9], &[1], 4);
+        let sizes: Vec<usize> = t.iter().map(ShardSpec::points).collect();
+        assert_eq!(sizes, vec![2, 2, 2, 3]);
+        // a 3 x 3 map in 7 shards: single cells; 9 rows of 5 in 7: single rows
+        assert_eq!(chunking(&[3, 3], 2, 7), vec![1, 1]);
+        assert_eq!(shard_table(&[3, 3], &[1, 1], 7).len(), 7);
+        assert_eq!(chunking(&[9, 5], 2, 7), vec![1, 5]);
+        let t = shard_table(&[9, 5], &[1, 5], 7);
+        assert_eq!(t.iter().map(ShardSpec::points).sum::<usize>(), 45);
+        assert!(t.iter().all(|s| !s.chunks.is_empty()));
     }
 }
