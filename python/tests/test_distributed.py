@@ -17,6 +17,7 @@ MAP = [
     "--y", "F:0.05:0.2:5",
     "--periods", "20",
     "--transient", "60",
+    "--decision-periods", "300",
 ]
 
 

@@ -22,6 +22,7 @@ fn sim(rk4: bool) -> SimOptions {
         },
         transient_periods: 60,
         record_periods: 20,
+        decision_periods: 300,
         ..Default::default()
     }
 }
