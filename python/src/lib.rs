@@ -20,7 +20,7 @@ use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOp
 use geardyn_analysis::map2d::{map2d as run_map2d, MapCell, MapOptions, METRICS};
 use geardyn_analysis::simulate::Method;
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
-use geardyn_io::Config;
+use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
@@ -1015,6 +1015,42 @@ fn map2d<'py>(
     Ok(d.into_any())
 }
 
+/// `geardyn run-shard STORE --shard I` (`shard` None: SLURM_ARRAY_TASK_ID): computes one shard
+/// of a sharded plan (geardyn_io::shard) and returns `(shard, points, already_done)`.
+#[pyfunction]
+#[pyo3(signature = (store, shard))]
+fn run_shard(
+    py: Python<'_>,
+    store: String,
+    shard: Option<usize>,
+) -> PyResult<(usize, usize, bool)> {
+    util::run(py, "run-shard", false, None, move |_| {
+        let i = shard::shard_index(shard)?;
+        let r = shard::run_shard(std::path::Path::new(&store), i)?;
+        Ok((r.shard, r.points, r.already))
+    })
+}
+
+/// `geardyn status STORE`: `{"command", "shards", "done", "missing"}`.
+#[pyfunction]
+fn shard_status<'py>(py: Python<'py>, store: String) -> PyResult<Bound<'py, PyAny>> {
+    let s = shard::status(std::path::Path::new(&store)).map_err(|e| to_pyerr(e.into()))?;
+    ser_to_py(py, &s)
+}
+
+/// `geardyn merge STORE [--out OUT]`: returns the folder written.
+#[pyfunction]
+#[pyo3(signature = (store, out))]
+fn shard_merge(py: Python<'_>, store: String, out: Option<String>) -> PyResult<String> {
+    util::run(py, "merge", false, None, move |_| {
+        let m = shard::merge(
+            std::path::Path::new(&store),
+            out.as_deref().map(std::path::Path::new),
+        )?;
+        Ok(m.out.display().to_string())
+    })
+}
+
 /// `geardyn stiffness` without the files: the stiffness.csv table.
 #[pyfunction]
 fn stiffness<'py>(py: Python<'py>, src: Source) -> PyResult<Bound<'py, PyAny>> {
@@ -1169,5 +1205,8 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(map2d, m)?)?;
     m.add_function(wrap_pyfunction!(stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
+    m.add_function(wrap_pyfunction!(run_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(shard_status, m)?)?;
+    m.add_function(wrap_pyfunction!(shard_merge, m)?)?;
     Ok(())
 }

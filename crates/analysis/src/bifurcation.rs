@@ -165,7 +165,7 @@ impl SweepMode {
 }
 
 /// Settings of a sweep.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepOptions {
     /// Parameter name (any of [`geardyn_model::PARAMETER_NAMES`]).
     pub param: String,
@@ -310,6 +310,10 @@ pub enum SweepError {
     /// No values.
     #[error("empty parameter range")]
     Empty,
+    /// A subset of tasks asked of a sweep whose tasks depend on each other, or tasks not in it
+    /// ([`run_sweep_tasks`]).
+    #[error("{0}")]
+    Tasks(String),
 }
 
 /// All tasks of a sweep, in output order.
@@ -514,6 +518,52 @@ pub fn run_sweep<F>(
 where
     F: Fn(&TaskResult) + Sync,
 {
+    sweep_tasks(base, opts, done, None, on_done)
+}
+
+/// The tasks `only` of a fixed or multi-initial sweep (each of [`tasks`]), in [`tasks`] order:
+/// the part of [`run_sweep`] a shard of a distributed plan computes. A task's runs depend on
+/// nothing but the task (the lanes decide each run alone: `crate::lanes`), so any grouping of
+/// the tasks gives the same results. A continuation (`SweepMode::Sweep`) carries the state from
+/// value to value and is refused. Validates like [`run_sweep`].
+pub fn run_sweep_tasks<F>(
+    base: &Scenario,
+    opts: &SweepOptions,
+    only: &[Task],
+    on_done: F,
+) -> Result<Vec<TaskResult>, SweepError>
+where
+    F: Fn(&TaskResult) + Sync,
+{
+    if opts.mode == SweepMode::Sweep {
+        return Err(SweepError::Tasks(
+            "a continuation sweep (mode sweep) carries the state from value to value: its values cannot be computed apart".into(),
+        ));
+    }
+    let all = tasks(opts);
+    if let Some(t) = only.iter().find(|t| !all.contains(t)) {
+        return Err(SweepError::Tasks(format!(
+            "task {} (branch {}) is not one of the sweep's {} tasks",
+            t.index,
+            t.branch,
+            all.len()
+        )));
+    }
+    let only: std::collections::HashSet<Task> = only.iter().copied().collect();
+    sweep_tasks(base, opts, &HashMap::new(), Some(&only), on_done)
+}
+
+/// [`run_sweep`] of the tasks in `only` (all when `None`) not in `done`.
+fn sweep_tasks<F>(
+    base: &Scenario,
+    opts: &SweepOptions,
+    done: &HashMap<Task, TaskResult>,
+    only: Option<&std::collections::HashSet<Task>>,
+    on_done: F,
+) -> Result<Vec<TaskResult>, SweepError>
+where
+    F: Fn(&TaskResult) + Sync,
+{
     if opts.values.is_empty() {
         return Err(SweepError::Empty);
     }
@@ -576,7 +626,7 @@ where
             let todo: Vec<Task> = all
                 .iter()
                 .copied()
-                .filter(|t| !done.contains_key(t))
+                .filter(|t| !done.contains_key(t) && only.is_none_or(|o| o.contains(t)))
                 .collect();
             let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
                 // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks

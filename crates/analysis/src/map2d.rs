@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
 /// Settings of a map.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MapOptions {
     /// Parameter on the x axis.
     pub x_param: String,
@@ -199,6 +199,19 @@ fn model_at(base: &Scenario, o: &MapOptions, x: f64, y: f64) -> Result<MeshModel
         .map(|s| s.model().clone())
 }
 
+/// Checks the axes ([`MapOptions::check_axes`]) and the parameter values along both, before any
+/// work.
+fn check_map(base: &Scenario, o: &MapOptions) -> Result<(), MapError> {
+    o.check_axes()?;
+    for &x in &o.x_values {
+        model_at(base, o, x, o.y_values[0])?;
+    }
+    for &y in &o.y_values {
+        model_at(base, o, o.x_values[0], y)?;
+    }
+    Ok(())
+}
+
 /// Computes the map. The axes ([`MapOptions::check_axes`]) and the parameter values along both
 /// are validated before any work; `done`
 /// holds cells of an interrupted run, `on_done` receives each newly finished cell.
@@ -211,23 +224,56 @@ pub fn map2d<F>(
 where
     F: Fn(&MapCell) + Sync,
 {
+    check_map(base, o)?;
+    let total = o.x_values.len() * o.y_values.len();
+    let todo: Vec<usize> = (0..total).filter(|i| !done.contains_key(i)).collect();
+    let mut fresh = map_cells(base, o, &todo, on_done).into_iter();
+    let cells = (0..total)
+        .map(|i| match done.get(&i) {
+            Some(c) => c.clone(),
+            None => fresh.next().expect("every cell computed"),
+        })
+        .collect();
+    Ok(cells)
+}
+
+/// The cells `indices` (`iy * nx + ix`, each below `nx * ny`) of the map, in that order: the
+/// part of [`map2d`] a shard of a distributed plan computes. A cell's result depends on nothing
+/// but its cell (the lanes decide each run alone: `crate::lanes`), so any grouping of the cells
+/// gives the same cells. Validates like [`map2d`].
+pub fn map2d_cells<F>(
+    base: &Scenario,
+    o: &MapOptions,
+    indices: &[usize],
+    on_done: F,
+) -> Result<Vec<MapCell>, MapError>
+where
+    F: Fn(&MapCell) + Sync,
+{
+    check_map(base, o)?;
+    let total = o.x_values.len() * o.y_values.len();
+    if let Some(&i) = indices.iter().find(|&&i| i >= total) {
+        return Err(MapError::Axes(format!(
+            "cell {i} is outside the map of {total} cells"
+        )));
+    }
+    Ok(map_cells(base, o, indices, on_done))
+}
+
+/// The cells `todo` of a checked map, in that order.
+fn map_cells<F>(base: &Scenario, o: &MapOptions, todo: &[usize], on_done: F) -> Vec<MapCell>
+where
+    F: Fn(&MapCell) + Sync,
+{
     // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
     let on_done = |c: &MapCell| {
         if !geardyn_solvers::cancel::requested() {
             on_done(c)
         }
     };
-    o.check_axes()?;
-    let (nx, ny) = (o.x_values.len(), o.y_values.len());
-    for &x in &o.x_values {
-        model_at(base, o, x, o.y_values[0])?;
-    }
-    for &y in &o.y_values {
-        model_at(base, o, o.x_values[0], y)?;
-    }
+    let nx = o.x_values.len();
     let value = |index: usize| (o.x_values[index % nx], o.y_values[index / nx]);
-    let todo: Vec<usize> = (0..nx * ny).filter(|i| !done.contains_key(i)).collect();
-    let fresh: Vec<MapCell> = if crate::lanes::lanes_apply(&o.sim) {
+    if crate::lanes::lanes_apply(&o.sim) {
         // fixed-step RK4: the cells' runs in lockstep lanes and their decisions batched
         // (crate::lanes::simulate_decided_lanes), in batches so that an interruption loses at
         // most one batch
@@ -280,13 +326,5 @@ where
                 c
             })
             .collect()
-    };
-    let mut fresh = fresh.into_iter();
-    let cells = (0..nx * ny)
-        .map(|i| match done.get(&i) {
-            Some(c) => c.clone(),
-            None => fresh.next().expect("every cell computed"),
-        })
-        .collect();
-    Ok(cells)
+    }
 }

@@ -9,10 +9,10 @@ use crate::driver::{run_periods, Discard, Observer};
 use crate::period::minimal_period_tol;
 use geardyn_model::{ContactState, EventKind, MeshMode, MeshModel};
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError, Step, Stop};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Integrator choice in model terms.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "method", rename_all = "snake_case")]
 pub enum Method {
     /// Adaptive Dormand–Prince 5(4).
@@ -80,7 +80,7 @@ impl Method {
 }
 
 /// Simulation settings.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SimOptions {
     /// Integrator.
     pub method: Method,
@@ -104,7 +104,7 @@ pub struct SimOptions {
     /// Memory of the start mode ([`HybridSystem::memory`]: the hysteresis factor of a
     /// dissipative contact law's impact in progress): that of the run this one continues
     /// ([`SimResult::final_memory`]), 0 for a fresh start (a start in contact is no impact).
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "is_zero", default)]
     pub start_memory: f64,
     /// Decision horizon (excitation periods, counted from the start of the run): a motion whose
     /// top Lyapunov exponent is positive is followed this long before it is called chaotic

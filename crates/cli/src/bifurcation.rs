@@ -1,12 +1,14 @@
 //! `geardyn bifurcation` and `geardyn response`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
+use crate::sweep::{check_sweep, parse_pair, parse_range, run_checkpointed, SimArgs};
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
+use geardyn_io::request::BifurcationRequest;
 use geardyn_io::{output, run_record, sweep_output};
-use std::path::PathBuf;
+use geardyn_scenario::Scenario;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `geardyn bifurcation`.
 #[derive(Args, Debug)]
@@ -65,66 +67,72 @@ fn sections(s: &str) -> Result<Vec<Section>> {
         .collect()
 }
 
+impl BifurcationArgs {
+    /// The resolved request and its scenario: the one place `bifurcation` and `plan bifurcation`
+    /// turn their flags into options (validated, the work checked against its cap).
+    pub fn request(&self) -> Result<(BifurcationRequest, Scenario)> {
+        let mut cfg = self.cfg.config()?;
+        self.sim.apply(&mut cfg, &self.cfg.sets)?;
+        let scenario = cfg.resolve()?;
+        let (lo, hi, n) = parse_range(&self.range)?;
+        let secs = sections(&self.sections)?;
+        let mode = SweepMode::from_name(
+            &self.mode,
+            self.ics,
+            self.seed,
+            self.x0_range
+                .as_deref()
+                .map(|s| parse_pair(s, "--x0-range"))
+                .transpose()?,
+            self.v0_range
+                .as_deref()
+                .map(|s| parse_pair(s, "--v0-range"))
+                .transpose()?,
+            scenario.model().backlash_levels().1,
+        )?;
+        let opts = SweepOptions {
+            param: self.param.clone(),
+            values: linspace(lo, hi, n),
+            mode,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            sections: secs,
+            lyapunov: self.lyapunov,
+        };
+        check_sweep(&cfg, &scenario, &opts)?;
+        Ok((
+            BifurcationRequest {
+                config: cfg,
+                source: self.cfg.source(),
+                mode: self.mode.clone(),
+                options: opts,
+            },
+            scenario,
+        ))
+    }
+
+    /// The output directory (`--out`): the store of `plan bifurcation`.
+    pub fn out(&self) -> &Path {
+        &self.out
+    }
+}
+
 pub fn run(a: BifurcationArgs) -> Result<()> {
     let started = run_record::now_unix_s();
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
-    let (lo, hi, n) = parse_range(&a.range)?;
-    let secs = sections(&a.sections)?;
-    let mode = SweepMode::from_name(
-        &a.mode,
-        a.ics,
-        a.seed,
-        a.x0_range
-            .as_deref()
-            .map(|s| parse_pair(s, "--x0-range"))
-            .transpose()?,
-        a.v0_range
-            .as_deref()
-            .map(|s| parse_pair(s, "--v0-range"))
-            .transpose()?,
-        scenario.model().backlash_levels().1,
-    )?;
-    let opts = SweepOptions {
-        param: a.param.clone(),
-        values: linspace(lo, hi, n),
-        mode,
-        sim: cfg.sim_options()?,
-        y0: [cfg.simulation.x0, cfg.simulation.v0],
-        sections: secs.clone(),
-        lyapunov: a.lyapunov,
-    };
+    let (req, scenario) = a.request()?;
+    let opts = &req.options;
+    let n = opts.values.len();
     let t = std::time::Instant::now();
-    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "bifurcation", a.sim.force)?;
-    let elapsed = t.elapsed().as_secs_f64();
-    output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_sweep_record(
+    let results = run_checkpointed(
+        &req.config,
+        &scenario,
+        opts,
         &a.out,
         "bifurcation",
-        &cfg,
-        &scenario,
-        &[run_record::Swept::of(&a.param, &opts.values)],
-        started,
-        run_record::now_unix_s() - started,
+        a.sim.force,
     )?;
-    sweep_output::write_bifurcation(&a.out.join("bifurcation.csv"), &a.param, &results)?;
-    sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
-    sweep_output::write_impact_force(&a.out.join("impact_force.csv"), &a.param, &results)?;
-    let title = format!(
-        "Bifurcation diagram over {} ({} mode): {}",
-        a.param,
-        a.mode,
-        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
-    );
-    sweep_output::plot_bifurcation(
-        &a.out.join("bifurcation"),
-        &a.param,
-        &results,
-        &secs,
-        &title,
-        &mut geardyn_io::figure::LabelColors::default(),
-    )?;
+    let elapsed = t.elapsed().as_secs_f64();
+    req.write_folder(&a.out, &scenario, &results, started)?;
     let runs: usize = results.iter().map(|r| r.runs.len()).sum();
     println!(
         "{} values, {} runs in all, of {}+{} periods in {:.2} s -> {}",

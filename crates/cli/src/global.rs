@@ -9,13 +9,13 @@ use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{attractor_region, linspace};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
-use geardyn_io::figure::{
-    colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
-};
+use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
+use geardyn_io::request::MapRequest;
 use geardyn_io::{npy, run_record, sweep_output, Config};
+use geardyn_scenario::Scenario;
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn identify_options(cfg: &Config, a: &IdentArgs) -> Result<IdentifyOptions> {
     let mut sim = cfg.sim_options()?;
@@ -417,33 +417,62 @@ fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
     Ok((name.to_string(), linspace(lo, hi, n)))
 }
 
+impl MapArgs {
+    /// The resolved request and its scenario: the one place `map2d` and `plan map2d` turn their
+    /// flags into options (validated, the work checked against its cap).
+    pub fn request(&self) -> Result<(MapRequest, Scenario)> {
+        let mut cfg = self.cfg.config()?;
+        self.sim.apply(&mut cfg, &self.cfg.sets)?;
+        let scenario = cfg.resolve()?;
+        if !METRICS.contains(&self.metric.as_str()) {
+            bail!(
+                "unknown metric '{}': allowed {}",
+                self.metric,
+                METRICS.join(", ")
+            );
+        }
+        let (xp, xv) = parse_param_axis(&self.x, "--x")?;
+        let (yp, yv) = parse_param_axis(&self.y, "--y")?;
+        let opts = MapOptions {
+            x_param: xp,
+            x_values: xv,
+            y_param: yp,
+            y_values: yv,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            lyapunov: self.metric == "tle",
+        };
+        opts.check_axes()?;
+        cfg.check_work(
+            scenario.model(),
+            &opts.sim,
+            opts.x_values.len() * opts.y_values.len(),
+            true,
+        )?;
+        Ok((
+            MapRequest {
+                config: cfg,
+                source: self.cfg.source(),
+                metric: self.metric.clone(),
+                options: opts,
+            },
+            scenario,
+        ))
+    }
+
+    /// The output directory (`--out`): the store of `plan map2d`.
+    pub fn out(&self) -> &Path {
+        &self.out
+    }
+}
+
 pub fn map_cmd(a: MapArgs) -> Result<()> {
     let started = run_record::now_unix_s();
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
-    if !METRICS.contains(&a.metric.as_str()) {
-        bail!(
-            "unknown metric '{}': allowed {}",
-            a.metric,
-            METRICS.join(", ")
-        );
-    }
-    let (xp, xv) = parse_param_axis(&a.x, "--x")?;
-    let (yp, yv) = parse_param_axis(&a.y, "--y")?;
-    let opts = MapOptions {
-        x_param: xp.clone(),
-        x_values: xv.clone(),
-        y_param: yp.clone(),
-        y_values: yv.clone(),
-        sim: cfg.sim_options()?,
-        y0: [cfg.simulation.x0, cfg.simulation.v0],
-        lyapunov: a.metric == "tle",
-    };
-    opts.check_axes()?;
-    cfg.check_work(scenario.model(), &opts.sim, xv.len() * yv.len(), true)?;
-    let (cp, done) = open_checkpoint::<MapCell>(&a.out, &cfg, "map2d", &opts, a.sim.force)?;
-    let total = xv.len() * yv.len();
+    let (req, scenario) = a.request()?;
+    let opts = &req.options;
+    let (nx, ny) = (opts.x_values.len(), opts.y_values.len());
+    let (cp, done) = open_checkpoint::<MapCell>(&a.out, &req.config, "map2d", opts, a.sim.force)?;
+    let total = nx * ny;
     let done: HashMap<usize, MapCell> = done
         .into_iter()
         .filter(|c| c.index < total)
@@ -451,119 +480,13 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         .collect();
     let rec = Recorder::new(&cp, total as u64, done.len() as u64, "map2d");
     let t = std::time::Instant::now();
-    let cells = map2d(&scenario, &opts, &done, |c| rec.record(c))?;
+    let cells = map2d(&scenario, opts, &done, |c| rec.record(c))?;
     rec.finish()?;
-    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_sweep_record(
-        &a.out,
-        "map2d",
-        &cfg,
-        &scenario,
-        &[
-            run_record::Swept::of(&xp, &xv),
-            run_record::Swept::of(&yp, &yv),
-        ],
-        started,
-        run_record::now_unix_s() - started,
-    )?;
-    let num = |v: f64| format!("{v}");
-    write_csv(
-        &a.out.join("map.csv"),
-        &[
-            xp.as_str(),
-            yp.as_str(),
-            "label",
-            "period",
-            "healthy",
-            "max_force",
-            "min_force",
-            "p_id",
-            "impacts",
-            "tle",
-        ],
-        cells.iter().map(|c| {
-            vec![
-                num(c.x),
-                num(c.y),
-                c.label.clone(),
-                c.period.to_string(),
-                c.healthy.to_string(),
-                num(c.max_force),
-                num(c.min_force),
-                num(c.p_id),
-                c.impacts.to_string(),
-                c.tle.map(num).unwrap_or_default(),
-            ]
-        }),
-    )?;
-    let vals: Vec<f64> = cells
-        .iter()
-        .map(|c| c.metric(&a.metric).unwrap_or(f64::NAN))
-        .collect();
-    npy::write_f64(&a.out.join("map.npy"), &[yv.len(), xv.len()], &vals)?;
-    let lo = vals
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::INFINITY, f64::min);
-    let hi = vals
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
-    let span = if hi > lo { hi - lo } else { 1.0 };
-    let colors: Vec<_> = vals
-        .iter()
-        .map(|v| {
-            if v.is_finite() {
-                colormap((v - lo) / span)
-            } else {
-                UNSETTLED
-            }
-        })
-        .collect();
-    let cell = |v: &[f64]| {
-        if v.len() > 1 {
-            (v[1] - v[0]).abs()
-        } else {
-            1.0
-        }
-    };
-    let (dx, dy) = (cell(&xv), cell(&yv));
-    let title = format!(
-        "{} over ({}, {}): {}",
-        a.metric,
-        xp,
-        yp,
-        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&xp, &yp])
-    );
-    write_raster(
-        &a.out.join("map"),
-        &RasterFigure {
-            title,
-            x_label: xp.clone(),
-            y_label: yp.clone(),
-            x: (xv[0] - dx / 2.0, xv[xv.len() - 1] + dx / 2.0, xv.len()),
-            y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
-            colors,
-            legend: if vals.iter().any(|v| !v.is_finite()) {
-                vec![LegendEntry::dot("no value (failed run)", UNSETTLED)]
-            } else {
-                vec![]
-            },
-            legend_title: String::new(),
-            colorbar: Some((
-                if lo.is_finite() { lo } else { 0.0 },
-                if hi.is_finite() { hi } else { 1.0 },
-                a.metric.clone(),
-            )),
-            marks: vec![],
-        },
-    )?;
+    let (lo, hi) = req.write_folder(&a.out, &scenario, &cells, started)?;
     println!(
         "{}x{} cells in {:.2} s; {} in [{:.4}, {:.4}] -> {}",
-        xv.len(),
-        yv.len(),
+        nx,
+        ny,
         t.elapsed().as_secs_f64(),
         a.metric,
         lo,

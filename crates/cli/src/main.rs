@@ -7,6 +7,7 @@ mod lyapunov;
 mod orbits;
 mod report;
 mod run_config;
+mod shard;
 mod simulate;
 mod stiffness;
 mod sweep;
@@ -68,6 +69,15 @@ enum Command {
     Map2d(global::MapArgs),
     /// Measure integrator and sweep speed on case C1 and print the figures.
     Bench(bench::BenchArgs),
+    /// Plan a map2d or bifurcation in shards over a Zarr store, to run on many machines
+    /// (docs/distributed.md): `geardyn plan map2d <its arguments> --shards N --out STORE`.
+    Plan(shard::PlanArgs),
+    /// Compute one shard of a plan (--shard I, else SLURM_ARRAY_TASK_ID); a done shard is kept.
+    RunShard(shard::RunShardArgs),
+    /// List the done and missing shards of a plan.
+    Status(shard::StatusArgs),
+    /// Merge a plan's shards into the single command's files (map.csv, runs.csv, figures...).
+    Merge(shard::MergeArgs),
 }
 
 /// Ctrl-C: say what is kept before leaving (a checkpointed command has its finished items on
@@ -123,6 +133,10 @@ fn main() {
         Command::Orbits(args) => orbits::run(args),
         Command::Map2d(args) => global::map_cmd(args),
         Command::Bench(args) => bench::run(args),
+        Command::Plan(args) => shard::plan(args),
+        Command::RunShard(args) => shard::run_shard(args),
+        Command::Status(args) => shard::status(args),
+        Command::Merge(args) => shard::merge(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -225,16 +225,9 @@ impl<'a> Recorder<'a> {
     }
 }
 
-/// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
-pub fn run_checkpointed(
-    cfg: &Config,
-    scenario: &Scenario,
-    opts: &SweepOptions,
-    out: &Path,
-    kind: &str,
-    force: bool,
-) -> Result<Vec<TaskResult>> {
-    // the swept parameter is valid at both ends before anything is written
+/// Checks a sweep before anything is written: the swept parameter valid at both ends, the work
+/// below its cap.
+pub fn check_sweep(cfg: &Config, scenario: &Scenario, opts: &SweepOptions) -> Result<()> {
     for v in [opts.values.first(), opts.values.last()]
         .into_iter()
         .flatten()
@@ -248,6 +241,19 @@ pub fn run_checkpointed(
         _ => 1,
     };
     cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
+    Ok(())
+}
+
+/// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
+pub fn run_checkpointed(
+    cfg: &Config,
+    scenario: &Scenario,
+    opts: &SweepOptions,
+    out: &Path,
+    kind: &str,
+    force: bool,
+) -> Result<Vec<TaskResult>> {
+    check_sweep(cfg, scenario, opts)?;
     let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
     // a record is trusted only if it is one of this sweep's tasks, at its value, complete
     let runs_per_task = match opts.mode {

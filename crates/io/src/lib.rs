@@ -9,10 +9,15 @@ pub mod figure;
 pub mod npy;
 pub mod output;
 pub mod pair_plots;
+#[cfg(feature = "parquet")]
+pub mod parquet_table;
+pub mod request;
 pub mod sweep_output;
 
 pub mod run_record;
 pub mod safe_write;
 pub mod schema;
+pub mod shard;
 pub mod simulate_folder;
+pub mod zarr;
 pub use config::{Config, ConfigError};

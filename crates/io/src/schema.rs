@@ -236,6 +236,40 @@ pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
     t
 }
 
+/// The cells of a two-parameter map (`map.csv`): the x parameter `x` and the y parameter `y`
+/// under their own names first, then `label`, `period`, `healthy`, `max_force`, `min_force`,
+/// `p_id`, `impacts`, `tle` (empty when not computed), one row per cell in cell order
+/// (`iy * nx + ix`).
+pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -> Table {
+    let f = |g: &dyn Fn(&geardyn_analysis::map2d::MapCell) -> f64| {
+        Values::F64(cells.iter().map(g).collect())
+    };
+    let mut t = Table::default();
+    t.push_exact(x, f(&|c| c.x));
+    t.push_exact(y, f(&|c| c.y));
+    t.push(
+        "label",
+        Values::Str(cells.iter().map(|c| c.label.clone()).collect()),
+    );
+    t.push(
+        "period",
+        Values::I64(cells.iter().map(|c| c.period as i64).collect()),
+    );
+    t.push(
+        "healthy",
+        Values::Bool(cells.iter().map(|c| c.healthy).collect()),
+    );
+    t.push("max_force", f(&|c| c.max_force));
+    t.push("min_force", f(&|c| c.min_force));
+    t.push("p_id", f(&|c| c.p_id));
+    t.push(
+        "impacts",
+        Values::I64(cells.iter().map(|c| c.impacts as i64).collect()),
+    );
+    t.push("tle", f(&|c| c.tle.unwrap_or(f64::NAN)));
+    t
+}
+
 /// The section points of a sweep (`bifurcation.csv`): `<param>, branch, ic, section, x, v,
 /// label`, one row per point (`section` one of strobe, ds_up, ds_down, dd_up, dd_down, impact;
 /// `x`, `v` the state there).
