@@ -33,12 +33,13 @@ async function check(file, mustBePreset) {
   page.on('requestfailed', (r) => problems.push(`request failed: ${r.url()}`));
   await page.goto('file://' + file, { waitUntil: 'load' });
   // scroll a screen at a time so that every lazy image enters the viewport and loads
-  const height = await page.evaluate(() => document.body.scrollHeight);
-  for (let y = 0; y < height; y += 800) {
+  // (the page grows as figures load: its height is read again at every step)
+  for (let y = 0; y < (await page.evaluate(() => document.body.scrollHeight)); y += 700) {
     await page.evaluate((yy) => window.scrollTo(0, yy), y);
-    await page.waitForTimeout(30);
+    await page.waitForTimeout(60);
   }
   await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
+  await page.waitForTimeout(200);
   try {
     await page.waitForFunction(() => [...document.images].every((i) => i.complete), null, { timeout: 20000 });
   } catch {
