@@ -620,7 +620,17 @@ impl Continuation {
                 b.branch += offset;
                 b
             }));
-        self.ends.extend(other.ends);
+        // (each line starts with its branch's number)
+        self.ends.extend(other.ends.into_iter().map(|e| {
+            let Some(rest) = e.strip_prefix("branch ") else {
+                return e;
+            };
+            let n = rest.chars().take_while(char::is_ascii_digit).count();
+            match rest[..n].parse::<usize>() {
+                Ok(k) => format!("branch {}{}", k + offset, &rest[n..]),
+                Err(_) => e,
+            }
+        }));
         self
     }
 }

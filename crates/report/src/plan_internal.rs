@@ -2496,6 +2496,8 @@ fn attractors_f(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
 /// period-1 branch from rest and the branch of the period-2 attractor, which explain the
 /// multi-initial diagram's coexistence of 1-0-0-1-0 with a period 2 (incomplete bifurcation A).
 fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
+    // (a quarter of the default arclength step: the branches span a narrow range of xi)
+    const ORBIT_DS: f64 = 0.005;
     use geardyn_analysis::orbits::{run_orbits, BifurcationKind, Continuation, OrbitsRequest};
     let set = [
         ("F", 0.05),
@@ -2509,6 +2511,7 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &b,
         &OrbitsRequest {
             range: Some(("xi".into(), lo, hi)),
+            ds: ORBIT_DS,
             ..Default::default()
         },
         &|_| {},
@@ -2540,6 +2543,7 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
                 period: Some(2),
                 transient: 0,
                 y0,
+                ds: ORBIT_DS,
                 ..Default::default()
             };
             c = c.merge(run_orbits(&b, &req, &|_| {})?);
@@ -2556,38 +2560,63 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         "Seed B: periodic orbits over xi",
         "Linear contact law at F = 0.05, omega = 1.5, D_d = 0.9, D_s = 1: the period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02, stable orbits as lines and unstable ones as dots, bifurcation points marked, over the stroboscopic points simulated from rest (grey).",
     )?;
-    // the period-1 orbit's stable range, the period-2 attractor's birth (fold) and end
-    let stable_end = |period: u32| -> Option<f64> {
+    // the period-1 orbit's stable range; the period-2 branch's turn (a fold, smooth or at a
+    // grazing: the stable orbit turns back into an unstable one of the same period) and its
+    // stable range
+    let p1_end = c
+        .bifurcations
+        .iter()
+        .filter(|x| x.orbit.period == 1 && x.kind == BifurcationKind::PeriodDoubling)
+        .map(|x| x.param)
+        .reduce(f64::min);
+    let p2 = |stable: bool| {
+        c.points
+            .iter()
+            .filter(move |p| p.orbit.period == 2 && p.orbit.stable == stable)
+    };
+    let born = p2(true).map(|p| p.param).reduce(f64::min);
+    let last = p2(true).map(|p| p.param).reduce(f64::max);
+    // the turn: a fold or grazing of a period-2 branch beside the lowest stable orbit (the
+    // branch points bracket it), with the unstable twin beside it
+    let turn = born.and_then(|a| {
+        let twin = p2(false).any(|p| p.param >= a && p.param <= a + 0.01);
         c.bifurcations
             .iter()
-            .filter(|x| x.orbit.period == period && x.kind == BifurcationKind::PeriodDoubling)
+            .filter(|x| {
+                x.orbit.period == 2
+                    && matches!(x.kind, BifurcationKind::Fold | BifurcationKind::Grazing)
+                    && (x.param - a).abs() < 0.005
+            })
+            .map(|x| x.param)
+            .reduce(f64::min)
+            .filter(|_| twin)
+    });
+    let p1_stable = |xi: f64| {
+        c.points
+            .iter()
+            .any(|p| p.orbit.period == 1 && p.orbit.stable && p.param >= xi)
+            && p1_end.is_none_or(|e| e > xi)
+    };
+    // the period-2 orbit stays stable up to its first doubling (or as far as it was followed)
+    let p2_end = |t: f64| {
+        c.bifurcations
+            .iter()
+            .filter(|x| {
+                x.orbit.period == 2 && x.kind == BifurcationKind::PeriodDoubling && x.param > t
+            })
             .map(|x| x.param)
             .reduce(f64::min)
     };
-    let p1_end = stable_end(1);
-    let fold2 = c
-        .bifurcations
-        .iter()
-        .filter(|x| x.orbit.period == 2 && x.kind == BifurcationKind::Fold)
-        .map(|x| x.param)
-        .reduce(f64::min);
-    let p2_end = stable_end(2);
-    let p1_stable_at_fold = match fold2 {
-        Some(xf) => c.points.iter().any(|p| {
-            p.orbit.period == 1
-                && p.orbit.stable
-                && p.param > xf
-                && p1_end.is_none_or(|e| p.param < e)
-        }),
-        None => false,
-    };
-    let window = match (fold2, p2_end.or(p1_end)) {
-        (Some(a), Some(e)) if p1_stable_at_fold && a < e => Some((a, e.min(p1_end.unwrap_or(e)))),
+    let window = match (turn, last) {
+        (Some(t), Some(l)) if p1_stable(t) && t < l => {
+            let e = p2_end(t).unwrap_or(l).min(p1_end.unwrap_or(f64::INFINITY));
+            Some((t, e))
+        }
         _ => None,
     };
     if let Some((a, e)) = window {
         readings.push(format!(
-            "Stable period-1 and period-2 orbits coexist for xi in ({}, {}): the period-2 orbit is born at a fold at xi = {} together with an unstable period-2 orbit (the saddle between the two basins), not from the period-1 orbit, which stays stable until xi = {}.",
+            "Stable period-1 and period-2 orbits coexist for xi in ({}, {}) (up to the first doubling of either): the period-2 orbit appears at xi = {}, where its branch turns (a fold at grazing) into an unstable period-2 orbit, the saddle between the two basins; it is not born from the period-1 orbit, which stays stable until its doubling at xi = {}.",
             f(a),
             f(e),
             f(a),
@@ -2599,14 +2628,14 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         format!("{B003} §4 (xi study); {B004} §4.4 (point A)"),
         "P1 stable + new P2",
         match window {
-            Some((a, e)) => format!("P2 born at a fold at xi = {}; P1 and P2 both stable over ({}, {})", f(a), f(a), f(e)),
+            Some((a, e)) => format!("P2 appears at a fold at xi = {}; P1 and P2 both stable over ({}, {})", f(a), f(a), f(e)),
             None => match start {
                 Some(_) => "no stable coexistence window on the branches".into(),
                 None => "no period-2 attractor found at xi = 0.02".into(),
             },
         },
         Verdict::of(window.is_some()),
-        "Shooting and pseudo-arclength continuation of the period-1 branch (from rest) and of the period-2 attractor's branch (found at xi = 0.02); reproduced when the period-2 branch has a fold inside the period-1 orbit's stable range, so that both are stable beside each other.",
+        "Shooting and pseudo-arclength continuation of the period-1 branch (from rest) and of the period-2 attractor's branch (found at xi = 0.02); reproduced when the period-2 branch turns (a fold, here at a grazing) inside the period-1 orbit's stable range, with its unstable twin beside it, so that both orbits are stable beside each other.",
     );
     Ok(Section {
         id: "orbits_xi".into(),

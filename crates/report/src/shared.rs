@@ -1093,7 +1093,13 @@ pub fn orbit_figure(
             readings.push(format!("{} at {param} = {}.", kind.name(), at.join(", ")));
         }
     }
-    readings.extend(c.ends.iter().map(|e| format!("Branch {e}.")));
+    readings.extend(c.ends.iter().map(|e| {
+        let mut s = e.clone();
+        if let Some(first) = s.get(0..1) {
+            s.replace_range(0..1, &first.to_uppercase());
+        }
+        format!("{s}.")
+    }));
     Ok((ctx.fig(&stem, caption, &[branch_csv, bif_csv]), readings))
 }
 
