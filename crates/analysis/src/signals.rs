@@ -312,6 +312,7 @@ pub struct PairSignals {
     pub start: String,
     /// Sample times (dimensionless `tau`; seconds: `tau / omega_n`): sample `i` at
     /// `tau_rec + (i + 1/2) dt`, `dt` a mesh cycle over `samples_per_cycle`.
+    #[serde(skip)]
     pub tau: Vec<f64>,
     /// The three signals of [`SIGNAL_NAMES`] (µm, N, m/s²). The acceleration of sample `i` is
     /// the mean acceleration over `[tau_i - dt/2, tau_i + dt/2]`, `(x'(tau_i + dt/2) -

@@ -14,5 +14,6 @@ pub mod sweep_output;
 pub mod run_record;
 pub mod safe_write;
 pub mod schema;
+pub mod signal_plots;
 pub mod simulate_folder;
 pub use config::{Config, ConfigError};
