@@ -255,6 +255,30 @@ impl Decomposition {
     pub fn residual_is_noise(&self) -> bool {
         !(self.residual_fraction() > NOISE_FLOOR)
     }
+    /// Whether the envelope of NB4's band is constant to the integration's noise floor (a band
+    /// holding the mesh order alone: no modulation).
+    pub fn envelope_is_noise(&self) -> bool {
+        !(central(&self.envelope).std() > NOISE_FLOOR * rms(&self.envelope))
+    }
+    /// Whether the first sidebands of the mesh order `z` are at the noise floor, relative to the
+    /// TSA's standard deviation.
+    pub fn sidebands_are_noise(&self, z: usize) -> bool {
+        let sb = self.lines.get(z - 1).copied().unwrap_or(0.0)
+            + self.lines.get(z + 1).copied().unwrap_or(0.0);
+        !(sb > NOISE_FLOOR * central(&self.tsa).std())
+    }
+    /// Whether indicator `name` of this record reads only the integration's noise (the
+    /// normalised moments of a difference, residual or envelope signal that has no content, the
+    /// energy ratio and sideband indicators without any non-mesh order).
+    pub fn indicator_is_noise(&self, name: &str, z: usize) -> bool {
+        match name {
+            "fm4" | "m6a" | "m8a" | "er" => self.difference_is_noise(),
+            "na4" => self.residual_is_noise(),
+            "nb4" => self.envelope_is_noise(),
+            "sideband_index" | "sideband_level_factor" => self.sidebands_are_noise(z),
+            _ => false,
+        }
+    }
 }
 
 /// Averages `signal` over its revolutions and splits the average (validated by
@@ -365,6 +389,18 @@ pub const INDICATOR_NAMES: [&str; 13] = [
     "sideband_index",
     "sideband_level_factor",
 ];
+
+/// The value of normalised indicator `name` for Gaussian noise (FM4, NA4, NB4: 3; M6A: 15;
+/// M8A: 105, the standardised moments of a normal distribution): the reference of a healthy
+/// signal whose difference, residual or envelope holds nothing but noise. `None` for the others.
+pub fn gaussian_reference(name: &str) -> Option<f64> {
+    match name {
+        "fm4" | "na4" | "nb4" => Some(3.0),
+        "m6a" => Some(15.0),
+        "m8a" => Some(105.0),
+        _ => None,
+    }
+}
 
 /// The condition indicators of one signal (definitions in docs/analyses.md).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -571,7 +607,14 @@ mod tests {
             .collect();
         let dec = decompose(&clean, &o).unwrap();
         assert!(dec.difference_is_noise() && dec.residual_is_noise());
-        assert!(!decompose(&x, &o).unwrap().difference_is_noise());
+        assert!(dec.envelope_is_noise() && dec.sidebands_are_noise(16));
+        assert!(["fm4", "na4", "nb4", "er", "sideband_index"]
+            .iter()
+            .all(|n| dec.indicator_is_noise(n, 16)));
+        assert!(!dec.indicator_is_noise("kurtosis", 16));
+        let dec = decompose(&x, &o).unwrap();
+        assert!(!dec.difference_is_noise() && !dec.envelope_is_noise());
+        assert!(!dec.sidebands_are_noise(16));
     }
 
     #[test]
