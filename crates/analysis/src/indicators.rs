@@ -535,6 +535,35 @@ pub fn indicators_of(signal: &[f64], o: &IndicatorOptions) -> Result<Indicators,
     Ok(indicators(signal, &dec, o, &[]))
 }
 
+/// The indicators of `signal` with NA4 and NB4 over a run: `run` holds the earlier records of
+/// the same run, each as long as `signal` and read with the same options (empty: the signal's
+/// own variance). Every input is validated: an error names the argument (`signal`, `run[i]`,
+/// `samples_per_rev`, `mesh_order`, ...) and its allowed range.
+pub fn indicators_with_run(
+    signal: &[f64],
+    o: &IndicatorOptions,
+    run: &[&[f64]],
+) -> Result<Indicators, SettingError> {
+    let dec = decompose(signal, o)?;
+    let mut prior = Vec::with_capacity(run.len());
+    for (i, r) in run.iter().enumerate() {
+        if r.len() != signal.len() {
+            return Err(setting(
+                "run",
+                format!("record {i} of {} samples", r.len()),
+                format!("records as long as the signal ({} samples)", signal.len()),
+            ));
+        }
+        prior.push(decompose(r, o).map_err(|e| SettingError {
+            field: "run",
+            value: format!("record {i}: {} = {}", e.field, e.value),
+            allowed: e.allowed,
+        })?);
+    }
+    let refs: Vec<&Decomposition> = prior.iter().collect();
+    Ok(indicators(signal, &dec, o, &refs))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
