@@ -244,9 +244,13 @@ pub struct MotionContext {
     pub period: usize,
     /// Period in pinion revolutions (0: none).
     pub period_revolutions: usize,
-    /// Attractor class compared between the pairs: `periodic, no back-side contact`,
-    /// `periodic, back-side contact` or `not periodic`.
+    /// Attractor class compared between the pairs: `back-side contact` (impacts or back-flank
+    /// contact in the record) or `no back-side contact` (the period is in `label`: a record too
+    /// short to show a period is not a different attractor).
     pub class: String,
+    /// Drive-side contact entries per revolution (upward crossings of `D_s` and `D_d`: each one
+    /// follows a separation).
+    pub reentries_per_rev: f64,
     /// Back-side impacts over the record.
     pub impacts: u64,
     /// Back-side impacts per revolution.
@@ -261,13 +265,12 @@ pub struct MotionContext {
 
 impl MotionContext {
     fn of(s: &Summary, per_rev: u64, revolutions: u64) -> Self {
-        let back = !s.healthy && s.period > 0 || s.impacts > 0 || s.counts[1] > 0;
-        let class = if s.period == 0 {
-            "not periodic"
-        } else if back {
-            "periodic, back-side contact"
+        let back = (!s.healthy && s.period > 0) || s.impacts > 0 || s.counts[1] > 0;
+        // the multi-state class that shapes the signals: whether the back flank is touched
+        let class = if back {
+            "back-side contact"
         } else {
-            "periodic, no back-side contact"
+            "no back-side contact"
         };
         let per_rev = per_rev as usize;
         MotionContext {
@@ -279,12 +282,35 @@ impl MotionContext {
                 lcm(s.period, per_rev) / per_rev
             },
             class: class.into(),
+            reentries_per_rev: (s.rates[0] + s.rates[2]) * per_rev as f64,
             impacts: s.impacts,
             impacts_per_rev: s.impacts as f64 / revolutions.max(1) as f64,
             back_side: back,
             p_id: s.p_id,
             max_impact_force: s.max_impact_force,
         }
+    }
+}
+
+/// Most drive-side contact entries per revolution by which two records of the healthy pair on
+/// one attractor differ (a periodic orbit repeats them exactly; a chaotic one nearly).
+pub const LIKE_REENTRIES: f64 = 2.0;
+
+impl MotionContext {
+    /// Whether two records of one pair are on the same attractor: the same back-side class, and
+    /// drive-side contact entries per revolution within [`LIKE_REENTRIES`].
+    pub fn like(&self, other: &MotionContext) -> bool {
+        self.class == other.class
+            && (self.reentries_per_rev - other.reentries_per_rev).abs() <= LIKE_REENTRIES
+    }
+
+    fn text(&self) -> String {
+        format!(
+            "{}, {} ({} drive-side entries per revolution)",
+            self.label,
+            self.class,
+            (self.reentries_per_rev * 1000.0).round() / 1000.0
+        )
     }
 }
 
@@ -558,11 +584,13 @@ fn process(
 /// Records the scenario's pair and its healthy twin ([`Scenario::healthy`]) from the same
 /// initial state at the same operating point, and reads their signals, spectra and indicators.
 ///
-/// **Like with like.** The two pairs may settle on attractors of different classes (coexisting
-/// attractors: one impacting, one not). When the classes differ, the healthy twin is recorded
-/// again from the broken pair's final state (same phase of the revolution); if it stays on the
-/// broken pair's class that record is used (`start` says so), otherwise
-/// [`SignalsResult::comparable`] is false and a note says why.
+/// **Like with like.** The healthy twin is recorded twice: from the initial state and from the
+/// broken pair's final state (same phase of the revolution: the chip removed from the broken
+/// pair's motion). When both records are on one attractor ([`MotionContext::like`]) the healthy
+/// pair has one attractor in play and the record from the initial state is compared (a change of
+/// class is then the chip's doing, and a note says so). When they differ (coexisting healthy
+/// attractors), the one on the broken pair's class is compared, the restarted one first
+/// (`start` says which); when neither is, [`SignalsResult::comparable`] is false.
 ///
 /// Without a broken tooth only the healthy pair is recorded (a note says so).
 pub fn run_signals(sc: &Scenario, req: &SignalsRequest) -> Result<SignalsResult, SignalsError> {
@@ -588,25 +616,39 @@ pub fn run_signals(sc: &Scenario, req: &SignalsRequest) -> Result<SignalsResult,
     let mut h_start = "initial state";
     let mut comparable = true;
     if let Some(b) = &b_raw {
-        let class = |r: &Raw| MotionContext::of(&r.summary, r.per_rev, req.revolutions).class;
-        let (cb, ch) = (class(b), class(&h_raw));
-        if cb != ch {
-            let again = record(healthy_sc.model(), scales.z1, req, b.end)?;
-            if class(&again) == cb {
+        let ctx = |r: &Raw| MotionContext::of(&r.summary, r.per_rev, req.revolutions);
+        // the healthy twin again, from the broken pair's final state (the chip removed from the
+        // broken pair's motion): does the healthy pair have one attractor here, or several?
+        let again = record(healthy_sc.model(), scales.z1, req, b.end)?;
+        let (cb, c1, c2) = (ctx(b), ctx(&h_raw), ctx(&again));
+        if c1.like(&c2) {
+            notes.push(format!(
+                "both pairs from the same initial state; the healthy twin moves alike from it ({}) and from the broken pair's final state ({}): one healthy attractor in play; broken pair {}",
+                c1.text(), c2.text(), cb.text()
+            ));
+            if cb.class != c1.class {
                 notes.push(format!(
-                    "from the initial state the broken pair settled on '{cb}' and the healthy twin on '{ch}' (coexisting attractors): the healthy twin was recorded again from the broken pair's final state and stays on '{cb}'; that record is compared"
-                ));
-                h_raw = again;
-                h_start = "broken pair's final state";
-            } else {
-                comparable = false;
-                notes.push(format!(
-                    "the broken pair is on '{cb}' and the healthy twin on '{ch}', also when started from the broken pair's final state: the two differ in attractor class, not only in the chip, and their ratios say so"
+                    "the chip changes the attractor class: broken pair '{}', healthy twin '{}'",
+                    cb.class, c1.class
                 ));
             }
-        } else {
+        } else if c2.class == cb.class {
             notes.push(format!(
-                "both pairs from the same initial state, both on '{cb}'"
+                "coexisting healthy attractors: from the initial state the healthy twin moves as {}, from the broken pair's final state as {}; the latter, on the broken pair's class ({}), is compared (like with like)",
+                c1.text(), c2.text(), cb.text()
+            ));
+            h_raw = again;
+            h_start = "broken pair's final state";
+        } else if c1.class == cb.class {
+            notes.push(format!(
+                "coexisting healthy attractors: from the initial state the healthy twin moves as {}, from the broken pair's final state as {}; the former, on the broken pair's class ({}), is compared (like with like)",
+                c1.text(), c2.text(), cb.text()
+            ));
+        } else {
+            comparable = false;
+            notes.push(format!(
+                "coexisting healthy attractors ({} from the initial state, {} from the broken pair's final state), neither on the broken pair's class ({}): the pairs differ in attractor, not only in the chip",
+                c1.text(), c2.text(), cb.text()
             ));
         }
     }

@@ -101,7 +101,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
         .context("the detectability study needs a pair with a chipped tooth (pair.breakage.removed_height_mm)")?;
     let req = SignalsRequest {
         revolutions: ctx.n(8, 16),
-        transient: ctx.n(60, 300),
+        transient: ctx.n(100, 300),
         samples_per_cycle: ctx.n(16, 32),
         segment_revolutions: ctx.n(2, 4),
         ..Default::default()
