@@ -88,13 +88,11 @@ impl IndicatorOptions {
         if spr < 8 {
             return Err(setting("samples_per_rev", spr, ">= 8"));
         }
-        if len < spr || len % spr != 0 {
+        if len < spr || !len.is_multiple_of(spr) {
             return Err(setting(
                 "samples_per_rev",
                 spr,
-                format!(
-                    "a divisor of the signal length {len} that leaves at least one revolution"
-                ),
+                format!("a divisor of the signal length {len} that leaves at least one revolution"),
             ));
         }
         if self.sidebands > Self::MAX_ORDERS {
@@ -147,7 +145,7 @@ impl IndicatorOptions {
     }
 
     fn is_mesh(&self, j: usize) -> bool {
-        j > 0 && j % self.mesh_order == 0
+        j > 0 && j.is_multiple_of(self.mesh_order)
     }
 
     fn is_sideband(&self, j: usize) -> bool {
@@ -249,36 +247,55 @@ impl Decomposition {
     }
     /// Whether the difference signal is at the integration's noise floor ([`NOISE_FLOOR`]).
     pub fn difference_is_noise(&self) -> bool {
-        !(self.difference_fraction() > NOISE_FLOOR)
+        !exceeds(self.difference_fraction(), NOISE_FLOOR)
     }
     /// Whether the residual signal is at the integration's noise floor ([`NOISE_FLOOR`]).
     pub fn residual_is_noise(&self) -> bool {
-        !(self.residual_fraction() > NOISE_FLOOR)
+        !exceeds(self.residual_fraction(), NOISE_FLOOR)
     }
     /// Whether the envelope of NB4's band is constant to the integration's noise floor (a band
     /// holding the mesh order alone: no modulation).
     pub fn envelope_is_noise(&self) -> bool {
-        !(central(&self.envelope).std() > NOISE_FLOOR * rms(&self.envelope))
+        self.envelope_below(NOISE_FLOOR)
+    }
+    fn envelope_below(&self, floor: f64) -> bool {
+        !exceeds(central(&self.envelope).std(), floor * rms(&self.envelope))
     }
     /// Whether the first sidebands of the mesh order `z` are at the noise floor, relative to the
     /// TSA's standard deviation.
     pub fn sidebands_are_noise(&self, z: usize) -> bool {
+        self.sidebands_below(z, NOISE_FLOOR)
+    }
+    fn sidebands_below(&self, z: usize, floor: f64) -> bool {
         let sb = self.lines.get(z - 1).copied().unwrap_or(0.0)
             + self.lines.get(z + 1).copied().unwrap_or(0.0);
-        !(sb > NOISE_FLOOR * central(&self.tsa).std())
+        !exceeds(sb, floor * central(&self.tsa).std())
     }
     /// Whether indicator `name` of this record reads only the integration's noise (the
     /// normalised moments of a difference, residual or envelope signal that has no content, the
     /// energy ratio and sideband indicators without any non-mesh order).
     pub fn indicator_is_noise(&self, name: &str, z: usize) -> bool {
+        self.indicator_below(name, z, NOISE_FLOOR)
+    }
+    /// Whether the content indicator `name` reads (difference, residual, envelope modulation or
+    /// first sidebands) is below `floor` relative to the TSA's standard deviation (the envelope:
+    /// relative to its RMS). [`Decomposition::indicator_is_noise`] at [`NOISE_FLOOR`]; a higher
+    /// floor stands for a measurement's noise. Indicators of the raw signal and FM0: never.
+    pub fn indicator_below(&self, name: &str, z: usize, floor: f64) -> bool {
+        let tsa_std = central(&self.tsa).std();
         match name {
-            "fm4" | "m6a" | "m8a" | "er" => self.difference_is_noise(),
-            "na4" => self.residual_is_noise(),
-            "nb4" => self.envelope_is_noise(),
-            "sideband_index" | "sideband_level_factor" => self.sidebands_are_noise(z),
+            "fm4" | "m6a" | "m8a" | "er" => !exceeds(rms(&self.difference), floor * tsa_std),
+            "na4" => !exceeds(rms(&self.residual), floor * tsa_std),
+            "nb4" => self.envelope_below(floor),
+            "sideband_index" | "sideband_level_factor" => self.sidebands_below(z, floor),
             _ => false,
         }
     }
+}
+
+/// `a > b`, false when either is NaN (a NaN content is no content).
+fn exceeds(a: f64, b: f64) -> bool {
+    a > b
 }
 
 /// Averages `signal` over its revolutions and splits the average (validated by
@@ -592,7 +609,11 @@ mod tests {
             .collect();
         let ind = indicators_of(&x, &IndicatorOptions::new(spr, 20)).unwrap();
         assert!((ind.kurtosis - 1.5).abs() < 1e-12, "{}", ind.kurtosis);
-        assert!((ind.crest_factor - 2f64.sqrt()).abs() < 1e-12, "{}", ind.crest_factor);
+        assert!(
+            (ind.crest_factor - 2f64.sqrt()).abs() < 1e-12,
+            "{}",
+            ind.crest_factor
+        );
         assert!((ind.rms - 3.0 / 2f64.sqrt()).abs() < 1e-12);
         assert!((ind.peak_to_peak - 6.0).abs() < 1e-12);
         // all of it is the mesh order: FM0 = p2p / A(z1) = 2, no sidebands, no difference

@@ -12,8 +12,7 @@
 
 use crate::driver::{run_periods, Discard, Observer};
 use crate::indicators::{
-    decompose, indicators, Decomposition, IndicatorOptions, Indicators, RemovedOrders,
-    ResidualKind,
+    decompose, indicators, Decomposition, IndicatorOptions, Indicators, RemovedOrders, ResidualKind,
 };
 use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, Summary};
 use crate::spectrum::{setting, welch_orders, SettingError, Spectrum};
@@ -410,7 +409,7 @@ impl Sampler<'_> {
                 break;
             }
             let y = step.interpolate(t);
-            if self.next % 2 == 0 {
+            if self.next.is_multiple_of(2) {
                 self.v_mid.push(y[1]);
             } else {
                 self.tau.push(t);
@@ -516,7 +515,11 @@ fn record(
         )
         .into());
     }
-    let accel = sampler.v_mid.windows(2).map(|w| (w[1] - w[0]) / dt).collect();
+    let accel = sampler
+        .v_mid
+        .windows(2)
+        .map(|w| (w[1] - w[0]) / dt)
+        .collect();
     let res = rec.finish();
     let summary = summarize(model, &res, &opts);
     Ok(Raw {

@@ -77,12 +77,13 @@ fn one_sided(
     out.clear();
     out.resize(n / 2 + 1, Complex::new(0.0, 0.0));
     // lengths are right by construction: the only error of `process` is a length mismatch
-    fft.process(buf, out).expect("buffer lengths match the plan");
+    fft.process(buf, out)
+        .expect("buffer lengths match the plan");
     let gain: f64 = w.map_or(n as f64, |w| w.iter().sum());
     out.iter()
         .enumerate()
         .map(|(j, c)| {
-            let edge = j == 0 || (n % 2 == 0 && j == n / 2);
+            let edge = j == 0 || (n.is_multiple_of(2) && j == n / 2);
             c.norm() * if edge { 1.0 } else { 2.0 } / gain
         })
         .collect()
@@ -99,7 +100,7 @@ pub fn welch_orders(
     samples_per_rev: usize,
     segment_revs: usize,
 ) -> Result<Spectrum, SettingError> {
-    if samples_per_rev < 4 || samples_per_rev % 2 != 0 {
+    if samples_per_rev < 4 || !samples_per_rev.is_multiple_of(2) {
         return Err(setting(
             "samples_per_rev",
             samples_per_rev,
@@ -178,7 +179,7 @@ pub fn filter_orders(rev: &[f64], keep: impl Fn(usize) -> bool) -> Vec<f64> {
     }
     // the inverse of a real signal's spectrum: the imaginary parts of bin 0 and n/2 are zero
     spec[0].im = 0.0;
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         spec[n / 2].im = 0.0;
     }
     let mut back = inv.make_output_vec();

@@ -80,7 +80,10 @@ fn broken_and_healthy_pairs_with_every_indicator_and_recomputable_moments() {
         o,
     ]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stdout.contains("broken pair") && stdout.contains("healthy pair"), "{stdout}");
+    assert!(
+        stdout.contains("broken pair") && stdout.contains("healthy pair"),
+        "{stdout}"
+    );
     for f in [
         "signals.csv",
         "spectrum.csv",
@@ -136,7 +139,10 @@ fn broken_and_healthy_pairs_with_every_indicator_and_recomputable_moments() {
             let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-300);
             let got = |i: &str| ind[&(pair.into(), sig.to_string(), i.to_string())];
             assert!(close(got("rms"), rms), "{pair} {sig} rms");
-            assert!(close(got("kurtosis"), m4 / (m2 * m2)), "{pair} {sig} kurtosis");
+            assert!(
+                close(got("kurtosis"), m4 / (m2 * m2)),
+                "{pair} {sig} kurtosis"
+            );
             assert!(close(got("crest_factor"), peak / rms), "{pair} {sig} crest");
         }
     }
@@ -168,17 +174,30 @@ fn broken_and_healthy_pairs_with_every_indicator_and_recomputable_moments() {
         .iter()
         .any(|r| r[0] == "healthy" && r[1] == "mesh_force_N" && r[2] == "40" && r[3] == "mesh1"));
     // the chip shows at this point: the broken acceleration is more impulsive
-    let b = ind[&("broken".into(), "acceleration_m_s2".into(), "kurtosis".into())];
-    let h = ind[&("healthy".into(), "acceleration_m_s2".into(), "kurtosis".into())];
+    let b = ind[&(
+        "broken".into(),
+        "acceleration_m_s2".into(),
+        "kurtosis".into(),
+    )];
+    let h = ind[&(
+        "healthy".into(),
+        "acceleration_m_s2".into(),
+        "kurtosis".into(),
+    )];
     assert!(b > 1.5 * h, "kurtosis {b} vs {h}");
     let b = ind[&("broken".into(), "acceleration_m_s2".into(), "na4".into())];
     let h = ind[&("healthy".into(), "acceleration_m_s2".into(), "na4".into())];
     assert!(b > 2.0 * h, "NA4 {b} vs {h}");
     let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("signals.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("signals.json")).unwrap()).unwrap();
     assert_eq!(json["result"]["options"]["mesh_order"], 40);
-    assert!(json["result"]["orders"]["difference"].as_array().unwrap().len() > 3);
+    assert!(
+        json["result"]["orders"]["difference"]
+            .as_array()
+            .unwrap()
+            .len()
+            > 3
+    );
     let run: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
     assert_eq!(run["kind"], "signals");
@@ -200,7 +219,10 @@ fn refusals_name_the_setting() {
     ] {
         let (code, _, stderr) = geardyn(&["signals", flag, value, "--out", o]);
         assert_eq!(code, 2, "{flag}");
-        assert!(stderr.contains(field) && stderr.contains("allowed"), "{stderr}");
+        assert!(
+            stderr.contains(field) && stderr.contains("allowed"),
+            "{stderr}"
+        );
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }

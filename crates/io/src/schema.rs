@@ -657,8 +657,7 @@ pub fn lines_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
     for p in &r.pairs {
         for (k, d) in p.decompositions.iter().enumerate() {
             for (j, a) in d.lines.iter().enumerate() {
-                if let Some(l) = geardyn_analysis::spectrum::order_label(j, z, LABELLED_SIDEBANDS)
-                {
+                if let Some(l) = geardyn_analysis::spectrum::order_label(j, z, LABELLED_SIDEBANDS) {
                     pair.push(p.pair.clone());
                     signal.push(geardyn_analysis::signals::SIGNAL_NAMES[k].to_string());
                     order.push(j as i64);

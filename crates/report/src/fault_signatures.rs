@@ -24,6 +24,13 @@ const SOURCE: &str = "seed A 000 (summary) ¶1; 001 (paper) abstract; 002 (short
 /// A broken/healthy ratio at or above this factor (or at or below its inverse) detects the chip.
 const DETECT: f64 = 2.0;
 
+/// Content of a difference, residual or envelope signal (or of the first sidebands) below this
+/// fraction of the TSA's standard deviation (-60 dB) counts as absent: a measurement's noise
+/// would hide it. The integration's own floor is far lower
+/// ([`geardyn_analysis::indicators::NOISE_FLOOR`]); a chip whose signature stays below -60 dB is
+/// not detectable in practice.
+const SENSOR_FLOOR: f64 = 1e-3;
+
 /// The signal a condition-monitoring engineer measures: the acceleration (index in
 /// [`SIGNAL_NAMES`]).
 const ACCEL: usize = 2;
@@ -52,8 +59,8 @@ struct Point {
     chip_mm: f64,
 }
 
-/// Broken/healthy ratio of indicator `k` of signal `s`: against the Gaussian reference when the
-/// healthy record's difference, residual or envelope is the integration's noise (normalised
+/// Broken/healthy ratio of indicator `name` of signal `s`: against the Gaussian reference when
+/// the healthy record's difference, residual or envelope is below [`SENSOR_FLOOR`] (normalised
 /// moments), infinite for the others when only the broken pair has content, 1 when neither has.
 fn ratio(r: &SignalsResult, s: usize, name: &str) -> f64 {
     let (h, b) = (&r.pairs[0], &r.pairs[1]);
@@ -62,8 +69,8 @@ fn ratio(r: &SignalsResult, s: usize, name: &str) -> f64 {
         h.indicators[s].get(name).unwrap_or(f64::NAN),
         b.indicators[s].get(name).unwrap_or(f64::NAN),
     );
-    let hn = h.decompositions[s].indicator_is_noise(name, z);
-    let bn = b.decompositions[s].indicator_is_noise(name, z);
+    let hn = h.decompositions[s].indicator_below(name, z, SENSOR_FLOOR);
+    let bn = b.decompositions[s].indicator_below(name, z, SENSOR_FLOOR);
     match (hn, bn, gaussian_reference(name)) {
         (true, true, _) => 1.0,
         (true, false, Some(g)) => bv / g,
@@ -150,7 +157,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
                     format!("{}", r.pairs[0].indicators[s].get(name).unwrap_or(f64::NAN)),
                     q_text(q),
                     r.pairs[0].decompositions[s]
-                        .indicator_is_noise(name, r.options.mesh_order)
+                        .indicator_below(name, r.options.mesh_order, SENSOR_FLOOR)
                         .to_string(),
                     r.comparable.to_string(),
                     r.pairs[1].motion.class.clone(),
@@ -171,7 +178,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
             "broken",
             "healthy",
             "ratio",
-            "healthy_at_noise_floor",
+            "healthy_below_floor",
             "comparable",
             "class_broken",
             "class_healthy",
@@ -232,13 +239,10 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
         let hi = qs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         (n, lo, hi)
     };
-    let mut ranked: Vec<(&str, (usize, f64, f64))> = RANKED.iter().map(|n| (*n, score(n))).collect();
+    let mut ranked: Vec<(&str, (usize, f64, f64))> =
+        RANKED.iter().map(|n| (*n, score(n))).collect();
     // most detections first, then the largest ratio
-    ranked.sort_by(|a, b| {
-        b.1 .0
-            .cmp(&a.1 .0)
-            .then(b.1 .2.total_cmp(&a.1 .2))
-    });
+    ranked.sort_by(|a, b| b.1 .0.cmp(&a.1 .0).then(b.1 .2.total_cmp(&a.1 .2)));
     let where_of = |name: &str| -> String {
         let at: Vec<String> = comparable
             .iter()
@@ -318,7 +322,12 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
             label: label.into(),
             points: chip_idx
                 .iter()
-                .map(|&i| (points[i].chip_mm, results[i].pairs[k].motion.impacts_per_rev))
+                .map(|&i| {
+                    (
+                        points[i].chip_mm,
+                        results[i].pairs[k].motion.impacts_per_rev,
+                    )
+                })
                 .collect(),
             dots: true,
         })
@@ -434,7 +443,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
             f(chip_at.1)
         ),
         method: format!(
-            "geardyn signals' request at each point: {} revolutions of transient, {} recorded, {} samples per mesh cycle; both pairs from rest at tau = 0. Indicators of the acceleration's time-synchronous average (residual: mesh harmonics and shaft order 1 removed; NA4/NB4 over the run healthy → broken). A ratio detects at ≥ {} or ≤ 1/{}. A healthy difference, residual or envelope at the integration's noise floor (a motion of one mesh cycle has no other order) is compared at the Gaussian value of its moment (FM4, NA4, NB4 3; M6A 15; M8A 105). When the two pairs settle on attractors of different classes, the healthy twin is restarted from the broken pair's final state; where it still differs the point is marked and not counted.",
+            "geardyn signals' request at each point: {} revolutions of transient, {} recorded, {} samples per mesh cycle; both pairs from rest at tau = 0. Indicators of the acceleration's time-synchronous average (residual: mesh harmonics and shaft order 1 removed; NA4/NB4 over the run healthy → broken). A ratio detects at ≥ {} or ≤ 1/{}. Difference, residual, envelope or sideband content below -60 dB of the TSA counts as absent (a measurement's noise hides it); an absent healthy content is compared at the Gaussian value of its moment (FM4, NA4, NB4 3; M6A 15; M8A 105), both absent reads 1. When the two pairs settle on attractors of different classes, the healthy twin is restarted from the broken pair's final state; where it still differs the point is marked and not counted.",
             req.transient, req.revolutions, req.samples_per_cycle, f(DETECT), f(DETECT)
         ),
         figures: vec![fig_chip, fig_tsa],
