@@ -1208,6 +1208,7 @@ fn signals<'py>(
 /// run (NA4/NB4's run-averaged denominator).
 #[pyfunction]
 #[pyo3(signature = (signal, samples_per_rev, mesh_order, sidebands, shaft_orders, residual, run))]
+#[allow(clippy::too_many_arguments)]
 fn indicators<'py>(
     py: Python<'py>,
     signal: Vec<f64>,
