@@ -100,12 +100,8 @@ pub fn welch_orders(
     samples_per_rev: usize,
     segment_revs: usize,
 ) -> Result<Spectrum, SettingError> {
-    if samples_per_rev < 4 || !samples_per_rev.is_multiple_of(2) {
-        return Err(setting(
-            "samples_per_rev",
-            samples_per_rev,
-            "an even number >= 4",
-        ));
+    if samples_per_rev < 4 {
+        return Err(setting("samples_per_rev", samples_per_rev, ">= 4"));
     }
     let seg = samples_per_rev.saturating_mul(segment_revs);
     if segment_revs == 0 || seg > x.len() {
@@ -270,6 +266,18 @@ mod tests {
     }
 
     #[test]
+    fn an_odd_number_of_samples_per_revolution_reads_the_same_line() {
+        let spr = 255;
+        let x: Vec<f64> = (0..4 * spr)
+            .map(|i| 2.5 * (2.0 * PI * 40.0 * i as f64 / spr as f64).cos())
+            .collect();
+        let s = welch_orders(&x, spr, 2).unwrap();
+        let j = s.orders.iter().position(|&o| o == 40.0).unwrap();
+        assert!((s.amplitude[j] - 2.5).abs() < 1e-9, "{}", s.amplitude[j]);
+        assert!((line_amplitudes(&x[..spr])[40] - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
     fn filtering_and_envelope_are_exact_on_lines() {
         let n = 128;
         let x: Vec<f64> = (0..n)
@@ -304,7 +312,7 @@ mod tests {
     fn bad_settings_are_named() {
         let e = welch_orders(&[0.0; 100], 10, 20).unwrap_err();
         assert_eq!(e.field, "segment_revs");
-        let e = welch_orders(&[0.0; 100], 7, 1).unwrap_err();
+        let e = welch_orders(&[0.0; 100], 3, 1).unwrap_err();
         assert_eq!(e.field, "samples_per_rev");
         let e = welch_orders(&[f64::NAN; 100], 10, 1).unwrap_err();
         assert_eq!(e.field, "signal");
