@@ -71,6 +71,8 @@ __all__ = [
     "basins",
     "continuation",
     "orbits",
+    "signals",
+    "indicators",
     "map2d",
     "stiffness",
     "report",
@@ -81,6 +83,7 @@ __all__ = [
     "BasinsResult",
     "ContinuationResult",
     "OrbitsResult",
+    "SignalsResult",
     "MapResult",
     "StiffnessResult",
 ]
@@ -498,6 +501,35 @@ class OrbitsResult(Result):
 
     _fields = ("branch", "bifurcations", "ends", "config")
     _main_table = "branch"
+
+
+class SignalsResult(Result):
+    """Result of :func:`signals`.
+
+    Attributes
+    ----------
+    signals : dict of ndarray
+        One row per sample of each pair, healthy twin first (signals.csv): ``pair``
+        (``healthy``, ``broken``), ``tau`` (dimensionless time; seconds: ``tau / omega_n``),
+        ``dte_um`` (dynamic transmission error, µm), ``mesh_force_N`` (N),
+        ``acceleration_m_s2`` (relative acceleration on the line of action, m/s²).
+    spectrum : dict of ndarray
+        Welch amplitude spectra (spectrum.csv): ``pair``, ``signal``, ``order`` (cycles per
+        pinion revolution; the mesh order is ``z1``), ``amplitude`` (unit of the signal).
+    indicators : dict of ndarray
+        (indicators.csv) ``pair``, ``signal``, ``indicator``, ``value``.
+    tsa : dict of ndarray
+        Time-synchronous averages (tsa.csv): ``pair``, ``angle_deg`` and the three signals.
+    lines : dict of ndarray
+        Labelled integer orders of the TSA (lines.csv): ``pair``, ``signal``, ``order``,
+        ``label`` (``mesh1``, ``mesh1-1``, ...), ``amplitude``.
+    info : dict
+        signals.json: the request, the scales, each pair's motion (label, class, impacts), whether
+        both pairs are on the same attractor class (``comparable``), notes, the removed orders.
+    """
+
+    _fields = ("signals", "spectrum", "indicators", "tsa", "lines", "info", "config")
+    _main_table = "indicators"
 
 
 class MapResult(Result):
@@ -1113,6 +1145,122 @@ def orbits(
     d["branch"] = _table(d["branch"])
     d["bifurcations"] = _table(d["bifurcations"])
     return OrbitsResult(**d)
+
+
+def signals(
+    preset=None,
+    config=None,
+    *,
+    revolutions=16,
+    transient=300,
+    samples_per_cycle=32,
+    segment_revolutions=4,
+    sidebands=1,
+    shaft_orders=1,
+    residual="mesh_and_shaft",
+    na4_reference="run",
+    set=None,
+    progress=False,
+    **params,
+):
+    """Vibration signals of a broken pair and its healthy twin (``geardyn signals``, without the
+    files); default preset ``breakage``.
+
+    Both pairs start from the same initial state (``x0``, ``v0``, ``tau0``) at the same operating
+    point; ``transient`` pinion revolutions are discarded and ``revolutions`` recorded with
+    ``samples_per_cycle`` samples per mesh cycle. When the two settle on attractors of different
+    classes, the healthy twin is recorded again from the broken pair's final state
+    (``info["result"]["notes"]`` says what was done). A pair without breakage gives the healthy
+    pair alone; a configuration without a physical ``[pair]`` is refused.
+
+    Parameters
+    ----------
+    revolutions, transient, samples_per_cycle, segment_revolutions : int
+        Recorded and discarded revolutions, samples per mesh cycle, revolutions per Welch
+        segment.
+    sidebands, shaft_orders : int
+        Shaft sidebands of each mesh harmonic and shaft orders removed from the difference signal.
+    residual : str
+        ``"mesh_and_shaft"`` (Lebold et al. 2000) or ``"mesh"`` (mesh harmonics only).
+    na4_reference : str
+        ``"run"`` (NA4/NB4 variance averaged over the run healthy -> broken) or ``"own"``.
+
+    Returns
+    -------
+    SignalsResult
+    """
+    if preset is None and config is None:
+        preset = "breakage"
+    d = _geardyn.signals(
+        _source(preset, config, set, params),
+        _count("revolutions", revolutions),
+        _count("transient", transient),
+        _count("samples_per_cycle", samples_per_cycle),
+        _count("segment_revolutions", segment_revolutions),
+        _count("sidebands", sidebands),
+        _count("shaft_orders", shaft_orders),
+        str(residual),
+        str(na4_reference),
+        bool(progress),
+    )
+    for k in ("signals", "spectrum", "indicators", "tsa", "lines"):
+        d[k] = _table(d[k])
+    return SignalsResult(**d)
+
+
+def _signal_array(name, a):
+    try:
+        x = np.asarray(a, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: an array of numbers") from None
+    if x.ndim != 1:
+        raise ValueError(f"bad {name}: a one-dimensional array is needed, not shape {x.shape}")
+    return x.tolist()
+
+
+def indicators(
+    array,
+    *,
+    samples_per_rev,
+    mesh_order,
+    sidebands=1,
+    shaft_orders=1,
+    residual="mesh_and_shaft",
+    run=None,
+):
+    """Gear condition indicators of one signal sampled synchronously with the pinion.
+
+    ``array`` holds whole revolutions of ``samples_per_rev`` samples each (a multiple of it);
+    ``mesh_order`` is the pinion's tooth number (the mesh order). ``rms``, ``peak_to_peak``,
+    ``crest_factor`` and ``kurtosis`` are of the samples as given; ``fm0``, ``fm4``, ``m6a``,
+    ``m8a``, ``na4``, ``nb4``, ``er``, ``sideband_index``, ``sideband_level_factor`` of their
+    time-synchronous average (definitions and sources: docs/analyses.md, "Fault signatures").
+    ``run``: earlier records of the same run (each as long as ``array``), whose residual and
+    envelope variances NA4 and NB4 average with this one's; default: this record alone.
+
+    Returns
+    -------
+    dict
+        Indicator name -> float.
+
+    Raises
+    ------
+    ValueError
+        NaN or infinite samples, an array shorter than a revolution, ``samples_per_rev`` not
+        dividing its length, ``mesh_order`` outside the range the sampling allows (the message
+        names the argument and the range).
+    """
+    x = _signal_array("array", array)
+    runs = [] if run is None else [_signal_array(f"run[{i}]", r) for i, r in enumerate(run)]
+    return _geardyn.indicators(
+        x,
+        _count("samples_per_rev", samples_per_rev),
+        _count("mesh_order", mesh_order),
+        _count("sidebands", sidebands),
+        _count("shaft_orders", shaft_orders),
+        str(residual),
+        runs,
+    )
 
 
 def _axis(name, a):

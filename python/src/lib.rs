@@ -1158,6 +1158,121 @@ fn orbits<'py>(
     Ok(d.into_any())
 }
 
+/// `geardyn signals` without the files: the pair and its healthy twin, their signals, spectra
+/// and condition indicators (the library's `SignalsRequest`, the CLI's columns).
+#[pyfunction]
+#[pyo3(signature = (src, revolutions, transient, samples_per_cycle, segment_revolutions, sidebands, shaft_orders, residual, na4_reference, progress))]
+#[allow(clippy::too_many_arguments)]
+fn signals<'py>(
+    py: Python<'py>,
+    src: Source,
+    revolutions: u64,
+    transient: u64,
+    samples_per_cycle: u64,
+    segment_revolutions: u64,
+    sidebands: u64,
+    shaft_orders: u64,
+    residual: String,
+    na4_reference: String,
+    progress: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use geardyn_analysis::indicators::ResidualKind;
+    use geardyn_analysis::signals::{run_signals, Na4Reference, SignalsRequest, SAMPLES_PER_CYCLE};
+    use geardyn_io::schema::{
+        indicators_table, lines_table, signals_table, spectrum_table, tsa_table,
+    };
+    let (cfg, tables, info) = util::run(py, "signals", progress, None, move |_ctl: &Ctl| {
+        let cfg = src.config()?;
+        let scenario = cfg.resolve()?;
+        let sim = cfg.sim_options()?;
+        let spc = u32::try_from(samples_per_cycle).map_err(|_| {
+            anyhow::anyhow!(
+                "bad samples_per_cycle = {samples_per_cycle}: allowed {} ..= {}",
+                SAMPLES_PER_CYCLE.start(),
+                SAMPLES_PER_CYCLE.end()
+            )
+        })?;
+        let small = |name: &str, v: u64| {
+            usize::try_from(v)
+                .ok()
+                .filter(|&n| n <= geardyn_analysis::indicators::IndicatorOptions::MAX_ORDERS)
+                .ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "bad {name} = {v}: allowed 0 ..= {}",
+                        geardyn_analysis::indicators::IndicatorOptions::MAX_ORDERS
+                    )
+                })
+        };
+        let req = SignalsRequest {
+            revolutions,
+            transient,
+            samples_per_cycle: spc,
+            segment_revolutions,
+            sidebands: small("sidebands", sidebands)?,
+            shaft_orders: small("shaft_orders", shaft_orders)?,
+            residual: ResidualKind::from_name(&residual)?,
+            na4_reference: Na4Reference::from_name(&na4_reference)?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            tau0: cfg.simulation.tau0,
+            method: sim.method,
+        };
+        let r = run_signals(&scenario, &req)?;
+        let tables = [
+            signals_table(&r),
+            spectrum_table(&r),
+            indicators_table(&r),
+            tsa_table(&r),
+            lines_table(&r),
+        ];
+        let info = serde_json::json!({ "request": &req, "result": &r });
+        Ok((cfg, tables, info))
+    })?;
+    let d = PyDict::new(py);
+    for (name, t) in ["signals", "spectrum", "indicators", "tsa", "lines"]
+        .iter()
+        .zip(&tables)
+    {
+        d.set_item(*name, util::table(py, t)?)?;
+    }
+    d.set_item("info", json_to_py(py, &info)?)?;
+    d.set_item("config", config_py(py, &cfg)?)?;
+    Ok(d.into_any())
+}
+
+/// The condition indicators of one signal sampled `samples_per_rev` times per revolution
+/// (`geardyn.indicators`): a dict indicator name -> value. `run`: earlier records of the same
+/// run (NA4/NB4's run-averaged denominator).
+#[pyfunction]
+#[pyo3(signature = (signal, samples_per_rev, mesh_order, sidebands, shaft_orders, residual, run))]
+#[allow(clippy::too_many_arguments)]
+fn indicators<'py>(
+    py: Python<'py>,
+    signal: Vec<f64>,
+    samples_per_rev: u64,
+    mesh_order: u64,
+    sidebands: u64,
+    shaft_orders: u64,
+    residual: String,
+    run: Vec<Vec<f64>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use geardyn_analysis::indicators::{indicators_with_run, IndicatorOptions, ResidualKind};
+    let big = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
+    let o = IndicatorOptions {
+        samples_per_rev: big(samples_per_rev),
+        mesh_order: big(mesh_order),
+        sidebands: big(sidebands),
+        shaft_orders: big(shaft_orders),
+        residual: ResidualKind::from_name(&residual).map_err(|e| to_pyerr(e.into()))?,
+    };
+    let runs: Vec<&[f64]> = run.iter().map(|v| v.as_slice()).collect();
+    let ind = indicators_with_run(&signal, &o, &runs).map_err(|e| to_pyerr(e.into()))?;
+    let d = PyDict::new(py);
+    for (name, v) in ind.named() {
+        d.set_item(name, v)?;
+    }
+    Ok(d.into_any())
+}
+
 /// `geardyn report` (run in-process; the Python wrapper runs it in a child process so that
 /// Ctrl-C can stop it).
 #[pyfunction]
@@ -1202,6 +1317,8 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(basins, m)?)?;
     m.add_function(wrap_pyfunction!(continuation, m)?)?;
     m.add_function(wrap_pyfunction!(orbits, m)?)?;
+    m.add_function(wrap_pyfunction!(signals, m)?)?;
+    m.add_function(wrap_pyfunction!(indicators, m)?)?;
     m.add_function(wrap_pyfunction!(map2d, m)?)?;
     m.add_function(wrap_pyfunction!(stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;

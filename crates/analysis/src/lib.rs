@@ -11,13 +11,16 @@ pub mod classify;
 pub mod continuation;
 pub mod driver;
 pub mod generic;
+pub mod indicators;
 pub mod lanes;
 pub mod lanes_tle;
 pub mod lyapunov;
 pub mod map2d;
 pub mod orbits;
 pub mod period;
+pub mod signals;
 pub mod simulate;
+pub mod spectrum;
 pub mod tle_convergence;
 pub mod work;
 

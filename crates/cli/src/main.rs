@@ -8,6 +8,7 @@ mod orbits;
 mod report;
 mod run_config;
 mod shard;
+mod signals;
 mod simulate;
 mod stiffness;
 mod sweep;
@@ -63,6 +64,10 @@ enum Command {
     /// fold, torus, grazing).
     #[command(allow_negative_numbers = true)]
     Orbits(orbits::OrbitArgs),
+    /// Vibration signals of the broken pair and its healthy twin (transmission error, mesh
+    /// force, acceleration), spectra in orders and gear condition indicators (FM0, FM4, NA4, ...).
+    #[command(allow_negative_numbers = true)]
+    Signals(signals::SignalsArgs),
     /// Two-parameter map of max mesh force, P_ID, period, TLE or motion class (resumable).
     // negative values after a space (`--phase -0.1`) are values, not flags
     #[command(allow_negative_numbers = true)]
@@ -131,6 +136,7 @@ fn main() {
         Command::Basins(args) => global::basins_cmd(args),
         Command::Continuation(args) => global::continuation_cmd(args),
         Command::Orbits(args) => orbits::run(args),
+        Command::Signals(args) => signals::run(args),
         Command::Map2d(args) => global::map_cmd(args),
         Command::Bench(args) => bench::run(args),
         Command::Plan(args) => shard::plan(args),

@@ -18,6 +18,7 @@ pub mod run_record;
 pub mod safe_write;
 pub mod schema;
 pub mod shard;
+pub mod signal_plots;
 pub mod simulate_folder;
 pub mod zarr;
 pub use config::{Config, ConfigError};

@@ -565,3 +565,147 @@ pub fn bifurcations_table(param: &str, b: &[geardyn_analysis::orbits::Bifurcatio
     push_multipliers(&mut t, &mus);
     t
 }
+
+/// Labelled orders of `lines.csv`: mesh harmonics and this many shaft sidebands on each side.
+pub const LABELLED_SIDEBANDS: usize = 3;
+
+/// `signals.csv` of `geardyn signals` (and `geardyn.signals().signals`): one row per sample of
+/// each pair, healthy twin first. Columns: `pair` (`healthy`, `broken`), `tau` (dimensionless
+/// time; seconds are `tau / omega_n`), `dte_um` (dynamic transmission error `x b_c`, µm),
+/// `mesh_force_N` (`F_m k_av b_c`, N), `acceleration_m_s2` (relative acceleration on the line
+/// of action, `x'' b_c omega_n^2`, m/s², the mean over the sample interval). Every digit is
+/// written, so that the moments of the raw signals can be recomputed from the file exactly.
+pub fn signals_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
+    let mut t = Table::default();
+    let each = |g: &dyn Fn(&geardyn_analysis::signals::PairSignals) -> Vec<f64>| {
+        Values::F64(r.pairs.iter().flat_map(g).collect())
+    };
+    t.push(
+        "pair",
+        Values::Str(
+            r.pairs
+                .iter()
+                .flat_map(|p| std::iter::repeat_n(p.pair.clone(), p.tau.len()))
+                .collect(),
+        ),
+    );
+    t.push("tau", each(&|p| p.tau.clone()));
+    for (k, name) in geardyn_analysis::signals::SIGNAL_NAMES.iter().enumerate() {
+        t.push(name, each(&|p| p.signals[k].clone()));
+    }
+    t
+}
+
+/// `spectrum.csv`: the Welch amplitude spectrum of every signal of every pair, in orders of the
+/// pinion revolution. Columns: `pair`, `signal` (a column name of `signals.csv`), `order`
+/// (cycles per revolution; the mesh order is `z1`), `amplitude` (unit of the signal).
+pub fn spectrum_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
+    let (mut pair, mut signal, mut order, mut amp) = (vec![], vec![], vec![], vec![]);
+    for p in &r.pairs {
+        for (k, s) in p.spectra.iter().enumerate() {
+            for (o, a) in s.orders.iter().zip(&s.amplitude) {
+                pair.push(p.pair.clone());
+                signal.push(geardyn_analysis::signals::SIGNAL_NAMES[k].to_string());
+                order.push(*o);
+                amp.push(*a);
+            }
+        }
+    }
+    let mut t = Table::default();
+    t.push("pair", Values::Str(pair));
+    t.push("signal", Values::Str(signal));
+    t.push("order", Values::F64(order));
+    t.push("amplitude", Values::F64(amp));
+    t
+}
+
+/// `indicators.csv`: every indicator of every signal of every pair. Columns: `pair`, `signal`,
+/// `indicator` (`rms`, `peak_to_peak`, `crest_factor`, `kurtosis` of the raw signal; `fm0`,
+/// `fm4`, `m6a`, `m8a`, `na4`, `nb4`, `er`, `sideband_index`, `sideband_level_factor` of its
+/// time-synchronous average: docs/analyses.md, "Fault signatures"), `value`.
+pub fn indicators_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
+    let (mut pair, mut signal, mut name, mut value) = (vec![], vec![], vec![], vec![]);
+    for p in &r.pairs {
+        for (k, ind) in p.indicators.iter().enumerate() {
+            for (n, v) in ind.named() {
+                pair.push(p.pair.clone());
+                signal.push(geardyn_analysis::signals::SIGNAL_NAMES[k].to_string());
+                name.push(n.to_string());
+                value.push(v);
+            }
+        }
+    }
+    let mut t = Table::default();
+    t.push("pair", Values::Str(pair));
+    t.push("signal", Values::Str(signal));
+    t.push("indicator", Values::Str(name));
+    t.push("value", Values::F64(value));
+    t
+}
+
+/// `tsa.csv`: the time-synchronous average of every signal over the recorded revolutions.
+/// Columns: `pair`, `angle_deg` (pinion angle from the start of the revolution at the sample,
+/// degrees), then the signals of `signals.csv`.
+pub fn tsa_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
+    let spr = r.samples_per_rev;
+    let mut t = Table::default();
+    t.push(
+        "pair",
+        Values::Str(
+            r.pairs
+                .iter()
+                .flat_map(|p| std::iter::repeat_n(p.pair.clone(), spr))
+                .collect(),
+        ),
+    );
+    t.push(
+        "angle_deg",
+        Values::F64(
+            r.pairs
+                .iter()
+                .flat_map(|_| (0..spr).map(|i| (i as f64 + 0.5) * 360.0 / spr as f64))
+                .collect(),
+        ),
+    );
+    for (k, name) in geardyn_analysis::signals::SIGNAL_NAMES.iter().enumerate() {
+        t.push(
+            name,
+            Values::F64(
+                r.pairs
+                    .iter()
+                    .flat_map(|p| p.decompositions[k].tsa.iter().copied())
+                    .collect(),
+            ),
+        );
+    }
+    t
+}
+
+/// `lines.csv`: the labelled lines of the time-synchronous average (integer orders, exact, no
+/// window): mesh harmonics `meshK` (order `K z1`) and their shaft sidebands `meshK-m`,
+/// `meshK+m` (`m = 1 ..= 3`). Columns: `pair`, `signal`, `order`, `label`, `amplitude`.
+pub fn lines_table(r: &geardyn_analysis::signals::SignalsResult) -> Table {
+    let z = r.options.mesh_order;
+    let (mut pair, mut signal, mut order, mut label, mut amp) =
+        (vec![], vec![], vec![], vec![], vec![]);
+    for p in &r.pairs {
+        for (k, d) in p.decompositions.iter().enumerate() {
+            for (j, a) in d.lines.iter().enumerate() {
+                if let Some(l) = geardyn_analysis::spectrum::order_label(j, z, LABELLED_SIDEBANDS) {
+                    pair.push(p.pair.clone());
+                    signal.push(geardyn_analysis::signals::SIGNAL_NAMES[k].to_string());
+                    order.push(j as i64);
+                    label.push(l);
+                    amp.push(*a);
+                }
+            }
+        }
+    }
+    let mut t = Table::default();
+    t.push("pair", Values::Str(pair));
+    t.push("signal", Values::Str(signal));
+    t.push("order", Values::I64(order));
+    t.push("label", Values::Str(label));
+    t.push("amplitude", Values::F64(amp));
+    t
+}

@@ -20,6 +20,7 @@
 
 mod claims;
 mod classes;
+mod fault_signatures;
 mod html;
 mod interpretations;
 mod plan_breakage;

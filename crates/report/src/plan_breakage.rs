@@ -107,6 +107,9 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     })?);
     out.push(ctx.study("frequency_sweep", &(), |dir| frequency(ctx, &base, dir))?);
     out.push(ctx.study("portraits", &(), |dir| portraits(ctx, &base, dir))?);
+    out.push(ctx.study("fault_signatures", &(), |dir| {
+        crate::fault_signatures::detectability(ctx, &base, dir)
+    })?);
     // the load sweep and every other study run the headline reading of the text
     let headline = Interpretation::headline(&AXES).label(&AXES);
     for sec in &mut out {
@@ -116,7 +119,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
 }
 
 /// `base` with `mm` removed from the chipped tip (the chip-size reading).
-fn with_chip(base: &Scenario, mm: f64) -> Result<Scenario> {
+pub(crate) fn with_chip(base: &Scenario, mm: f64) -> Result<Scenario> {
     let mut spec = base.spec().clone();
     let b = spec
         .pair
