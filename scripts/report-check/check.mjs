@@ -62,6 +62,9 @@ async function check(file, mustBePreset) {
     if (claims === 0) problems.push('no claims table (#claims-table) with rows');
     if (imgs.length === 0) problems.push('no figure on the page');
   }
+  // a table or figure wider than the window makes the whole page scroll sideways
+  const wide = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  if (wide > 1) problems.push(`page ${wide} px wider than the window (a table or figure overflows)`);
   const sections = await page.$$eval('h2', (h) => h.length);
   await page.evaluate(() => window.scrollTo(0, 0));
   const shot = screens

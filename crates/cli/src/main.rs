@@ -66,6 +66,8 @@ enum Command {
     Orbits(orbits::OrbitArgs),
     /// Vibration signals of the broken pair and its healthy twin (transmission error, mesh
     /// force, acceleration), spectra in orders and gear condition indicators (FM0, FM4, NA4, ...).
+    /// Without --preset or --config the pair is `breakage`; `classic` has no physical pair and
+    /// is refused.
     #[command(allow_negative_numbers = true)]
     Signals(signals::SignalsArgs),
     /// Two-parameter map of max mesh force, P_ID, period, TLE or motion class (resumable).

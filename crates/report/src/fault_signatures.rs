@@ -438,7 +438,12 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
             speeds.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
             loads.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
             f(chip0),
-            chips.iter().chain(std::iter::once(&chip0)).map(|v| f(*v)).collect::<Vec<_>>().join(", "),
+            {
+                let mut all: Vec<f64> = chips.iter().copied().chain(std::iter::once(chip0)).collect();
+                all.sort_by(f64::total_cmp);
+                all.dedup();
+                all.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", ")
+            },
             f(chip_at.0),
             f(chip_at.1)
         ),

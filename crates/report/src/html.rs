@@ -16,7 +16,7 @@ pub(crate) fn esc(s: &str) -> String {
 const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}\
 h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}\
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:.9em;color:#444}\
-table{border-collapse:collapse;font-size:.85em;margin:.8em 0}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}\
+table{border-collapse:collapse;font-size:.85em;margin:.8em 0;display:block;max-width:100%;overflow-x:auto}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}\
 th{background:#f3f3f3}.meta{font-size:.9em;color:#333;background:#f8f8f8;padding:.6em .8em;border-left:3px solid #0072b2}\
 .reproduced{color:#006d4f;font-weight:bold}.partly{color:#8a6d00;font-weight:bold}.not-reproduced{color:#b00;font-weight:bold}\
 .seed-inconsistent{color:#6a3d9a;font-weight:bold}.small{font-size:.85em;color:#555}nav li{margin:.15em 0}";
