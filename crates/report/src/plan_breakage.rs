@@ -422,7 +422,7 @@ fn states(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Sect
     );
     let d = m.params().d_single;
     let dl = |v: f64| -> Vec<(f64, f64)> { vec![(at(w0), v), (at(w1), v)] };
-    let fig = line_figure(
+    let mut fig = line_figure(
         ctx,
         dir,
         "states_window",
@@ -449,6 +449,7 @@ fn states(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Sect
         &[],
         &format!("Four mesh cycles around the broken one (revolution {} of the record, the one showing the most states): displacement with the backlash ±D, the dynamic mesh force and the state: 0 double-tooth, 1 single-tooth I, 2 single-tooth II (breakage), 3 separation, 4 back-side impact.", best + 1),
     )?;
+    crate::shared::attach_trajectory(ctx, dir, &mut fig, "states_window", &win)?;
     let seen: Vec<bool> = (0..5)
         .map(|k| if k == 4 { impacts > 0 } else { time[k] > 0.0 })
         .collect();

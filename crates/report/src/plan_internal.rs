@@ -602,7 +602,7 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         .iter()
         .map(|p| ((p.tau - t0) / cyc, m.backlash_at(m.cycle_position(p.tau))))
         .collect();
-    let fig = line_figure(
+    let mut fig = line_figure(
         ctx,
         dir,
         "separation_mechanism",
@@ -621,6 +621,7 @@ fn mechanism(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         &[0.0],
         &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(&c)),
     )?;
+    crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
     let ok = ns > 0 && nd > 0;
     Ok(Section {
         id: "mechanism".into(),

@@ -1035,6 +1035,36 @@ pub fn portrait_figure(
     Ok(ctx.fig(&stem, caption, &[csv]))
 }
 
+/// Writes the trajectory samples a time-history figure draws as `NAME_trajectory.csv`
+/// (`tau,x,v,mesh_force,state`: dimensionless time and state, contact state code as in
+/// `simulate`'s trajectory.csv) and lists it under the figure's data.
+pub fn attach_trajectory(
+    ctx: &Ctx,
+    dir: &Path,
+    fig: &mut Figure,
+    name: &str,
+    samples: &[&geardyn_analysis::simulate::TrajectoryPoint],
+) -> Result<()> {
+    let csv = dir.join(format!("{}_trajectory.csv", safe(name)));
+    let rows: Vec<Vec<String>> = samples
+        .iter()
+        // (shortest round-trip numbers: a tau in the thousands needs more than six significant
+        // digits to resolve the sample spacing)
+        .map(|p| {
+            vec![
+                p.tau.to_string(),
+                p.x.to_string(),
+                p.v.to_string(),
+                p.mesh_force.to_string(),
+                p.state.to_string(),
+            ]
+        })
+        .collect();
+    write_csv(&csv, &["tau", "x", "v", "mesh_force", "state"], rows)?;
+    fig.data.push(crate::rel(&ctx.dir, &csv));
+    Ok(())
+}
+
 /// The figure and files of periodic-orbit branches over `param` in `[lo, hi]`: `branch.csv`
 /// and `bifurcations.csv` (the CLI's `geardyn orbits` tables), the branches drawn over the
 /// brute-force stroboscopic diagram from `y0`, and readings (orbits, unstable ones,
