@@ -39,18 +39,8 @@ const ACCEL: usize = 2;
 /// a noise model (a noise-free healthy pair has no sideband or difference energy at all, so the
 /// energy ratio and the sideband indicators read infinite ratios wherever the broken pair has
 /// any).
-const RANKED: [&str; 10] = [
-    "rms",
-    "peak_to_peak",
-    "crest_factor",
-    "kurtosis",
-    "fm0",
-    "fm4",
-    "m6a",
-    "m8a",
-    "na4",
-    "nb4",
-];
+/// (the first ten of [`INDICATOR_NAMES`]; the energy ratio and the two sideband indicators follow)
+const RANKED: &[&str] = INDICATOR_NAMES.split_at(10).0;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Point {
