@@ -1103,7 +1103,8 @@ def orbits(
     Without ``param``: one orbit near the motion after ``transient`` periods from the initial
     state (``x0``, ``v0``), with its Floquet multipliers. With ``param`` and ``range=(start,
     stop)``: its branch (stable and unstable orbits, by pseudo-arclength continuation) and the
-    bifurcations on it (period doubling, fold, torus, grazing).
+    bifurcations on it (period doubling, fold, torus, grazing, corner collision, and any other
+    change of stability as ``stability-change``).
 
     Parameters
     ----------

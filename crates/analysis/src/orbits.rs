@@ -176,12 +176,15 @@ struct MapEval {
     jac: [[f64; 2]; 2],
     /// Contact state entered at each event, in order from the stroboscopic instant.
     events: Vec<i8>,
+    /// Segment of the excitation period ([`geardyn_model::mesh_model::Segment`]) in which
+    /// each event happened.
+    segments: Vec<u32>,
     /// Memory parameter of the mode at the end ([`geardyn_solvers::HybridSystem::memory`]).
     memory: f64,
 }
 
-/// Collects the contact state entered at each event.
-struct Events(Vec<i8>);
+/// Collects the contact state entered at each event, and the segment it happened in.
+struct Events(Vec<i8>, Vec<u32>);
 
 impl<'m> Observer<Tangent<&'m MeshModel>, 5> for Events {
     fn on_step(
@@ -195,6 +198,7 @@ impl<'m> Observer<Tangent<&'m MeshModel>, 5> for Events {
     ) {
         if before.contact != after.contact {
             self.0.push(after.contact.code());
+            self.1.push(after.seg);
         }
     }
 }
@@ -235,13 +239,21 @@ fn map_eval(
     memory: f64,
     o: &OrbitOptions,
 ) -> Result<MapEval, OrbitError> {
-    let mut ev = Events(Vec::new());
+    let mut ev = Events(Vec::new(), Vec::new());
     let (a, memory_out) = flow(model, y, memory, [1.0, 0.0], o, &mut ev)?;
-    let (b, _) = flow(model, y, memory, [0.0, 1.0], o, &mut Events(Vec::new()))?;
+    let (b, _) = flow(
+        model,
+        y,
+        memory,
+        [0.0, 1.0],
+        o,
+        &mut Events(Vec::new(), Vec::new()),
+    )?;
     Ok(MapEval {
         y: [a[0], a[1]],
         jac: [[a[2], b[2]], [a[3], b[3]]],
         events: ev.0,
+        segments: ev.1,
         memory: memory_out,
     })
 }
@@ -294,6 +306,9 @@ pub struct Orbit {
     pub stable: bool,
     /// Contact state entered at each event over the orbit, from the stroboscopic instant.
     pub events: Vec<i8>,
+    /// Segment of the excitation period (zone piece, [`geardyn_model::mesh_model::Segment`])
+    /// in which each of `events` happened.
+    pub segments: Vec<u32>,
     /// `|P_n(y) - y|` (max norm) at `y`.
     pub residual: f64,
     /// Newton iterations taken.
@@ -316,6 +331,7 @@ impl Orbit {
             multipliers,
             memory: e.memory,
             events: e.events,
+            segments: e.segments,
             residual,
             iterations,
         }
@@ -324,16 +340,37 @@ impl Orbit {
     /// The event sequence as a cyclic word, rotated to its least rotation (an event moving
     /// across the stroboscopic instant is no change of the orbit).
     pub fn event_word(&self) -> Vec<i8> {
-        let e = &self.events;
-        (0..e.len().max(1))
-            .map(|k| {
-                let mut r = e[k.min(e.len())..].to_vec();
-                r.extend_from_slice(&e[..k.min(e.len())]);
-                r
-            })
-            .min()
-            .unwrap_or_default()
+        least_rotation(&self.events)
     }
+
+    /// The events with the segment each happens in, as a cyclic word (least rotation): the
+    /// orbit's itinerary through the contact boundaries and the mesh-stiffness breakpoints
+    /// (zone borders, the broken tooth's edges, the pitch point). It changes, with the
+    /// contact word unchanged, when an event crosses a breakpoint: there the map is
+    /// continuous but its Jacobian jumps (a corner collision).
+    pub fn itinerary(&self) -> Vec<(i8, u32)> {
+        let w: Vec<(i8, u32)> = self
+            .events
+            .iter()
+            .copied()
+            .zip(self.segments.iter().copied())
+            .collect();
+        least_rotation(&w)
+    }
+}
+
+/// The least rotation of a cyclic word (an event moving across the stroboscopic instant is no
+/// change of the orbit).
+fn least_rotation<T: Clone + Ord>(e: &[T]) -> Vec<T> {
+    (0..e.len().max(1))
+        .map(|k| {
+            let k = k.min(e.len());
+            let mut r = e[k..].to_vec();
+            r.extend_from_slice(&e[..k]);
+            r
+        })
+        .min()
+        .unwrap_or_default()
 }
 
 fn check(o: &OrbitOptions) -> Result<(), OrbitError> {
@@ -524,9 +561,28 @@ pub enum BifurcationKind {
     Torus,
     /// The sequence of contact events changes (an extremum of `x` at a contact boundary).
     Grazing,
+    /// A contact event crosses a mesh-stiffness breakpoint (zone border, broken-tooth edge,
+    /// pitch point): the orbit passes through the corner of a contact boundary and a time
+    /// boundary, the map's Jacobian jumps, and the multipliers with it. Located when the
+    /// stability changes there.
+    CornerCollision,
+    /// The stability changed between two branch points with no smooth bifurcation, grazing or
+    /// corner collision between them (a border the detectors do not name): reported so that a
+    /// change of stability is never silent.
+    StabilityChange,
 }
 
 impl BifurcationKind {
+    /// Every kind, in the order outputs list them.
+    pub const ALL: [BifurcationKind; 6] = [
+        BifurcationKind::PeriodDoubling,
+        BifurcationKind::Fold,
+        BifurcationKind::Grazing,
+        BifurcationKind::Torus,
+        BifurcationKind::CornerCollision,
+        BifurcationKind::StabilityChange,
+    ];
+
     /// The name written in outputs.
     pub fn name(self) -> &'static str {
         match self {
@@ -534,6 +590,8 @@ impl BifurcationKind {
             BifurcationKind::Fold => "fold",
             BifurcationKind::Torus => "torus",
             BifurcationKind::Grazing => "grazing",
+            BifurcationKind::CornerCollision => "corner-collision",
+            BifurcationKind::StabilityChange => "stability-change",
         }
     }
 }
@@ -924,8 +982,8 @@ fn follow(
             ds *= 0.5;
             if ds < ds_min {
                 break format!(
-                    "the corrector failed at {} = {} (step below {ds_min:e})",
-                    prob.param, cur.param
+                    "the corrector failed at {} = {} (step below {ds_min:e}; largest multiplier there {:.4})",
+                    prob.param, cur.param, cur.orbit.multipliers[0].abs()
                 );
             }
             continue;
@@ -950,6 +1008,7 @@ fn follow(
             continue;
         }
         // bifurcations between cur and next
+        let found_before = out.bifurcations.len();
         let (pd0, ns0) = tests(&cur.orbit);
         let (pd1, ns1) = tests(&next.orbit);
         // (a multiplier that jumps across -1 or the unit circle at a grazing is no smooth
@@ -1028,6 +1087,22 @@ fn follow(
         }
         if cur.orbit.event_word() != next.orbit.event_word() {
             if let Some(b) = locate(prob, &cur, &next, BifurcationKind::Grazing) {
+                if fresh(out, &b) {
+                    out.bifurcations.push(b);
+                }
+            }
+        }
+        if cur.orbit.stable != next.orbit.stable && out.bifurcations.len() == found_before {
+            // the multipliers left (or entered) the unit circle with no bifurcation named: an
+            // event crossed a stiffness breakpoint, or a border no detector knows
+            let kind = if cur.orbit.event_word() == next.orbit.event_word()
+                && cur.orbit.itinerary() != next.orbit.itinerary()
+            {
+                BifurcationKind::CornerCollision
+            } else {
+                BifurcationKind::StabilityChange
+            };
+            if let Some(b) = locate(prob, &cur, &next, kind) {
                 if fresh(out, &b) {
                     out.bifurcations.push(b);
                 }
@@ -1160,8 +1235,11 @@ fn locate(
         _ => 0.0,
     };
     let word_a = a.orbit.event_word();
+    let itinerary_a = a.orbit.itinerary();
     let side_a = |o: &Orbit| match kind {
         BifurcationKind::Grazing => o.event_word() == word_a,
+        BifurcationKind::CornerCollision => o.itinerary() == itinerary_a,
+        BifurcationKind::StabilityChange => o.stable == a.orbit.stable,
         _ => value(o) * value(&a.orbit) > 0.0,
     };
     let (mut pa, mut ya, mut oa) = (a.param, a.orbit.y, a.orbit.clone());
@@ -1175,6 +1253,13 @@ fn locate(
         let Ok(om) = prob.at(ym, pm, oa.memory) else {
             break;
         };
+        // Newton at fixed `p` is ill-conditioned where a multiplier nears +1: an orbit far
+        // from the bracket is another branch's, and the bracket is as close as it gets
+        let gap = (ya[0] - yb[0]).abs().max((ya[1] - yb[1]).abs());
+        let off = (om.y[0] - ym[0]).abs().max((om.y[1] - ym[1]).abs());
+        if off > 2.0 * gap + 1e-9 * (1.0 + ym[0].abs().max(ym[1].abs())) {
+            break;
+        }
         if side_a(&om) {
             (pa, ya, oa) = (pm, om.y, om);
         } else {

@@ -257,3 +257,49 @@ fn an_orbit_of_a_law_with_memory_is_the_simulated_attractor() {
         s.max_force
     );
 }
+
+/// A change of stability is never silent. On the broken pair at omega = 1.2 the `1-20-0` orbit
+/// of the high loads loses stability near F = 0.078: a real multiplier crosses +1 with the
+/// branch going on in F (no fold, no change of the contact events), so neither the smooth tests
+/// nor the grazing test fire; the continuation must still locate and report the change, with
+/// the multiplier at the located point near +1 and bracketed by the branch's stable and
+/// unstable points.
+#[test]
+fn a_stability_change_no_smooth_test_names_is_still_reported() {
+    let sc = geardyn_scenario::ScenarioSpec::preset("breakage")
+        .unwrap()
+        .resolve()
+        .unwrap()
+        .with("omega", 1.2)
+        .unwrap();
+    let opts = ContinuationOptions {
+        param: "F".into(),
+        start: 0.07879,
+        stop: 0.0772,
+        ds_max: 0.005,
+        max_points: 60,
+        ..Default::default()
+    };
+    let c = continue_orbits(&sc, [0.66078, -0.19273], &opts, &|_| {}).unwrap();
+    let pts = &c.points;
+    // the branch changes stability between two of its points ...
+    let k = (1..pts.len())
+        .find(|&i| pts[i].orbit.stable != pts[i - 1].orbit.stable)
+        .expect("the orbit loses stability on this range");
+    let (a, b) = (pts[k - 1].param, pts[k].param);
+    // ... and a bifurcation is reported between them
+    let found = c
+        .bifurcations
+        .iter()
+        .find(|x| x.param <= a.max(b) && x.param >= a.min(b))
+        .unwrap_or_else(|| {
+            panic!(
+                "no bifurcation reported in [{b}, {a}]: {:?}",
+                c.bifurcations
+            )
+        });
+    assert_eq!(found.kind, BifurcationKind::StabilityChange);
+    let mu = found.orbit.multipliers[0];
+    assert!(mu.im == 0.0 && (mu.re - 1.0).abs() < 0.05, "{mu:?}");
+    assert!((found.param - 0.0781).abs() < 5e-4, "{}", found.param);
+}

@@ -61,7 +61,7 @@ enum Command {
     Continuation(global::ContinuationArgs),
     /// Periodic orbits by shooting: Floquet multipliers and stability of one orbit, or with
     /// --param/--range its branches (stable and unstable) and their bifurcations (period doubling,
-    /// fold, torus, grazing).
+    /// fold, torus, grazing, corner collision; any other change of stability is reported too).
     #[command(allow_negative_numbers = true)]
     Orbits(orbits::OrbitArgs),
     /// Vibration signals of the broken pair and its healthy twin (transmission error, mesh

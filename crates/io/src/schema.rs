@@ -542,8 +542,9 @@ pub fn orbit_branch_table(param: Option<&str>, rows: &[OrbitRow<'_>]) -> Table {
     t
 }
 
-/// The bifurcations of `geardyn orbits` (`bifurcations.csv`): `kind` (period-doubling, fold,
-/// torus, grazing), `<param>, branch, x, v, period, mu1_re, mu1_im, mu2_re, mu2_im`.
+/// The bifurcations of `geardyn orbits` (`bifurcations.csv`): `kind` (one of
+/// [`geardyn_analysis::orbits::BifurcationKind::ALL`]), `<param>, branch, x, v, period, mu1_re,
+/// mu1_im, mu2_re, mu2_im`.
 pub fn bifurcations_table(param: &str, b: &[geardyn_analysis::orbits::Bifurcation]) -> Table {
     let mut t = Table::default();
     t.push(

@@ -9,6 +9,7 @@ use crate::figure::{
 use crate::output::{write_csv, OutputError};
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
+use geardyn_analysis::orbits::BifurcationKind;
 use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -678,16 +679,19 @@ pub fn plot_orbits(
             ));
         }
     }
-    for (kind, color) in [
-        ("period-doubling", RGBColor(200, 0, 0)),
-        ("fold", RGBColor(0, 0, 0)),
-        ("torus", RGBColor(128, 0, 160)),
-        ("grazing", RGBColor(0, 140, 60)),
-    ] {
+    for kind in BifurcationKind::ALL {
+        let color = match kind {
+            BifurcationKind::PeriodDoubling => RGBColor(200, 0, 0),
+            BifurcationKind::Fold => RGBColor(0, 0, 0),
+            BifurcationKind::Torus => RGBColor(128, 0, 160),
+            BifurcationKind::Grazing => RGBColor(0, 140, 60),
+            BifurcationKind::CornerCollision => RGBColor(230, 120, 0),
+            BifurcationKind::StabilityChange => RGBColor(120, 120, 120),
+        };
         let pts: Vec<(f64, f64)> = c
             .bifurcations
             .iter()
-            .filter(|b| b.kind.name() == kind)
+            .filter(|b| b.kind == kind)
             .map(|b| (b.param, b.orbit.y[0]))
             .collect();
         if !pts.is_empty() {
@@ -696,7 +700,7 @@ pub fn plot_orbits(
                 style: Style::Dots(4),
                 color,
             });
-            legend.push(LegendEntry::dot(kind, color));
+            legend.push(LegendEntry::dot(kind.name(), color));
         }
     }
     let fig = Figure {

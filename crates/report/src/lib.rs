@@ -23,6 +23,7 @@ mod classes;
 mod fault_signatures;
 mod html;
 mod interpretations;
+mod orbits_load;
 mod plan_breakage;
 mod plan_classic;
 mod plan_internal;

@@ -105,6 +105,9 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     out.push(ctx.study("coexistence_load", &(), |dir| {
         coexistence_load(ctx, &base, dir)
     })?);
+    out.push(ctx.study("orbits_load", &OMEGA_LOAD.to_bits(), |dir| {
+        crate::orbits_load::orbits_load(ctx, &base, OMEGA_LOAD, dir)
+    })?);
     out.push(ctx.study("frequency_sweep", &(), |dir| frequency(ctx, &base, dir))?);
     out.push(ctx.study("portraits", &(), |dir| portraits(ctx, &base, dir))?);
     out.push(ctx.study("fault_signatures", &(), |dir| {

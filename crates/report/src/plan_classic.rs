@@ -221,6 +221,7 @@ fn orbits_study(
         "omega",
         (lo, hi),
         req.y0,
+        ctx.n(40, 60),
         &c,
         "C1: periodic orbits over omega",
         "Stable orbits (lines) and unstable ones (dots) by period, bifurcation points marked, over the simulated stroboscopic points (grey).",

@@ -2538,17 +2538,20 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     }
     let mut c: Continuation = p1;
     if let Some(y0) = start {
-        for stop in [lo, hi] {
-            let req = OrbitsRequest {
-                range: Some(("xi".into(), at, stop)),
-                period: Some(2),
-                transient: 0,
-                y0,
-                ds: ORBIT_DS,
-                ..Default::default()
-            };
-            c = c.merge(run_orbits(&b, &req, &|_| {})?);
-        }
+        let req = OrbitsRequest {
+            period: Some(2),
+            transient: 0,
+            y0,
+            ds: ORBIT_DS,
+            ..Default::default()
+        };
+        c = c.merge(crate::shared::branch_both_ways(
+            &b,
+            "xi",
+            at,
+            (lo, hi),
+            &req,
+        )?);
     }
     let (fig, mut readings) = crate::shared::orbit_figure(
         ctx,
@@ -2557,6 +2560,7 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         "xi",
         (lo, hi),
         [0.0, 0.0],
+        ctx.n(40, 60),
         &c,
         "Seed B: periodic orbits over xi",
         "Linear contact law at F = 0.05, omega = 1.5, D_d = 0.9, D_s = 1: the period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02, stable orbits as lines and unstable ones as dots, bifurcation points marked, over the stroboscopic points simulated from rest (grey).",

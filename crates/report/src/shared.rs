@@ -1065,9 +1065,30 @@ pub fn attach_trajectory(
     Ok(())
 }
 
+/// The branch through the orbit `req` finds at `at` of `param`, followed from there down to `lo`
+/// and up to `hi` (two continuations of `req`, merged).
+pub fn branch_both_ways(
+    base: &geardyn_scenario::Scenario,
+    param: &str,
+    at: f64,
+    (lo, hi): (f64, f64),
+    req: &geardyn_analysis::orbits::OrbitsRequest,
+) -> Result<geardyn_analysis::orbits::Continuation> {
+    use geardyn_analysis::orbits::{run_orbits, Continuation, OrbitsRequest};
+    let mut c = Continuation::default();
+    for stop in [lo, hi] {
+        let one = OrbitsRequest {
+            range: Some((param.into(), at, stop)),
+            ..req.clone()
+        };
+        c = c.merge(run_orbits(base, &one, &|_| {})?);
+    }
+    Ok(c)
+}
+
 /// The figure and files of periodic-orbit branches over `param` in `[lo, hi]`: `branch.csv`
 /// and `bifurcations.csv` (the CLI's `geardyn orbits` tables), the branches drawn over the
-/// brute-force stroboscopic diagram from `y0`, and readings (orbits, unstable ones,
+/// brute-force stroboscopic diagram from `y0` at `diagram` values of the range, and readings (orbits, unstable ones,
 /// bifurcations by kind, why each branch ended).
 #[allow(clippy::too_many_arguments)]
 pub fn orbit_figure(
@@ -1077,6 +1098,7 @@ pub fn orbit_figure(
     param: &str,
     (lo, hi): (f64, f64),
     y0: [f64; 2],
+    diagram: usize,
     c: &geardyn_analysis::orbits::Continuation,
     title: &str,
     caption: &str,
@@ -1088,7 +1110,7 @@ pub fn orbit_figure(
     let bif_csv = dir.join("bifurcations.csv");
     orbit_branch_table(Some(param), &rows).write_csv(&branch_csv, full)?;
     bifurcations_table(param, &c.bifurcations).write_csv(&bif_csv, full)?;
-    let diagram = strobe_diagram(base, param, lo, hi, ctx.n(40, 60), y0, 0.0);
+    let diagram = strobe_diagram(base, param, lo, hi, diagram, y0, 0.0);
     let stem = dir.join(format!("orbits_{param}"));
     geardyn_io::sweep_output::plot_orbits(
         &stem,
@@ -1107,12 +1129,7 @@ pub fn orbit_figure(
         c.ends.len(),
         unstable
     )];
-    for kind in [
-        BifurcationKind::PeriodDoubling,
-        BifurcationKind::Fold,
-        BifurcationKind::Grazing,
-        BifurcationKind::Torus,
-    ] {
+    for kind in BifurcationKind::ALL {
         let at: Vec<String> = c
             .bifurcations
             .iter()
