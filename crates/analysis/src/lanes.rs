@@ -9,7 +9,9 @@
 //! per-step arithmetic (durations, Simpson integrals, ranges and force extrema with their
 //! parabola refinement) on running totals kept per lane: the same samples and extrema as the
 //! scalar recorder, the integrals to rounding (Simpson's rule written as one expression per
-//! step). A lockstep step with anything rarer — a section level crossed, a
+//! step). The parts that must agree to the bit are shared, not copied: the samples of a step
+//! ([`geardyn_solvers::dense::hermite`]), the mesh force ([`MeshLanes::force`], the model's
+//! kernel), the section-level counting rule and the parabola refinement. A lockstep step with anything rarer — a section level crossed, a
 //! mesh-cycle strobe instant, a step longer than two trajectory samples — is handed to the scalar
 //! recorder as the scalar integrator would report it.
 //!
@@ -25,10 +27,11 @@ use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome
 use crate::classify::{tles_of, Decide, Decision, Need};
 use crate::driver::Observer;
 use crate::simulate::{
-    extreme_middle, parabola_peak, summarize, Method, Recorder, SimError, SimOptions, SimResult,
-    Summary,
+    crosses_level, extreme_middle, parabola_peak, summarize, Method, Recorder, SimError,
+    SimOptions, SimResult, Summary,
 };
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
+use geardyn_solvers::dense::{hermite, nested_at};
 use geardyn_solvers::ensemble::{
     run_lanes, run_lanes_on, At, Dispatch, End, LaneDriver, LaneStep, Next, Stage, Start,
 };
@@ -131,11 +134,9 @@ impl<const L: usize> Acc<L> {
             let mut ym = [0.0; 2];
             let mut ye = [0.0; 2];
             for i in 0..2 {
-                let r0 = st.y0[i][l];
-                let r1 = st.y1[i][l] - r0;
-                let r2 = h * st.f0[i][l] - r1;
-                let r3 = r1 - h * st.f1[i][l] - r2;
-                ym[i] = r0 + 0.5 * (r1 + 0.5 * (r2 + 0.5 * (r3 + 0.5 * 0.0)));
+                let [r0, r1, r2, r3] =
+                    hermite(st.y0[i][l], st.y1[i][l], st.f0[i][l], st.f1[i][l], h);
+                ym[i] = nested_at([r0, r1, r2, r3, 0.0], 0.5);
                 ye[i] = r0 + r1;
             }
             xm[l] = ym[0];
@@ -145,13 +146,7 @@ impl<const L: usize> Acc<L> {
             let x0 = st.y0[0][l];
             let mut c = dt[l] > self.long[l];
             for s in 0..4 {
-                let lvl = self.lv[s][l];
-                let crossed = if s % 2 == 0 {
-                    (x0 <= lvl) & (x1[l] > lvl)
-                } else {
-                    (x0 >= lvl) & (x1[l] < lvl)
-                };
-                c |= crossed & self.cnt[s][l];
+                c |= crosses_level(s % 2 == 0, x0, x1[l], self.lv[s][l]) & self.cnt[s][l];
             }
             rare[l] = c;
         }

@@ -381,6 +381,19 @@ pub fn health_text(healthy: bool, periodic: bool) -> &'static str {
     }
 }
 
+/// Whether `x` crosses the section level `lv` on a step from `x0` to `x1` in the level's
+/// direction: upward (`up`) `x0 <= lv < x1`, downward `x0 >= lv > x1` (the counting rule of
+/// docs/analyses.md, for the scalar recorder and the lanes' copy of its step). Plain boolean
+/// operators, so that a loop over lanes vectorises.
+#[inline(always)]
+pub(crate) fn crosses_level(up: bool, x0: f64, x1: f64, lv: f64) -> bool {
+    if up {
+        (x0 <= lv) & (x1 > lv)
+    } else {
+        (x0 >= lv) & (x1 < lv)
+    }
+}
+
 /// Whether the middle one of three equally spaced samples is strictly extreme (a flat, clamped
 /// run must not be extrapolated). Plain boolean operators, so that a loop over lanes vectorises.
 #[inline(always)]
@@ -649,12 +662,7 @@ impl<'m> Observer<&'m MeshModel, 2> for Recorder<'_> {
                 continue;
             }
             let up = i % 2 == 0;
-            let crossed = if up {
-                x0 <= lv && x1 > lv
-            } else {
-                x0 >= lv && x1 < lv
-            };
-            if crossed {
+            if crosses_level(up, x0, x1, lv) {
                 self.counts[i] += 1;
                 // locate on the interpolant for the section point
                 let br = geardyn_solvers::root::illinois(

@@ -5,6 +5,7 @@
 //!   [`geardyn_solvers::HybridSystem`] with state `[x, x']` in units of `b_c` and `b_c*omega_n`,
 //!   time `tau = omega_n*t`.
 //! * [`MeshLanes`]: its batched counterpart (phase tables) for the lockstep ensemble RK4.
+//! * [`mesh_kernel`]: the mesh force and its tangent terms, written once for both.
 //! * [`ContactLaw`], [`ImpactLaw`]: drive/back-side contact laws and the back-side impact law.
 //! * [`presets`]: `classic` (C1), `breakage`, `internal`.
 //! * [`reference`](mod@reference): other hybrid systems (Duffing, Lorenz, impact oscillator) for tests and as
@@ -16,6 +17,7 @@
 pub mod contact_law;
 pub mod error;
 pub mod impact;
+pub mod mesh_kernel;
 pub mod mesh_lanes;
 pub mod mesh_model;
 pub mod params;

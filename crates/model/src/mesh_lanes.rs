@@ -32,8 +32,9 @@
 //!   diverge from it as any two roundings of a chaotic orbit do. About three times fewer
 //!   operations per lane-step than the stages.
 //! * **RK4 stages** (every other model, and any table after [`MeshLanes::exact`]): each lane
-//!   evaluates exactly the expressions of [`MeshModel`]'s `rhs` and `mesh_force`
-//!   (`exc - h*(k*(x -+ D) + c*x')`), with the coefficients taken from the tables. The scalar
+//!   evaluates the expressions of [`MeshModel`]'s `rhs` and `mesh_force`
+//!   (`exc - h*(k*(x -+ D) + c*x')`) by calling the same functions ([`crate::mesh_kernel`], with
+//!   its linear law), with the coefficients taken from the tables. The scalar
 //!   model evaluates the excitation (and a harmonic stiffness) at the *rounded* time `t0 + k*h`,
 //!   whose phase differs from the exact grid phase by up to ~ulp(t) — at `t ~ 10^4` about 1e-12,
 //!   which a lightly damped gear pair amplifies. The lanes therefore correct the tabulated cosine
@@ -60,9 +61,11 @@
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop)]
 
+use crate::mesh_kernel::{self as kernel, Contact, Linear};
 use crate::mesh_model::{ContactState, MeshMode, MeshModel};
 use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
+use geardyn_solvers::dense::{hermite, nested_at};
 use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
 use std::f64::consts::PI;
 
@@ -226,14 +229,19 @@ impl<const L: usize> MeshLaneBlock<L> {
     }
 }
 
-/// `f` clamped to `[lo, hi]` (as `f.max(lo).min(hi)` for finite `f`, without NaN handling).
+/// A lane's flank for the mesh kernel: the linear law without hysteresis, stiffness `k`, signed
+/// half backlash `off = (s_d - s_b) D` (0 when separated), damping `c` and the clamp `[lo, hi]`
+/// of a unilateral force.
 #[inline(always)]
-fn clamp(f: f64, lo: f64, hi: f64) -> f64 {
-    let f = if f > lo { f } else { lo };
-    if f < hi {
-        f
-    } else {
-        hi
+fn lane_contact(k: f64, off: f64, c: f64, lo: f64, hi: f64) -> Contact<Linear> {
+    Contact {
+        law: Linear,
+        k,
+        off,
+        schi: 0.0,
+        c,
+        lo,
+        hi,
     }
 }
 
@@ -254,12 +262,8 @@ fn verdict(
     sd: f64,
     sb: f64,
 ) -> (bool, bool) {
-    let dx = y1[0] - y0[0];
-    let r2x = h * f0[0] - dx;
-    let r3x = dx - h * f1[0] - r2x;
-    let dv = y1[1] - y0[1];
-    let r2v = h * f0[1] - dv;
-    let r3v = dv - h * f1[1] - r2v;
+    let [_, _, r2x, r3x] = hermite(y0[0], y1[0], f0[0], f1[0], h);
+    let [_, _, r2v, r3v] = hermite(y0[1], y1[1], f0[1], f1[1], h);
     // (a NaN in the first sum gives a NaN margin, one in the second is dropped by max_fast: a
     // NaN there comes from a non-finite end, and `finite` keeps such a lane from being clear)
     let dev = max_fast(r2x.abs() + r3x.abs(), r2v.abs() + r3v.abs());
@@ -425,9 +429,9 @@ impl MeshLanes {
             let mut go = [0.0; 3];
             for s in 0..3 {
                 let hf = r.hd[s];
-                a[s] = -hf * r.k[s];
-                b[s] = -hf * ln.c;
-                ge[s] = ln.load + ln.xiw2 * r.cos[s];
+                (a[s], b[s]) =
+                    lane_contact(r.k[s], 0.0, ln.c, 0.0, 0.0).tangent(hf, 0.0, 0.0, false);
+                ge[s] = kernel::excitation(ln.load, ln.xiw2, r.cos[s]);
                 go[s] = hf * r.k[s] * r.d;
             }
             let rk4 = |x0: f64, v0: f64, g: [f64; 3]| {
@@ -566,11 +570,8 @@ impl MeshLanes {
         f1: &Soa<2, L>,
     ) -> bool {
         // Hermite interpolant of x (Step::hermite) at theta = 1/2 (Step::at_theta)
-        let r0 = y0[0][l];
-        let r1 = y1[0][l] - r0;
-        let r2 = h * f0[0][l] - r1;
-        let r3 = r1 - h * f1[0][l] - r2;
-        let xm = r0 + 0.5 * (r1 + 0.5 * (r2 + 0.5 * (r3 + 0.5 * 0.0)));
+        let [r0, r1, r2, r3] = hermite(y0[0][l], y1[0][l], f0[0][l], f1[0][l], h);
+        let xm = nested_at([r0, r1, r2, r3, 0.0], 0.5);
         let x1 = y1[0][l];
         // armed guards: (value at start, middle, end, rising?)
         let mut guards = [(0.0, 0.0, 0.0, false); 2];
@@ -737,18 +738,15 @@ impl MeshLanes {
             let (csm, cse) = (cm + dcm * dm, ce + dce * de);
             km[i] = if HARM { kkm + dkm * dm } else { kkm };
             ke[i] = if HARM { kke + dke * de } else { kke };
-            excm[i] = ln.load[l] + ln.xiw2[l] * csm;
-            exce[i] = ln.load[l] + ln.xiw2[l] * cse;
+            excm[i] = kernel::excitation(ln.load[l], ln.xiw2[l], csm);
+            exce[i] = kernel::excitation(ln.load[l], ln.xiw2[l], cse);
             hfm[i] = sd * hdm + sb * hbm;
             hfe[i] = sd * hde + sb * hbe;
         }
         let acc = |i: usize, exc: f64, hf: f64, k: f64, x: f64, v: f64| {
             let l = c0 + i;
-            let mut fm = k * (x - off[i]) + ln.c[l] * v;
-            if UNI {
-                fm = clamp(fm, ln.lo[l], ln.hi[l]);
-            }
-            exc - hf * fm
+            let fm = lane_contact(k, off[i], ln.c[l], ln.lo[l], ln.hi[l]).force(x, v, UNI);
+            kernel::acceleration(exc, hf, fm)
         };
         let (x0, v0) = (&y0[0], &y0[1]);
         let (a0x, a0v) = (&f0[0], &f0[1]);
@@ -927,9 +925,10 @@ impl MeshLanes {
             let contact = on > 0.0;
             let x1 = if contact { xc } else { xs };
             let v1 = if contact { vc } else { vs };
-            let ee = ln.load[l] + ln.xiw2[l] * ce;
-            let fm = kke * (x1 - s * d) + ln.c[l] * v1;
-            let a1 = ee - on * hde * fm;
+            let ee = kernel::excitation(ln.load[l], ln.xiw2[l], ce);
+            // (bilateral: the affine map is taken only without the clamp)
+            let fm = lane_contact(kke, s * d, ln.c[l], 0.0, 0.0).force(x1, v1, false);
+            let a1 = kernel::acceleration(ee, on * hde, fm);
             y1[0][l] = x1;
             y1[1][l] = v1;
             f1[0][l] = v1;
@@ -937,9 +936,7 @@ impl MeshLanes {
             let finite = a1.abs() < f64::INFINITY;
             // the interior bound over x (its derivative at the start is v0, at the end v1)
             let h = t1[l] - t0[l];
-            let dx = x1 - x0;
-            let r2 = h * v0 - dx;
-            let r3 = dx - h * v1 - r2;
+            let [_, _, r2, r3] = hermite(x0, x1, v0, v1, h);
             let margin = 0.25 * (r2.abs() + r3.abs());
             let (lo, hi) = (min_fast(x0, x1), max_fast(x0, x1));
             let ca = (lo - d > margin) | (hi - d < -margin);
@@ -983,8 +980,7 @@ impl MeshLanes {
             dx1[l] = if contact { xc } else { dx + h * dv };
             dv1[l] = if contact { vc } else { dv };
             let hf = (ln.sd[l] + ln.sb[l]) * hde;
-            a[l] = -hf * kke;
-            b[l] = -hf * ln.c[l];
+            (a[l], b[l]) = lane_contact(kke, 0.0, ln.c[l], 0.0, 0.0).tangent(hf, dx, dv, false);
         }
     }
 
@@ -1009,10 +1005,11 @@ impl MeshLanes {
             // (MeshModel::mesh_force writes the phase as omega t / (2 pi))
             let (_, k) = self.cos_k(r, st, ln.w[l] * at.t[l] / (2.0 * PI), at.grid[l]);
             let off = (ln.sd[l] - ln.sb[l]) * d;
-            let mut f = k * (x[l] - off) + ln.c[l] * v[l];
-            if self.unilateral {
-                f = clamp(f, ln.lo[l], ln.hi[l]);
-            }
+            let f = lane_contact(k, off, ln.c[l], ln.lo[l], ln.hi[l]).force(
+                x[l],
+                v[l],
+                self.unilateral,
+            );
             out[l] = if ln.sd[l] + ln.sb[l] > 0.0 { f } else { 0.0 };
         }
     }
@@ -1044,17 +1041,14 @@ impl MeshLanes {
             let (_, k) = self.cos_k(r, st, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
             let hf = ln.sd[l] * hd + ln.sb[l] * hb;
             let contact = ln.sd[l] + ln.sb[l] > 0.0;
-            let clamped = self.unilateral && contact && {
-                let off = (ln.sd[l] - ln.sb[l]) * d;
-                clamp(k * (y[0][l] - off) + ln.c[l] * y[1][l], ln.lo[l], ln.hi[l]) == 0.0
-            };
-            if contact && !clamped {
-                a[l] = -hf * k;
-                b[l] = -hf * ln.c[l];
-            } else {
-                a[l] = 0.0;
-                b[l] = 0.0;
-            }
+            let off = (ln.sd[l] - ln.sb[l]) * d;
+            let (al, bl) = lane_contact(k, off, ln.c[l], ln.lo[l], ln.hi[l]).tangent(
+                hf,
+                y[0][l],
+                y[1][l],
+                self.unilateral,
+            );
+            (a[l], b[l]) = if contact { (al, bl) } else { (0.0, 0.0) };
         }
     }
 }
@@ -1143,15 +1137,12 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
             let (x, v) = (y[0][l], y[1][l]);
             // (MeshModel::time_terms writes the phase as omega t (0.5 / pi))
             let (cs, k) = self.cos_k(r, st, ln.w[l] * at.t[l] * (0.5 / PI), at.grid[l]);
-            let exc = ln.load[l] + ln.xiw2[l] * cs;
+            let exc = kernel::excitation(ln.load[l], ln.xiw2[l], cs);
             let hf = ln.sd[l] * hd + ln.sb[l] * hb;
             let off = (ln.sd[l] - ln.sb[l]) * d;
-            let mut fm = k * (x - off) + ln.c[l] * v;
-            if self.unilateral {
-                fm = clamp(fm, ln.lo[l], ln.hi[l]);
-            }
+            let fm = lane_contact(k, off, ln.c[l], ln.lo[l], ln.hi[l]).force(x, v, self.unilateral);
             dy[0][l] = v;
-            dy[1][l] = exc - hf * fm;
+            dy[1][l] = kernel::acceleration(exc, hf, fm);
         }
     }
 

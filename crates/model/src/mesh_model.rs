@@ -10,6 +10,9 @@
 //! each segment border is a time breakpoint. The mode carries the segment index, so the zone is
 //! never recomputed from a rounded time.
 //!
+//! The mesh force and its tangent terms are those of [`crate::mesh_kernel`], shared with the
+//! lockstep lanes ([`crate::MeshLanes`]), so that both evaluate the same operations.
+//!
 //! **Hysteresis damping** of the dissipative contact laws is set per impact and ends with it (see
 //! [`crate::contact_law`]): from the entry speed at a contact entry, cleared ([`EventKind::Settle`])
 //! when the velocity turns back into the contact before the teeth separate, zero for an initial
@@ -26,6 +29,7 @@
 use crate::contact_law::ContactLaw;
 use crate::error::ModelError;
 use crate::impact::ImpactLaw;
+use crate::mesh_kernel::{self as kernel, Contact};
 use crate::params::{BackSide, ModelParams, StiffnessForm};
 use crate::phase::cos_cycles;
 use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem, Variational};
@@ -754,7 +758,11 @@ impl MeshModel {
     /// separated tooth pair).
     #[inline]
     pub fn excitation(&self, t: f64) -> f64 {
-        self.load + self.xi_w2 * cos_cycles(self.omega * t / (2.0 * PI))
+        kernel::excitation(
+            self.load,
+            self.xi_w2,
+            cos_cycles(self.omega * t / (2.0 * PI)),
+        )
     }
 
     /// Dynamic mesh force `F_m` in the given mode (0 when separated or stuck).
@@ -767,31 +775,36 @@ impl MeshModel {
         self.force_in(seg, t, cos_wt, y, mode)
     }
 
+    /// The flank of `mode` in contact in `seg` at time `t` (its stiffness, signed backlash,
+    /// hysteresis and clamp, see [`crate::mesh_kernel`]); `None` when separated or stuck.
+    #[inline(always)]
+    fn contact(
+        &self,
+        seg: &Segment,
+        t: f64,
+        cos_wt: f64,
+        mode: &MeshMode,
+    ) -> Option<Contact<ContactLaw>> {
+        let (s, lo, hi) = match mode.contact {
+            ContactState::Drive => (1.0, 0.0, f64::INFINITY),
+            ContactState::Back => (-1.0, f64::NEG_INFINITY, 0.0),
+            ContactState::Separated | ContactState::Stuck => return None,
+        };
+        Some(Contact {
+            law: self.law,
+            k: self.k_of(seg, t, cos_wt, mode.period),
+            off: s * seg.d,
+            schi: s * mode.chi,
+            c: self.c,
+            lo,
+            hi,
+        })
+    }
+
     #[inline(always)]
     fn force_in(&self, seg: &Segment, t: f64, cos_wt: f64, y: &[f64; 2], mode: &MeshMode) -> f64 {
-        match mode.contact {
-            ContactState::Drive => {
-                let k = self.k_of(seg, t, cos_wt, mode.period);
-                let g = self.law.elastic(y[0] - seg.d);
-                let f = k * g * (1.0 + mode.chi * y[1]) + self.c * y[1];
-                if self.unilateral {
-                    f.max(0.0)
-                } else {
-                    f
-                }
-            }
-            ContactState::Back => {
-                let k = self.k_of(seg, t, cos_wt, mode.period);
-                let g = self.law.elastic(-y[0] - seg.d);
-                let f = -k * g * (1.0 - mode.chi * y[1]) + self.c * y[1];
-                if self.unilateral {
-                    f.min(0.0)
-                } else {
-                    f
-                }
-            }
-            ContactState::Separated | ContactState::Stuck => 0.0,
-        }
+        self.contact(seg, t, cos_wt, mode)
+            .map_or(0.0, |ct| ct.force(y[0], y[1], self.unilateral))
     }
 
     /// Peak back-side impact force for an impact at speed `v` (see [`crate::impact`]); finite
@@ -927,16 +940,16 @@ impl HybridSystem<2> for MeshModel {
     #[inline(always)]
     fn rhs(&self, t: f64, cos_wt: &f64, y: &[f64; 2], mode: &MeshMode, dy: &mut [f64; 2]) {
         let seg = &self.segs[mode.seg as usize];
-        let exc = self.load + self.xi_w2 * cos_wt;
+        let exc = kernel::excitation(self.load, self.xi_w2, *cos_wt);
         // one match on the contact state (force_in would match again)
         let acc = match mode.contact {
             ContactState::Drive => {
                 let h = self.h_of(seg, t, mode.period).0;
-                exc - h * self.force_in(seg, t, *cos_wt, y, mode)
+                kernel::acceleration(exc, h, self.force_in(seg, t, *cos_wt, y, mode))
             }
             ContactState::Back => {
                 let h = self.h_of(seg, t, mode.period).1;
-                exc - h * self.force_in(seg, t, *cos_wt, y, mode)
+                kernel::acceleration(exc, h, self.force_in(seg, t, *cos_wt, y, mode))
             }
             ContactState::Separated => exc,
             ContactState::Stuck => {
@@ -1144,43 +1157,20 @@ impl Variational<2> for MeshModel {
         jac: &mut [[f64; 2]; 2],
     ) {
         let seg = &self.segs[mode.seg as usize];
-        let (dax, dav) = match mode.contact {
-            ContactState::Drive => {
-                let k = self.k_of(seg, t, *cos_wt, mode.period);
-                let d = y[0] - seg.d;
-                let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
-                let h = self.h_of(seg, t, mode.period).0;
-                (
-                    -h * k * dg * (1.0 + mode.chi * y[1]),
-                    -h * (k * g * mode.chi + self.c),
-                )
-            }
-            ContactState::Back => {
-                let k = self.k_of(seg, t, *cos_wt, mode.period);
-                let d = -y[0] - seg.d;
-                let (g, dg) = (self.law.elastic(d), self.law.elastic_slope(d));
-                let h = self.h_of(seg, t, mode.period).1;
-                (
-                    -h * k * dg * (1.0 - mode.chi * y[1]),
-                    -h * (k * g * mode.chi + self.c),
-                )
-            }
-            ContactState::Separated => (0.0, 0.0),
+        let h = match mode.contact {
+            ContactState::Drive => self.h_of(seg, t, mode.period).0,
+            ContactState::Back => self.h_of(seg, t, mode.period).1,
+            ContactState::Separated => 0.0,
             ContactState::Stuck => {
                 *jac = [[0.0; 2]; 2];
                 return;
             }
         };
-        // a clamped (unilateral, would-be tensile) force does not depend on the state
-        let clamped = self.unilateral && {
-            let f = self.force_in(seg, t, *cos_wt, y, mode);
-            f == 0.0 && matches!(mode.contact, ContactState::Drive | ContactState::Back)
-        };
-        *jac = if clamped {
-            [[0.0, 1.0], [0.0, 0.0]]
-        } else {
-            [[0.0, 1.0], [dax, dav]]
-        };
+        // (a clamped unilateral force does not depend on the state: the kernel gives (0, 0))
+        let (dax, dav) = self
+            .contact(seg, t, *cos_wt, mode)
+            .map_or((0.0, 0.0), |ct| ct.tangent(h, y[0], y[1], self.unilateral));
+        *jac = [[0.0, 1.0], [dax, dav]];
     }
 
     fn guard_gradient(

@@ -37,11 +37,7 @@ impl<const N: usize> Step<N> {
         let h = t1 - t0;
         let mut r = [[0.0; N]; 5];
         for i in 0..N {
-            let d = y1[i] - y0[i];
-            r[0][i] = y0[i];
-            r[1][i] = d;
-            r[2][i] = h * f0[i] - d;
-            r[3][i] = d - h * f1[i] - r[2][i];
+            [r[0][i], r[1][i], r[2][i], r[3][i]] = hermite(y0[i], y1[i], f0[i], f1[i], h);
         }
         Step { t0, t1, r }
     }
@@ -73,14 +69,33 @@ impl<const N: usize> Step<N> {
     /// Interpolated state at the step fraction `theta` in `[0, 1]`.
     #[inline]
     pub fn at_theta(&self, th: f64) -> [f64; N] {
-        let th1 = 1.0 - th;
         let mut y = [0.0; N];
         for i in 0..N {
             let r = &self.r;
-            y[i] = r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])));
+            y[i] = nested_at([r[0][i], r[1][i], r[2][i], r[3][i], r[4][i]], th);
         }
         y
     }
+}
+
+/// The coefficients `[r1, r2, r3, r4]` of the cubic Hermite interpolant of one component over a
+/// step of length `h` from `y0` (derivative `f0`) to `y1` (derivative `f1`): `r1 = y0`,
+/// `r2 = y1 - y0`, `r3 = h f0 - r2`, `r4 = r2 - h f1 - r3` (`r5 = 0`). Shared by [`Step`], the
+/// lockstep lanes' samples of a step and their interior bound (`0.25 (|r3| + |r4|)`), so that all
+/// of them round alike.
+#[inline(always)]
+pub fn hermite(y0: f64, y1: f64, f0: f64, f1: f64, h: f64) -> [f64; 4] {
+    let d = y1 - y0;
+    let r3 = h * f0 - d;
+    [y0, d, r3, d - h * f1 - r3]
+}
+
+/// One component of Hairer's nested form at the step fraction `th` (see [`Step`]):
+/// `r1 + th (r2 + (1-th) (r3 + th (r4 + (1-th) r5)))`.
+#[inline(always)]
+pub fn nested_at(r: [f64; 5], th: f64) -> f64 {
+    let th1 = 1.0 - th;
+    r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])))
 }
 
 #[cfg(test)]
