@@ -174,7 +174,15 @@ pub fn page(info: &PageInfo) -> String {
         if info.cfg.pair.is_some() { "stiffness, zones, backlash and friction from the physical [pair]" } else { "dimensionless stiffness form" },
         env!("CARGO_PKG_VERSION"),
         info.seconds,
-        if info.quick { " with coarse grids (--quick: the verdicts are indicative only)" } else { "" },
+        if info.quick {
+            format!(
+                " with coarse grids (--quick: chaos is decided at a horizon of {} excitation periods instead of {}, so the verdicts are indicative only)",
+                crate::runner::QUICK_DECISION_PERIODS,
+                geardyn_analysis::classify::DECISION_PERIODS
+            )
+        } else {
+            String::new()
+        },
         info.size as f64 / 1e6,
         info.budget as f64 / 1e6,
     ));
