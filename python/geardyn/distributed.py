@@ -37,7 +37,9 @@ def _path(store) -> str:
 
 
 def status(store) -> dict:
-    """Done and missing shards: ``{"command", "shards", "done": [...], "missing": [...]}``."""
+    """Done and missing shards: ``{"command", "shards", "done": [...], "missing": [...],
+    "damaged": [...]}`` (``damaged``: missing shards that had finished but whose chunk files
+    changed since; run them again)."""
     return _geardyn.shard_status(_path(store))
 
 

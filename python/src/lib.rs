@@ -1031,7 +1031,7 @@ fn run_shard(
     })
 }
 
-/// `geardyn status STORE`: `{"command", "shards", "done", "missing"}`.
+/// `geardyn status STORE`: `{"command", "shards", "done", "missing", "damaged"}`.
 #[pyfunction]
 fn shard_status<'py>(py: Python<'py>, store: String) -> PyResult<Bound<'py, PyAny>> {
     let s = shard::status(std::path::Path::new(&store)).map_err(|e| to_pyerr(e.into()))?;

@@ -149,6 +149,12 @@ pub fn status(a: StatusArgs) -> Result<()> {
     );
     println!("done: {}", list(&s.done));
     println!("missing: {}", list(&s.missing));
+    if !s.damaged.is_empty() {
+        println!(
+            "damaged (finished, but a chunk file changed since: truncated, removed or rewritten; run again): {}",
+            list(&s.damaged)
+        );
+    }
     Ok(())
 }
 

@@ -194,6 +194,32 @@ fn a_killed_shard_run_again_writes_the_same_bytes() {
     }
 }
 
+#[test]
+fn a_done_shard_whose_chunk_changed_is_damaged_and_runs_again() {
+    let clean = tmp("damaged-clean");
+    plan_and_run_all(MAP, &clean);
+    let hurt = tmp("damaged-hurt");
+    plan_and_run_all(MAP, &hurt);
+    assert!(ok(&["status", s(&hurt)]).contains("4 done, 0 missing"));
+    // a chunk of a finished shard truncated after the shard wrote its marker (a full disk, a
+    // copy interrupted): the marker alone no longer makes the shard done
+    let chunk = hurt.join("label/c/0/0");
+    let bytes = std::fs::read(&chunk).unwrap();
+    std::fs::write(&chunk, &bytes[..bytes.len() / 2]).unwrap();
+    let st = ok(&["status", s(&hurt)]);
+    assert!(st.contains("missing: 0"), "{st}");
+    assert!(st.contains("damaged"), "{st}");
+    assert_eq!(ok(&["status", s(&hurt), "--missing"]).trim(), "0");
+    assert!(refused(&["merge", s(&hurt)]).contains("not done"));
+    // run again, the shard rewrites its chunks: the store equals the clean one
+    ok(&["run-shard", s(&hurt), "--shard", "0"]);
+    assert!(ok(&["status", s(&hurt)]).contains("4 done, 0 missing"));
+    assert_eq!(store_files(&hurt), store_files(&clean));
+    for d in [clean, hurt] {
+        std::fs::remove_dir_all(d).ok();
+    }
+}
+
 /// The shards of a store run as a Slurm array would: the index from SLURM_ARRAY_TASK_ID.
 struct SetSlurm;
 

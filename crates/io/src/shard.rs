@@ -40,7 +40,7 @@ pub const FORMAT: &str = "geardyn-plan/1";
 pub const MAX_STROBE: usize = 10_000;
 /// Largest metadata document read (`zarr.json` holds the request: kilobytes).
 const MAX_META: u64 = 64 << 20;
-/// Largest done marker read.
+/// Largest done marker (and chunk file) read.
 const MAX_MARKER: u64 = 4 << 30;
 
 /// Why a plan, a shard or a merge failed.
@@ -610,12 +610,20 @@ pub fn open(store: &Path) -> Result<Plan, ShardError> {
     Ok(p)
 }
 
-/// A done marker: the shard's typed results, written last.
+/// A done marker: the shard's typed results, written last, with the digest of every chunk file
+/// the shard wrote (a chunk truncated or replaced after it makes the shard not done).
 #[derive(Serialize, Deserialize)]
 struct Marker<T> {
     shard: usize,
     config_hash: String,
+    /// `(path relative to the store, FNV-1a digest of its bytes)` of each chunk file.
+    chunks: Vec<(String, String)>,
     results: T,
+}
+
+/// The digest a marker records of a chunk file.
+fn digest(bytes: &[u8]) -> String {
+    format!("{:016x}", fnv1a(bytes))
 }
 
 fn marker_path(store: &Path, shard: usize) -> PathBuf {
@@ -627,8 +635,14 @@ fn is_done(store: &Path, plan: &Plan, shard: usize) -> bool {
     let Ok(bytes) = read_bounded(&marker_path(store, shard), MAX_MARKER) else {
         return false;
     };
-    serde_json::from_slice::<Marker<serde::de::IgnoredAny>>(&bytes)
-        .is_ok_and(|m| m.shard == shard && m.config_hash == plan.config_hash)
+    serde_json::from_slice::<Marker<serde::de::IgnoredAny>>(&bytes).is_ok_and(|m| {
+        m.shard == shard
+            && m.config_hash == plan.config_hash
+            && !m.chunks.is_empty()
+            && m.chunks.iter().all(|(rel, want)| {
+                read_bounded(&store.join(rel), MAX_MARKER).is_ok_and(|b| digest(&b) == *want)
+            })
+    })
 }
 
 /// Done and missing shards of a store.
@@ -642,6 +656,9 @@ pub struct Status {
     pub done: Vec<usize>,
     /// Shards missing, in order.
     pub missing: Vec<usize>,
+    /// The missing shards that had finished but whose chunk files have changed since (truncated,
+    /// removed or rewritten): their marker is there, their data is not theirs any more.
+    pub damaged: Vec<usize>,
 }
 
 /// The done and missing shards of `store`.
@@ -649,11 +666,17 @@ pub fn status(store: &Path) -> Result<Status, ShardError> {
     let p = open(store)?;
     let (done, missing): (Vec<usize>, Vec<usize>) =
         (0..p.shards.len()).partition(|&s| is_done(store, &p, s));
+    let damaged = missing
+        .iter()
+        .copied()
+        .filter(|&s| marker_path(store, s).exists())
+        .collect();
     Ok(Status {
         command: p.request.command().into(),
         shards: p.shards.len(),
         done,
         missing,
+        damaged,
     })
 }
 
@@ -777,16 +800,18 @@ fn run_values(u: &geardyn_analysis::bifurcation::Run, strobe: usize) -> Vec<Chun
 }
 
 /// Writes the chunks of shard `spec` of every variable from `point`, the values at a grid point.
+/// Writes every chunk of `spec`; returns `(path relative to the store, digest)` of each file.
 fn write_chunks(
     store: &Path,
     plan: &Plan,
     spec: &ShardSpec,
     point: &dyn Fn(&[usize]) -> Vec<Chunk>,
-) -> Result<(), ShardError> {
+) -> Result<Vec<(String, String)>, ShardError> {
+    let mut files = Vec::new();
     for c in &spec.chunks {
-        write_chunk_of(store, plan, c, point)?;
+        files.extend(write_chunk_of(store, plan, c, point)?);
     }
-    Ok(())
+    Ok(files)
 }
 
 /// Writes chunk `spec` of every variable from `point`.
@@ -795,7 +820,7 @@ fn write_chunk_of(
     plan: &Plan,
     spec: &ChunkSpec,
     point: &dyn Fn(&[usize]) -> Vec<Chunk>,
-) -> Result<(), ShardError> {
+) -> Result<Vec<(String, String)>, ShardError> {
     let vars = variables(&plan.request);
     let per_point: usize = plan.chunk.iter().product();
     let mut chunks: Vec<Chunk> = vars
@@ -813,12 +838,20 @@ fn write_chunk_of(
             }
         }
     }
+    let mut files = Vec::new();
     for (v, c) in vars.iter().zip(&chunks) {
         let mut at = spec.chunk.clone();
         at.extend(v.extra.iter().map(|_| 0));
-        zarr::write_chunk(&store.join(v.name), &at, c)?;
+        let (file, bytes) = zarr::write_chunk(&store.join(v.name), &at, c)?;
+        let rel = file.strip_prefix(store).unwrap_or(&file);
+        // (forward slashes on every system: the marker is read wherever the store is)
+        let rel: Vec<String> = rel
+            .components()
+            .map(|p| p.as_os_str().to_string_lossy().into_owned())
+            .collect();
+        files.push((rel.join("/"), digest(&bytes)));
     }
-    Ok(())
+    Ok(files)
 }
 
 /// Computes shard `shard` of the plan in `store` (see the module doc); a shard done already is
@@ -861,12 +894,13 @@ pub fn run_shard(store: &Path, shard: usize) -> Result<ShardRun, ShardError> {
             }
             let by_index: std::collections::HashMap<usize, &MapCell> =
                 cells.iter().map(|c| (c.index, c)).collect();
-            write_chunks(store, &plan, &spec, &|at| {
+            let chunks = write_chunks(store, &plan, &spec, &|at| {
                 map_values(by_index[&(at[0] * nx + at[1])])
             })?;
             serde_json::to_string(&Marker {
                 shard,
                 config_hash: plan.config_hash.clone(),
+                chunks,
                 results: &cells,
             })
         }
@@ -885,13 +919,14 @@ pub fn run_shard(store: &Path, shard: usize) -> Result<ShardRun, ShardError> {
             let strobe = strobe_len(r);
             let by_index: std::collections::HashMap<usize, &TaskResult> =
                 results.iter().map(|t| (t.task.index, t)).collect();
-            write_chunks(store, &plan, &spec, &|at| {
+            let chunks = write_chunks(store, &plan, &spec, &|at| {
                 let t = by_index[&at[0]];
                 run_values(&t.runs[at.get(1).copied().unwrap_or(0)], strobe)
             })?;
             serde_json::to_string(&Marker {
                 shard,
                 config_hash: plan.config_hash.clone(),
+                chunks,
                 results: &results,
             })
         }

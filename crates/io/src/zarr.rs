@@ -184,7 +184,12 @@ pub fn write_meta(dir: &Path, meta: &Value) -> Result<(), OutputError> {
 }
 
 /// Writes the chunk at grid coordinates `at` of the array in `dir` (whole, by an atomic rename).
-pub fn write_chunk(dir: &Path, at: &[usize], chunk: &Chunk) -> Result<(), OutputError> {
+/// Returns the file written and its bytes.
+pub fn write_chunk(
+    dir: &Path,
+    at: &[usize],
+    chunk: &Chunk,
+) -> Result<(std::path::PathBuf, Vec<u8>), OutputError> {
     let mut path = dir.join("c");
     for (k, i) in at.iter().enumerate() {
         if k + 1 < at.len() {
@@ -196,7 +201,10 @@ pub fn write_chunk(dir: &Path, at: &[usize], chunk: &Chunk) -> Result<(), Output
         source,
     })?;
     let name = at.last().map_or("0".to_string(), |i| i.to_string());
-    write_bytes(&path.join(name), &chunk.encode())
+    let file = path.join(name);
+    let bytes = chunk.encode();
+    write_bytes(&file, &bytes)?;
+    Ok((file, bytes))
 }
 
 #[cfg(test)]
