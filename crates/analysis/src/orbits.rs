@@ -934,6 +934,7 @@ fn follow(
         tan = [-tan[0], -tan[1], -tan[2]];
     }
     let mut ds = opts.ds_max * 0.25;
+    let mut clipped = false;
     let ds_min = opts.ds_max * 1e-6;
     let mut doublings = Vec::new();
     let end = loop {
@@ -1006,6 +1007,17 @@ fn follow(
         if dot(new_tan, tan) < 0.9 && ds > ds_min * 16.0 {
             ds *= 0.5;
             continue;
+        }
+        // a step out of the range: once, the step that ends at its end instead (the branch is
+        // drawn to the end of the range asked)
+        let bound = if next.param > hi { hi } else { lo };
+        if (next.param < lo || next.param > hi) && !clipped {
+            let frac = (bound - cur.param) / (next.param - cur.param);
+            if frac > 1e-6 && frac < 1.0 {
+                clipped = true;
+                ds *= frac;
+                continue;
+            }
         }
         // bifurcations between cur and next
         let found_before = out.bifurcations.len();
@@ -1109,6 +1121,11 @@ fn follow(
             }
         }
         if next.param < lo || next.param > hi {
+            // the clipped step lands on the end up to the corrector's slack
+            if clipped && (next.param - bound).abs() <= 1e-3 * (hi - lo) {
+                progress(&next);
+                out.points.push(next.clone());
+            }
             break format!("{} left [{lo}, {hi}]", prob.param);
         }
         progress(&next);

@@ -16,15 +16,24 @@ pub fn operating_point(sc: &Scenario) -> String {
     )
 }
 
-/// [`operating_point`] without the parameter `param` (a swept one: its value is the axis of a
-/// figure, not a fixed setting).
+/// [`operating_point`] for a figure's title, without the parameter `param` (a swept one: its
+/// value is the axis of a figure, not a fixed setting), each value to four significant digits
+/// as the figures' ticks write it (a pair's speed in rpm gives omega = 1.2345678...).
 pub fn operating_point_without(sc: &Scenario, param: &str) -> String {
-    let head = format!("{param} =");
-    operating_point(sc)
-        .split(", ")
-        .filter(|s| !s.starts_with(&head))
-        .collect::<Vec<_>>()
-        .join(", ")
+    let p = sc.params();
+    [
+        ("omega", p.omega),
+        ("F", p.load),
+        ("xi", p.xi),
+        ("c", p.c),
+        ("D_d", p.d_double),
+        ("D_s", p.d_single),
+    ]
+    .iter()
+    .filter(|(name, _)| *name != param)
+    .map(|(name, v)| format!("{name} = {}", crate::figure::tick(*v)))
+    .collect::<Vec<_>>()
+    .join(", ")
 }
 
 /// Derived quantities as `# ` comment lines.
