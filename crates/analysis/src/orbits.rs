@@ -941,45 +941,7 @@ fn follow(
         if out.points.len() >= opts.max_points {
             break "the point limit was reached".to_string();
         }
-        // predictor, corrector (pseudo-arclength)
-        let z0 = [cur.orbit.y[0], cur.orbit.y[1], cur.param];
-        let pred = [
-            z0[0] + ds * tan[0],
-            z0[1] + ds * tan[1],
-            z0[2] + ds * tan[2],
-        ];
-        let mut z = pred;
-        let mut memory = cur.orbit.memory;
-        let mut last_res = f64::INFINITY;
-        let mut done: Option<(Extended, u32)> = None;
-        for it in 0..8 {
-            let ext = match prob.extended([z[0], z[1]], z[2], memory) {
-                Ok(e) => e,
-                Err(_) => break,
-            };
-            let settled =
-                (ext.orbit_eval.memory - memory).abs() <= prob.o.tol * (1.0 + memory.abs());
-            memory = ext.orbit_eval.memory;
-            let res = ext.r[0].abs().max(ext.r[1].abs());
-            let arc = dot([z[0] - pred[0], z[1] - pred[1], z[2] - pred[2]], tan);
-            let scale = 1.0 + z[0].abs().max(z[1].abs());
-            // converged, or at the integration's noise floor (as `newton`)
-            let floor = res <= NOISE_FLOOR * scale && res > 0.5 * last_res;
-            last_res = res;
-            if (res <= prob.o.tol * scale || floor) && arc.abs() < 1e-9 && settled {
-                done = Some((ext, it));
-                break;
-            }
-            let a = [ext.jac[0], ext.jac[1], tan];
-            let Some(dz) = solve3(a, [-ext.r[0], -ext.r[1], -arc]) else {
-                break;
-            };
-            z = [z[0] + dz[0], z[1] + dz[1], z[2] + dz[2]];
-            if !z.iter().all(|v| v.is_finite()) {
-                break;
-            }
-        }
-        let Some((ext, iters)) = done else {
+        let Some((ext, iters, z)) = correct(prob, &cur, tan, ds) else {
             ds *= 0.5;
             if ds < ds_min {
                 break format!(
@@ -989,14 +951,7 @@ fn follow(
             }
             continue;
         };
-        let new_tan = {
-            let t = null_vector(&ext.jac);
-            if dot(t, tan) < 0.0 {
-                [-t[0], -t[1], -t[2]]
-            } else {
-                t
-            }
-        };
+        let new_tan = oriented(&ext.jac, tan);
         let next = BranchPoint {
             branch,
             param: z[2],
@@ -1047,19 +1002,20 @@ fn follow(
             }
         }
         if tan[2] * new_tan[2] < 0.0 {
-            // the turning point: the branch point of extreme parameter of a quadratic through
-            // the two points and their tangents is close enough at this step; refined by the
-            // smaller of the two
-            let b = if (next.param - cur.param) * tan[2] >= 0.0 {
-                &next
-            } else {
-                &cur
-            };
+            // the turning point, refined by bisection in the arclength (else the branch point of
+            // extreme parameter of the two)
+            let b = refine_fold(prob, &cur, tan, ds).unwrap_or_else(|| {
+                if (next.param - cur.param) * tan[2] >= 0.0 {
+                    next.clone()
+                } else {
+                    cur.clone()
+                }
+            });
             let fold = Bifurcation {
                 kind: BifurcationKind::Fold,
                 branch,
                 param: b.param,
-                orbit: b.orbit.clone(),
+                orbit: b.orbit,
             };
             // a doubled branch turns at the doubling it was born from (the vertex of the
             // pitchfork of the twice-iterated map): that is the doubling, not a fold
@@ -1200,6 +1156,89 @@ fn follow(
     out.ends
         .push(format!("branch {branch} (period {}): {end}", prob.o.period));
     Ok(doublings)
+}
+
+/// The pseudo-arclength step of length `ds` from `cur` along `tan`: the predictor, then Newton's
+/// method on `P_n(y; p) - y = 0` with the arclength condition; the corrected point `z = (x, x',
+/// p)`, its extended Jacobian and the iterations, or `None` when the corrector fails.
+fn correct(
+    prob: &Problem<'_>,
+    cur: &BranchPoint,
+    tan: [f64; 3],
+    ds: f64,
+) -> Option<(Extended, u32, [f64; 3])> {
+    let z0 = [cur.orbit.y[0], cur.orbit.y[1], cur.param];
+    let pred = [
+        z0[0] + ds * tan[0],
+        z0[1] + ds * tan[1],
+        z0[2] + ds * tan[2],
+    ];
+    let mut z = pred;
+    let mut memory = cur.orbit.memory;
+    let mut last_res = f64::INFINITY;
+    for it in 0..8 {
+        let ext = prob.extended([z[0], z[1]], z[2], memory).ok()?;
+        let settled = (ext.orbit_eval.memory - memory).abs() <= prob.o.tol * (1.0 + memory.abs());
+        memory = ext.orbit_eval.memory;
+        let res = ext.r[0].abs().max(ext.r[1].abs());
+        let arc = dot([z[0] - pred[0], z[1] - pred[1], z[2] - pred[2]], tan);
+        let scale = 1.0 + z[0].abs().max(z[1].abs());
+        // converged, or at the integration's noise floor (as `newton`)
+        let floor = res <= NOISE_FLOOR * scale && res > 0.5 * last_res;
+        last_res = res;
+        if (res <= prob.o.tol * scale || floor) && arc.abs() < 1e-9 && settled {
+            return Some((ext, it, z));
+        }
+        let a = [ext.jac[0], ext.jac[1], tan];
+        let dz = solve3(a, [-ext.r[0], -ext.r[1], -arc])?;
+        z = [z[0] + dz[0], z[1] + dz[1], z[2] + dz[2]];
+        if !z.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
+
+/// The null vector of an extended Jacobian, oriented along `tan`.
+fn oriented(jac: &[[f64; 3]; 2], tan: [f64; 3]) -> [f64; 3] {
+    let t = null_vector(jac);
+    if dot(t, tan) < 0.0 {
+        [-t[0], -t[1], -t[2]]
+    } else {
+        t
+    }
+}
+
+/// The turning point of a branch between `cur` and the point a step `ds` along `tan` beyond it
+/// (whose tangent's parameter component has the other sign): bisection in the arclength on
+/// that sign, each trial point corrected by [`correct`] (well posed at a fold, unlike Newton's
+/// method at fixed parameter).
+fn refine_fold(
+    prob: &Problem<'_>,
+    cur: &BranchPoint,
+    tan: [f64; 3],
+    ds: f64,
+) -> Option<BranchPoint> {
+    let (mut a, mut b) = (0.0, ds);
+    let mut best = None;
+    for _ in 0..50 {
+        if b - a <= 1e-10 * ds {
+            break;
+        }
+        let m = 0.5 * (a + b);
+        let (ext, iters, z) = correct(prob, cur, tan, m)?;
+        if oriented(&ext.jac, tan)[2] * tan[2] > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+        best = Some(BranchPoint {
+            branch: cur.branch,
+            param: z[2],
+            orbit: Orbit::from_eval([z[0], z[1]], ext.orbit_eval, prob.o.period, iters),
+        });
+    }
+    best
 }
 
 /// Whether `b` is not already listed: the same kind at the same parameter (to 1e-7) on a branch

@@ -169,6 +169,20 @@ fn a_branch_finds_the_grazing_of_the_linear_orbit_where_its_amplitude_equals_the
         .collect();
     assert_eq!(folds.len(), 1, "{folds:?}");
     assert!(folds[0] > w_graze && folds[0] < 0.8, "{folds:?}");
+    // refined to the turning point: a multiplier is +1 there (the smooth fold's test, which the
+    // refinement does not use: it bisects on the tangent)
+    let fold = c
+        .bifurcations
+        .iter()
+        .find(|b| b.kind == BifurcationKind::Fold)
+        .unwrap();
+    let near_one = fold
+        .orbit
+        .multipliers
+        .iter()
+        .map(|m| (m.re - 1.0).hypot(m.im))
+        .fold(f64::INFINITY, f64::min);
+    assert!(near_one < 1e-3, "{:?}", fold.orbit.multipliers);
     // the last step is clipped to end at the end of the range
     let last = c.points.last().unwrap().param;
     assert!((last - 0.6).abs() <= 2e-4, "{last}");
