@@ -6,7 +6,7 @@
 mod util;
 
 use anyhow::{bail, Context, Result};
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{
     attractor_region, detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task,
@@ -18,7 +18,6 @@ use geardyn_analysis::continuation::{
 };
 use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
 use geardyn_analysis::map2d::{map2d as run_map2d, MapCell, MapOptions, METRICS};
-use geardyn_analysis::simulate::Method;
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
 use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
@@ -119,31 +118,17 @@ struct Ident {
     ident_rtol: f64,
 }
 
-fn identify_options(cfg: &Config, a: &Ident) -> Result<IdentifyOptions> {
-    let mut sim = cfg.sim_options()?;
-    if let Method::Dopri { rtol, atol } = &mut sim.method {
-        if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
-            bail!(
-                "bad --ident-rtol {}: allowed (0, 1e-3)",
-                geardyn_model::error::num(a.ident_rtol)
-            );
-        }
-        *rtol = a.ident_rtol;
-        *atol = atol.max(a.ident_rtol * 1e-3);
+impl Ident {
+    /// The identification options on the configuration's simulation settings (checked by the
+    /// library's `IdentifyRequest`, as the CLI's).
+    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
+        let req = IdentifyRequest {
+            capture_tol: self.capture_tol,
+            ident_rtol: self.ident_rtol,
+            early_capture: self.early_stop,
+        };
+        Ok(req.options(cfg.sim_options()?)?)
     }
-    if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
-        bail!(
-            "bad --capture-tol {}: allowed (0, 1)",
-            geardyn_model::error::num(a.capture_tol)
-        );
-    }
-    Ok(IdentifyOptions {
-        sim,
-        capture_tol: a.capture_tol,
-        match_tol: 10.0 * a.capture_tol,
-        early_capture: a.early_stop,
-        ..Default::default()
-    })
 }
 
 /// Parameter values: explicit, or `(start, stop, count)` through the library's `linspace` (the
@@ -794,7 +779,7 @@ fn basins<'py>(
                     n: 200,
                 },
             };
-            let mut identify = identify_options(&cfg, &ident)?;
+            let mut identify = ident.options(&cfg)?;
             identify.sim.tau0 = phase * model.excitation_period();
             let opts = BasinOptions {
                 x: xa,
@@ -879,7 +864,7 @@ fn continuation<'py>(
                     None => region.1,
                 },
                 phase: check_phase(phase)?,
-                identify: identify_options(&cfg, &ident)?,
+                identify: ident.options(&cfg)?,
             };
             cfg.check_work(
                 scenario.model(),
