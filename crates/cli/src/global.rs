@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
-use geardyn_analysis::bifurcation::{attractor_region, linspace};
+use geardyn_analysis::bifurcation::{linspace, InitialBox};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
 use geardyn_io::figure::LabelColors;
@@ -257,21 +257,21 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
-    geardyn_analysis::bifurcation::check_ics(a.ics)?;
-    let region = attractor_region(scenario.model().backlash_levels().1);
+    let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+    let b = InitialBox::new(
+        a.ics,
+        a.seed,
+        pair(&a.x0_range, "--x0-range")?,
+        pair(&a.v0_range, "--v0-range")?,
+        scenario.model().backlash_levels().1,
+    )?;
     let opts = ContinuationOptions {
         param: a.param.clone(),
         values: linspace(lo, hi, n),
-        ics: a.ics,
-        seed: a.seed,
-        x0_range: match &a.x0_range {
-            Some(s) => parse_pair(s, "--x0-range")?,
-            None => region.0,
-        },
-        v0_range: match &a.v0_range {
-            Some(s) => parse_pair(s, "--v0-range")?,
-            None => region.1,
-        },
+        ics: b.ics,
+        seed: b.seed,
+        x0_range: b.x0_range,
+        v0_range: b.v0_range,
         phase: check_phase(a.phase)?,
         identify: a.ident.options(&cfg)?,
     };
