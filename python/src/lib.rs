@@ -6,11 +6,10 @@
 mod util;
 
 use anyhow::{bail, Context, Result};
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{
-    attractor_region, detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task,
-    TaskResult,
+    detect_jumps, linspace, run_sweep, InitialBox, SweepOptions, Task, TaskResult,
 };
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::continuation::{
@@ -18,8 +17,8 @@ use geardyn_analysis::continuation::{
 };
 use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
 use geardyn_analysis::map2d::{map2d as run_map2d, MapCell, MapOptions, METRICS};
-use geardyn_analysis::simulate::Method;
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_io::request::SweepSpec;
 use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -119,31 +118,17 @@ struct Ident {
     ident_rtol: f64,
 }
 
-fn identify_options(cfg: &Config, a: &Ident) -> Result<IdentifyOptions> {
-    let mut sim = cfg.sim_options()?;
-    if let Method::Dopri { rtol, atol } = &mut sim.method {
-        if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
-            bail!(
-                "bad --ident-rtol {}: allowed (0, 1e-3)",
-                geardyn_model::error::num(a.ident_rtol)
-            );
-        }
-        *rtol = a.ident_rtol;
-        *atol = atol.max(a.ident_rtol * 1e-3);
+impl Ident {
+    /// The identification options on the configuration's simulation settings (checked by the
+    /// library's `IdentifyRequest`, as the CLI's).
+    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
+        let req = IdentifyRequest {
+            capture_tol: self.capture_tol,
+            ident_rtol: self.ident_rtol,
+            early_capture: self.early_stop,
+        };
+        Ok(req.options(cfg.sim_options()?)?)
     }
-    if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
-        bail!(
-            "bad --capture-tol {}: allowed (0, 1)",
-            geardyn_model::error::num(a.capture_tol)
-        );
-    }
-    Ok(IdentifyOptions {
-        sim,
-        capture_tol: a.capture_tol,
-        match_tol: 10.0 * a.capture_tol,
-        early_capture: a.early_stop,
-        ..Default::default()
-    })
 }
 
 /// Parameter values: explicit, or `(start, stop, count)` through the library's `linspace` (the
@@ -177,35 +162,6 @@ fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Resu
             bail!("give the parameter values: values=[...] or range=(start, stop, count)")
         }
     }
-}
-
-fn check_pair(p: (f64, f64), what: &str) -> Result<(f64, f64)> {
-    if !(p.0.is_finite() && p.1.is_finite() && p.0 <= p.1) {
-        bail!(
-            "bad {what} ({}, {}): finite MIN <= MAX",
-            geardyn_model::error::num(p.0),
-            geardyn_model::error::num(p.1)
-        );
-    }
-    Ok(p)
-}
-
-fn sections(names: &[String]) -> Result<Vec<Section>> {
-    names
-        .iter()
-        .map(|t| {
-            Section::parse(t.trim()).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "unknown section '{t}': allowed {}",
-                    Section::ALL
-                        .iter()
-                        .map(|s| s.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            })
-        })
-        .collect()
 }
 
 fn config_py<'py>(py: Python<'py>, cfg: &Config) -> PyResult<Bound<'py, PyAny>> {
@@ -578,27 +534,13 @@ fn sweep_results<'py>(
     Ok(d)
 }
 
+/// Runs a checked sweep ([`SweepSpec::options`]) on the worker, counting and keeping its
+/// finished values.
 fn sweep(
     ctl: &Ctl,
-    cfg: &Config,
     scenario: &geardyn_scenario::Scenario,
     opts: &SweepOptions,
 ) -> Result<Vec<TaskResult>> {
-    // the swept parameter is valid at both ends before anything runs (as the CLI checks)
-    for v in [opts.values.first(), opts.values.last()]
-        .into_iter()
-        .flatten()
-    {
-        scenario.with(&opts.param, *v).with_context(|| {
-            format!("--param {} = {}", opts.param, geardyn_model::error::num(*v))
-        })?;
-    }
-    let ics = match opts.mode {
-        SweepMode::Multi { ics, .. } => ics.max(1),
-        _ => 1,
-    };
-    // the CLI's cap on the whole call's work, before any work
-    cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
     let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
     ctl.set_total(n, 0);
     let done: HashMap<Task, TaskResult> = HashMap::new();
@@ -641,29 +583,19 @@ fn bifurcation<'py>(
         let mut cfg = src.config()?;
         sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
-        let values = values_of(values, range)?;
-        let secs = sections(&sections_)?;
-        // (ranges given are checked as the CLI checks them, then the mode as one)
-        let x0_range = x0_range.map(|p| check_pair(p, "x0_range")).transpose()?;
-        let v0_range = v0_range.map(|p| check_pair(p, "v0_range")).transpose()?;
-        let mode = SweepMode::from_name(
-            &mode,
+        let spec = SweepSpec {
+            param,
+            values: values_of(values, range)?,
+            mode,
             ics,
             seed,
             x0_range,
             v0_range,
-            scenario.model().backlash_levels().1,
-        )?;
-        let opts = SweepOptions {
-            param,
-            values,
-            mode,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            sections: secs,
+            sections: sections_,
             lyapunov,
         };
-        let results = sweep(ctl, &cfg, &scenario, &opts)?;
+        let opts = spec.options(&cfg, &scenario)?;
+        let results = sweep(ctl, &scenario, &opts)?;
         Ok((results, cfg, opts))
     })?;
     let d = sweep_results(py, &opts.param, &results)?;
@@ -692,16 +624,9 @@ fn response<'py>(
         let mut cfg = src.config()?;
         sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
-        let opts = SweepOptions {
-            param,
-            values: values_of(values, range)?,
-            mode: SweepMode::Sweep,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            sections: vec![],
-            lyapunov: false,
-        };
-        let results = sweep(ctl, &cfg, &scenario, &opts)?;
+        let opts =
+            SweepSpec::response(param, values_of(values, range)?).options(&cfg, &scenario)?;
+        let results = sweep(ctl, &scenario, &opts)?;
         Ok((results, cfg, opts))
     })?;
     let d = sweep_results(py, &opts.param, &results)?;
@@ -794,7 +719,7 @@ fn basins<'py>(
                     n: 200,
                 },
             };
-            let mut identify = identify_options(&cfg, &ident)?;
+            let mut identify = ident.options(&cfg)?;
             identify.sim.tau0 = phase * model.excitation_period();
             let opts = BasinOptions {
                 x: xa,
@@ -863,23 +788,22 @@ fn continuation<'py>(
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let values = values_of(values, range)?;
-            geardyn_analysis::bifurcation::check_ics(ics)?;
-            let region = attractor_region(scenario.model().backlash_levels().1);
+            let b = InitialBox::new(
+                ics,
+                seed,
+                x0_range,
+                v0_range,
+                scenario.model().backlash_levels().1,
+            )?;
             let opts = ContinuationOptions {
                 param,
                 values,
-                ics,
-                seed,
-                x0_range: match x0_range {
-                    Some(p) => check_pair(p, "x0_range")?,
-                    None => region.0,
-                },
-                v0_range: match v0_range {
-                    Some(p) => check_pair(p, "v0_range")?,
-                    None => region.1,
-                },
+                ics: b.ics,
+                seed: b.seed,
+                x0_range: b.x0_range,
+                v0_range: b.v0_range,
                 phase: check_phase(phase)?,
-                identify: identify_options(&cfg, &ident)?,
+                identify: ident.options(&cfg)?,
             };
             cfg.check_work(
                 scenario.model(),

@@ -287,6 +287,84 @@ impl Default for IdentifyOptions {
     }
 }
 
+/// An identification setting out of range ([`IdentifyRequest::options`]); the message names the
+/// setting as the CLI spells it (Python's keywords are the same names in snake case).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum IdentifyError {
+    /// The adaptive integrator's relative tolerance (`--ident-rtol`, `ident_rtol`).
+    #[error("bad --ident-rtol {}: allowed (0, 1e-3)", geardyn_model::error::num(*.0))]
+    Rtol(f64),
+    /// The early-capture tolerance (`--capture-tol`, `capture_tol`).
+    #[error("bad --capture-tol {}: allowed (0, 1)", geardyn_model::error::num(*.0))]
+    CaptureTol(f64),
+}
+
+/// The attractor-identification settings a caller chooses (`geardyn basins` and `geardyn
+/// continuation`: `--capture-tol`, `--ident-rtol`, `--no-early-stop`; Python's `capture_tol`,
+/// `ident_rtol`, `early_stop`): their defaults and limits in one place, turned into the
+/// [`IdentifyOptions`] of a run by [`IdentifyRequest::options`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IdentifyRequest {
+    /// Early-capture tolerance, absolute in state units (dimensionless lengths and velocities),
+    /// in `(0, 1)`; the matching of periodic descriptors uses ten times it.
+    pub capture_tol: f64,
+    /// Relative tolerance of the adaptive integrator during identification, in `(0, 1e-3)`
+    /// (the capture test needs ~1e-5 in the state; 1e-7 leaves a factor 100). Ignored with a
+    /// fixed-step integrator.
+    pub ident_rtol: f64,
+    /// Stop a run early once it is captured by a known attractor (`false`: every run is
+    /// integrated for the whole transient).
+    pub early_capture: bool,
+}
+
+impl IdentifyRequest {
+    /// The defaults of the CLI and of Python.
+    pub const DEFAULT: IdentifyRequest = IdentifyRequest {
+        capture_tol: 1e-4,
+        ident_rtol: 1e-7,
+        early_capture: true,
+    };
+
+    /// The identification options of a run with simulation settings `sim` (the configuration's):
+    /// with the adaptive integrator, its relative tolerance becomes `ident_rtol` and its absolute
+    /// tolerance at least `ident_rtol * 1e-3`. Checks `ident_rtol` (only with the adaptive
+    /// integrator) and then `capture_tol`.
+    ///
+    /// ```
+    /// use geardyn_analysis::attractor::IdentifyRequest;
+    /// use geardyn_analysis::simulate::SimOptions;
+    /// let o = IdentifyRequest::DEFAULT.options(SimOptions::default()).unwrap();
+    /// assert_eq!(o.match_tol, 10.0 * o.capture_tol);
+    /// let bad = IdentifyRequest { capture_tol: 2.0, ..IdentifyRequest::DEFAULT };
+    /// assert!(bad.options(SimOptions::default()).unwrap_err().to_string().contains("--capture-tol 2"));
+    /// ```
+    pub fn options(&self, mut sim: SimOptions) -> Result<IdentifyOptions, IdentifyError> {
+        if let crate::simulate::Method::Dopri { rtol, atol } = &mut sim.method {
+            if !(self.ident_rtol > 0.0 && self.ident_rtol < 1e-3) {
+                return Err(IdentifyError::Rtol(self.ident_rtol));
+            }
+            *rtol = self.ident_rtol;
+            *atol = atol.max(self.ident_rtol * 1e-3);
+        }
+        if !(self.capture_tol > 0.0 && self.capture_tol < 1.0) {
+            return Err(IdentifyError::CaptureTol(self.capture_tol));
+        }
+        Ok(IdentifyOptions {
+            sim,
+            capture_tol: self.capture_tol,
+            match_tol: 10.0 * self.capture_tol,
+            early_capture: self.early_capture,
+            ..Default::default()
+        })
+    }
+}
+
+impl Default for IdentifyRequest {
+    fn default() -> Self {
+        IdentifyRequest::DEFAULT
+    }
+}
+
 /// Outcome of one trajectory.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Outcome {

@@ -19,6 +19,11 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
+/// An unknown section name ([`Section::parse_list`]).
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("unknown section '{0}': allowed {list}", list = Section::ALL.map(Section::name).join(", "))]
+pub struct SectionError(pub String);
+
 /// A Poincaré section of the bifurcation diagram.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -61,6 +66,22 @@ impl Section {
     /// Parses a name.
     pub fn parse(s: &str) -> Option<Section> {
         Section::ALL.into_iter().find(|x| x.name() == s)
+    }
+    /// Parses a list of names (`--sections strobe,ds_up` split at the commas; Python's
+    /// `sections`), each trimmed of spaces; an unknown name is refused with the allowed ones.
+    ///
+    /// ```
+    /// use geardyn_analysis::bifurcation::Section;
+    /// assert_eq!(Section::parse_list(["strobe", " impact"]).unwrap(), [Section::Strobe, Section::Impact]);
+    /// assert!(Section::parse_list(["nope"]).unwrap_err().to_string().starts_with("unknown section 'nope'"));
+    /// ```
+    pub fn parse_list<'a>(
+        names: impl IntoIterator<Item = &'a str>,
+    ) -> Result<Vec<Section>, SectionError> {
+        names
+            .into_iter()
+            .map(|t| Section::parse(t.trim()).ok_or_else(|| SectionError(t.to_string())))
+            .collect()
     }
     fn of_level(l: Level) -> Section {
         match l {
@@ -134,11 +155,58 @@ fn check_range(name: &'static str, r: (f64, f64)) -> Result<(f64, f64), ModeErro
     }
 }
 
+/// The random initial states of every parameter value, checked and defaulted: those of a
+/// multi-initial sweep ([`SweepMode::Multi`]) and of an attractor continuation
+/// (`crate::continuation::ContinuationOptions`). Dimensionless: `x0` in backlash units `b_c`,
+/// `v0` in `b_c omega_n`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InitialBox {
+    /// Initial states per value, `1 ..= MAX_ICS`.
+    pub ics: usize,
+    /// Seed of the generator (with the value index and the state index).
+    pub seed: u64,
+    /// `x0` interval, finite, `MIN <= MAX`.
+    pub x0_range: (f64, f64),
+    /// `v0` interval, finite, `MIN <= MAX`.
+    pub v0_range: (f64, f64),
+}
+
+impl InitialBox {
+    /// The box of `ics` initial states per value ([`check_ics`]) drawn with `seed` from
+    /// `x0_range` x `v0_range`, each by default that of the [`attractor_region`] of the largest
+    /// half backlash `d_max` — the one place the CLI (`--ics`, `--x0-range`, `--v0-range`) and
+    /// Python (`ics`, `x0_range`, `v0_range`) check and default them. The error names the field
+    /// and its allowed range.
+    ///
+    /// ```
+    /// use geardyn_analysis::bifurcation::{attractor_region, InitialBox};
+    /// let b = InitialBox::new(8, 1, None, Some((-1.0, 1.0)), 0.5).unwrap();
+    /// assert_eq!((b.x0_range, b.v0_range), (attractor_region(0.5).0, (-1.0, 1.0)));
+    /// assert!(InitialBox::new(0, 1, None, None, 0.5).is_err());
+    /// assert!(InitialBox::new(8, 1, Some((1.0, 0.0)), None, 0.5).is_err());
+    /// ```
+    pub fn new(
+        ics: usize,
+        seed: u64,
+        x0_range: Option<(f64, f64)>,
+        v0_range: Option<(f64, f64)>,
+        d_max: f64,
+    ) -> Result<Self, ModeError> {
+        let region = attractor_region(d_max);
+        Ok(InitialBox {
+            ics: check_ics(ics)?,
+            seed,
+            x0_range: check_range("x0_range", x0_range.unwrap_or(region.0))?,
+            v0_range: check_range("v0_range", v0_range.unwrap_or(region.1))?,
+        })
+    }
+}
+
 impl SweepMode {
     /// The mode named `name` (`fixed`, `sweep` or `multi`) — the one place the CLI and the Python
-    /// module turn their options into a mode. For `multi`: `ics` initial states per value
-    /// ([`check_ics`]) drawn with `seed` from `x0_range` x `v0_range`, by default the
-    /// [`attractor_region`] of the largest half backlash `d_max`.
+    /// module turn their options into a mode. For `multi`: the [`InitialBox`] of `ics`, `seed`,
+    /// `x0_range`, `v0_range` and `d_max`. A range given is checked whatever the mode (a box
+    /// that is no interval is a mistake even where it is not used).
     pub fn from_name(
         name: &str,
         ics: usize,
@@ -147,16 +215,21 @@ impl SweepMode {
         v0_range: Option<(f64, f64)>,
         d_max: f64,
     ) -> Result<Self, ModeError> {
+        for (field, range) in [("x0_range", x0_range), ("v0_range", v0_range)] {
+            if let Some(r) = range {
+                check_range(field, r)?;
+            }
+        }
         match name {
             "fixed" => Ok(SweepMode::Fixed),
             "sweep" => Ok(SweepMode::Sweep),
             "multi" => {
-                let region = attractor_region(d_max);
+                let b = InitialBox::new(ics, seed, x0_range, v0_range, d_max)?;
                 Ok(SweepMode::Multi {
-                    ics: check_ics(ics)?,
-                    seed,
-                    x0_range: check_range("x0_range", x0_range.unwrap_or(region.0))?,
-                    v0_range: check_range("v0_range", v0_range.unwrap_or(region.1))?,
+                    ics: b.ics,
+                    seed: b.seed,
+                    x0_range: b.x0_range,
+                    v0_range: b.v0_range,
                 })
             }
             other => Err(ModeError::Name(other.to_string())),

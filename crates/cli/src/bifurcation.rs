@@ -1,11 +1,11 @@
 //! `geardyn bifurcation` and `geardyn response`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{check_sweep, parse_pair, parse_range, run_checkpointed, SimArgs};
+use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
 use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::bifurcation::{detect_jumps, linspace, Section, SweepMode, SweepOptions};
-use geardyn_io::request::BifurcationRequest;
+use geardyn_analysis::bifurcation::{detect_jumps, linspace};
+use geardyn_io::request::{BifurcationRequest, SweepSpec};
 use geardyn_io::{output, run_record, sweep_output};
 use geardyn_scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -50,23 +50,6 @@ pub struct BifurcationArgs {
     out: PathBuf,
 }
 
-fn sections(s: &str) -> Result<Vec<Section>> {
-    s.split(',')
-        .map(|t| {
-            Section::parse(t.trim()).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "unknown section '{t}': allowed {}",
-                    Section::ALL
-                        .iter()
-                        .map(|s| s.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            })
-        })
-        .collect()
-}
-
 impl BifurcationArgs {
     /// The resolved request and its scenario: the one place `bifurcation` and `plan bifurcation`
     /// turn their flags into options (validated, the work checked against its cap).
@@ -75,40 +58,20 @@ impl BifurcationArgs {
         self.sim.apply(&mut cfg, &self.cfg.sets)?;
         let scenario = cfg.resolve()?;
         let (lo, hi, n) = parse_range(&self.range)?;
-        let secs = sections(&self.sections)?;
-        let mode = SweepMode::from_name(
-            &self.mode,
-            self.ics,
-            self.seed,
-            self.x0_range
-                .as_deref()
-                .map(|s| parse_pair(s, "--x0-range"))
-                .transpose()?,
-            self.v0_range
-                .as_deref()
-                .map(|s| parse_pair(s, "--v0-range"))
-                .transpose()?,
-            scenario.model().backlash_levels().1,
-        )?;
-        let opts = SweepOptions {
+        let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+        let spec = SweepSpec {
             param: self.param.clone(),
             values: linspace(lo, hi, n),
-            mode,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            sections: secs,
+            mode: self.mode.clone(),
+            ics: self.ics,
+            seed: self.seed,
+            x0_range: pair(&self.x0_range, "--x0-range")?,
+            v0_range: pair(&self.v0_range, "--v0-range")?,
+            sections: self.sections.split(',').map(str::to_string).collect(),
             lyapunov: self.lyapunov,
         };
-        check_sweep(&cfg, &scenario, &opts)?;
-        Ok((
-            BifurcationRequest {
-                config: cfg,
-                source: self.cfg.source(),
-                mode: self.mode.clone(),
-                options: opts,
-            },
-            scenario,
-        ))
+        let req = BifurcationRequest::new(cfg, self.cfg.source(), &scenario, &spec)?;
+        Ok((req, scenario))
     }
 
     /// The output directory (`--out`): the store of `plan bifurcation`.
@@ -170,15 +133,8 @@ pub fn response(a: ResponseArgs) -> Result<()> {
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
-    let opts = SweepOptions {
-        param: a.param.clone(),
-        values: linspace(lo, hi, n),
-        mode: SweepMode::Sweep,
-        sim: cfg.sim_options()?,
-        y0: [cfg.simulation.x0, cfg.simulation.v0],
-        sections: vec![],
-        lyapunov: false,
-    };
+    let opts =
+        SweepSpec::response(a.param.clone(), linspace(lo, hi, n)).options(&cfg, &scenario)?;
     let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.sim.force)?;
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     run_record::write_sweep_record(

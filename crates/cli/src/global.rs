@@ -4,9 +4,9 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::{open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, Outcome};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
-use geardyn_analysis::bifurcation::{attractor_region, linspace};
+use geardyn_analysis::bifurcation::{linspace, InitialBox};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
 use geardyn_io::figure::LabelColors;
@@ -17,46 +17,32 @@ use geardyn_scenario::Scenario;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-fn identify_options(cfg: &Config, a: &IdentArgs) -> Result<IdentifyOptions> {
-    let mut sim = cfg.sim_options()?;
-    if let geardyn_analysis::simulate::Method::Dopri { rtol, atol } = &mut sim.method {
-        if !(a.ident_rtol > 0.0 && a.ident_rtol < 1e-3) {
-            bail!(
-                "bad --ident-rtol {}: allowed (0, 1e-3)",
-                geardyn_model::error::num(a.ident_rtol)
-            );
-        }
-        *rtol = a.ident_rtol;
-        *atol = atol.max(a.ident_rtol * 1e-3);
-    }
-    if !(a.capture_tol > 0.0 && a.capture_tol < 1.0) {
-        bail!(
-            "bad --capture-tol {}: allowed (0, 1)",
-            geardyn_model::error::num(a.capture_tol)
-        );
-    }
-    Ok(IdentifyOptions {
-        sim,
-        capture_tol: a.capture_tol,
-        match_tol: 10.0 * a.capture_tol,
-        early_capture: !a.no_early_stop,
-        ..Default::default()
-    })
-}
-
 /// Attractor-identification settings.
 #[derive(Args, Debug)]
 pub struct IdentArgs {
     /// Early-capture tolerance (state units); matching uses ten times it.
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(long, default_value_t = IdentifyRequest::DEFAULT.capture_tol)]
     capture_tol: f64,
     /// Integrate every cell for the whole transient (no early stop on a known attractor).
     #[arg(long)]
     no_early_stop: bool,
     /// Relative tolerance of the adaptive integrator for identification (the capture test
     /// needs ~1e-5 in the state; 1e-7 leaves a factor 100).
-    #[arg(long, default_value_t = 1e-7)]
+    #[arg(long, default_value_t = IdentifyRequest::DEFAULT.ident_rtol)]
     ident_rtol: f64,
+}
+
+impl IdentArgs {
+    /// The identification options on the configuration's simulation settings (checked by the
+    /// library's [`IdentifyRequest`], as Python's).
+    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
+        let req = IdentifyRequest {
+            capture_tol: self.capture_tol,
+            ident_rtol: self.ident_rtol,
+            early_capture: !self.no_early_stop,
+        };
+        Ok(req.options(cfg.sim_options()?)?)
+    }
 }
 
 /// Arguments of `geardyn basins`.
@@ -147,7 +133,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
             ax.min, ax.max, ax.n
         );
     }
-    let mut ident = identify_options(&cfg, &a.ident)?;
+    let mut ident = a.ident.options(&cfg)?;
     ident.sim.tau0 = a.phase * model.excitation_period();
     let opts = BasinOptions {
         x,
@@ -271,23 +257,23 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
-    geardyn_analysis::bifurcation::check_ics(a.ics)?;
-    let region = attractor_region(scenario.model().backlash_levels().1);
+    let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+    let b = InitialBox::new(
+        a.ics,
+        a.seed,
+        pair(&a.x0_range, "--x0-range")?,
+        pair(&a.v0_range, "--v0-range")?,
+        scenario.model().backlash_levels().1,
+    )?;
     let opts = ContinuationOptions {
         param: a.param.clone(),
         values: linspace(lo, hi, n),
-        ics: a.ics,
-        seed: a.seed,
-        x0_range: match &a.x0_range {
-            Some(s) => parse_pair(s, "--x0-range")?,
-            None => region.0,
-        },
-        v0_range: match &a.v0_range {
-            Some(s) => parse_pair(s, "--v0-range")?,
-            None => region.1,
-        },
+        ics: b.ics,
+        seed: b.seed,
+        x0_range: b.x0_range,
+        v0_range: b.v0_range,
         phase: check_phase(a.phase)?,
-        identify: identify_options(&cfg, &a.ident)?,
+        identify: a.ident.options(&cfg)?,
     };
     cfg.check_work(
         scenario.model(),

@@ -225,26 +225,8 @@ impl<'a> Recorder<'a> {
     }
 }
 
-/// Checks a sweep before anything is written: the swept parameter valid at both ends, the work
-/// below its cap.
-pub fn check_sweep(cfg: &Config, scenario: &Scenario, opts: &SweepOptions) -> Result<()> {
-    for v in [opts.values.first(), opts.values.last()]
-        .into_iter()
-        .flatten()
-    {
-        scenario.with(&opts.param, *v).with_context(|| {
-            format!("--param {} = {}", opts.param, geardyn_model::error::num(*v))
-        })?;
-    }
-    let ics = match opts.mode {
-        geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),
-        _ => 1,
-    };
-    cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
-    Ok(())
-}
-
-/// Runs a sweep with a checkpoint in `out` and a progress bar on stderr.
+/// Runs a sweep, checked by the library ([`geardyn_io::request::SweepSpec::options`]), with a
+/// checkpoint in `out` and a progress bar on stderr.
 pub fn run_checkpointed(
     cfg: &Config,
     scenario: &Scenario,
@@ -253,7 +235,6 @@ pub fn run_checkpointed(
     kind: &str,
     force: bool,
 ) -> Result<Vec<TaskResult>> {
-    check_sweep(cfg, scenario, opts)?;
     let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
     // a record is trusted only if it is one of this sweep's tasks, at its value, complete
     let runs_per_task = match opts.mode {

@@ -10,10 +10,13 @@
 
 use crate::figure::{colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED};
 use crate::output::{write_text, OutputError};
+use crate::ConfigError;
 use crate::{npy, run_record, schema, sweep_output, Config};
-use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{
+    ModeError, Section, SectionError, SweepMode, SweepOptions, TaskResult,
+};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
-use geardyn_scenario::Scenario;
+use geardyn_scenario::{Scenario, ScenarioError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -52,6 +55,173 @@ pub struct BifurcationRequest {
     pub mode: String,
     /// Values, mode, sections and simulation settings.
     pub options: SweepOptions,
+}
+
+/// A sweep request that cannot run: each message names the field (the CLI's flag, or the name
+/// shared by the CLI and Python) and what is allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepRequestError {
+    /// The simulation settings or the work cap of the configuration.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The mode or its initial states (`mode`, `ics`, `x0_range`, `v0_range`).
+    #[error(transparent)]
+    Mode(#[from] ModeError),
+    /// A section name.
+    #[error(transparent)]
+    Section(#[from] SectionError),
+    /// The swept parameter refused at one end of the values.
+    #[error("--param {param} = {value}")]
+    Param {
+        /// The parameter.
+        param: String,
+        /// The value, printed as [`geardyn_model::error::num`] prints it.
+        value: String,
+        /// Why the scenario refused it.
+        #[source]
+        source: ScenarioError,
+    },
+}
+
+/// A one-parameter sweep as the faces state it (the flags of `geardyn bifurcation` and `geardyn
+/// response`, the keyword arguments of `geardyn.bifurcation` and `geardyn.response`), before it
+/// is checked: [`SweepSpec::options`] is the one place its mode, initial states, sections and
+/// simulation settings are checked and defaulted, and [`check_sweep`] the one place the values
+/// and the work are.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSpec {
+    /// Parameter swept (any of [`geardyn_model::PARAMETER_NAMES`]).
+    pub param: String,
+    /// Its values, in order (dimensionless, as the parameter).
+    pub values: Vec<f64>,
+    /// Mode name: `fixed`, `sweep` or `multi` ([`SweepMode::from_name`]).
+    pub mode: String,
+    /// Initial states per value (`multi` only), `1 ..= MAX_ICS`.
+    pub ics: usize,
+    /// Seed of the initial states (`multi` only).
+    pub seed: u64,
+    /// `x0` interval of the initial states (`multi` only); `None`: the attractor region.
+    pub x0_range: Option<(f64, f64)>,
+    /// `v0` interval of the initial states (`multi` only); `None`: the attractor region.
+    pub v0_range: Option<(f64, f64)>,
+    /// Section names ([`Section::parse_list`]).
+    pub sections: Vec<String>,
+    /// Also compute the top Lyapunov exponent per run.
+    pub lyapunov: bool,
+}
+
+impl Default for SweepSpec {
+    /// The defaults of `geardyn bifurcation` (`geardyn.bifurcation` has the same but for the
+    /// values, which it asks for): 200 values of `omega` over `[0.5, 2]`, every value from the
+    /// configuration's initial state, the stroboscopic section (8 initial states of seed 1 in
+    /// the attractor region when the mode is changed to `multi`).
+    fn default() -> Self {
+        SweepSpec {
+            param: "omega".into(),
+            values: geardyn_analysis::bifurcation::linspace(0.5, 2.0, 200),
+            mode: "fixed".into(),
+            ics: 8,
+            seed: 1,
+            x0_range: None,
+            v0_range: None,
+            sections: vec!["strobe".into()],
+            lyapunov: false,
+        }
+    }
+}
+
+impl SweepSpec {
+    /// The sweep of `geardyn response` over `values` of `param`: continuation up and down, no
+    /// sections, no exponent.
+    pub fn response(param: String, values: Vec<f64>) -> SweepSpec {
+        SweepSpec {
+            param,
+            values,
+            mode: "sweep".into(),
+            sections: vec![],
+            ..SweepSpec::default()
+        }
+    }
+
+    /// The checked options of the sweep on configuration `cfg` (its simulation settings and its
+    /// initial state `[x0, v0]` for the fixed mode and the continuation chains) and its resolved
+    /// `scenario` (the default region of the initial states is that of its largest half
+    /// backlash); the values and the work are checked too ([`check_sweep`]). Checks in the
+    /// order sections, mode, simulation settings, values, work.
+    pub fn options(
+        &self,
+        cfg: &Config,
+        scenario: &Scenario,
+    ) -> Result<SweepOptions, SweepRequestError> {
+        let sections = Section::parse_list(self.sections.iter().map(String::as_str))?;
+        let mode = SweepMode::from_name(
+            &self.mode,
+            self.ics,
+            self.seed,
+            self.x0_range,
+            self.v0_range,
+            scenario.model().backlash_levels().1,
+        )?;
+        let opts = SweepOptions {
+            param: self.param.clone(),
+            values: self.values.clone(),
+            mode,
+            sim: cfg.sim_options()?,
+            y0: [cfg.simulation.x0, cfg.simulation.v0],
+            sections,
+            lyapunov: self.lyapunov,
+        };
+        check_sweep(cfg, scenario, &opts)?;
+        Ok(opts)
+    }
+}
+
+/// Checks a sweep before anything runs or is written: the swept parameter valid at both ends of
+/// its values, the estimated work (every run's decision at its worst) below the configuration's
+/// cap `max_work`.
+pub fn check_sweep(
+    cfg: &Config,
+    scenario: &Scenario,
+    opts: &SweepOptions,
+) -> Result<(), SweepRequestError> {
+    for v in [opts.values.first(), opts.values.last()]
+        .into_iter()
+        .flatten()
+    {
+        scenario
+            .with(&opts.param, *v)
+            .map_err(|source| SweepRequestError::Param {
+                param: opts.param.clone(),
+                value: geardyn_model::error::num(*v),
+                source,
+            })?;
+    }
+    let ics = match opts.mode {
+        SweepMode::Multi { ics, .. } => ics.max(1),
+        _ => 1,
+    };
+    cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
+    Ok(())
+}
+
+impl BifurcationRequest {
+    /// The request of the sweep `spec` on configuration `config` (every override applied) and
+    /// its resolved `scenario`, checked ([`SweepSpec::options`]); `source` names the model in
+    /// titles.
+    pub fn new(
+        config: Config,
+        source: String,
+        scenario: &Scenario,
+        spec: &SweepSpec,
+    ) -> Result<BifurcationRequest, SweepRequestError> {
+        let options = spec.options(&config, scenario)?;
+        Ok(BifurcationRequest {
+            config,
+            source,
+            mode: spec.mode.clone(),
+            options,
+        })
+    }
 }
 
 /// The request of one grid-shaped command.
