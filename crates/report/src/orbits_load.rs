@@ -19,14 +19,15 @@ const SOURCE: &str = "seed A 000 (summary) ¶9; 001 (paper) §4";
 /// `1-20-0` orbit of the high loads) and the range followed, at the load sweep's speed.
 const START: f64 = 0.088;
 const RANGE: (f64, f64) = (0.03, 0.12);
+const QUICK_RANGE: (f64, f64) = (0.07, 0.1);
 
 /// Periodic orbits over F at the load sweep's speed `omega`.
 pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result<Section> {
     let b = base.with("omega", omega)?;
-    let (lo, hi) = RANGE;
-    // (a quick page follows fewer points: the branch ends in a singular stretch where the
-    // corrector's steps shrink)
-    let max_points = ctx.n(20, 400);
+    // (a quick page follows fewer points over a shorter range: the branch ends in a singular
+    // stretch where the corrector's steps shrink, and the continuation runs on one core)
+    let (lo, hi) = ctx.n(QUICK_RANGE, RANGE);
+    let max_points = ctx.n(14, 400);
     let req = OrbitsRequest {
         max_points,
         ..Default::default()
@@ -40,7 +41,7 @@ pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result
         (lo, hi),
         [0.0, 0.0],
         // (each value is 360 revolutions of 40 mesh cycles)
-        ctx.n(12, 60),
+        ctx.n(8, 60),
         &c,
         "Seed A: periodic orbits over F",
         &format!("The orbit reached from rest at F = {START} followed down and up in F at omega = {omega} (stable orbits as lines, unstable ones as dots, bifurcation points marked), over the stroboscopic points simulated from rest (grey)."),
