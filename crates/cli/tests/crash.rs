@@ -35,7 +35,23 @@ fn killed_and_resumed_equals_clean(cmd: &[&str], result: &str, name: &str) {
         let _ = c.kill(); // SIGKILL
         let _ = c.wait();
     }
-    assert!(geardyn(&args(&hurt)).wait().unwrap().success());
+    // (the resume's messages are kept: a failure here says why)
+    let resumed = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(args(&hurt))
+        .output()
+        .unwrap();
+    let listing: Vec<String> = std::fs::read_dir(&hurt)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    assert!(
+        resumed.status.success(),
+        "{name}: the resumed run failed: {}\nfolder: {listing:?}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
     assert_eq!(
         std::fs::read(clean.join(result)).unwrap(),
         std::fs::read(hurt.join(result)).unwrap(),

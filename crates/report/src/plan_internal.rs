@@ -2596,6 +2596,20 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             .reduce(f64::min)
             .filter(|_| twin)
     });
+    // how the branch turns there: a smooth fold (a multiplier at +1) or at a grazing
+    let turn_kind = |t: f64| {
+        let at = c
+            .bifurcations
+            .iter()
+            .find(|x| x.orbit.period == 2 && x.param == t);
+        match at {
+            Some(x) if x.kind == BifurcationKind::Fold => format!(
+                "a fold: a multiplier is {} there",
+                f(x.orbit.multipliers[0].re)
+            ),
+            _ => "at a grazing".to_string(),
+        }
+    };
     let p1_stable = |xi: f64| {
         c.points
             .iter()
@@ -2621,10 +2635,11 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     };
     if let Some((a, e)) = window {
         readings.push(format!(
-            "Stable period-1 and period-2 orbits coexist for xi in ({}, {}) (up to the first doubling of either): the period-2 orbit appears at xi = {}, where its branch turns (a fold at grazing) into an unstable period-2 orbit, the saddle between the two basins; it is not born from the period-1 orbit, which stays stable until its doubling at xi = {}.",
+            "Stable period-1 and period-2 orbits coexist for xi in ({}, {}) (up to the first doubling of either): the period-2 orbit appears at xi = {}, where its branch turns ({}) into an unstable period-2 orbit, the saddle between the two basins; it is not born from the period-1 orbit, which stays stable until its doubling at xi = {}.",
             f(a),
             f(e),
             f(a),
+            turn_kind(a),
             p1_end.map_or("the end of the range".into(), f)
         ));
     }
@@ -2640,7 +2655,7 @@ fn orbits_xi(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             },
         },
         Verdict::of(window.is_some()),
-        "Shooting and pseudo-arclength continuation of the period-1 branch (from rest) and of the period-2 attractor's branch (found at xi = 0.02); reproduced when the period-2 branch turns (a fold, here at a grazing) inside the period-1 orbit's stable range, with its unstable twin beside it, so that both orbits are stable beside each other.",
+        "Shooting and pseudo-arclength continuation of the period-1 branch (from rest) and of the period-2 attractor's branch (found at xi = 0.02); reproduced when the period-2 branch turns (a fold, or at a grazing) inside the period-1 orbit's stable range, with its unstable twin beside it, so that both orbits are stable beside each other.",
     );
     Ok(Section {
         id: "orbits_xi".into(),
