@@ -7,22 +7,18 @@ mod util;
 
 use anyhow::{bail, Context, Result};
 use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
-use geardyn_analysis::basins::{basins as run_basins, Axis, BasinOptions};
-use geardyn_analysis::bifurcation::{
-    detect_jumps, linspace, run_sweep, InitialBox, SweepOptions, Task, TaskResult,
-};
+use geardyn_analysis::basins::{Axis, BasinOptions};
+use geardyn_analysis::bifurcation::{detect_jumps, linspace, InitialBox, SweepOptions, TaskResult};
 use geardyn_analysis::classify::{simulate_decided, Decide};
-use geardyn_analysis::continuation::{
-    continuation as run_continuation, ContinuationOptions, ValueAttractors,
-};
+use geardyn_analysis::continuation::{ContinuationOptions, ValueAttractors};
 use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
-use geardyn_analysis::map2d::{map2d as run_map2d, MapCell, MapOptions, METRICS};
+use geardyn_analysis::map2d::{MapCell, MapOptions, METRICS};
 use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, SweepJob};
 use geardyn_io::request::SweepSpec;
 use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::collections::HashMap;
 use util::{arr1, arr2, json_to_py, ser_to_py, to_pyerr, Columns, Ctl};
 
 /// Where a configuration comes from: a preset, a TOML file, or a configuration as JSON (the dict
@@ -541,10 +537,7 @@ fn sweep(
     scenario: &geardyn_scenario::Scenario,
     opts: &SweepOptions,
 ) -> Result<Vec<TaskResult>> {
-    let n = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
-    ctl.set_total(n, 0);
-    let done: HashMap<Task, TaskResult> = HashMap::new();
-    Ok(run_sweep(scenario, opts, &done, |r| ctl.keep(r.clone()))?)
+    Ok(execute(&SweepJob::new("sweep", scenario, opts), None, ctl)?)
 }
 
 /// The partial result of an interrupted sweep of `param`: its finished values, as a sweep's
@@ -727,10 +720,8 @@ fn basins<'py>(
                 identify,
             };
             cfg.check_work(model, &opts.identify.sim, xa.n * va.n, false)?;
-            ctl.set_total((xa.n * va.n) as u64, 0);
-            let done: HashMap<usize, Outcome> = HashMap::new();
             let t = std::time::Instant::now();
-            let r = run_basins(model, &opts, &done, |c, o| ctl.keep((c, o.clone())));
+            let r = execute(&BasinsJob { model, opts: &opts }, None, ctl)?;
             Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
         },
     )?;
@@ -811,9 +802,11 @@ fn continuation<'py>(
                 opts.values.len() * opts.ics,
                 false,
             )?;
-            ctl.set_total(opts.values.len() as u64, 0);
-            let done = HashMap::new();
-            let r = run_continuation(&scenario, &opts, &done, |v| ctl.keep(v.clone()))?;
+            let job = ContinuationJob {
+                scenario: &scenario,
+                opts: &opts,
+            };
+            let r = execute(&job, None, ctl)?;
             Ok((r, cfg, opts))
         },
     )?;
@@ -897,9 +890,11 @@ fn map2d<'py>(
                 opts.x_values.len() * opts.y_values.len(),
                 true,
             )?;
-            ctl.set_total((opts.x_values.len() * opts.y_values.len()) as u64, 0);
-            let done = HashMap::new();
-            let cells = run_map2d(&scenario, &opts, &done, |c| ctl.keep(c.clone()))?;
+            let job = MapJob {
+                scenario: &scenario,
+                opts: &opts,
+            };
+            let cells = execute(&job, None, ctl)?;
             Ok((cells, cfg, opts, metric))
         },
     )?;

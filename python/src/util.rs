@@ -160,6 +160,16 @@ impl Ctl {
     }
 }
 
+/// The executor's observer: the total, and every finished item counted and kept.
+impl<R: Any + Send + Clone> geardyn_io::executor::Observer<R> for Ctl {
+    fn start(&self, _kind: &str, total: u64, done: u64) {
+        self.set_total(total, done);
+    }
+    fn finished(&self, record: &R) {
+        self.keep(record.clone());
+    }
+}
+
 /// Builds the partial result of an interrupted call from its [`Ctl`] (`None`: nothing to offer).
 pub type Partial = Box<dyn FnOnce(Python<'_>, &Ctl) -> PyResult<Option<Py<PyAny>>>>;
 

@@ -1,20 +1,20 @@
 //! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{open_checkpoint, parse_pair, parse_range, Recorder, SimArgs};
+use crate::sweep::{parse_pair, parse_range, progress, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
-use geardyn_analysis::basins::{basins, Axis, BasinOptions};
+use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest};
+use geardyn_analysis::basins::{Axis, BasinOptions};
 use geardyn_analysis::bifurcation::{linspace, InitialBox};
-use geardyn_analysis::continuation::{continuation, ContinuationOptions, ValueAttractors};
-use geardyn_analysis::map2d::{map2d, MapCell, MapOptions, METRICS};
+use geardyn_analysis::continuation::ContinuationOptions;
+use geardyn_analysis::map2d::{MapOptions, METRICS};
+use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
 use geardyn_io::request::MapRequest;
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// Attractor-identification settings.
@@ -141,13 +141,12 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
         identify: ident,
     };
     cfg.check_work(model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
-    let (cp, done) =
-        open_checkpoint::<(usize, Outcome)>(&a.out, &cfg, "basins", &opts, a.sim.force)?;
-    let done: HashMap<usize, Outcome> = done.into_iter().filter(|(c, _)| *c < x.n * v.n).collect();
-    let rec = Recorder::new(&cp, (x.n * v.n) as u64, done.len() as u64, "basins");
     let t = std::time::Instant::now();
-    let r = basins(model, &opts, &done, |c, o| rec.record(&(c, o)));
-    rec.finish()?;
+    let r = execute(
+        &BasinsJob { model, opts: &opts },
+        Some(Store::folder(&a.out, &cfg, a.sim.force)?),
+        &progress(&a.out),
+    )?;
     let elapsed = t.elapsed().as_secs_f64();
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     run_record::write_run_record(
@@ -281,16 +280,14 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         opts.values.len() * opts.ics,
         false,
     )?;
-    let (cp, done) =
-        open_checkpoint::<ValueAttractors>(&a.out, &cfg, "continuation", &opts, a.sim.force)?;
-    let done: HashMap<usize, ValueAttractors> = done
-        .into_iter()
-        .filter(|v| v.index < n)
-        .map(|v| (v.index, v))
-        .collect();
-    let rec = Recorder::new(&cp, n as u64, done.len() as u64, "continuation");
-    let r = continuation(&scenario, &opts, &done, |v| rec.record(v))?;
-    rec.finish()?;
+    let r = execute(
+        &ContinuationJob {
+            scenario: &scenario,
+            opts: &opts,
+        },
+        Some(Store::folder(&a.out, &cfg, a.sim.force)?),
+        &progress(&a.out),
+    )?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     run_record::write_sweep_record(
         &a.out,
@@ -457,17 +454,15 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());
-    let (cp, done) = open_checkpoint::<MapCell>(&a.out, &req.config, "map2d", opts, a.sim.force)?;
-    let total = nx * ny;
-    let done: HashMap<usize, MapCell> = done
-        .into_iter()
-        .filter(|c| c.index < total)
-        .map(|c| (c.index, c))
-        .collect();
-    let rec = Recorder::new(&cp, total as u64, done.len() as u64, "map2d");
     let t = std::time::Instant::now();
-    let cells = map2d(&scenario, opts, &done, |c| rec.record(c))?;
-    rec.finish()?;
+    let cells = execute(
+        &MapJob {
+            scenario: &scenario,
+            opts,
+        },
+        Some(Store::folder(&a.out, &req.config, a.sim.force)?),
+        &progress(&a.out),
+    )?;
     let (lo, hi) = req.write_folder(&a.out, &scenario, &cells, started)?;
     println!(
         "{}x{} cells in {:.2} s; {} in [{:.4}, {:.4}] -> {}",

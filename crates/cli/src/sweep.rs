@@ -3,14 +3,11 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::bifurcation::{run_sweep, tasks, SweepOptions, Task, TaskResult};
-use geardyn_io::checkpoint::Checkpoint;
-use geardyn_io::{run_record, Config};
+use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_io::executor::{execute, Progress, Store, SweepJob};
+use geardyn_io::Config;
 use geardyn_scenario::Scenario;
-use indicatif::{ProgressBar, ProgressStyle};
-use std::collections::HashMap;
 use std::path::Path;
-use std::sync::Mutex;
 
 /// Integration settings on the command line (override the config's `[simulation]`).
 #[derive(Args, Debug, Clone)]
@@ -149,82 +146,6 @@ pub fn parse_pair(s: &str, what: &str) -> Result<(f64, f64)> {
     Ok((a, b))
 }
 
-/// The checkpoint of a resumable command in `out`: refuses a folder holding another command's
-/// results or a checkpoint of other settings (unless `force`), and returns the records already
-/// finished by an interrupted run of the same settings.
-pub fn open_checkpoint<T: serde::Serialize + serde::de::DeserializeOwned>(
-    out: &Path,
-    cfg: &Config,
-    kind: &str,
-    settings: &impl serde::Serialize,
-    force: bool,
-) -> Result<(Checkpoint, Vec<T>)> {
-    let key = serde_json::to_string(
-        &serde_json::json!({ "kind": kind, "config": cfg, "settings": settings }),
-    )?;
-    let lock = run_record::prepare_folder(out, kind, Some(&key), force)?;
-    let (cp, done) = Checkpoint::open::<T>(&out.join("checkpoint.jsonl"), &key)?;
-    let cp = cp.hold(lock);
-    if !done.is_empty() {
-        eprintln!(
-            "resuming: {} items already computed in {}",
-            done.len(),
-            out.display()
-        );
-    }
-    Ok((cp, done))
-}
-
-/// Progress bar plus checkpoint appends from any thread; the first write error is kept and
-/// returned by [`Recorder::finish`].
-pub struct Recorder<'a> {
-    cp: &'a Checkpoint,
-    pb: ProgressBar,
-    err: Mutex<Option<geardyn_io::output::OutputError>>,
-}
-
-impl<'a> Recorder<'a> {
-    /// A recorder of `total` items, `done` of them finished before.
-    pub fn new(cp: &'a Checkpoint, total: u64, done: u64, what: &str) -> Self {
-        let pb = ProgressBar::new(total);
-        pb.set_style(
-            ProgressStyle::with_template(
-                "{msg} [{bar:40}] {pos}/{len}, {elapsed} elapsed, ETA {eta}",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        pb.set_message(what.to_string());
-        pb.set_position(done);
-        pb.reset_eta();
-        Recorder {
-            cp,
-            pb,
-            err: Mutex::new(None),
-        }
-    }
-
-    /// Checkpoints one finished item.
-    pub fn record<T: serde::Serialize>(&self, item: &T) {
-        if let Err(e) = self.cp.append(item) {
-            self.err
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get_or_insert(e);
-        }
-        self.pb.inc(1);
-    }
-
-    /// Ends the progress bar; the first checkpoint write error, if any.
-    pub fn finish(self) -> Result<()> {
-        self.pb.finish_and_clear();
-        match self.err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-            Some(e) => Err(e.into()),
-            None => Ok(()),
-        }
-    }
-}
-
 /// Runs a sweep, checked by the library ([`geardyn_io::request::SweepSpec::options`]), with a
 /// checkpoint in `out` and a progress bar on stderr.
 pub fn run_checkpointed(
@@ -235,24 +156,14 @@ pub fn run_checkpointed(
     kind: &str,
     force: bool,
 ) -> Result<Vec<TaskResult>> {
-    let (cp, done) = open_checkpoint::<TaskResult>(out, cfg, kind, opts, force)?;
-    // a record is trusted only if it is one of this sweep's tasks, at its value, complete
-    let runs_per_task = match opts.mode {
-        geardyn_analysis::bifurcation::SweepMode::Multi { ics, .. } => ics.max(1),
-        _ => 1,
-    };
-    let all = tasks(opts);
-    let done: HashMap<Task, TaskResult> = done
-        .into_iter()
-        .filter(|r| {
-            all.contains(&r.task)
-                && opts.values.get(r.task.index) == Some(&r.value)
-                && r.runs.len() == runs_per_task
-        })
-        .map(|r| (r.task, r))
-        .collect();
-    let rec = Recorder::new(&cp, tasks(opts).len() as u64, done.len() as u64, kind);
-    let results = run_sweep(scenario, opts, &done, |r| rec.record(r))?;
-    rec.finish()?;
-    Ok(results)
+    Ok(execute(
+        &SweepJob::new(kind, scenario, opts),
+        Some(Store::folder(out, cfg, force)?),
+        &progress(out),
+    )?)
+}
+
+/// The progress bar of a command writing into `out`.
+pub fn progress(out: &Path) -> Progress {
+    Progress::new(None).announcing_resume(out)
 }

@@ -5,6 +5,7 @@
 pub mod checkpoint;
 pub mod config;
 pub mod describe;
+pub mod executor;
 pub mod figure;
 pub mod npy;
 pub mod output;

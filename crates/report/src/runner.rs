@@ -3,21 +3,21 @@
 
 use crate::{rel, Figure, Section, Table};
 use anyhow::{Context, Result};
-use geardyn_analysis::basins::{basins, BasinOptions, BasinResult};
-use geardyn_analysis::bifurcation::{run_sweep, SweepOptions, TaskResult};
+use geardyn_analysis::basins::{BasinOptions, BasinResult};
+use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
 use geardyn_analysis::classify::{DECISION_BUDGET, DECISION_PERIODS};
-use geardyn_analysis::continuation::{
-    continuation, ContinuationOptions, ContinuationResult, ValueAttractors,
-};
-use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
+use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
+use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_analysis::simulate::{Method, SimOptions};
-use geardyn_io::checkpoint::{fnv1a, Checkpoint};
+use geardyn_io::checkpoint::fnv1a;
+use geardyn_io::executor::{
+    execute, BasinsJob, ContinuationJob, Job, MapJob, Progress, Store, SweepJob,
+};
 use geardyn_io::Config;
 use geardyn_model::MeshModel;
 use geardyn_scenario::Scenario;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Shared context of a report run.
@@ -30,17 +30,6 @@ pub struct Ctx {
     pub quick: bool,
     /// Report directory.
     pub dir: PathBuf,
-}
-
-fn bar(len: u64, msg: &str) -> ProgressBar {
-    let pb = ProgressBar::new(len);
-    pb.set_style(
-        ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed} ETA {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    pb.set_message(msg.to_string());
-    pb
 }
 
 /// Decision horizon of a `--quick` report (excitation periods): a coarse look, an order of
@@ -183,44 +172,18 @@ impl Ctx {
         out
     }
 
-    /// Runs `run` with a checkpoint `dir/name.checkpoint.jsonl` (keyed by `key`) and a progress
-    /// bar: `run` receives the records finished earlier (by `key_of`) and a callback that saves
-    /// each new record. The first write error is returned after the run.
-    fn checkpointed<T, K, R>(
+    /// Runs `job` with a checkpoint `dir/name.checkpoint.jsonl` (for the scenario `base`, by
+    /// its parameters and pair) and a progress bar labelled `name`.
+    fn checkpointed<J: Job>(
         &self,
         dir: &Path,
         name: &str,
-        key: &serde_json::Value,
-        total: u64,
-        key_of: impl Fn(&T) -> K,
-        run: impl FnOnce(&HashMap<K, T>, &(dyn Fn(&T) + Sync)) -> Result<R>,
-    ) -> Result<R>
-    where
-        T: Serialize + serde::de::DeserializeOwned,
-        K: Eq + std::hash::Hash,
-    {
-        let key = serde_json::to_string(key)?;
+        base: &serde_json::Value,
+        job: &J,
+    ) -> Result<J::Output> {
         let file = name.replace([' ', '/', '.'], "_");
-        let (cp, done) =
-            Checkpoint::open::<T>(&dir.join(format!("{file}.checkpoint.jsonl")), &key)?;
-        let done: HashMap<K, T> = done.into_iter().map(|t| (key_of(&t), t)).collect();
-        let pb = bar(total, name);
-        pb.set_position(done.len() as u64);
-        let err = std::sync::Mutex::new(None);
-        let record = |t: &T| {
-            if let Err(e) = cp.append(t) {
-                err.lock()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .get_or_insert(e);
-            }
-            pb.inc(1);
-        };
-        let r = run(&done, &record)?;
-        pb.finish_and_clear();
-        if let Some(e) = err.into_inner().unwrap_or_else(|e| e.into_inner()) {
-            return Err(e.into());
-        }
-        Ok(r)
+        let store = Store::file(&dir.join(format!("{file}.checkpoint.jsonl")), base)?;
+        Ok(execute(job, Some(store), &Progress::new(Some(name)))?)
     }
 
     /// A checkpointed sweep.
@@ -231,16 +194,11 @@ impl Ctx {
         base: &Scenario,
         opts: &SweepOptions,
     ) -> Result<Vec<TaskResult>> {
-        let total = geardyn_analysis::bifurcation::tasks(opts).len() as u64;
-        let key =
-            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
         self.checkpointed(
             dir,
             name,
-            &key,
-            total,
-            |r: &TaskResult| r.task,
-            |done, record| Ok(run_sweep(base, opts, done, record)?),
+            &context(base),
+            &SweepJob::new("sweep", base, opts),
         )
     }
 
@@ -252,16 +210,11 @@ impl Ctx {
         base: &Scenario,
         opts: &ContinuationOptions,
     ) -> Result<ContinuationResult> {
-        let key =
-            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
-        self.checkpointed(
-            dir,
-            name,
-            &key,
-            opts.values.len() as u64,
-            |v: &ValueAttractors| v.index,
-            |done, record| Ok(continuation(base, opts, done, record)?),
-        )
+        let job = ContinuationJob {
+            scenario: base,
+            opts,
+        };
+        self.checkpointed(dir, name, &context(base), &job)
     }
 
     /// Checkpointed basins of attraction.
@@ -272,20 +225,8 @@ impl Ctx {
         model: &MeshModel,
         opts: &BasinOptions,
     ) -> Result<BasinResult> {
-        let key = serde_json::json!({ "params": model.params(), "opts": opts });
-        let total = (opts.x.n * opts.v.n) as u64;
-        type Cell = (usize, geardyn_analysis::attractor::Outcome);
-        self.checkpointed(
-            dir,
-            name,
-            &key,
-            total,
-            |c: &Cell| c.0,
-            |done, record| {
-                let done: HashMap<usize, _> = done.iter().map(|(k, v)| (*k, v.1.clone())).collect();
-                Ok(basins(model, opts, &done, |c, o| record(&(c, o.clone()))))
-            },
-        )
+        let ctx = serde_json::json!({ "params": model.params() });
+        self.checkpointed(dir, name, &ctx, &BasinsJob { model, opts })
     }
 
     /// A checkpointed two-parameter map.
@@ -296,17 +237,11 @@ impl Ctx {
         base: &Scenario,
         opts: &MapOptions,
     ) -> Result<Vec<MapCell>> {
-        let key =
-            serde_json::json!({ "base": base.params(), "pair": base.spec().pair, "opts": opts });
-        let total = (opts.x_values.len() * opts.y_values.len()) as u64;
-        self.checkpointed(
-            dir,
-            name,
-            &key,
-            total,
-            |c: &MapCell| c.index,
-            |done, record| Ok(map2d(base, opts, done, record)?),
-        )
+        let job = MapJob {
+            scenario: base,
+            opts,
+        };
+        self.checkpointed(dir, name, &context(base), &job)
     }
 
     /// A figure entry for `stem.png`/`stem.svg` with its data files.
@@ -336,6 +271,11 @@ impl Ctx {
             rows,
         })
     }
+}
+
+/// What a report checkpoint of a computation from `base` is keyed by besides its settings.
+fn context(base: &Scenario) -> serde_json::Value {
+    serde_json::json!({ "base": base.params(), "pair": base.spec().pair })
 }
 
 /// The scenario with the linear contact law (seed B's dimensionless studies).
