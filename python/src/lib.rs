@@ -6,16 +6,16 @@
 mod util;
 
 use anyhow::{bail, Context, Result};
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest, Outcome};
-use geardyn_analysis::basins::{Axis, BasinOptions};
-use geardyn_analysis::bifurcation::{detect_jumps, linspace, InitialBox, SweepOptions, TaskResult};
+use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest, Outcome};
+use geardyn_analysis::basins::BasinsRequest;
+use geardyn_analysis::bifurcation::{detect_jumps, linspace, SweepOptions, TaskResult};
 use geardyn_analysis::classify::{simulate_decided, Decide};
-use geardyn_analysis::continuation::{ContinuationOptions, ValueAttractors};
-use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
+use geardyn_analysis::continuation::ValueAttractors;
+use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::{MapCell, MapOptions, METRICS};
-use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_io::config::{Face, SimOverrides};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, SweepJob};
-use geardyn_io::request::SweepSpec;
+use geardyn_io::request::{ContinuationRequest, SweepSpec};
 use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -87,21 +87,14 @@ impl Sim {
     /// Applies the settings; `sets` are the call's `set=` assignments (a field given by both is
     /// refused, as in the CLI).
     fn apply(&self, cfg: &mut Config, sets: &[String]) -> Result<()> {
-        let options = [
-            ("record_periods", "periods=", self.periods),
-            ("transient_periods", "transient=", self.transient),
-            ("steps_per_cycle", "steps_per_cycle=", self.steps_per_cycle),
-        ];
-        for (name, by, value) in options {
-            if let Some(v) = value {
-                cfg.set_by_option(sets, "", name, by, v)?;
-            }
-        }
-        if let Some(m) = &self.integrator {
-            cfg.simulation.method = m.clone();
-        }
-        cfg.sim_options()?;
-        Ok(())
+        let o = SimOverrides {
+            periods: self.periods,
+            transient: self.transient,
+            integrator: self.integrator.clone(),
+            steps_per_cycle: self.steps_per_cycle,
+            ..Default::default()
+        };
+        Ok(o.apply(cfg, sets, Face::Python)?)
     }
 }
 
@@ -115,15 +108,18 @@ struct Ident {
 }
 
 impl Ident {
-    /// The identification options on the configuration's simulation settings (checked by the
-    /// library's `IdentifyRequest`, as the CLI's).
-    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
-        let req = IdentifyRequest {
+    /// The library's request (which checks it, as the CLI's).
+    fn request(&self) -> IdentifyRequest {
+        IdentifyRequest {
             capture_tol: self.capture_tol,
             ident_rtol: self.ident_rtol,
             early_capture: self.early_stop,
-        };
-        Ok(req.options(cfg.sim_options()?)?)
+        }
+    }
+
+    /// The identification options on the configuration's simulation settings.
+    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
+        Ok(self.request().options(cfg.sim_options()?)?)
     }
 }
 
@@ -440,68 +436,32 @@ fn lyapunov<'py>(
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let v = util::run(py, "lyapunov", progress, None, move |_ctl: &Ctl| {
-        if !["variational", "two-trajectory", "both"].contains(&method.as_str()) {
-            bail!("bad method '{method}': allowed variational, two-trajectory, both");
-        }
+        let method = TleMethod::from_name(&method)?;
         let mut cfg = src.config()?;
         sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
-        if !(d0 > 0.0 && d0 < 1e-2) {
-            bail!(
-                "bad --d0 {}: allowed (0, 0.01)",
-                geardyn_model::error::num(d0)
-            );
-        }
-        let model = scenario.model().clone();
+        let so = cfg.sim_options()?;
+        let req = LyapunovRequest {
+            method,
+            periods: sim.periods.map(|_| so.record_periods),
+            max_periods,
+            d0,
+        };
+        req.check()?;
         let p = scenario.params();
         let integrated = serde_json::json!({
             "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
         });
-        let so = cfg.sim_options()?;
-        let mut opts = LyapunovOptions {
-            period: model.excitation_period(),
-            transient_periods: so.transient_periods,
-            periods: so.record_periods,
-            d0,
-        };
         let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-        let scheme = so.method.scheme(&model);
-        let t0 = so.tau0;
-        let mut out = serde_json::json!({
-            "method": method, "integrated": integrated, "converged": null, "tol": null,
-            "rounds": null, "variational": null, "two_trajectory": null, "d0": d0,
-        });
-        if sim.periods.is_none() {
-            if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&max_periods) {
-                bail!(
-                    "bad --max-periods {}: allowed 20 ..= {}",
-                    max_periods,
-                    geardyn_analysis::simulate::MAX_PERIODS
-                );
-            }
-            let conv = Convergence {
-                max_periods,
-                ..Default::default()
-            };
-            let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |_| {})?;
-            opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
-            out["converged"] = c.converged.into();
-            out["tol"] = c.tol.into();
-            out["rounds"] = serde_json::to_value(&c.rounds)?;
-            if method != "two-trajectory" {
-                out["variational"] = serde_json::to_value(&c.result)?;
-            }
-        } else if method != "two-trajectory" {
-            let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
-            out["variational"] = serde_json::to_value(&r)?;
-        }
-        out["periods"] = opts.periods.into();
-        if method != "variational" {
-            let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
-            out["two_trajectory"] = serde_json::to_value(&r)?;
-        }
-        out["config"] = serde_json::to_value(cfg.to_value())?;
-        Ok(out)
+        let r = req.run(scenario.model(), &so, y0, |_| {})?;
+        let c = r.convergence.as_ref();
+        Ok(serde_json::json!({
+            "method": method.name(), "integrated": integrated,
+            "converged": c.map(|c| c.converged), "tol": c.map(|c| c.tol),
+            "rounds": c.map(|c| &c.rounds), "variational": r.variational,
+            "two_trajectory": r.two_trajectory, "d0": d0, "periods": r.periods,
+            "config": cfg.to_value(),
+        }))
     })?;
     json_to_py(py, &v)
 }
@@ -631,22 +591,6 @@ fn response<'py>(
     Ok(d.into_any())
 }
 
-fn axis(a: (f64, f64, usize), name: &str) -> Result<Axis> {
-    let (lo, hi, n) = a;
-    if !(lo.is_finite() && hi.is_finite()) || hi <= lo || n == 0 || n > 4000 {
-        bail!(
-            "bad {name} ({}, {}, {n}): finite MIN < MAX and 1 <= N <= 4000",
-            geardyn_model::error::num(lo),
-            geardyn_model::error::num(hi)
-        );
-    }
-    Ok(Axis {
-        min: lo,
-        max: hi,
-        n,
-    })
-}
-
 /// The partial result of interrupted basins, as columns (a grid may hold millions of cells):
 /// `cell` (row-major index, `iv * nx + ix`), `kind` (0 captured by a known attractor, 1 recorded
 /// to the end, 2 diverged, 3 failed) and `attractor` (the capturing attractor's index among those
@@ -694,32 +638,9 @@ fn basins<'py>(
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
             let model = scenario.model();
-            check_phase(phase)?;
-            let d = scenario.params().d_single;
-            let xa = match x {
-                Some(a) => axis(a, "x")?,
-                None => Axis {
-                    min: -2.0 * d,
-                    max: 2.0 * d,
-                    n: 200,
-                },
-            };
-            let va = match v {
-                Some(a) => axis(a, "v")?,
-                None => Axis {
-                    min: -1.5,
-                    max: 1.5,
-                    n: 200,
-                },
-            };
-            let mut identify = ident.options(&cfg)?;
-            identify.sim.tau0 = phase * model.excitation_period();
-            let opts = BasinOptions {
-                x: xa,
-                v: va,
-                identify,
-            };
-            cfg.check_work(model, &opts.identify.sim, xa.n * va.n, false)?;
+            let req = BasinsRequest { x, v, phase };
+            let opts = req.options(model, ident.options(&cfg)?)?;
+            cfg.check_work(model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
             let t = std::time::Instant::now();
             let r = execute(&BasinsJob { model, opts: &opts }, None, ctl)?;
             Ok((r, cfg, opts, t.elapsed().as_secs_f64()))
@@ -778,30 +699,17 @@ fn continuation<'py>(
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
-            let values = values_of(values, range)?;
-            let b = InitialBox::new(
+            let req = ContinuationRequest {
+                param,
+                values: values_of(values, range)?,
                 ics,
                 seed,
                 x0_range,
                 v0_range,
-                scenario.model().backlash_levels().1,
-            )?;
-            let opts = ContinuationOptions {
-                param,
-                values,
-                ics: b.ics,
-                seed: b.seed,
-                x0_range: b.x0_range,
-                v0_range: b.v0_range,
-                phase: check_phase(phase)?,
-                identify: ident.options(&cfg)?,
+                phase,
+                identify: ident.request(),
             };
-            cfg.check_work(
-                scenario.model(),
-                &opts.identify.sim,
-                opts.values.len() * opts.ics,
-                false,
-            )?;
+            let opts = req.options(&cfg, &scenario)?;
             let job = ContinuationJob {
                 scenario: &scenario,
                 opts: &opts,

@@ -199,7 +199,7 @@ def _nested(depth):
         (lambda: geardyn.bifurcation(mode="multi", ics=10**30), ValueError, "ics"),
         (lambda: geardyn.basins(x=(-2, 2, 10**20)), ValueError, "x count"),
         # a huge number is printed as one, not with 300 digits
-        (lambda: geardyn.basins(x=(1e300, -1e300, 10)), ValueError, "bad x (1e300, -1e300, 10)"),
+        (lambda: geardyn.basins(x=(1e300, -1e300, 10)), ValueError, "bad x axis (1e300, -1e300, 10)"),
     ],
 )
 def test_bad_input_raises(call, exc, text):

@@ -324,3 +324,105 @@ where
         periods,
     }
 }
+
+/// A basin grid as a caller states it (`geardyn basins --grid x:MIN:MAX:N --grid v:... --phase`,
+/// Python's `basins(x=, v=, phase=)`), before it is checked: the defaults and limits of the two
+/// axes and of the phase live here, and [`BasinsRequest::options`] turns it into the
+/// [`BasinOptions`] of a model.
+///
+/// ```
+/// use geardyn_analysis::basins::BasinsRequest;
+/// let r = BasinsRequest { x: Some((-1.0, 1.0, 50)), ..Default::default() };
+/// let (x, v) = r.axes(0.5).unwrap();
+/// assert_eq!((x.min, x.max, x.n), (-1.0, 1.0, 50));
+/// assert_eq!((v.min, v.max, v.n), (-1.5, 1.5, 200)); // the default velocity axis
+/// let bad = BasinsRequest { v: Some((1.0, -1.0, 10)), ..Default::default() };
+/// assert!(bad.axes(0.5).unwrap_err().to_string().contains("v axis"));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BasinsRequest {
+    /// Initial displacement axis `(MIN, MAX, N)` (dimensionless, in length scales); `None`:
+    /// `±`[`BasinsRequest::DEFAULT_X_HALF_BACKLASHES`] half backlashes, [`BasinsRequest::DEFAULT_CELLS`] cells.
+    pub x: Option<(f64, f64, usize)>,
+    /// Initial velocity axis `(MIN, MAX, N)` (dimensionless); `None`:
+    /// `±`[`BasinsRequest::DEFAULT_V`], [`BasinsRequest::DEFAULT_CELLS`] cells.
+    pub v: Option<(f64, f64, usize)>,
+    /// Phase of the initial states as a fraction of the excitation period, in `[0, 1)`.
+    pub phase: f64,
+}
+
+/// Why a basin grid was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum BasinsRequestError {
+    /// An axis out of its limits.
+    #[error("bad {axis} axis ({min}, {max}, {n}): MIN < MAX within ±{lim} (initial states in length scales and their rates) and 1 <= N <= {cells}", lim = BasinsRequest::MAX_ABS, cells = BasinsRequest::MAX_CELLS, min = geardyn_model::error::num(*.min), max = geardyn_model::error::num(*.max))]
+    Axis {
+        /// `x` or `v`.
+        axis: &'static str,
+        /// Given minimum.
+        min: f64,
+        /// Given maximum.
+        max: f64,
+        /// Given count.
+        n: usize,
+    },
+    /// The phase out of `[0, 1)`.
+    #[error(transparent)]
+    Phase(#[from] crate::attractor::PhaseError),
+}
+
+impl BasinsRequest {
+    /// Cells per axis by default.
+    pub const DEFAULT_CELLS: usize = 200;
+    /// Half width of the default displacement axis, in half backlashes: it covers both tooth
+    /// flanks and the impacting motions that reach past them.
+    pub const DEFAULT_X_HALF_BACKLASHES: f64 = 2.0;
+    /// Half width of the default velocity axis (dimensionless).
+    pub const DEFAULT_V: f64 = 1.5;
+    /// Most cells per axis.
+    pub const MAX_CELLS: usize = 4000;
+    /// Largest |MIN| and |MAX| of an axis.
+    pub const MAX_ABS: f64 = 1e3;
+
+    /// The two axes for a pair of half backlash `d` (the default displacement axis scales with
+    /// it), checked.
+    pub fn axes(&self, d: f64) -> Result<(Axis, Axis), BasinsRequestError> {
+        let hx = Self::DEFAULT_X_HALF_BACKLASHES * d;
+        let x = self.x.unwrap_or((-hx, hx, Self::DEFAULT_CELLS));
+        let v = self
+            .v
+            .unwrap_or((-Self::DEFAULT_V, Self::DEFAULT_V, Self::DEFAULT_CELLS));
+        Ok((Self::axis("x", x)?, Self::axis("v", v)?))
+    }
+
+    fn axis(
+        axis: &'static str,
+        (min, max, n): (f64, f64, usize),
+    ) -> Result<Axis, BasinsRequestError> {
+        let ok = min.is_finite()
+            && max.is_finite()
+            && min < max
+            && min.abs() <= Self::MAX_ABS
+            && max.abs() <= Self::MAX_ABS
+            && (1..=Self::MAX_CELLS).contains(&n);
+        if ok {
+            Ok(Axis { min, max, n })
+        } else {
+            Err(BasinsRequestError::Axis { axis, min, max, n })
+        }
+    }
+
+    /// The basin options on `model` with identification settings `identify` (the phase sets the
+    /// start time of every cell; the default displacement axis is that of its half backlash
+    /// `d_single`). Checks the phase, then the axes.
+    pub fn options(
+        &self,
+        model: &geardyn_model::MeshModel,
+        mut identify: IdentifyOptions,
+    ) -> Result<BasinOptions, BasinsRequestError> {
+        let phase = crate::attractor::check_phase(self.phase)?;
+        let (x, v) = self.axes(model.params().d_single)?;
+        identify.sim.tau0 = phase * model.excitation_period();
+        Ok(BasinOptions { x, v, identify })
+    }
+}

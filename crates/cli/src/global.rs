@@ -4,15 +4,14 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::{parse_pair, parse_range, progress, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::attractor::{check_phase, IdentifyOptions, IdentifyRequest};
-use geardyn_analysis::basins::{Axis, BasinOptions};
-use geardyn_analysis::bifurcation::{linspace, InitialBox};
-use geardyn_analysis::continuation::ContinuationOptions;
+use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
+use geardyn_analysis::basins::BasinsRequest;
+use geardyn_analysis::bifurcation::linspace;
 use geardyn_analysis::map2d::{MapOptions, METRICS};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::request::MapRequest;
+use geardyn_io::request::{ContinuationRequest, MapRequest};
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -33,15 +32,18 @@ pub struct IdentArgs {
 }
 
 impl IdentArgs {
-    /// The identification options on the configuration's simulation settings (checked by the
-    /// library's [`IdentifyRequest`], as Python's).
-    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
-        let req = IdentifyRequest {
+    /// The library's request (which checks it, as Python's).
+    fn request(&self) -> IdentifyRequest {
+        IdentifyRequest {
             capture_tol: self.capture_tol,
             ident_rtol: self.ident_rtol,
             early_capture: !self.no_early_stop,
-        };
-        Ok(req.options(cfg.sim_options()?)?)
+        }
+    }
+
+    /// The identification options on the configuration's simulation settings.
+    fn options(&self, cfg: &Config) -> Result<IdentifyOptions> {
+        Ok(self.request().options(cfg.sim_options()?)?)
     }
 }
 
@@ -69,28 +71,19 @@ pub struct BasinArgs {
     out: PathBuf,
 }
 
-fn parse_axis(s: &str) -> Result<(char, Axis)> {
+/// Parses `x:MIN:MAX:N` or `v:MIN:MAX:N` (the limits are the library's: [`BasinsRequest`]).
+fn parse_axis(s: &str) -> Result<(char, (f64, f64, usize))> {
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 4 || !(parts[0] == "x" || parts[0] == "v") {
         bail!("bad --grid '{s}': expected x:MIN:MAX:N or v:MIN:MAX:N");
     }
-    let (lo, hi, n) = crate::sweep::parse_range_of(
+    let axis = crate::sweep::parse_range_of(
         &parts[1..].join(":"),
         &format!("--grid {}", parts[0]),
         "x:MIN:MAX:N or v:MIN:MAX:N",
-        4000,
+        BasinsRequest::MAX_CELLS,
     )?;
-    if hi <= lo || n > 4000 || lo.abs() > 1e3 || hi.abs() > 1e3 {
-        bail!("bad --grid '{s}': MIN < MAX within ±1000 (initial states in length scales and their rates) and 1 <= N <= 4000");
-    }
-    Ok((
-        parts[0].chars().next().unwrap_or('x'),
-        Axis {
-            min: lo,
-            max: hi,
-            n,
-        },
-    ))
+    Ok((parts[0].chars().next().unwrap_or('x'), axis))
 }
 
 pub fn basins_cmd(a: BasinArgs) -> Result<()> {
@@ -99,47 +92,32 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
     let model = scenario.model();
-    check_phase(a.phase)?;
-    let d = scenario.params().d_single;
-    let mut x = Axis {
-        min: -2.0 * d,
-        max: 2.0 * d,
-        n: 200,
+    let mut req = BasinsRequest {
+        phase: a.phase,
+        ..Default::default()
     };
-    let mut v = Axis {
-        min: -1.5,
-        max: 1.5,
-        n: 200,
-    };
-    let (mut has_x, mut has_v) = (false, false);
     for g in &a.grid {
         let (name, ax) = parse_axis(g)?;
-        let seen = if name == 'x' { &mut has_x } else { &mut has_v };
-        if *seen {
+        let slot = if name == 'x' { &mut req.x } else { &mut req.v };
+        if slot.is_some() {
             bail!("--grid {name} given twice: give each axis once (x and v)");
         }
-        *seen = true;
-        if name == 'x' {
-            x = ax;
-        } else {
-            v = ax;
-        }
+        *slot = Some(ax);
     }
+    let opts = req.options(model, a.ident.options(&cfg)?)?;
+    let (x, v) = (opts.x, opts.v);
     // one axis given: say what the other is, rather than silently running N x 200
-    if has_x != has_v {
-        let (name, ax) = if has_x { ("v", v) } else { ("x", x) };
+    if req.x.is_some() != req.v.is_some() {
+        let (name, ax) = if req.x.is_some() {
+            ("v", opts.v)
+        } else {
+            ("x", opts.x)
+        };
         eprintln!(
             "note: no --grid {name}: {name} takes its default, [{}, {}] in {} cells",
             ax.min, ax.max, ax.n
         );
     }
-    let mut ident = a.ident.options(&cfg)?;
-    ident.sim.tau0 = a.phase * model.excitation_period();
-    let opts = BasinOptions {
-        x,
-        v,
-        identify: ident,
-    };
     cfg.check_work(model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
     let t = std::time::Instant::now();
     let r = execute(
@@ -257,29 +235,17 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     let scenario = cfg.resolve()?;
     let (lo, hi, n) = parse_range(&a.range)?;
     let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
-    let b = InitialBox::new(
-        a.ics,
-        a.seed,
-        pair(&a.x0_range, "--x0-range")?,
-        pair(&a.v0_range, "--v0-range")?,
-        scenario.model().backlash_levels().1,
-    )?;
-    let opts = ContinuationOptions {
+    let req = ContinuationRequest {
         param: a.param.clone(),
         values: linspace(lo, hi, n),
-        ics: b.ics,
-        seed: b.seed,
-        x0_range: b.x0_range,
-        v0_range: b.v0_range,
-        phase: check_phase(a.phase)?,
-        identify: a.ident.options(&cfg)?,
+        ics: a.ics,
+        seed: a.seed,
+        x0_range: pair(&a.x0_range, "--x0-range")?,
+        v0_range: pair(&a.v0_range, "--v0-range")?,
+        phase: a.phase,
+        identify: a.ident.request(),
     };
-    cfg.check_work(
-        scenario.model(),
-        &opts.identify.sim,
-        opts.values.len() * opts.ics,
-        false,
-    )?;
+    let opts = req.options(&cfg, &scenario)?;
     let r = execute(
         &ContinuationJob {
             scenario: &scenario,

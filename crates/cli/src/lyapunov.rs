@@ -4,10 +4,7 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::SimArgs;
 use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::lyapunov::{
-    tle_two_trajectory, tle_variational, LyapunovOptions, LyapunovResult,
-};
-use geardyn_analysis::tle_convergence::{tle_converged, Convergence};
+use geardyn_analysis::lyapunov::{LyapunovRequest, LyapunovResult, TleMethod};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
 fn spread_text(spread: f64) -> String {
@@ -40,13 +37,13 @@ pub struct LyapunovArgs {
     #[command(flatten)]
     sim: SimArgs,
     /// variational (saltation matrices), two-trajectory, or both.
-    #[arg(long, default_value = "both", value_parser = ["variational", "two-trajectory", "both"])]
+    #[arg(long, default_value = "both", value_parser = TleMethod::NAMES)]
     method: String,
     /// Largest run length (excitation periods) while converging; `--periods N` runs exactly N.
-    #[arg(long, default_value_t = 25_600)]
+    #[arg(long, default_value_t = LyapunovRequest::default().max_periods)]
     max_periods: u64,
     /// Initial distance of the two-trajectory method.
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(long, default_value_t = LyapunovRequest::default().d0)]
     d0: f64,
 }
 
@@ -54,13 +51,15 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
     let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
-    if !(a.d0 > 0.0 && a.d0 < 1e-2) {
-        anyhow::bail!(
-            "bad --d0 {}: allowed (0, 0.01)",
-            geardyn_model::error::num(a.d0)
-        );
-    }
-    let model = scenario.model().clone();
+    let sim = cfg.sim_options()?;
+    let req = LyapunovRequest {
+        method: TleMethod::from_name(&a.method)?,
+        periods: a.sim.periods.map(|_| sim.record_periods),
+        max_periods: a.max_periods,
+        d0: a.d0,
+    };
+    req.check()?;
+    let model = scenario.model();
     let p = scenario.params();
     // this command writes no folder: what ran is printed in full
     println!(
@@ -70,41 +69,25 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         serde_json::to_string(&p.contact)?,
         serde_json::to_string(&p.back_side)?
     );
-    let sim = cfg.sim_options()?;
-    let mut opts = LyapunovOptions {
-        period: model.excitation_period(),
-        transient_periods: sim.transient_periods,
-        periods: sim.record_periods,
-        d0: a.d0,
-    };
-    let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-    let scheme = sim.method.scheme(&model);
-    let t0 = sim.tau0;
-    let mut variational = None;
-    if a.sim.periods.is_none() {
-        // no explicit length: run until converged (the two-trajectory check uses the same length)
-        if !(20..=geardyn_analysis::simulate::MAX_PERIODS).contains(&a.max_periods) {
-            anyhow::bail!(
-                "bad --max-periods {}: allowed 20 ..= {}",
-                a.max_periods,
-                geardyn_analysis::simulate::MAX_PERIODS
-            );
-        }
-        let conv = Convergence {
-            max_periods: a.max_periods,
-            ..Default::default()
-        };
-        println!(
+    match req.periods {
+        None => println!(
             "variational TLE over {} transient periods, then runs of doubling length until converged (each printed when done):",
-            opts.transient_periods
+            sim.transient_periods
+        ),
+        Some(n) => println!(
+            "{} TLE over {} transient + {n} periods ...",
+            req.method.name(),
+            sim.transient_periods
+        ),
+    }
+    let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+    let r = req.run(model, &sim, y0, |r| {
+        println!(
+            "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
+            r.periods, r.tle, r.half, r.stderr
         );
-        let c = tle_converged(model.clone(), scheme, t0, y0, &opts, &conv, |r| {
-            println!(
-                "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-                r.periods, r.tle, r.half, r.stderr
-            );
-        })?;
-        opts.periods = c.rounds.last().map_or(opts.periods, |r| r.periods);
+    })?;
+    if let Some(c) = &r.convergence {
         if c.converged {
             println!(
                 "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
@@ -116,44 +99,25 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
                 c.tol, a.max_periods
             );
         }
-        if a.method != "two-trajectory" {
-            print_variational(&c.result, opts.periods);
-            variational = Some((c.result.tle, c.result.spread));
-        }
-    } else if a.method != "two-trajectory" {
-        println!(
-            "variational TLE over {} transient + {} periods ...",
-            opts.transient_periods, opts.periods
-        );
-        let r = tle_variational::<_, 2, 5>(model.clone(), scheme, t0, y0, &opts)?;
-        print_variational(&r, opts.periods);
-        variational = Some((r.tle, r.spread));
     }
-    let mut disagree = false;
-    if a.method != "variational" {
+    if let Some(v) = &r.variational {
+        print_variational(v, r.periods);
+    }
+    if let Some(t) = &r.two_trajectory {
         println!(
-            "two-trajectory TLE over {} transient + {} periods ...",
-            opts.transient_periods, opts.periods
-        );
-        let r = tle_two_trajectory(model, scheme, t0, y0, &opts)?;
-        println!(
-            "TLE (two-trajectory, d0 = {:e}): {:.6} {} per unit tau",
+            "TLE (two-trajectory, d0 = {:e}, over {} transient + {} periods): {:.6} {} per unit tau",
             a.d0,
-            r.tle,
-            spread_text(r.spread)
+            sim.transient_periods,
+            r.periods,
+            t.tle,
+            spread_text(t.spread)
         );
-        if let Some((v, sv)) = variational {
-            // (a missing spread counts as none: f64::max drops the NaN)
-            disagree = (v - r.tle).abs() > 3.0 * (sv.max(0.0) + r.spread.max(0.0)) + 1e-3;
-            if disagree {
-                println!(
-                    "WARNING: the two methods disagree ({v:.4} against {:.4}): see the notes below and docs/analyses.md, section \"Top Lyapunov exponent (TLE)\"",
-                    r.tle
-                );
-            }
-        }
     }
-    if disagree {
+    if let (true, Some(v), Some(t)) = (r.disagree(), &r.variational, &r.two_trajectory) {
+        println!(
+            "WARNING: the two methods disagree ({:.4} against {:.4}): see the notes below and docs/analyses.md, section \"Top Lyapunov exponent (TLE)\"",
+            v.tle, t.tle
+        );
         println!(
             "note: the two-trajectory exponent measures the integrator's noise where d0 is not far above it: with the adaptive integrator the two runs take different steps, and their difference carries an error of about rtol per step (a pair with many events per period, such as the broken pair, needs more than the default d0); rerun with --integrator rk4 (both runs on the same grid) or a larger --d0. It is also biased where the flow depends discontinuously on the state (the two runs on either side of an impact or a grazing contact). The classification uses the variational exponent"
         );

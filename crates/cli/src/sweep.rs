@@ -4,6 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_io::config::{Face, SimOverrides};
 use geardyn_io::executor::{execute, Progress, Store, SweepJob};
 use geardyn_io::Config;
 use geardyn_scenario::Scenario;
@@ -47,46 +48,19 @@ pub struct SimArgs {
 
 impl SimArgs {
     /// Applies the overrides to the config; `sets` are the command's `--set` assignments (a field
-    /// given by both is refused: which one wins would be a silent choice).
+    /// given by both is refused: which one wins would be a silent choice). The list of fields
+    /// is the library's ([`SimOverrides`]), shared with Python.
     pub fn apply(&self, cfg: &mut Config, sets: &[String]) -> Result<()> {
-        let flags = [
-            (
-                "record_periods",
-                "--periods",
-                self.periods.map(|p| p as f64),
-            ),
-            (
-                "transient_periods",
-                "--transient",
-                self.transient.map(|t| t as f64),
-            ),
-            (
-                "steps_per_cycle",
-                "--steps-per-cycle",
-                self.steps_per_cycle.map(f64::from),
-            ),
-            (
-                "decision_periods",
-                "--decision-periods",
-                self.decision_periods.map(|n| n as f64),
-            ),
-            (
-                "decision_budget",
-                "--decision-budget",
-                self.decision_budget.map(|n| n as f64),
-            ),
-            ("max_work", "--max-work", self.max_work),
-        ];
-        for (name, flag, value) in flags {
-            if let Some(v) = value {
-                cfg.set_by_option(sets, "--set ", name, flag, v)?;
-            }
-        }
-        if let Some(m) = &self.integrator {
-            cfg.simulation.method = m.clone();
-        }
-        cfg.sim_options()?;
-        Ok(())
+        let o = SimOverrides {
+            periods: self.periods.map(|p| p as f64),
+            transient: self.transient.map(|t| t as f64),
+            integrator: self.integrator.clone(),
+            steps_per_cycle: self.steps_per_cycle.map(f64::from),
+            decision_periods: self.decision_periods.map(|n| n as f64),
+            decision_budget: self.decision_budget.map(|n| n as f64),
+            max_work: self.max_work,
+        };
+        Ok(o.apply(cfg, sets, Face::Cli)?)
     }
 }
 

@@ -12,9 +12,12 @@ use crate::figure::{colormap, write_raster, LabelColors, LegendEntry, RasterFigu
 use crate::output::{write_text, OutputError};
 use crate::ConfigError;
 use crate::{npy, run_record, schema, sweep_output, Config};
+use geardyn_analysis::attractor::{check_phase, IdentifyError, IdentifyRequest, PhaseError};
+use geardyn_analysis::bifurcation::InitialBox;
 use geardyn_analysis::bifurcation::{
     ModeError, Section, SectionError, SweepMode, SweepOptions, TaskResult,
 };
+use geardyn_analysis::continuation::ContinuationOptions;
 use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_scenario::{Scenario, ScenarioError};
 use serde::{Deserialize, Serialize};
@@ -70,6 +73,12 @@ pub enum SweepRequestError {
     /// A section name.
     #[error(transparent)]
     Section(#[from] SectionError),
+    /// The phase of the initial states.
+    #[error(transparent)]
+    Phase(#[from] PhaseError),
+    /// The identification tolerances.
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
     /// The swept parameter refused at one end of the values.
     #[error("--param {param} = {value}")]
     Param {
@@ -172,6 +181,65 @@ impl SweepSpec {
             lyapunov: self.lyapunov,
         };
         check_sweep(cfg, scenario, &opts)?;
+        Ok(opts)
+    }
+}
+
+/// An attractor continuation as the faces state it (`geardyn continuation`,
+/// `geardyn.continuation`): several initial states per value, every attractor found followed
+/// over the values. [`ContinuationRequest::options`] is the one place it is checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContinuationRequest {
+    /// Parameter continued (any of [`geardyn_model::PARAMETER_NAMES`]).
+    pub param: String,
+    /// Its values, in order.
+    pub values: Vec<f64>,
+    /// Initial states per value, `1 ..= MAX_ICS`.
+    pub ics: usize,
+    /// Seed of the initial states.
+    pub seed: u64,
+    /// `x0` interval of the initial states; `None`: the attractor region.
+    pub x0_range: Option<(f64, f64)>,
+    /// `v0` interval of the initial states; `None`: the attractor region.
+    pub v0_range: Option<(f64, f64)>,
+    /// Phase of the initial states as a fraction of the excitation period, in `[0, 1)`.
+    pub phase: f64,
+    /// Identification tolerances.
+    pub identify: IdentifyRequest,
+}
+
+impl ContinuationRequest {
+    /// The checked options on configuration `cfg` (its simulation settings) and its resolved
+    /// `scenario` (the default region of the initial states is that of its largest half
+    /// backlash). Checks the initial states, the phase, the identification, then the work.
+    pub fn options(
+        &self,
+        cfg: &Config,
+        scenario: &Scenario,
+    ) -> Result<ContinuationOptions, SweepRequestError> {
+        let b = InitialBox::new(
+            self.ics,
+            self.seed,
+            self.x0_range,
+            self.v0_range,
+            scenario.model().backlash_levels().1,
+        )?;
+        let opts = ContinuationOptions {
+            param: self.param.clone(),
+            values: self.values.clone(),
+            ics: b.ics,
+            seed: b.seed,
+            x0_range: b.x0_range,
+            v0_range: b.v0_range,
+            phase: check_phase(self.phase)?,
+            identify: self.identify.options(cfg.sim_options()?)?,
+        };
+        cfg.check_work(
+            scenario.model(),
+            &opts.identify.sim,
+            opts.values.len() * opts.ics,
+            false,
+        )?;
         Ok(opts)
     }
 }
