@@ -9,7 +9,6 @@ use anyhow::{bail, Context, Result};
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::BasinsRequest;
 use geardyn_analysis::bifurcation::{detect_jumps, linspace, SweepOptions, TaskResult};
-use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::{MapCell, MapOptions, METRICS};
@@ -262,7 +261,6 @@ fn simulate<'py>(
     out: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let out = util::run(py, "simulate", progress, None, move |_ctl: &Ctl| {
-        let started = geardyn_io::run_record::now_unix_s();
         let mut cfg = src.config()?;
         Sim {
             periods,
@@ -271,59 +269,24 @@ fn simulate<'py>(
             steps_per_cycle: None,
         }
         .apply(&mut cfg, &src.sets)?;
-        let scenario = cfg.resolve().context("configuration rejected")?;
-        let model = scenario.model();
-        let mut opts = cfg.sim_options()?;
-        opts.trajectory = true;
-        if let Some(n) = trajectory_periods {
-            if !(1..=1_000_000).contains(&n) {
-                anyhow::bail!("trajectory_periods = {n}: allowed 1 ..= 1000000");
-            }
-        }
-        opts.trajectory_periods = trajectory_periods.unwrap_or(u64::MAX);
-        cfg.check_work(model, &opts, 1, true)?;
-        let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-        // the folder is claimed and locked before the run (as the CLI does): a folder another
-        // run holds, or one with foreign files, is refused at once
-        let lock = out
-            .as_ref()
-            .map(|dir| geardyn_io::run_record::prepare_folder(dir, "simulate", None, false))
-            .transpose()?;
-        let t = std::time::Instant::now();
-        let (res, summary, used) =
-            simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
-        let elapsed = t.elapsed().as_secs_f64();
-        let source = src.source();
-        let finished = geardyn_io::simulate_folder::Finished {
-            source: &source,
-            cfg: &cfg,
-            scenario: &scenario,
-            res: &res,
-            summary: &summary,
-            used: &used,
-            requested: &opts,
-            elapsed_s: elapsed,
-        };
-        if let (Some(dir), Some(_)) = (&out, &lock) {
-            geardyn_io::simulate_folder::write(dir, &finished, started)?;
-        }
+        let run = geardyn_io::simulate_folder::simulate(
+            cfg,
+            src.source(),
+            trajectory_periods,
+            out.as_deref(),
+        )?;
         // summary.json of the CLI
-        let mut v = serde_json::to_value(&summary)?;
+        let mut v = serde_json::to_value(&run.summary)?;
         if let (Some(obj), serde_json::Value::Object(more)) = (
             v.as_object_mut(),
-            geardyn_io::simulate_folder::summary_extra(&finished),
+            geardyn_io::simulate_folder::summary_extra(&run.finished()),
         ) {
             obj.extend(more);
         }
-        let (dd, ds) = model.backlash_levels();
-        Ok((
-            cfg,
-            res,
-            v,
-            model.excitation_period(),
-            (dd, ds),
-            summary.describe(),
-        ))
+        let model = run.scenario.model();
+        let (period, levels) = (model.excitation_period(), model.backlash_levels());
+        let description = run.summary.describe();
+        Ok((run.cfg, run.res, v, period, levels, description))
     })?;
     let (cfg, res, summary, period, levels, description) = out;
     let d = PyDict::new(py);

@@ -17,7 +17,26 @@ use std::time::{Duration, Instant};
 /// integration fails, `ValueError` for everything else (bad parameters and settings).
 pub fn to_pyerr(e: anyhow::Error) -> PyErr {
     let msg = format!("{e:#}");
-    let os = e.chain().any(|c| {
+    // the library's wrappers that show an inner error as their own (transparent): their inner
+    // error decides the class too
+    let mut all: Vec<&(dyn std::error::Error + 'static)> = Vec::new();
+    for c in e.chain() {
+        all.push(c);
+        use geardyn_io::executor::ExecError;
+        use geardyn_io::simulate_folder::{FolderWriteError, SimulateError};
+        match c.downcast_ref::<ExecError>() {
+            Some(ExecError::Folder(f)) => all.push(f),
+            Some(ExecError::Output(o)) => all.push(o),
+            Some(ExecError::Analysis(a)) => all.push(a.as_ref()),
+            None => {}
+        }
+        match c.downcast_ref::<SimulateError>() {
+            Some(SimulateError::Folder(f)) => all.push(f),
+            Some(SimulateError::Write(FolderWriteError::Output(o))) => all.push(o),
+            _ => {}
+        }
+    }
+    let os = all.iter().any(|c| {
         matches!(
             c.downcast_ref::<geardyn_io::ConfigError>(),
             Some(geardyn_io::ConfigError::Read { .. })
@@ -28,7 +47,7 @@ pub fn to_pyerr(e: anyhow::Error) -> PyErr {
             || c.downcast_ref::<geardyn_io::run_record::FolderError>()
                 .is_some()
     });
-    let runtime = e.chain().any(|c| {
+    let runtime = all.iter().any(|c| {
         c.downcast_ref::<geardyn_analysis::simulate::SimError>()
             .is_some()
             || c.downcast_ref::<geardyn_solvers::SolverError>().is_some()

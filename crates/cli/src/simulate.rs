@@ -1,9 +1,8 @@
 //! `geardyn simulate`.
 
 use crate::run_config::ConfigArgs;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::simulate::Method;
 use geardyn_io::{run_record, simulate_folder};
 use std::path::PathBuf;
@@ -49,7 +48,6 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
     let mut cfg = args.cfg.config()?;
     // the sweeps' flags, applied by the same code (simulate has no checkpoint: no --force)
     crate::sweep::SimArgs {
@@ -63,34 +61,15 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         force: false,
     }
     .apply(&mut cfg, &args.cfg.sets)?;
-    let scenario = cfg.resolve().context("configuration rejected")?;
-    let model = scenario.model();
-    let mut opts = cfg.sim_options()?;
-    opts.trajectory = true;
-    opts.trajectory_periods = args.trajectory_periods;
-    let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-    let t = std::time::Instant::now();
     let out = &args.out;
-    cfg.check_work(model, &opts, 1, true)?;
-    let _lock = run_record::prepare_folder(out, "simulate", None, false)?;
-    let (res, summary, used) =
-        simulate_decided(model, y0, &opts, Decide::default()).context("integration failed")?;
-    let elapsed = t.elapsed().as_secs_f64();
-
-    simulate_folder::write(
-        out,
-        &simulate_folder::Finished {
-            source: &args.cfg.source(),
-            cfg: &cfg,
-            scenario: &scenario,
-            res: &res,
-            summary: &summary,
-            used: &used,
-            requested: &opts,
-            elapsed_s: elapsed,
-        },
-        started,
+    let run = simulate_folder::simulate(
+        cfg,
+        args.cfg.source(),
+        Some(args.trajectory_periods),
+        Some(out),
     )?;
+    let (summary, used, opts, res) = (&run.summary, &run.used, &run.requested, &run.res);
+    let (model, elapsed) = (run.scenario.model(), run.elapsed_s);
     if let geardyn_analysis::Motion::Diverged { .. } = summary.motion {
         anyhow::bail!(
             "{} (outputs written to {})",

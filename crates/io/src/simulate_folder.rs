@@ -9,6 +9,7 @@ use crate::figure::{
 };
 use crate::output::{self, OutputError};
 use crate::{run_record, Config};
+use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::simulate::{SimOptions, SimResult, Summary};
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -214,4 +215,114 @@ fn plots(
         },
     )?;
     Ok(())
+}
+
+/// Most excitation periods a simulation keeps in its trajectory.
+pub const MAX_TRAJECTORY_PERIODS: u64 = 1_000_000;
+
+/// Why a simulation did not run or its folder was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum SimulateError {
+    /// The configuration does not resolve to a model.
+    #[error("configuration rejected")]
+    Rejected(#[source] crate::ConfigError),
+    /// The simulation settings or the work cap.
+    #[error(transparent)]
+    Config(#[from] crate::ConfigError),
+    /// `trajectory_periods` out of `1 ..= MAX_TRAJECTORY_PERIODS`.
+    #[error("trajectory_periods = {0}: allowed 1 ..= {MAX_TRAJECTORY_PERIODS}")]
+    TrajectoryPeriods(u64),
+    /// The output folder refused.
+    #[error(transparent)]
+    Folder(#[from] run_record::FolderError),
+    /// The integration failed.
+    #[error("integration failed")]
+    Integration(#[source] geardyn_analysis::simulate::SimError),
+    /// The folder's files could not be written.
+    #[error(transparent)]
+    Write(#[from] FolderWriteError),
+}
+
+/// A simulation that ran: everything [`Finished`] refers to, owned.
+pub struct Simulated {
+    /// What the model comes from.
+    pub source: String,
+    /// The configuration, overrides applied.
+    pub cfg: Config,
+    /// What was integrated.
+    pub scenario: Scenario,
+    /// The record.
+    pub res: SimResult,
+    /// Its decided summary.
+    pub summary: Summary,
+    /// The settings of the record.
+    pub used: SimOptions,
+    /// The settings asked for.
+    pub requested: SimOptions,
+    /// Wall time of the integration, seconds.
+    pub elapsed_s: f64,
+}
+
+impl Simulated {
+    /// The run as the folder's writer sees it.
+    pub fn finished(&self) -> Finished<'_> {
+        Finished {
+            source: &self.source,
+            cfg: &self.cfg,
+            scenario: &self.scenario,
+            res: &self.res,
+            summary: &self.summary,
+            used: &self.used,
+            requested: &self.requested,
+            elapsed_s: self.elapsed_s,
+        }
+    }
+}
+
+/// One simulation, the way `geardyn simulate` and Python's `simulate` run it: the configuration
+/// `cfg` (overrides applied) resolved and checked, its work checked, the folder `out` (when
+/// given) claimed and locked before the run, the run decided ([`simulate_decided`]), the last
+/// `trajectory_periods` excitation periods of the trajectory kept (`None`: all), the folder
+/// written.
+pub fn simulate(
+    cfg: Config,
+    source: String,
+    trajectory_periods: Option<u64>,
+    out: Option<&Path>,
+) -> Result<Simulated, SimulateError> {
+    let started = run_record::now_unix_s();
+    let scenario = cfg.resolve().map_err(SimulateError::Rejected)?;
+    let model = scenario.model();
+    let mut opts = cfg.sim_options()?;
+    opts.trajectory = true;
+    opts.trajectory_periods = match trajectory_periods {
+        Some(n) if !(1..=MAX_TRAJECTORY_PERIODS).contains(&n) => {
+            return Err(SimulateError::TrajectoryPeriods(n))
+        }
+        Some(n) => n,
+        None => u64::MAX,
+    };
+    cfg.check_work(model, &opts, 1, true)?;
+    // a folder another run holds, or one with foreign files, is refused at once
+    let _lock = out
+        .map(|dir| run_record::prepare_folder(dir, "simulate", None, false))
+        .transpose()?;
+    let y0 = [cfg.simulation.x0, cfg.simulation.v0];
+    let t = std::time::Instant::now();
+    let (res, summary, used) = simulate_decided(model, y0, &opts, Decide::default())
+        .map_err(SimulateError::Integration)?;
+    let run = Simulated {
+        elapsed_s: t.elapsed().as_secs_f64(),
+        source,
+        cfg,
+        scenario,
+        res,
+        summary,
+        used,
+        requested: opts,
+    };
+    if let Some(dir) = out {
+        write(dir, &run.finished(), started)?;
+    }
+    Ok(run)
 }
