@@ -126,7 +126,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
     let results: Vec<SignalsResult> = points
         .par_iter()
         .map(|p| -> Result<SignalsResult> {
-            let s = crate::plan_breakage::with_chip(base, p.chip_mm)?
+            let s = super::with_chip(base, p.chip_mm)?
                 .with_all(&[("omega", p.omega), ("F", p.load)])?;
             Ok(run_signals(&s, &req)?)
         })
