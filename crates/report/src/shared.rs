@@ -436,9 +436,41 @@ pub fn basin_figure(
     title: &str,
     identify: IdentifyOptions,
 ) -> Result<(Figure, Table, BasinResult)> {
-    let name = &safe(name);
+    let r = basin_grid(ctx, dir, name, model, n, x, v, identify)?;
+    let (fig, table) = basin_render(ctx, dir, name, n, x, v, title, &r)?;
+    Ok((fig, table, r))
+}
+
+/// The basins of [`basin_figure`], computed (checkpointed as `dir/name`), without the figure.
+#[allow(clippy::too_many_arguments)]
+pub fn basin_grid(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    model: &MeshModel,
+    n: usize,
+    x: (f64, f64),
+    v: (f64, f64),
+    identify: IdentifyOptions,
+) -> Result<BasinResult> {
     let opts = basin_options(n, x, v, identify);
-    let r = ctx.basins(dir, name, model, &opts)?;
+    ctx.basins(dir, &safe(name), model, &opts)
+}
+
+/// The figure and the attractor table of [`basin_figure`] from basins `r` computed by
+/// [`basin_grid`] with the same `name`, `n`, `x` and `v`.
+#[allow(clippy::too_many_arguments)]
+pub fn basin_render(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    n: usize,
+    x: (f64, f64),
+    v: (f64, f64),
+    title: &str,
+    r: &BasinResult,
+) -> Result<(Figure, Table)> {
+    let name = &safe(name);
     let cols = attractor_colors(r.attractors.len());
     let black = PlotColor(0, 0, 0);
     let colors: Vec<PlotColor> = r
@@ -572,7 +604,7 @@ pub fn basin_figure(
         f(v.1),
         100.0 * r.boundary_fraction
     );
-    Ok((ctx.fig(&stem, &caption, &[cells_csv, att_csv]), table, r))
+    Ok((ctx.fig(&stem, &caption, &[cells_csv, att_csv]), table))
 }
 
 /// Continuation figure `dir/name.png|svg` (basin shares, branch tree) with `name_branches.csv`,

@@ -7,14 +7,19 @@ use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Pt};
 use crate::readings::{f, pct};
 use crate::runner::Ctx;
-use crate::shared::{identify_options, StateBox};
-use crate::Table;
+use crate::shared::{basin_boxes, basin_grid, basin_render, box_text, identify_options, StateBox};
+use crate::{Figure, Table};
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::attractor_region;
 use geardyn_analysis::continuation::ContinuationOptions;
+use geardyn_model::MeshModel;
 use geardyn_scenario::Scenario;
 use std::path::Path;
+
+/// Share of a table row's interval trimmed at each end before it is checked: the seed's borders
+/// are bifurcation points.
+const TRIM: f64 = 0.15;
 
 /// An attractor of the seed's tables, as a test on a run.
 pub(super) struct Spec {
@@ -30,7 +35,7 @@ pub(super) struct Spec {
 /// nearest the middle) where some run satisfies `test`.
 pub(super) fn presence(pts: &[Pt], a: f64, b: f64, test: fn(&Pt) -> bool) -> f64 {
     let w = b - a;
-    let (lo, hi) = (a + 0.15 * w, b - 0.15 * w);
+    let (lo, hi) = (a + TRIM * w, b - TRIM * w);
     let mut vals: Vec<f64> = pts
         .iter()
         .map(|p| p.value)
@@ -55,7 +60,7 @@ pub(super) fn presence(pts: &[Pt], a: f64, b: f64, test: fn(&Pt) -> bool) -> f64
 
 pub(super) fn found_in(pts: &[Pt], a: f64, b: f64) -> String {
     let w = b - a;
-    let (lo, hi) = (a + 0.15 * w, b - 0.15 * w);
+    let (lo, hi) = (a + TRIM * w, b - TRIM * w);
     let mut inside: Vec<&Pt> = pts
         .iter()
         .filter(|p| p.value >= lo && p.value <= hi)
@@ -86,6 +91,13 @@ pub(super) fn found_in(pts: &[Pt], a: f64, b: f64) -> String {
         .join(", ")
 }
 
+/// A row is reproduced when every listed attractor is reached at this share of the interval's
+/// values at least (and no unlisted one at half of them).
+pub(super) const PRESENT: f64 = 0.5;
+/// A row is partly reproduced when some listed attractor, or one of the same kind, is reached
+/// at this share of the values at least (or every one at [`PRESENT`]).
+const PARTLY_PRESENT: f64 = 0.25;
+
 /// A row of an attractor table checked against the multi-initial runs.
 pub(super) fn table_row(
     pts: &[Pt],
@@ -105,7 +117,7 @@ pub(super) fn table_row(
     // an attractor the seed does not list, present at half the values or more
     let extra: Vec<String> = {
         let w = b - a;
-        let (lo, hi) = (a + 0.15 * w, b - 0.15 * w);
+        let (lo, hi) = (a + TRIM * w, b - TRIM * w);
         let inside: Vec<&Pt> = pts
             .iter()
             .filter(|p| p.value >= lo && p.value <= hi)
@@ -128,9 +140,9 @@ pub(super) fn table_row(
             })
             .collect()
     };
-    let verdict = if shares.iter().all(|&s| s >= 0.5) && extra.is_empty() {
+    let verdict = if shares.iter().all(|&s| s >= PRESENT) && extra.is_empty() {
         Verdict::Reproduced
-    } else if loose.iter().all(|&s| s >= 0.5) || loose.iter().any(|&s| s >= 0.25) {
+    } else if loose.iter().all(|&s| s >= PRESENT) || loose.iter().any(|&s| s >= PARTLY_PRESENT) {
         Verdict::Partly
     } else {
         Verdict::NotReproduced
@@ -146,7 +158,7 @@ pub(super) fn table_row(
             let mut v: Vec<f64> = pts
                 .iter()
                 .map(|p| p.value)
-                .filter(|v| *v >= a + 0.15 * w && *v <= b - 0.15 * w)
+                .filter(|v| *v >= a + TRIM * w && *v <= b - TRIM * w)
                 .collect();
             v.dedup();
             v.len()
@@ -168,8 +180,8 @@ pub(super) fn table_row(
         seed,
         format!(
             "found in the interior [{}, {}] of ({}, {}) (15 % trimmed at each end: the seed's borders are bifurcation points): {}",
-            f(a + 0.15 * (b - a)),
-            f(b - 0.15 * (b - a)),
+            f(a + TRIM * (b - a)),
+            f(b - TRIM * (b - a)),
             f(a),
             f(b),
             found_in(pts, a, b)
@@ -219,6 +231,13 @@ pub(super) fn extra_boxes(d: f64) -> [StateBox; 2] {
     ]
 }
 
+/// A seed's basin share is matched when the measured share lies within this distance of it
+/// (10 points).
+const SHARE_TOLERANCE: f64 = 0.1;
+/// Attractors the seed does not name may hold less than this share of the figure's box for the
+/// basin claim to be reproduced.
+const UNNAMED_MAX: f64 = 0.1;
+
 /// A share claim of the seed against basins on several boxes (the first is the figure's). The
 /// seed never gives its box and shares depend on it: the claim is reproduced when every named
 /// attractor is found on the figure's box and, on at least one box, every share lies within 10
@@ -242,7 +261,7 @@ pub(super) fn basin_claim(
         parts
             .iter()
             .zip(sh)
-            .all(|((_, seed, _), s)| (seed - s).abs() <= 0.1)
+            .all(|((_, seed, _), s)| (seed - s).abs() <= SHARE_TOLERANCE)
     };
     let close_box = shares.iter().position(close_on);
     let all_found = found.iter().all(|&x| x);
@@ -259,7 +278,8 @@ pub(super) fn basin_claim(
         .filter(|a| !parts.iter().any(|(_, _, t)| t(&a.descriptor)))
         .map(|a| a.fraction)
         .sum();
-    let verdict = if all_found && close_box.is_some() && several.is_empty() && unnamed < 0.1 {
+    let verdict = if all_found && close_box.is_some() && several.is_empty() && unnamed < UNNAMED_MAX
+    {
         Verdict::Reproduced
     } else if found.iter().any(|&x| x) {
         Verdict::Partly
@@ -288,7 +308,7 @@ pub(super) fn basin_claim(
             " Several attractors match {n}: its share is their sum."
         ));
     }
-    if unnamed >= 0.1 {
+    if unnamed >= UNNAMED_MAX {
         closest.push_str(&format!(
             " Attractors the seed does not name hold {} of the figure's box.",
             pct(unnamed)
@@ -337,13 +357,27 @@ pub(super) fn continuation_opts(
 /// The motions found at a few marker values with the pair's physical backlash and with the
 /// levels of the xi sweep (D_d = 0.9, D_s = 1): how much the attractor tables depend on the
 /// backlash levels the seed does not give.
-pub(super) fn backlash_sensitivity(
+pub(super) struct MarkerRuns {
+    /// The parameter.
+    param: String,
+    /// Its marker values.
+    markers: Vec<f64>,
+    /// Initial states per value.
+    ics: usize,
+    /// The pair's physical D_s - D_d.
+    physical_step: f64,
+    /// The motions found at each marker: with the physical backlash, then with the nominal one.
+    motions: [Vec<String>; 2],
+}
+
+/// Runs the marker values of `param` from several initial states with both backlash levels.
+pub(super) fn marker_runs(
     ctx: &Ctx,
     dir: &Path,
     b: &Scenario,
     param: &str,
     markers: &[f64],
-) -> Result<Table> {
+) -> Result<MarkerRuns> {
     let alt = b.with_all(&[("D_d", DD_SEED), ("D_s", DS_SEED)])?;
     let ics = ctx.n(4, 8);
     let sim = ctx.sim((150, 300), (30, 60));
@@ -367,14 +401,102 @@ pub(super) fn backlash_sensitivity(
                 .collect(),
         );
     }
+    let nominal = cols.pop().unwrap_or_default();
+    let physical = cols.pop().unwrap_or_default();
+    Ok(MarkerRuns {
+        param: param.to_string(),
+        markers: markers.to_vec(),
+        ics,
+        physical_step: b.params().d_single - b.params().d_double,
+        motions: [physical, nominal],
+    })
+}
+
+/// The table of [`MarkerRuns`] (`backlash_sensitivity.csv`).
+pub(super) fn backlash_sensitivity(ctx: &Ctx, dir: &Path, runs: &MarkerRuns) -> Result<Table> {
+    let (param, ics, cols) = (&runs.param, runs.ics, &runs.motions);
     ctx.table(
         &dir.join("backlash_sensitivity.csv"),
-        &format!("Motions at marker values of {param}: physical backlash of the pair (D_s - D_d = {}) against D_d = 0.9, D_s = 1 ({ics} initial states)", f(b.params().d_single - b.params().d_double)),
+        &format!("Motions at marker values of {param}: physical backlash of the pair (D_s - D_d = {}) against D_d = 0.9, D_s = 1 ({ics} initial states)", f(runs.physical_step)),
         &[param.to_string(), "physical backlash".into(), "D_d = 0.9, D_s = 1".into()],
-        markers
+        runs.markers
             .iter()
             .enumerate()
             .map(|(i, v)| vec![f(*v), cols[0][i].clone(), cols[1][i].clone()])
             .collect(),
+    )
+}
+
+/// Basins at one value of the swept parameter, on the figure's box (`x0 ∈ ±2 D, x0' ∈ ±1.5`)
+/// and possibly on [`extra_boxes`].
+pub(super) struct BasinsAt {
+    /// File name of the figure (and of the checkpoints).
+    pub(super) name: String,
+    /// Cells per axis.
+    pub(super) n: usize,
+    /// The figure's box.
+    pub(super) state_box: StateBox,
+    /// (box description, basins) per box, the figure's first.
+    pub(super) boxes: Vec<(String, BasinResult)>,
+}
+
+/// Basins of `model` on the figure's box for the half backlash `d`, and on [`extra_boxes`]
+/// when `extra`.
+pub(super) fn basins_at(
+    ctx: &Ctx,
+    dir: &Path,
+    name: String,
+    model: &MeshModel,
+    (n, d): (usize, f64),
+    extra: bool,
+) -> Result<BasinsAt> {
+    let state_box = ((-2.0 * d, 2.0 * d), (-1.5, 1.5));
+    let grid = basin_grid(
+        ctx,
+        dir,
+        &name,
+        model,
+        n,
+        state_box.0,
+        state_box.1,
+        identify_options(300, 32),
+    )?;
+    let mut boxes = vec![(box_text(state_box.0, state_box.1), grid)];
+    if extra {
+        boxes.extend(basin_boxes(
+            ctx,
+            dir,
+            &name,
+            model,
+            n,
+            &extra_boxes(d),
+            identify_options(300, 32),
+        )?);
+    }
+    Ok(BasinsAt {
+        name,
+        n,
+        state_box,
+        boxes,
+    })
+}
+
+/// The figure and the attractor table of [`BasinsAt`] on the figure's box.
+pub(super) fn basins_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    basins: &BasinsAt,
+    title: &str,
+) -> Result<(Figure, Table)> {
+    let (x, v) = basins.state_box;
+    basin_render(
+        ctx,
+        dir,
+        &basins.name,
+        basins.n,
+        x,
+        v,
+        title,
+        &basins.boxes[0].1,
     )
 }

@@ -4,25 +4,56 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    backlash_sensitivity, basin_claim, continuation_opts, extra_boxes, found_in, presence,
-    table_row, Spec,
+    backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
+    found_in, marker_runs, presence, table_row, BasinsAt, MarkerRuns, Spec, PRESENT,
 };
 use super::{multi, B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::f;
 use crate::runner::Ctx;
-use crate::shared::{
-    basin_boxes, basin_figure, box_text, continuation_figure, identify_options, sweep_figure,
-    SweepPanels,
-};
+use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec};
+use geardyn_analysis::basins::BasinResult;
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
+use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// The seed's points where basins are drawn (G1 at 0.364 and 0.42, G3 at 1.801).
+const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
+/// The first coexistence of Q1 with a healthy period 1 matches a seed's G1 (0.364 or 0.42) when
+/// it lies within this distance of it (and nearer to it than to the other).
+const G1_TOLERANCE: f64 = 0.03;
+
+/// What the study computed over omega.
+pub(super) struct AttractorsOmegaData {
+    /// Half backlash D_s of the scenario (the boxes of initial states scale with it).
+    d: f64,
+    /// Values of the multi-initial sweep.
+    values: Vec<f64>,
+    /// Initial states per value.
+    ics: usize,
+    /// Basin cells per axis.
+    nb: usize,
+    /// The multi-initial sweep.
+    multi: Vec<TaskResult>,
+    /// The attractor continuation (safety tree).
+    continuation: ContinuationResult,
+    /// Basins at [`BASIN_OMEGAS`] (further boxes except at the first).
+    basins: Vec<BasinsAt>,
+    /// The motions at marker values with both backlash levels.
+    markers: MarkerRuns,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, lin, dir)?)
+}
+
+/// The multi-initial sweep, the continuation, the basins and the marker runs over omega.
+pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsOmegaData> {
     let set = [("F", 0.07), ("xi", 0.23)];
     let b = lin.with_all(&set)?;
     let d = b.params().d_single;
@@ -33,7 +64,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     values.sort_by(f64::total_cmp);
     values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let ics = ctx.n(6, 12);
-    let r = ctx.sweep(
+    let multi = ctx.sweep(
         dir,
         "omega multi-initial",
         &b,
@@ -45,67 +76,84 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             d,
         ),
     )?;
-    let fig = sweep_figure(
-        ctx, dir, "multi_omega", "omega", &r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
-        "Multi-initial bifurcation over omega (F = 0.07, xi = 0.23)",
-        "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
-    )?;
-    let pts = classes::points(&r, 0);
     let cvals: Vec<f64> = {
         let mut v = vec![0.03];
         v.extend(linspace(0.1, 3.0, ctx.n(20, 59)));
         v
     };
-    let c = ctx.continuation(
+    let continuation = ctx.continuation(
         dir,
         "omega continuation",
         &b,
         &continuation_opts("omega", cvals, ctx.n(8, 24), d),
     )?;
+    let nb = ctx.n(24, 80);
+    let mut basins = Vec::new();
+    for w in BASIN_OMEGAS {
+        let m = b.with("omega", w)?.model().clone();
+        basins.push(basins_at(
+            ctx,
+            dir,
+            format!("basins_omega_{w}"),
+            &m,
+            (nb, d),
+            w != 0.364,
+        )?);
+    }
+    let markers = marker_runs(
+        ctx,
+        dir,
+        &b,
+        "omega",
+        &[
+            0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
+        ],
+    )?;
+    Ok(AttractorsOmegaData {
+        d,
+        values,
+        ics,
+        nb,
+        multi,
+        continuation,
+        basins,
+        markers,
+    })
+}
+
+/// The figures, tables and the claims of the seed's table over omega.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsOmegaData) -> Result<Section> {
+    let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
+    let (r, c) = (&data.multi, &data.continuation);
+    let box_txt = &data.basins[0].boxes[0].0;
+    let fig = sweep_figure(
+        ctx, dir, "multi_omega", "omega", r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
+        "Multi-initial bifurcation over omega (F = 0.07, xi = 0.23)",
+        "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
+    )?;
+    let pts = classes::points(r, 0);
     let (fig_c, table_c) = continuation_figure(
         ctx,
         dir,
         "tree_omega",
         "omega",
-        &c,
+        c,
         "Bifurcation-safety tree over omega",
     )?;
-    let nb = ctx.n(24, 80);
     let mut basin_figs = Vec::new();
     let mut basin_tables = Vec::new();
-    let mut basin_res = Vec::new();
-    let box_txt = box_text((-2.0 * d, 2.0 * d), (-1.5, 1.5));
-    for w in [0.364, 0.42, 1.801] {
-        let m = b.with("omega", w)?.model().clone();
-        let (bf, bt, br) = basin_figure(
+    for (w, basins) in BASIN_OMEGAS.iter().zip(&data.basins) {
+        let (bf, bt) = basins_figure(
             ctx,
             dir,
-            &format!("basins_omega_{w}"),
-            &m,
-            nb,
-            (-2.0 * d, 2.0 * d),
-            (-1.5, 1.5),
+            basins,
             &format!("Basins at omega = {w} (F = 0.07, xi = 0.23)"),
-            identify_options(300, 32),
         )?;
         basin_figs.push(bf);
         basin_tables.push(bt);
-        let mut bx = vec![(box_txt.clone(), br)];
-        if w != 0.364 {
-            let name = format!("basins_omega_{w}");
-            let extra = extra_boxes(d);
-            bx.extend(basin_boxes(
-                ctx,
-                dir,
-                &name,
-                &m,
-                nb,
-                &extra,
-                identify_options(300, 32),
-            )?);
-        }
-        basin_res.push(bx);
     }
+    let basin_res: Vec<&[(String, BasinResult)]> =
+        data.basins.iter().map(|b| b.boxes.as_slice()).collect();
     let p1: fn(&Pt) -> bool = |p| p.name == "1-0-0-1-0";
     let q1: fn(&Pt) -> bool = |p| p.name == "1-1-1-1-1";
     let r1: fn(&Pt) -> bool =
@@ -143,7 +191,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         format!("found for omega ≤ 0.36: {}", found_in(&pts, 0.0, 0.36 / 0.85)),
         if low_only {
             Verdict::Reproduced
-        } else if low_h1 || presence(&pts, 0.01, 0.42, h1) >= 0.5 {
+        } else if low_h1 || presence(&pts, 0.01, 0.42, h1) >= PRESENT {
             Verdict::Partly
         } else {
             Verdict::NotReproduced
@@ -163,10 +211,16 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         (0.42, 0.364, format!("{B003} §4.3 and Table 5; {t51}")),
     ] {
         let verdict = match first_q1 {
-            Some(v) if (v - seed_w).abs() <= (v - other_w).abs() && (v - seed_w).abs() <= 0.03 => {
+            Some(v)
+                if (v - seed_w).abs() <= (v - other_w).abs()
+                    && (v - seed_w).abs() <= G1_TOLERANCE =>
+            {
                 Verdict::Reproduced
             }
-            Some(v) if (v - other_w).abs() < (v - seed_w).abs() && (v - other_w).abs() <= 0.03 => {
+            Some(v)
+                if (v - other_w).abs() < (v - seed_w).abs()
+                    && (v - other_w).abs() <= G1_TOLERANCE =>
+            {
                 Verdict::SeedInconsistent
             }
             Some(_) => Verdict::Partly,
@@ -181,7 +235,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             "The thesis text gives 0.364, both tables and the summary 0.42: the row nearer to the measurement is reproduced, the other is a seed inconsistency. Multi-initial sweep with extra values at 0.364 and 0.42.",
         ));
     }
-    let bq = &basin_res[1];
+    let bq = basin_res[1];
     claims.push(basin_claim(
         bq,
         &[
@@ -279,7 +333,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         format!("{B004} §5.3 text"),
         "P3 + PN".into(),
     ));
-    let b18 = &basin_res[2];
+    let b18 = basin_res[2];
     claims.push(basin_claim(
         b18,
         &[
@@ -369,15 +423,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     figs.extend(basin_figs);
     let mut tables = vec![table_c];
     tables.extend(basin_tables);
-    tables.push(backlash_sensitivity(
-        ctx,
-        dir,
-        &b,
-        "omega",
-        &[
-            0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
-        ],
-    )?);
+    tables.push(backlash_sensitivity(ctx, dir, &data.markers)?);
     Ok(Section {
         id: "attractors_omega".into(),
         title: "Coexisting attractors over omega (F = 0.07, xi = 0.23): multi-initial diagram, safety tree and basins".into(),

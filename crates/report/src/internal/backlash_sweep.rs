@@ -14,16 +14,64 @@ use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// Loads of the sensitivity table (the chosen [`F_BACKLASH`] among them).
+const SENSITIVITY_LOADS: [f64; 4] = [0.03, 0.05, 0.07, 0.1];
+/// Border between small and large backlash in the coexistence and separation claims.
+const LARGE_D: f64 = 1.15;
+/// Values of D where the seed's small-backlash motion 1-1-1-1-1 is looked for.
+const SMALL_D: (f64, f64) = (0.3, 0.45);
+
+/// One sweep of the sensitivity table.
+struct SensitivityRun {
+    /// Load F.
+    load: f64,
+    /// D_s - D_d.
+    step: f64,
+    /// Whether the step is the pair's physical one.
+    physical: bool,
+    /// The runs over D from (0, 0).
+    runs: Vec<TaskResult>,
+}
+
+/// What the study computed: the sweeps over D.
+pub(super) struct BacklashData {
+    /// Values of the main sweep.
+    n: usize,
+    /// Its integration settings.
+    sim: SimOptions,
+    /// The main sweep over D from (0, 0) (linear law, five sections, TLE).
+    main: Vec<TaskResult>,
+    /// The coarse multi-initial sweep over D.
+    multi: Vec<TaskResult>,
+    /// The sweeps of the sensitivity table, by load, then by backlash step.
+    sensitivity: Vec<SensitivityRun>,
+    /// The sweep with the preset's contact law.
+    law: Vec<TaskResult>,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(
     ctx: &Ctx,
     lin: &Scenario,
     preset_law: &Scenario,
     dir: &Path,
 ) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, lin, preset_law, dir)?)
+}
+
+/// The sweeps over D: the main one, the multi-initial one, the sensitivity to the load and the
+/// backlash step, and the preset's contact law.
+pub(super) fn compute(
+    ctx: &Ctx,
+    lin: &Scenario,
+    preset_law: &Scenario,
+    dir: &Path,
+) -> Result<BacklashData> {
     let n = ctx.n(40, 171);
     let values = linspace(0.3, 2.0, n);
     let sim = ctx.sim((150, 300), (40, 100));
@@ -37,19 +85,83 @@ pub(super) fn study(
         ])?)
     };
     let b = at(lin, BACKLASH_STEP, F_BACKLASH)?;
-    let r = ctx.sweep(
+    let main = ctx.sweep(
         dir,
         "D sweep (linear law)",
         &b,
         &fixed("D", values.clone(), sim, FIVE.to_vec(), true),
     )?;
+    // multi-initial, coarse: coexistence at large backlash
+    let mvals = linspace(0.3, 2.0, ctx.n(12, 35));
+    let multi = ctx.sweep(
+        dir,
+        "D multi-initial",
+        &b,
+        &multi("D", mvals, ctx.sim((150, 300), (30, 60)), ctx.n(4, 8), 1.0),
+    )?;
+    // sensitivity to the chosen load and backlash step
+    let ns = ctx.n(20, 69);
+    let mut sensitivity = Vec::new();
+    // the pair's own step (its labels keep p = r, q = s, as the seed's labels of this figure do)
+    let phys = lin.get("D_s")? - lin.get("D_d")?;
+    for &fl in &SENSITIVITY_LOADS {
+        for &st in &[phys, 0.1, 0.2] {
+            let s = at(lin, st, fl)?;
+            let runs = ctx.sweep(
+                dir,
+                &format!("D sweep F {fl} step {st}"),
+                &s,
+                &fixed(
+                    "D",
+                    linspace(0.3, 2.0, ns),
+                    ctx.sim((150, 300), (40, 100)),
+                    vec![Sec::Strobe],
+                    false,
+                ),
+            )?;
+            sensitivity.push(SensitivityRun {
+                load: fl,
+                step: st,
+                physical: st == phys,
+                runs,
+            });
+        }
+    }
+    // the preset's contact law, for comparison
+    let bl = at(preset_law, BACKLASH_STEP, F_BACKLASH)?;
+    let law = ctx.sweep(
+        dir,
+        "D sweep (LN law)",
+        &bl,
+        &fixed(
+            "D",
+            linspace(0.3, 2.0, ctx.n(30, 86)),
+            sim,
+            vec![Sec::Strobe],
+            false,
+        ),
+    )?;
+    Ok(BacklashData {
+        n,
+        sim,
+        main,
+        multi,
+        sensitivity,
+        law,
+    })
+}
+
+/// The figures, tables, readings and claims of the sweeps over D.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &BacklashData) -> Result<Section> {
+    let (n, sim) = (data.n, data.sim);
+    let r = &data.main;
     let fig = sweep_figure(
-        ctx, dir, "bif_D", "D", &r, &FIVE,
+        ctx, dir, "bif_D", "D", r, &FIVE,
         &SweepPanels { tle: true, p_id: true, ..Default::default() },
         "Bifurcation over the static half backlash D (xi = 0.27, omega = 1.4)",
         "Linear contact law, D_s = D, D_d = D - 0.2, F = 0.07: the five Poincaré sections of the seed (stroboscopic x; velocity at the crossings of ±D_s, ±D_d), P_ID and the TLE over D; colours by decided motion.",
     )?;
-    let pts = classes::fixed_points(&r);
+    let pts = classes::fixed_points(r);
     let t = tolerant(&pts);
     let table = interval_table(
         ctx,
@@ -59,15 +171,8 @@ pub(super) fn study(
         "D",
         &pts,
     )?;
-    // multi-initial, coarse: coexistence at large backlash
-    let mvals = linspace(0.3, 2.0, ctx.n(12, 35));
-    let rm = ctx.sweep(
-        dir,
-        "D multi-initial",
-        &b,
-        &multi("D", mvals, ctx.sim((150, 300), (30, 60)), ctx.n(4, 8), 1.0),
-    )?;
-    let mp = classes::points(&rm, 0);
+    let rm = &data.multi;
+    let mp = classes::points(rm, 0);
     let coexist = |lo: f64, hi: f64| {
         let vals: Vec<f64> = {
             let mut v: Vec<f64> = mp
@@ -87,71 +192,42 @@ pub(super) fn study(
             .count();
         c as f64 / vals.len().max(1) as f64
     };
-    let (co_small, co_large) = (coexist(0.3, 1.15), coexist(1.15, 2.0));
+    let (co_small, co_large) = (coexist(0.3, LARGE_D), coexist(LARGE_D, 2.0));
     let fig_m = sweep_figure(
-        ctx, dir, "multi_D", "D", &rm, &[Sec::Strobe], &SweepPanels::default(),
+        ctx, dir, "multi_D", "D", rm, &[Sec::Strobe], &SweepPanels::default(),
         "Multi-initial diagram over D (coexisting attractors)",
         "Several random initial states per value (x0 ∈ ±4, x0' ∈ ±3 for D = 1: the attractor region, docs/analyses.md): points coloured by the attractor reached.",
     )?;
-    // sensitivity to the chosen load and backlash step
-    let ns = ctx.n(20, 69);
-    let mut sens_rows = Vec::new();
-    // the pair's own step (its labels keep p = r, q = s, as the seed's labels of this figure do)
-    let phys = lin.get("D_s")? - lin.get("D_d")?;
-    for &fl in &[0.03, 0.05, 0.07, 0.1] {
-        for &st in &[phys, 0.1, 0.2] {
-            let s = at(lin, st, fl)?;
-            let rs = ctx.sweep(
-                dir,
-                &format!("D sweep F {fl} step {st}"),
-                &s,
-                &fixed(
-                    "D",
-                    linspace(0.3, 2.0, ns),
-                    ctx.sim((150, 300), (40, 100)),
-                    vec![Sec::Strobe],
-                    false,
-                ),
-            )?;
-            let ps = classes::fixed_points(&rs);
+    let sens_rows: Vec<Vec<String>> = data
+        .sensitivity
+        .iter()
+        .map(|run| {
+            let ps = classes::fixed_points(&run.runs);
             let iv = classes::intervals(&tolerant(&ps));
-            let st_txt = if st == phys {
-                format!("{} (physical)", f(st))
+            let st_txt = if run.physical {
+                format!("{} (physical)", f(run.step))
             } else {
-                f(st)
+                f(run.step)
             };
-            sens_rows.push(vec![f(fl), st_txt, sequence(&iv, 2)]);
-        }
-    }
+            vec![f(run.load), st_txt, sequence(&iv, 2)]
+        })
+        .collect();
     let sens = ctx.table(
         &dir.join("sensitivity.csv"),
         "Sequence of motions over D for other loads F and backlash steps D_s - D_d (runs of at least two values)",
         &hdr(&["F", "D_s - D_d", "sequence over D from 0.3 to 2"]),
         sens_rows,
     )?;
-    // the preset's contact law, for comparison
-    let bl = at(preset_law, BACKLASH_STEP, F_BACKLASH)?;
-    let rl = ctx.sweep(
-        dir,
-        "D sweep (LN law)",
-        &bl,
-        &fixed(
-            "D",
-            linspace(0.3, 2.0, ctx.n(30, 86)),
-            sim,
-            vec![Sec::Strobe],
-            false,
-        ),
-    )?;
+    let rl = &data.law;
     let fig_l = sweep_figure(
-        ctx, dir, "bif_D_johnson", "D", &rl, &[Sec::Strobe], &SweepPanels::default(),
+        ctx, dir, "bif_D_johnson", "D", rl, &[Sec::Strobe], &SweepPanels::default(),
         "Comparison: the same sweep with the Johnson-type (Lankarani–Nikravesh) contact law",
         "The preset's contact law (exponent from the seed's Johnson table, restitution 0.8) at the same parameters, for comparison.",
     )?;
-    let pl = classes::fixed_points(&rl);
+    let pl = classes::fixed_points(rl);
     // claims
     let first = t.first().map(|p| p.name.clone()).unwrap_or_default();
-    let small: Vec<&Pt> = classes::within(&t, 0.3, 0.45);
+    let small: Vec<&Pt> = classes::within(&t, SMALL_D.0, SMALL_D.1);
     let p1_small = small.iter().any(|p| p.name == "1-1-1-1-1");
     let a = has_name(&t, "2-1-1-1-1");
     let b4 = has_name(&pts, "4-2-2-2-2");
@@ -198,7 +274,7 @@ pub(super) fn study(
         let _ = w;
         ps.iter().sum::<f64>() / ps.len().max(1) as f64
     };
-    let (pid_lo, pid_hi) = (pid(0.3, 1.15), pid(1.15, 2.0));
+    let (pid_lo, pid_hi) = (pid(0.3, LARGE_D), pid(LARGE_D, 2.0));
     let seq = sequence(&iv, 2);
     let chosen = format!(
         "F = {} and D_s - D_d = {} (chosen; the seed gives neither); sequence {seq}",
@@ -215,8 +291,8 @@ pub(super) fn study(
         Claim::new("The chaos degenerates (E) to a period-3 window", format!("{B003} §3.3; {B004} §4.3 (point E)"), "period 3 after chaos", p3_after.map_or("none".into(), |v| format!("period 3 from D = {}", f(v))), Verdict::of(p3_after.is_some()), "Fixed initial state (0, 0); a period 3 after the main chaotic range is what the row needs (the motion over D: intervals_D.csv)."),
         Claim::new("Chaos returns after the period-3 window (F)", format!("{B003} §3.3; {B004} §4.3 (point F)"), "chaos again", format!("chaotic ranges: {}", ranges_text(&chaos)), Verdict::of(chaos_after_p3), "At these parameters the period-3 motion persists up to D = 2 (see the sensitivity table)."),
         Claim::new("Eventually a long-period motion emerges", format!("{B003} §3.3"), "long period", long_period.as_ref().map_or("none".into(), |(v, n)| format!("{n} at D = {}", f(*v))), if long_in_order { Verdict::Reproduced } else if long_period.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, format!("Long = period ≥ 5 (the last one over D). The summary places it after the return of chaos; chaos after the period-3 window: {}.", chaos_back.map_or("none (row above)".into(), |c| format!("from D = {}", f(c))))),
-        Claim::new("For large backlash periodic and chaotic motions coexist (stronger nonlinearity)", format!("{B004} §4.3; {B003} §3.3"), "coexistence at large D", format!("values with ≥ 2 motions among the initial states: D < 1.15 {}, D ≥ 1.15 {}", pct(co_small), pct(co_large)), Verdict::of(co_large > co_small), "Multi-initial diagram (second figure). Where it fails, all initial states at large D reach the same motion (3-1-1-1-1 at these parameters): larger backlash does not add attractors here."),
-        Claim::new("Larger backlash increases tooth separation and back-side contact", format!("{B003} §3.3"), "more separation / back contact", format!("mean P_ID: D < 1.15 {}, D ≥ 1.15 {}", f(pid_lo), f(pid_hi)), Verdict::of(pid_hi > pid_lo), "P_ID = share of time in separation or back-side contact."),
+        Claim::new("For large backlash periodic and chaotic motions coexist (stronger nonlinearity)", format!("{B004} §4.3; {B003} §3.3"), "coexistence at large D", format!("values with ≥ 2 motions among the initial states: D < {} {}, D ≥ {} {}", f(LARGE_D), pct(co_small), f(LARGE_D), pct(co_large)), Verdict::of(co_large > co_small), "Multi-initial diagram (second figure). Where it fails, all initial states at large D reach the same motion (3-1-1-1-1 at these parameters): larger backlash does not add attractors here."),
+        Claim::new("Larger backlash increases tooth separation and back-side contact", format!("{B003} §3.3"), "more separation / back contact", format!("mean P_ID: D < {} {}, D ≥ {} {}", f(LARGE_D), f(pid_lo), f(LARGE_D), f(pid_hi)), Verdict::of(pid_hi > pid_lo), "P_ID = share of time in separation or back-side contact."),
     ];
     let table_cmp = ctx.table(
         &dir.join("law_comparison.csv"),

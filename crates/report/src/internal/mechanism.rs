@@ -9,12 +9,34 @@ use crate::runner::Ctx;
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::simulate::{simulate, SimOptions};
-use geardyn_model::EventKind;
+use geardyn_analysis::simulate::{simulate, SimOptions, SimResult};
+use geardyn_model::{EventKind, MeshModel};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// What the study computed: the point shown and its run.
+pub(super) struct MechanismData {
+    /// Number of candidate points tried.
+    candidates: usize,
+    /// The point shown: the first candidate whose run shows both exits, else the last one.
+    point: Vec<(&'static str, f64)>,
+    /// Its model (linear contact law).
+    model: MeshModel,
+    /// Its run from (0, 0), with the trajectory of the last periods.
+    run: SimResult,
+    /// Drive-side exits at D_s with a tensile force before them.
+    exits_s: usize,
+    /// Drive-side exits at D_d with a tensile force before them.
+    exits_d: usize,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, lin)?)
+}
+
+/// Runs the candidate points until one shows a tensile force before both exits.
+pub(super) fn compute(ctx: &Ctx, lin: &Scenario) -> Result<MechanismData> {
     // candidate points: the backlash sweep's small-D end and the xi sweep's period-2 range
     let candidates: Vec<Vec<(&str, f64)>> = vec![
         vec![
@@ -100,7 +122,27 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             chosen = Some((c.clone(), m, r, ns, nd));
         }
     }
-    let (c, m, r, ns, nd) = chosen.ok_or_else(|| anyhow::anyhow!("no candidate"))?;
+    let (point, model, run, exits_s, exits_d) =
+        chosen.ok_or_else(|| anyhow::anyhow!("no candidate"))?;
+    Ok(MechanismData {
+        candidates: candidates.len(),
+        point,
+        model,
+        run,
+        exits_s,
+        exits_d,
+    })
+}
+
+/// The figure of two mesh cycles, the reading and the claim.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Section> {
+    let (c, m, r, ns, nd) = (
+        &data.point,
+        &data.model,
+        &data.run,
+        data.exits_s,
+        data.exits_d,
+    );
     let (dd, ds) = (m.params().d_double, m.params().d_single);
     let t_end = r.trajectory.last().map_or(0.0, |p| p.tau);
     let t0 = t_end - 2.0 * m.excitation_period();
@@ -132,7 +174,7 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             ("F_m".into(), vec![Line { label: "F_m".into(), points: fs, dots: false }]),
         ],
         &[0.0],
-        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(&c)),
+        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(c)),
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
     let ok = ns > 0 && nd > 0;
@@ -142,11 +184,11 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
         seed_ref: "003 §3.2; 004 §4.2 (Fig. 4.3), §6(2)".into(),
         parameters: format!(
             "{} (linear contact law; the seed names no point — {})",
-            sets(&c),
+            sets(c),
             if ok {
-                format!("the first of {} candidates that shows both exits", candidates.len())
+                format!("the first of {} candidates that shows both exits", data.candidates)
             } else {
-                format!("none of the {} candidates shows both exits; the last one is shown", candidates.len())
+                format!("none of the {} candidates shows both exits; the last one is shown", data.candidates)
             }
         ),
         method: "Dormand–Prince 5(4) with exact event location; drive-side exits located at x = D_s and x = D_d; tensile force = F_m < 0 in contact within 0.05 time units before the exit.".into(),

@@ -9,13 +9,38 @@ use crate::readings::f;
 use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
+use geardyn_analysis::orbits::{run_orbits, BifurcationKind, Continuation, OrbitsRequest};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// Arclength step of the continuations (a quarter of the default: the branches span a narrow
+/// range of xi).
+const ORBIT_DS: f64 = 0.005;
+/// The period-2 branch turns at the lowest stable period-2 orbit when a fold or grazing of the
+/// branch lies within this distance (in xi) of it.
+const TURN_NEAR: f64 = 0.005;
+/// ... and its unstable twin lies within this distance above it.
+const TWIN_WITHIN: f64 = 0.01;
+
+/// What the study computed: the branches over xi.
+pub(super) struct OrbitsXiData {
+    /// The scenario of the branches (linear law, F = 0.05, omega = 1.5, the nominal backlash).
+    scenario: Scenario,
+    /// The range of xi followed.
+    range: (f64, f64),
+    /// The period-2 attractor's state at xi = 0.02 (none: not reached from the grid).
+    start: Option<[f64; 2]>,
+    /// The period-1 branch from rest, merged with the period-2 branch.
+    branches: Continuation,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    // (a quarter of the default arclength step: the branches span a narrow range of xi)
-    const ORBIT_DS: f64 = 0.005;
-    use geardyn_analysis::orbits::{run_orbits, BifurcationKind, Continuation, OrbitsRequest};
+    render(ctx, dir, &compute(lin)?)
+}
+
+/// The period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02.
+pub(super) fn compute(lin: &Scenario) -> Result<OrbitsXiData> {
     let set = [
         ("F", 0.05),
         ("omega", 1.5),
@@ -69,15 +94,26 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
             &req,
         )?);
     }
+    Ok(OrbitsXiData {
+        scenario: b,
+        range: (lo, hi),
+        start,
+        branches: c,
+    })
+}
+
+/// The orbit figure over the simulated points, the readings and the claim.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsXiData) -> Result<Section> {
+    let (b, (lo, hi), start, c) = (&data.scenario, data.range, data.start, &data.branches);
     let (fig, mut readings) = crate::shared::orbit_figure(
         ctx,
         dir,
-        &b,
+        b,
         "xi",
         (lo, hi),
         [0.0, 0.0],
         ctx.n(40, 60),
-        &c,
+        c,
         "Seed B: periodic orbits over xi",
         "Linear contact law at F = 0.05, omega = 1.5, D_d = 0.9, D_s = 1: the period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02, stable orbits as lines and unstable ones as dots, bifurcation points marked, over the stroboscopic points simulated from rest (grey).",
     )?;
@@ -100,13 +136,13 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     // the turn: a fold or grazing of a period-2 branch beside the lowest stable orbit (the
     // branch points bracket it), with the unstable twin beside it
     let turn = born.and_then(|a| {
-        let twin = p2(false).any(|p| p.param >= a && p.param <= a + 0.01);
+        let twin = p2(false).any(|p| p.param >= a && p.param <= a + TWIN_WITHIN);
         c.bifurcations
             .iter()
             .filter(|x| {
                 x.orbit.period == 2
                     && matches!(x.kind, BifurcationKind::Fold | BifurcationKind::Grazing)
-                    && (x.param - a).abs() < 0.005
+                    && (x.param - a).abs() < TURN_NEAR
             })
             .map(|x| x.param)
             .reduce(f64::min)

@@ -13,7 +13,7 @@ use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
 use geardyn_model::StiffnessForm;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -66,7 +66,44 @@ fn interpretations() -> Vec<Interpretation> {
     ]
 }
 
+/// The runs under one reading of the text.
+struct ReadingRuns {
+    /// The reading.
+    reading: Interpretation,
+    /// Its damping c.
+    c: f64,
+    /// Its half backlash (D_d, D_s).
+    levels: (f64, f64),
+    /// The multi-initial load sweep (none: the headline section on F runs this reading).
+    load: Option<Vec<TaskResult>>,
+    /// The xi sweep from (0, 0) (none: the headline section on xi runs this reading).
+    xi: Option<Vec<TaskResult>>,
+}
+
+/// What the study computed: the load and xi sweeps under every reading.
+pub(super) struct ReadingsData {
+    /// Values of the load sweeps.
+    n_load: usize,
+    /// Values of the xi sweeps.
+    n_xi: usize,
+    /// Initial states per load.
+    ics: usize,
+    /// The runs, reading by reading.
+    readings: Vec<ReadingRuns>,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, lin, law, dir)?)
+}
+
+/// The load and xi sweeps under each reading the headline sections do not run.
+pub(super) fn compute(
+    ctx: &Ctx,
+    lin: &Scenario,
+    law: &Scenario,
+    dir: &Path,
+) -> Result<ReadingsData> {
     let mut fvals = linspace(0.0001, 0.2, ctx.n(41, 134));
     // the seed's windows, and the narrow end of the cascade near F = 0.095 (a period 12 was
     // seen at 0.095 and 0.096 and missed by a grid step of 0.0015)
@@ -82,25 +119,63 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Re
     // the sections that hold the headline claims run these readings already
     let f_done = Interpretation::headline(&AXES);
     let xi_done = Interpretation::with(&AXES, &[("backlash", 1)]);
-    let mut alternatives = Vec::new();
-    let mut rows = Vec::new();
-    let mut figures = Vec::new();
-    for (i, it) in interpretations().iter().enumerate() {
-        let s = interpret(lin, law, it)?;
-        let label = it.label(&AXES);
-        let short = it.short(&AXES);
-        let mut f_seq = "in the section on F (headline)".to_string();
-        let mut xi_chaos = "in the section on xi (headline)".to_string();
-        if *it != f_done {
+    let mut readings = Vec::new();
+    for (i, it) in interpretations().into_iter().enumerate() {
+        let s = interpret(lin, law, &it)?;
+        let load = if it != f_done {
             let b = s.with_all(&[("omega", 1.4), ("xi", 0.09)])?;
             let d = b.params().d_single;
-            let r = ctx.sweep(
+            Some(ctx.sweep(
                 dir,
                 &format!("F multi-initial, reading {i}"),
                 &b,
                 &multi("F", fvals.clone(), sim_f, ics, d),
-            )?;
-            let pts = classes::points(&r, 0);
+            )?)
+        } else {
+            None
+        };
+        let xi = if it != xi_done {
+            let b = s.with_all(&[("F", 0.05), ("omega", 1.5)])?;
+            Some(ctx.sweep(
+                dir,
+                &format!("xi sweep, reading {i}"),
+                &b,
+                &fixed("xi", xvals.clone(), sim_xi, vec![Sec::Strobe], false),
+            )?)
+        } else {
+            None
+        };
+        let p = s.params();
+        readings.push(ReadingRuns {
+            reading: it,
+            c: p.c,
+            levels: (p.d_double, p.d_single),
+            load,
+            xi,
+        });
+    }
+    Ok(ReadingsData {
+        n_load: fvals.len(),
+        n_xi: xvals.len(),
+        ics,
+        readings,
+    })
+}
+
+/// The claims of the load and xi sweeps under every reading, their figures and the tables.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Section> {
+    let ics = data.ics;
+    let mut alternatives = Vec::new();
+    let mut rows = Vec::new();
+    let mut figures = Vec::new();
+    for (i, runs) in data.readings.iter().enumerate() {
+        let it = &runs.reading;
+        let label = it.label(&AXES);
+        let short = it.short(&AXES);
+        let mut f_seq = "in the section on F (headline)".to_string();
+        let mut xi_chaos = "in the section on xi (headline)".to_string();
+        if let Some(r) = &runs.load {
+            let pts = classes::points(r, 0);
             let mut cl = low_load_claims(&pts);
             cl.push(cascade_claim(
                 &pts,
@@ -108,36 +183,25 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Re
             ));
             label_claims(&mut cl, &label);
             alternatives.extend(cl);
-            f_seq = sequence(
-                &classes::intervals(&tolerant(&classes::fixed_points(&r))),
-                2,
-            );
+            f_seq = sequence(&classes::intervals(&tolerant(&classes::fixed_points(r))), 2);
             figures.push(sweep_figure(
-                ctx, dir, &format!("multi_F_reading_{i}"), "F", &r, &[Sec::Strobe],
+                ctx, dir, &format!("multi_F_reading_{i}"), "F", r, &[Sec::Strobe],
                 &SweepPanels::default(),
                 &format!("Multi-initial bifurcation over F (omega = 1.4, xi = 0.09), reading: {short}"),
                 &format!("Reading of the text: {label}. Runs from {ics} initial states per load, coloured by the attractor label."),
             )?);
         }
-        if *it != xi_done {
-            let b = s.with_all(&[("F", 0.05), ("omega", 1.5)])?;
-            let r = ctx.sweep(
-                dir,
-                &format!("xi sweep, reading {i}"),
-                &b,
-                &fixed("xi", xvals.clone(), sim_xi, vec![Sec::Strobe], false),
-            )?;
-            let pts = classes::fixed_points(&r);
+        if let Some(r) = &runs.xi {
+            let pts = classes::fixed_points(r);
             let mut cl = vec![xi_band_claim(&pts)];
             label_claims(&mut cl, &label);
             alternatives.extend(cl);
             xi_chaos = ranges_text(&chaos_ranges(&pts));
         }
-        let p = s.params();
         rows.push(vec![
             short,
-            f(p.c),
-            format!("{} / {}", f(p.d_double), f(p.d_single)),
+            f(runs.c),
+            format!("{} / {}", f(runs.levels.0), f(runs.levels.1)),
             f_seq,
             xi_chaos,
         ]);
@@ -161,8 +225,8 @@ pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Re
         seed_ref: "003 §3.4, §4.3 (Table 6); 004 §4.4, §5.4 (Table 5.2)".into(),
         parameters: format!(
             "Load sweep: F in [0.0001, 0.2] ({} values), omega = 1.4, xi = 0.09, {ics} initial states per value; xi sweep: xi in [0.001, 0.3] ({} values), omega = 1.5, F = 0.05, initial state (0, 0). Readings: {}.",
-            fvals.len(),
-            xvals.len(),
+            data.n_load,
+            data.n_xi,
             interpretations().iter().map(|i| i.short(&AXES)).collect::<Vec<_>>().join("; ")
         ),
         method: "Each reading of the first table changes the model as it says (c halved; D_d = 0.9, D_s = 1; a rectangular stiffness of mean 1; the pair's contact law); the claims of the load and xi sweeps are judged on each with the same rules as the headline sections. Every claim under every reading is in claims_by_interpretation.csv; the headline claims use the reading the text states most directly, not the one that reproduces best.".into(),
