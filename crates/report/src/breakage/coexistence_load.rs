@@ -7,14 +7,53 @@ use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{basin_figure, sweep_figure, SweepPanels};
+use crate::shared::{basin_grid, basin_render, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{attractor_region, linspace, Section as Sec, SweepMode};
+use geardyn_analysis::basins::BasinResult;
+use geardyn_analysis::bifurcation::{
+    attractor_region, linspace, Section as Sec, SweepMode, TaskResult,
+};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// "At F = 0.05": the loads within this distance of it ([0.04, 0.06], with room for rounding).
+const NEAR: f64 = 0.0101;
+/// Back-side impacts occur in a range of loads when at more than this share of its loads.
+const IMPACTS: f64 = 0.5;
+/// The medium-load row's chaos: chaotic runs at more than this share of the loads.
+const CHAOS_MEDIUM: f64 = 0.3;
+
+/// What the study computed: the multi-initial runs over F, the frequency scan and the basins.
+pub(super) struct CoexistenceData {
+    /// Half backlash D_s (the region of initial states scales with it).
+    d: f64,
+    /// The loads.
+    values: Vec<f64>,
+    /// Integration settings.
+    sim: SimOptions,
+    /// Initial states per value.
+    ics: usize,
+    /// The multi-initial sweep over F at [`OMEGA_LOAD`].
+    multi: Vec<TaskResult>,
+    /// The frequencies of the scan at F = 0.05.
+    scan_omegas: Vec<f64>,
+    /// The multi-initial scan over omega at F = 0.05.
+    scan: Vec<TaskResult>,
+    /// Basin cells per axis.
+    nb: usize,
+    /// Basins at F = 0.05.
+    basins: BasinResult,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base, dir)?)
+}
+
+/// The multi-initial sweep over F, the scan over omega at F = 0.05 and the basins there.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<CoexistenceData> {
     let b = base.with("omega", OMEGA_LOAD)?;
     let d = b.params().d_single;
     let mut values = ctx.n(vec![0.02, 0.1, 0.14], linspace(0.01, 0.15, 15));
@@ -40,13 +79,54 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         sim,
         vec![Sec::Strobe, Sec::Impact],
     );
-    let r = ctx.sweep(dir, "multi-initial F", &b, &o)?;
+    let multi_runs = ctx.sweep(dir, "multi-initial F", &b, &o)?;
+    // the seed gives no frequency for this load: the same question over a few omega at F = 0.05
+    let scan_w = ctx.n(
+        vec![0.6, 1.0, 1.6, 2.2],
+        vec![0.5, 0.7, 0.9, 1.0, 1.1, 1.3, 1.5, 1.8, 2.2],
+    );
+    let scan = ctx.sweep(
+        dir,
+        "omega scan at F = 0.05",
+        &b.with("F", 0.05)?,
+        &sweep("omega", scan_w.clone(), multi, sim, vec![Sec::Strobe]),
+    )?;
+    // basins at F = 0.05
+    let nb = ctx.n(8, 24);
+    let m = b.with("F", 0.05)?.model().clone();
+    let basins = basin_grid(
+        ctx,
+        dir,
+        "basins_F_0.05",
+        &m,
+        nb,
+        attractor_region(d).0,
+        attractor_region(d).1,
+        crate::shared::identify_options(ctx.n(40, 100), 16),
+    )?;
+    Ok(CoexistenceData {
+        d,
+        values,
+        sim,
+        ics,
+        multi: multi_runs,
+        scan_omegas: scan_w,
+        scan,
+        nb,
+        basins,
+    })
+}
+
+/// The diagram, the tables, the basin figure and the claims.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Section> {
+    let (d, values, sim, ics, nb) = (data.d, &data.values, data.sim, data.ics, data.nb);
+    let (r, scan_w, rw, br) = (&data.multi, &data.scan_omegas, &data.scan, &data.basins);
     let fig = sweep_figure(
-        ctx, dir, "multi_F", "F", &r, &[Sec::Strobe, Sec::Impact], &SweepPanels::default(),
+        ctx, dir, "multi_F", "F", r, &[Sec::Strobe, Sec::Impact], &SweepPanels::default(),
         "Broken pair: multi-initial bifurcation over F (omega = 1.2)",
         "Broken pair, omega = 1.2: runs from several random initial states per load, coloured by decided motion (label in revolutions, period in mesh cycles in the legend).",
     )?;
-    let pts = classes::points(&r, 0);
+    let pts = classes::points(r, 0);
     let per_value: Vec<(f64, Vec<&Pt>)> = values
         .iter()
         .map(|&v| (v, pts.iter().filter(|p| p.value == v).collect()))
@@ -84,7 +164,7 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     // period-2 and period-4 near F = 0.05: on either clock
     let near: Vec<&Pt> = pts
         .iter()
-        .filter(|p| (p.value - 0.05).abs() <= 0.0101 && p.class.periodic())
+        .filter(|p| (p.value - 0.05).abs() <= NEAR && p.class.periodic())
         .collect();
     let has = |k: usize| {
         near.iter()
@@ -110,7 +190,7 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     let all_near: Vec<String> = {
         let mut v: Vec<String> = pts
             .iter()
-            .filter(|p| (p.value - 0.05).abs() <= 0.0101)
+            .filter(|p| (p.value - 0.05).abs() <= NEAR)
             .map(|p| p.name.clone())
             .collect();
         v.sort();
@@ -137,18 +217,7 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     );
     let chaos_mid = frac(&mid, &|ps| ps.iter().any(|p| p.class == Class::Chaotic));
     let p24 = has(2) && has(4);
-    // the seed gives no frequency for this load: the same question over a few omega at F = 0.05
-    let scan_w = ctx.n(
-        vec![0.6, 1.0, 1.6, 2.2],
-        vec![0.5, 0.7, 0.9, 1.0, 1.1, 1.3, 1.5, 1.8, 2.2],
-    );
-    let rw = ctx.sweep(
-        dir,
-        "omega scan at F = 0.05",
-        &b.with("F", 0.05)?,
-        &sweep("omega", scan_w.clone(), multi, sim, vec![Sec::Strobe]),
-    )?;
-    let wpts = classes::points(&rw, 0);
+    let wpts = classes::points(rw, 0);
     let scan_rows: Vec<(f64, Vec<String>, bool)> = scan_w
         .iter()
         .map(|&w| {
@@ -209,10 +278,10 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             format!("{A001} abstract and conclusions"),
             "coexistence at small F",
             format!("values with coexisting motions: F < 0.03 {}, 0.03–0.1 {}, F > 0.1 {}", pct(cl), pct(cm), pct(ch)),
-            Verdict::of(coexist_low_high && il.max(im) > 0.5),
+            Verdict::of(coexist_low_high && il.max(im) > IMPACTS),
             format!(
                 "Coexistence = two different periodic motions, or a periodic and a chaotic one, among the initial states of one load.{}",
-                match (coexist_low_high, il.max(im) > 0.5, cl == 0.0) {
+                match (coexist_low_high, il.max(im) > IMPACTS, cl == 0.0) {
                     (true, true, true) => " Smaller than the large loads, not the smallest: every initial state reaches the same motion at F < 0.03 (as the short version's table has it, row below).",
                     (true, true, false) => "",
                     (false, _, _) => " Coexistence is not more frequent at the smaller loads here (shares above).",
@@ -225,11 +294,11 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             format!("{A002} §5.2 (table, row Medium)"),
             "chaos, coexistence, impacts",
             format!("0.03 ≤ F ≤ 0.1: chaos at {}, coexistence at {}, impacts at {} of loads", pct(chaos_mid), pct(cm), pct(im)),
-            Verdict::of_parts(&[chaos_mid > 0.3, cm > 0.0, im > 0.5]),
+            Verdict::of_parts(&[chaos_mid > CHAOS_MEDIUM, cm > 0.0, im > IMPACTS]),
             "Medium = 0.03–0.1 (the table gives no numbers).",
         ),
     ];
-    let low_ok = il > 0.5 && cl == 0.0;
+    let low_ok = il > IMPACTS && cl == 0.0;
     claims.push(Claim::new(
         "Low load: tooth-back impact, no period coexistence",
         format!("{A002} §5.2 (table, row Low)"),
@@ -240,23 +309,19 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         } else if cl > 0.0 && coexist_low_high {
             Verdict::SeedInconsistent
         } else {
-            Verdict::of_parts(&[il > 0.5, cl == 0.0])
+            Verdict::of_parts(&[il > IMPACTS, cl == 0.0])
         },
         "The long summary and the paper tie coexistence to smaller loads; the short version's table excludes it at the lowest loads. The row above with its measurement decides between them.",
     ));
-    // basins at F = 0.05
-    let nb = ctx.n(8, 24);
-    let m = b.with("F", 0.05)?.model().clone();
-    let (bfig, btable, br) = basin_figure(
+    let (bfig, btable) = basin_render(
         ctx,
         dir,
         "basins_F_0.05",
-        &m,
         nb,
         attractor_region(d).0,
         attractor_region(d).1,
         "Broken pair: basins at omega = 1.2, F = 0.05",
-        crate::shared::identify_options(ctx.n(40, 100), 16),
+        br,
     )?;
     Ok(Section {
         id: "coexistence_load".into(),

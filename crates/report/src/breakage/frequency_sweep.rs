@@ -10,9 +10,19 @@ use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
+
+/// A motion (chaos, impacts, a period) describes a range of omega when it holds at more than
+/// this share of its values.
+const MOST: f64 = 0.5;
+/// Chaos occurs in a third of the range when at more than this share of its values.
+const SOME: f64 = 0.1;
+/// The short version's medium frequencies have impacts at more than this share of the middle
+/// third's values.
+const MEDIUM_IMPACTS: f64 = 0.3;
 
 /// What the seed's frequency statements need from one omega sweep.
 struct FreqStats {
@@ -67,13 +77,13 @@ impl FreqStats {
         }
     }
     fn low_000(&self) -> bool {
-        self.low_chaos > 0.5 && self.low_imp > 0.5
+        self.low_chaos > MOST && self.low_imp > MOST
     }
     fn low_002(&self) -> bool {
-        self.low_per_noimp > 0.5
+        self.low_per_noimp > MOST
     }
     fn mid_000(&self) -> bool {
-        self.mid_per > 0.5 && self.mid_imp < self.low_imp.max(0.01)
+        self.mid_per > MOST && self.mid_imp < self.low_imp.max(0.01)
     }
     /// Chaos "reappears" above omega = 2 when it holds at a fifth of those values or more (a
     /// value at the tail of a band that starts below 2 is no reappearance), with impacts at
@@ -87,10 +97,10 @@ impl FreqStats {
         self.thirds[0].0 > self.thirds[1].0 && self.thirds[2].0 > self.thirds[1].0
     }
     fn medium_002(&self) -> bool {
-        self.thirds[1].1 > 0.1 && self.thirds[1].0 > 0.3
+        self.thirds[1].1 > SOME && self.thirds[1].0 > MEDIUM_IMPACTS
     }
     fn high_002(&self) -> bool {
-        self.thirds[2].1 > 0.1
+        self.thirds[2].1 > SOME
     }
 }
 
@@ -118,30 +128,39 @@ fn at_loads(main: bool, others: &[(f64, bool)]) -> (Verdict, String) {
     (v, txt)
 }
 
+/// What the study computed: the broken pair's sweeps over omega.
+pub(super) struct FrequencyData {
+    /// Values of the main sweep.
+    nw: usize,
+    /// Values of the sweeps at the other loads.
+    ns: usize,
+    /// Integration settings.
+    sim: SimOptions,
+    /// The sections recorded by the main sweep.
+    secs: Vec<Sec>,
+    /// The load of the main sweep (the preset's).
+    load: f64,
+    /// The main sweep over omega.
+    main: Vec<TaskResult>,
+    /// The coarser sweeps at the other loads: (F, runs).
+    others: Vec<(f64, Vec<TaskResult>)>,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base, dir)?)
+}
+
+/// The sweep over omega at the preset's load and, coarser, at two other loads.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<FrequencyData> {
     let nw = ctx.n(20, 117);
     let values = linspace(0.1, 3.0, nw);
     let sim = ctx.sim((30, 80), (12, 30));
     let secs = vec![Sec::Strobe, Sec::Impact];
-    let fload = base.params().load;
     let o = sweep("omega", values.clone(), SweepMode::Fixed, sim, secs.clone());
-    let r = ctx.sweep(dir, "broken omega sweep", base, &o)?;
-    let fig = sweep_figure(
-        ctx, dir, "bif_omega", "omega", &r, &secs,
-        &SweepPanels { impact_force: true, ..Default::default() },
-        "Broken pair: bifurcation over the mesh frequency omega (F = 0.1)",
-        "Broken pair, F = 0.1: stroboscopic x, velocity before back-side impacts and the impact-force record over omega; colours by decided motion.",
-    )?;
-    let pts = classes::fixed_points(&r);
-    let table = ctx.table(
-        &dir.join("intervals_omega.csv"),
-        "Motion over omega (intervals of equal label)",
-        &interval_header("omega"),
-        interval_rows(&classes::intervals(&pts)),
-    )?;
-    let st = FreqStats::of(&pts);
+    let main = ctx.sweep(dir, "broken omega sweep", base, &o)?;
     // the seed does not state the load: the same sweep, coarser, at two other loads
-    let mut others: Vec<(f64, FreqStats)> = Vec::new();
+    let mut others = Vec::new();
     let ns = ctx.n(8, 40);
     for fl in [0.05, 0.15] {
         let b = base.with("F", fl)?;
@@ -152,9 +171,42 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
             sim,
             vec![Sec::Impact],
         );
-        let rr = ctx.sweep(dir, &format!("omega sweep F {fl}"), &b, &o)?;
-        others.push((fl, FreqStats::of(&classes::fixed_points(&rr))));
+        others.push((fl, ctx.sweep(dir, &format!("omega sweep F {fl}"), &b, &o)?));
     }
+    Ok(FrequencyData {
+        nw,
+        ns,
+        sim,
+        secs,
+        load: base.params().load,
+        main,
+        others,
+    })
+}
+
+/// The diagram, the tables and the seed's frequency statements at the three loads.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Section> {
+    let (nw, ns, sim, secs, fload) = (data.nw, data.ns, data.sim, &data.secs, data.load);
+    let r = &data.main;
+    let fig = sweep_figure(
+        ctx, dir, "bif_omega", "omega", r, secs,
+        &SweepPanels { impact_force: true, ..Default::default() },
+        "Broken pair: bifurcation over the mesh frequency omega (F = 0.1)",
+        "Broken pair, F = 0.1: stroboscopic x, velocity before back-side impacts and the impact-force record over omega; colours by decided motion.",
+    )?;
+    let pts = classes::fixed_points(r);
+    let table = ctx.table(
+        &dir.join("intervals_omega.csv"),
+        "Motion over omega (intervals of equal label)",
+        &interval_header("omega"),
+        interval_rows(&classes::intervals(&pts)),
+    )?;
+    let st = FreqStats::of(&pts);
+    let others: Vec<(f64, FreqStats)> = data
+        .others
+        .iter()
+        .map(|(fl, rr)| (*fl, FreqStats::of(&classes::fixed_points(rr))))
+        .collect();
     let oth = |pred: &dyn Fn(&FreqStats) -> bool| -> Vec<(f64, bool)> {
         others.iter().map(|(fl, s)| (*fl, pred(s))).collect()
     };
@@ -197,7 +249,7 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
     };
     let (v_hi2, t_hi2) = at_loads(st.high_002(), &oth(&|s| s.high_002()));
     // "chaotic motion" describes the regime: chaos at most values; some chaos is partly
-    let v_hi2 = if v_hi2 == Verdict::Reproduced && st.thirds[2].1 <= 0.5 {
+    let v_hi2 = if v_hi2 == Verdict::Reproduced && st.thirds[2].1 <= MOST {
         Verdict::Partly
     } else {
         v_hi2

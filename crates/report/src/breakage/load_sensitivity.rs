@@ -2,7 +2,7 @@
 //! frequency of the sweep and the size of the chip; the claims of the load sweep under every
 //! reading. Checks seed A 000 ¶9 (the frequency of the load sweep is not given).
 
-use super::load_sweep::broken_load_claims;
+use super::load_sweep::{broken_load_claims, HIGH_LOADS};
 use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
@@ -10,16 +10,21 @@ use crate::readings::{f, range};
 use crate::runner::{hdr, Ctx};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_io::figure::{palette, write_raster, LegendEntry, RasterFigure, CHAOTIC, UNSETTLED};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// The seed's "F > 0.1 periodic without impact" holds in the sensitivity table when it holds at
+/// every value of [`HIGH_LOADS`] (a share above this).
+const HOLDS_EVERYWHERE: f64 = 0.999;
+
 /// A row of the load-sensitivity table for the broken pair's sweep `pts` at `omega` with `mm`
 /// removed from the chipped tip, and whether the seed's "F > 0.1 periodic without impact" holds.
 fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
-    let hi = classes::within(pts, 0.1075, 0.1425);
-    let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > 0.999;
+    let hi = classes::within(pts, HIGH_LOADS.0, HIGH_LOADS.1);
+    let ok = classes::share(&hi, |p| p.class.periodic() && !p.back) > HOLDS_EVERYWHERE;
     let largest = pts
         .iter()
         .filter(|p| p.back)
@@ -46,20 +51,66 @@ fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
     (row, ok)
 }
 
+/// What the study computed: the broken pair's load sweeps under the other readings.
+pub(super) struct LoadSensitivityData {
+    /// The frequencies.
+    omegas: Vec<f64>,
+    /// Values of F.
+    nf: usize,
+    /// The loads.
+    fvals: Vec<f64>,
+    /// Integration settings.
+    sim: SimOptions,
+    /// The sweep over F at each frequency (the preset's chip).
+    by_omega: Vec<Vec<TaskResult>>,
+    /// The sweep over F at [`OMEGA_LOAD`] for each other chip size (`CHIP_MM[1..]`).
+    by_chip: Vec<Vec<TaskResult>>,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base, dir)?)
+}
+
+/// The broken pair's load sweep at neighbouring frequencies and for the other chip sizes.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSensitivityData> {
     let omegas: Vec<f64> = ctx.n(vec![1.0, 1.2, 1.4], vec![1.0, 1.1, 1.2, 1.3, 1.4]);
     let nf = ctx.n(8, 31);
     let fvals = linspace(0.0, 0.15, nf);
     let sim = ctx.sim((30, 80), (12, 30));
+    let mut by_omega = Vec::new();
+    for &w in &omegas {
+        let b = base.with("omega", w)?;
+        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
+        by_omega.push(ctx.sweep(dir, &format!("F sweep omega {w}"), &b, &o)?);
+    }
+    // the chip-size readings at the load sweep's frequency
+    let mut by_chip = Vec::new();
+    for &mm in CHIP_MM.iter().skip(1) {
+        let b = with_chip(base, mm)?.with("omega", OMEGA_LOAD)?;
+        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
+        by_chip.push(ctx.sweep(dir, &format!("F sweep chip {mm} mm"), &b, &o)?);
+    }
+    Ok(LoadSensitivityData {
+        omegas,
+        nf,
+        fvals,
+        sim,
+        by_omega,
+        by_chip,
+    })
+}
+
+/// The (F, omega) class map, the sensitivity table and the load sweep's claims under every
+/// reading.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Result<Section> {
+    let (omegas, nf, fvals, sim) = (&data.omegas, data.nf, &data.fvals, data.sim);
     let mut colors = Vec::new();
     let mut rows = Vec::new();
     let mut alternatives = Vec::new();
     let mut ok_count = 0;
-    for &w in &omegas {
-        let b = base.with("omega", w)?;
-        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
-        let r = ctx.sweep(dir, &format!("F sweep omega {w}"), &b, &o)?;
-        let pts = classes::fixed_points(&r);
+    for (&w, r) in omegas.iter().zip(&data.by_omega) {
+        let pts = classes::fixed_points(r);
         for p in &pts {
             colors.push(class_color(p));
         }
@@ -77,12 +128,8 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
         ok_count += usize::from(ok);
         rows.push(row);
     }
-    // the chip-size readings at the load sweep's frequency
-    for (k, &mm) in CHIP_MM.iter().enumerate().skip(1) {
-        let b = with_chip(base, mm)?.with("omega", OMEGA_LOAD)?;
-        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
-        let r = ctx.sweep(dir, &format!("F sweep chip {mm} mm"), &b, &o)?;
-        let pts = classes::fixed_points(&r);
+    for ((k, &mm), r) in CHIP_MM.iter().enumerate().skip(1).zip(&data.by_chip) {
+        let pts = classes::fixed_points(r);
         let mut cl = broken_load_claims(&pts, OMEGA_LOAD);
         let it = Interpretation::with(&AXES, &[(AXES[1].name, k)]);
         label_claims(&mut cl, &it.label(&AXES));

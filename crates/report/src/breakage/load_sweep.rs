@@ -11,62 +11,109 @@ use crate::runner::Ctx;
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, SweepOptions};
+use geardyn_analysis::bifurcation::{
+    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
+};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
+use std::path::Path;
 
 /// Relative difference below which two largest mesh forces count as equal (the integrator's
 /// noise on one orbit is about 1e-5 relative; the audit found ties of 1e-7 counted as higher).
 const FORCE_TIE: f64 = 1e-4;
 
-/// The load sweep (broken and healthy) at omega = 1.2.
+/// What the study computed: the load sweeps of both pairs.
+pub(super) struct LoadSweepData {
+    /// Values of F.
+    nf: usize,
+    /// Integration settings of the broken pair.
+    sim: SimOptions,
+    /// Mesh cycles per revolution.
+    cycles: u32,
+    /// The sections recorded.
+    secs: Vec<Sec>,
+    /// The broken pair's sweep over F.
+    broken: Vec<TaskResult>,
+    /// The healthy twin's sweep over F (same physical time).
+    healthy: Vec<TaskResult>,
+}
+
+/// The load sweep (broken and healthy) at omega = 1.2: [`compute`], then [`render`], cached as
+/// the study `load_sweep`.
 pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<Section> {
     let nf = ctx.n(20, 97);
+    ctx.study("load_sweep", &(nf, OMEGA_LOAD), |dir| {
+        render(ctx, dir, &compute(ctx, dir, base, healthy, nf)?)
+    })
+}
+
+/// The sweeps over F of the broken pair and of its healthy twin at [`OMEGA_LOAD`].
+pub(super) fn compute(
+    ctx: &Ctx,
+    dir: &Path,
+    base: &Scenario,
+    healthy: &Scenario,
+    nf: usize,
+) -> Result<LoadSweepData> {
     let fvals = linspace(0.0, 0.15, nf);
     let sim = ctx.sim((40, 100), (16, 40));
     let cycles = base.model().cycles_per_period();
     let secs = vec![Sec::Strobe, Sec::Impact];
     let b = base.with("omega", OMEGA_LOAD)?;
     let h = healthy.with("omega", OMEGA_LOAD)?;
-    let sec = ctx.study("load_sweep", &(nf, OMEGA_LOAD), |dir| {
-        let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, secs.clone());
-        let rb = ctx.sweep(dir, "broken F sweep", &b, &o)?;
-        let oh = SweepOptions {
-            sim: healthy_sim(sim, cycles),
-            ..o.clone()
-        };
-        let rh = ctx.sweep(dir, "healthy F sweep", &h, &oh)?;
-        let panels = SweepPanels {
-            impact_force: true,
-            max_force: true,
-            ..Default::default()
-        };
-        let fig_b = sweep_figure(
-            ctx, dir, "bif_F_broken", "F", &rb, &secs, &panels,
+    let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, secs.clone());
+    let broken = ctx.sweep(dir, "broken F sweep", &b, &o)?;
+    let oh = SweepOptions {
+        sim: healthy_sim(sim, cycles),
+        ..o.clone()
+    };
+    let healthy = ctx.sweep(dir, "healthy F sweep", &h, &oh)?;
+    Ok(LoadSweepData {
+        nf,
+        sim,
+        cycles,
+        secs,
+        broken,
+        healthy,
+    })
+}
+
+/// The figures, interval tables, readings and claims of the load sweeps.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Section> {
+    let (nf, sim, cycles, secs) = (data.nf, data.sim, data.cycles, &data.secs);
+    let (rb, rh) = (&data.broken, &data.healthy);
+    let panels = SweepPanels {
+        impact_force: true,
+        max_force: true,
+        ..Default::default()
+    };
+    let fig_b = sweep_figure(
+            ctx, dir, "bif_F_broken", "F", rb, secs, &panels,
             "Broken pair: bifurcation over the load F (omega = 1.2)",
             "Broken pair, omega = 1.2: stroboscopic x (one point per revolution), velocity before each back-side impact, the largest impact force of every recorded revolution (the seed's impact-force periodogram) and the largest mesh force, over F; colours by decided motion.",
         )?;
-        let fig_h = sweep_figure(
-            ctx, dir, "bif_F_healthy", "F", &rh, &secs,
+    let fig_h = sweep_figure(
+            ctx, dir, "bif_F_healthy", "F", rh, secs,
             &SweepPanels { max_force: true, ..Default::default() },
             "Healthy pair: bifurcation over the load F (omega = 1.2)",
             "Healthy twin (no chipped tooth), same physical time: stroboscopic x (one point per mesh cycle), impacts and the largest mesh force over F.",
         )?;
-        let pb = classes::fixed_points(&rb);
-        let ph = classes::fixed_points(&rh);
-        let table = ctx.table(
-            &dir.join("intervals_F_broken.csv"),
-            "Broken pair: motion over F (intervals of equal label)",
-            &interval_header("F"),
-            interval_rows(&classes::intervals(&pb)),
-        )?;
-        let table_h = ctx.table(
-            &dir.join("intervals_F_healthy.csv"),
-            "Healthy pair: motion over F",
-            &interval_header("F"),
-            interval_rows(&classes::intervals(&ph)),
-        )?;
-        let claims = load_claims(&pb, &ph);
-        Ok(Section {
+    let pb = classes::fixed_points(rb);
+    let ph = classes::fixed_points(rh);
+    let table = ctx.table(
+        &dir.join("intervals_F_broken.csv"),
+        "Broken pair: motion over F (intervals of equal label)",
+        &interval_header("F"),
+        interval_rows(&classes::intervals(&pb)),
+    )?;
+    let table_h = ctx.table(
+        &dir.join("intervals_F_healthy.csv"),
+        "Healthy pair: motion over F",
+        &interval_header("F"),
+        interval_rows(&classes::intervals(&ph)),
+    )?;
+    let claims = load_claims(&pb, &ph);
+    Ok(Section {
             id: "load_sweep".into(),
             title: "Bifurcation over the load F: broken versus healthy (omega = 1.2)".into(),
             seed_ref: "000 ¶9 and ¶11; 001 §3 (bifurcation diagram, impact-force periodogram over F); 002 §5.2 (table)".into(),
@@ -87,27 +134,35 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<Se
             alternatives: vec![],
             seconds: 0.0,
         })
-    })?;
-    Ok(sec)
 }
+
+/// The seed's "F > 0.1" is checked on the interior of (0.1, 0.15], trimmed by 15 % at each end
+/// as every interval of the seeds (a boundary is not a point).
+pub(super) const HIGH_LOADS: (f64, f64) = (0.1075, 0.1425);
+/// "Periodic without impact at F > 0.1" is reproduced when that holds at this share of the
+/// [`HIGH_LOADS`] values at least, with no impact and no chaos there ...
+const HIGH_LOAD_PERIODIC: f64 = 0.8;
+/// ... and partly at this share.
+const HIGH_LOAD_PERIODIC_PARTLY: f64 = 0.6;
+/// Border between the lower and the upper loads of "larger loads inhibit back-side impact" (the
+/// middle of the sweep).
+const IMPACT_SPLIT: f64 = 0.075;
 
 /// The claims of the load sweep that need only the broken pair's runs `pb` (at `omega`).
 pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
     let tb = tolerant(pb);
-    // "F > 0.1" checked on the interior of (0.1, 0.15], trimmed by 15 % at each end as every
-    // interval of the seeds (a boundary is not a point)
     // shares and counts from the decided class of every value; the smoothed reading (`tb`,
     // `th`) only for ranges and sequences, where one value at a bifurcation point is noise
-    let hi: Vec<&Pt> = classes::within(pb, 0.1075, 0.1425);
+    let hi: Vec<&Pt> = classes::within(pb, HIGH_LOADS.0, HIGH_LOADS.1);
     let hi_ok = classes::share(&hi, |p| p.class.periodic() && !p.back);
     let hi_imp = classes::share(&hi, |p| p.back);
     let hi_chaos = classes::share(&hi, |p| p.class == Class::Chaotic);
     let hi_undecided = classes::share(&hi, |p| !p.class.periodic() && p.class != Class::Chaotic);
     // undecided values (no period within the extended transient, TLE not positive) do not
     // contradict "periodic"; impacts or chaos do
-    let hi_verdict = if hi_imp == 0.0 && hi_chaos == 0.0 && hi_ok >= 0.8 {
+    let hi_verdict = if hi_imp == 0.0 && hi_chaos == 0.0 && hi_ok >= HIGH_LOAD_PERIODIC {
         Verdict::Reproduced
-    } else if hi_ok >= 0.6 {
+    } else if hi_ok >= HIGH_LOAD_PERIODIC_PARTLY {
         Verdict::Partly
     } else {
         Verdict::NotReproduced
@@ -138,8 +193,8 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let lower: Vec<&Pt> = classes::within(pb, 0.0, 0.075);
-    let upper: Vec<&Pt> = classes::within(pb, 0.075, 0.15);
+    let lower: Vec<&Pt> = classes::within(pb, 0.0, IMPACT_SPLIT);
+    let upper: Vec<&Pt> = classes::within(pb, IMPACT_SPLIT, 0.15);
     let (sl, su) = (
         classes::share(&lower, |p| p.back),
         classes::share(&upper, |p| p.back),
@@ -173,7 +228,7 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
             "Larger loads inhibit back-side impact",
             format!("{A001} abstract and conclusions"),
             "impacts fewer at larger F",
-            format!("share of values with impacts: F < 0.075 {}, F ≥ 0.075 {}; largest F with impacts {}", pct(sl), pct(su), f(largest_imp)),
+            format!("share of values with impacts: F < {} {}, F ≥ {} {}; largest F with impacts {}", f(IMPACT_SPLIT), pct(sl), f(IMPACT_SPLIT), pct(su), f(largest_imp)),
             Verdict::of(sl > su),
             format!("Broken pair, omega = {}.", f(omega)),
         ),

@@ -13,7 +13,50 @@ use geardyn_analysis::simulate::{simulate, SimOptions, SimResult};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// The broken pair's largest mesh force counts as higher than the healthy one's when it exceeds
+/// it by more than this share (5 %); a change within it counts as the same.
+const HIGHER: f64 = 0.05;
+
+/// One point of the grid: the largest mesh forces of both pairs.
+struct GridPoint {
+    /// omega.
+    omega: f64,
+    /// F.
+    load: f64,
+    /// Largest mesh force of the healthy pair.
+    healthy: f64,
+    /// Largest mesh force of the broken pair.
+    broken: f64,
+    /// Share of the broken pair's time in separation.
+    separation: f64,
+}
+
+/// What the study computed: the runs of both pairs over the grid and at the main point.
+pub(super) struct RevolutionData {
+    /// Mesh cycles per revolution.
+    cycles: u32,
+    /// Integration settings of the broken pair.
+    sim: SimOptions,
+    /// The grid, point by point.
+    grid: Vec<GridPoint>,
+    /// The broken and the healthy pair's runs at the main point from (0, 0), with trajectory.
+    main: (SimResult, SimResult),
+    /// Initial states of the comparison at the main point.
+    starts: [[f64; 2]; 4],
+    /// (healthy, broken) largest mesh force at the main point from each initial state.
+    by_start: Vec<(f64, f64)>,
+    /// Mesh cycle time at the main point.
+    cycle_time: f64,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base, healthy)?)
+}
+
+/// Runs both pairs over a small grid of operating points and, at the main one, from several
+/// initial states.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<RevolutionData> {
     // where the broken cycle is in contact: omega = 0.3, F = 0.15 (issue 12); a small grid shows
     // where breakage matters
     let main = (0.3, 0.15);
@@ -43,23 +86,20 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) 
         trajectory_periods: cycles as u64,
         ..healthy_sim(sim, cycles)
     };
-    let mut rows = Vec::new();
-    let mut changes: Vec<(f64, f64, f64)> = Vec::new();
+    let mut points = Vec::new();
     let mut main_res: Option<(SimResult, SimResult)> = None;
     for &(w, fv) in &grid {
         let sets = [("omega", w), ("F", fv)];
         let rb = run(&base.with_all(&sets)?, &sim)?;
         let rh = run(&healthy.with_all(&sets)?, &hsim)?;
         let sep = |r: &SimResult| r.durations[1] / r.durations.iter().sum::<f64>().max(1e-12);
-        rows.push(vec![
-            f(w),
-            f(fv),
-            f(rh.max_force),
-            f(rb.max_force),
-            format!("{:+.0} %", 100.0 * (rb.max_force / rh.max_force - 1.0)),
-            pct(sep(&rb)),
-        ]);
-        changes.push((w, fv, rb.max_force / rh.max_force - 1.0));
+        points.push(GridPoint {
+            omega: w,
+            load: fv,
+            healthy: rh.max_force,
+            broken: rb.max_force,
+            separation: sep(&rb),
+        });
         if (w, fv) == main {
             main_res = Some((rb, rh));
         }
@@ -92,10 +132,47 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) 
         let h = simulate(hm.model(), y0, &hplain)?.max_force;
         by_start.push((h, b));
     }
-    let higher_all = by_start.iter().all(|(h, b)| *b > 1.05 * h);
+    let cyc = base.with("omega", main.0)?.model().mesh_cycle_time();
+    Ok(RevolutionData {
+        cycles,
+        sim,
+        grid: points,
+        main: (rb, rh),
+        starts,
+        by_start,
+        cycle_time: cyc,
+    })
+}
+
+/// The force figure, the grid table, the readings and the claim.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Section> {
+    let (cycles, sim, starts, by_start) = (data.cycles, data.sim, &data.starts, &data.by_start);
+    let (rb, rh) = (&data.main.0, &data.main.1);
+    let cyc = data.cycle_time;
+    let grid: Vec<(f64, f64)> = data.grid.iter().map(|p| (p.omega, p.load)).collect();
+    let rows: Vec<Vec<String>> = data
+        .grid
+        .iter()
+        .map(|p| {
+            vec![
+                f(p.omega),
+                f(p.load),
+                f(p.healthy),
+                f(p.broken),
+                format!("{:+.0} %", 100.0 * (p.broken / p.healthy - 1.0)),
+                pct(p.separation),
+            ]
+        })
+        .collect();
+    let changes: Vec<(f64, f64, f64)> = data
+        .grid
+        .iter()
+        .map(|p| (p.omega, p.load, p.broken / p.healthy - 1.0))
+        .collect();
+    let higher_all = by_start.iter().all(|(h, b)| *b > (1.0 + HIGHER) * h);
     let start_txt = starts
         .iter()
-        .zip(&by_start)
+        .zip(by_start)
         .map(|(y, (h, b))| {
             format!(
                 "from ({}, {}): healthy {}, broken {}",
@@ -107,7 +184,6 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) 
         })
         .collect::<Vec<_>>()
         .join("; ");
-    let cyc = base.with("omega", main.0)?.model().mesh_cycle_time();
     let t0b = rb.trajectory.first().map_or(0.0, |p| p.tau);
     let t0h = rh.trajectory.first().map_or(0.0, |p| p.tau);
     let fb: Vec<(f64, f64)> = rb
@@ -182,9 +258,9 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) 
                 "largest mesh force {:+.0} % at omega = 0.3, F = 0.15 from (0, 0); by initial state: {start_txt}",
                 100.0 * gain
             ),
-            if gain > 0.05 && higher_all {
+            if gain > HIGHER && higher_all {
                 Verdict::Reproduced
-            } else if gain > 0.05 || by_start.iter().any(|(h, b)| *b > 1.05 * h) {
+            } else if gain > HIGHER || by_start.iter().any(|(h, b)| *b > (1.0 + HIGHER) * h) {
                 Verdict::Partly
             } else {
                 Verdict::NotReproduced
@@ -193,7 +269,7 @@ pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) 
                 // what the grid shows, not what it showed once
                 let same: Vec<String> = changes
                     .iter()
-                    .filter(|c| c.2.abs() < 0.05)
+                    .filter(|c| c.2.abs() < HIGHER)
                     .map(|c| format!("omega = {}, F = {}", f(c.0), f(c.1)))
                     .collect();
                 let all = changes

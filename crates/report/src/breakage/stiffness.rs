@@ -12,17 +12,45 @@ use geardyn_physics::PairModel;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
+/// Zone II has a lower stiffness when its mean lies at least this share below the healthy
+/// pair's at the same phases.
+const STIFFNESS_DROP: f64 = 0.1;
+/// One tooth pair carries the load in zone II when its average share exceeds this ...
+const SHARE_ALONE: f64 = 0.95;
+/// ... while in the healthy double-tooth zones the larger share stays below this.
+const SHARE_SHARED: f64 = 0.8;
+
+/// What the study computed: the healthy twin and the stiffness and load sharing of zone II.
+pub(super) struct StiffnessData {
+    /// The healthy twin of the pair (no chipped tooth).
+    healthy: PairModel,
+    /// Half backlash of the scenario (D_d, D_s), the columns of `stiffness.csv`.
+    backlash: (f64, f64),
+    /// Contact ratio of the broken cycle.
+    eps_b: f64,
+    /// The broken mesh cycle.
+    broken_cycle: f64,
+    /// Mean mesh stiffness in zone II of the broken cycle (N/m).
+    k_zone2: f64,
+    /// Mean mesh stiffness of the healthy pair at the same phases (N/m).
+    k_same_healthy: f64,
+    /// The larger pair's mean load share in zone II.
+    share_zone2: f64,
+    /// The larger pair's mean load share in the healthy double-tooth zones.
+    share_double: f64,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, pm, &compute(pm, base)?)
+}
+
+/// Builds the healthy twin and reads zone II of the broken cycle against it.
+pub(super) fn compute(pm: &PairModel, base: &Scenario) -> Result<StiffnessData> {
     let mut hs = pm.spec.clone();
     hs.breakage = None;
     let healthy = hs.build()?;
     let (dd, ds) = (base.params().d_double, base.params().d_single);
-    let csv = dir.join("stiffness.csv");
-    write_stiffness_csv(&csv, pm, dd, ds)?;
-    let figs: Vec<Figure> = geardyn_io::pair_plots::pair_figures(dir, pm, &healthy, dd, ds, "")?
-        .iter()
-        .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
-        .collect();
     let eps = pm.geom.eps;
     let eb = pm.eps_b.unwrap_or(eps);
     let nb = pm.spec.breakage.map_or(0, |b| b.broken_cycle) as f64;
@@ -61,6 +89,37 @@ pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> R
             .map(|r| r.share1.max(r.share2))
             .collect(),
     );
+    Ok(StiffnessData {
+        healthy,
+        backlash: (dd, ds),
+        eps_b: eb,
+        broken_cycle: nb,
+        k_zone2,
+        k_same_healthy,
+        share_zone2,
+        share_double,
+    })
+}
+
+/// `stiffness.csv`, the pair's figures, the readings and the claims.
+pub(super) fn render(
+    ctx: &Ctx,
+    dir: &Path,
+    pm: &PairModel,
+    data: &StiffnessData,
+) -> Result<Section> {
+    let (dd, ds) = data.backlash;
+    let csv = dir.join("stiffness.csv");
+    write_stiffness_csv(&csv, pm, dd, ds)?;
+    let figs: Vec<Figure> =
+        geardyn_io::pair_plots::pair_figures(dir, pm, &data.healthy, dd, ds, "")?
+            .iter()
+            .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
+            .collect();
+    let eps = pm.geom.eps;
+    let (eb, nb) = (data.eps_b, data.broken_cycle);
+    let (k_zone2, k_same_healthy) = (data.k_zone2, data.k_same_healthy);
+    let (share_zone2, share_double) = (data.share_zone2, data.share_double);
     let drop = 1.0 - k_zone2 / k_same_healthy;
     let claims = vec![
         Claim::new(
@@ -96,7 +155,7 @@ pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> R
                 nb,
                 f(100.0 * drop)
             ),
-            Verdict::of(drop > 0.1),
+            Verdict::of(drop > STIFFNESS_DROP),
             "Potential-energy stiffness of the broken and the healthy pair (stiffness.csv).",
         ),
         Claim::new(
@@ -108,7 +167,7 @@ pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> R
                 f(share_zone2),
                 f(share_double)
             ),
-            Verdict::of(share_zone2 > 0.95 && share_double < 0.8),
+            Verdict::of(share_zone2 > SHARE_ALONE && share_double < SHARE_SHARED),
             "Load shares by pair stiffness (stiffness.csv, columns share1, share2).",
         ),
     ];
