@@ -21,10 +21,10 @@
 mod breakage;
 mod claims;
 mod classes;
+mod classic;
 mod html;
 mod internal;
 mod interpretations;
-mod plan_classic;
 mod readings;
 mod runner;
 mod shared;
@@ -193,7 +193,7 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
     let sections = match opts.preset.as_str() {
         "breakage" => breakage::plan(&ctx)?,
         "internal" => internal::plan(&ctx)?,
-        "classic" => plan_classic::plan(&ctx)?,
+        "classic" => classic::plan(&ctx)?,
         other => {
             anyhow::bail!("no study plan for preset '{other}': allowed breakage, internal, classic")
         }

@@ -422,26 +422,8 @@ pub fn box_text(x: (f64, f64), v: (f64, f64)) -> String {
     )
 }
 
-/// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv`; the box is
-/// `x0 in x`, `x0' in v`. Returns the figure, a table of the attractors and the result.
-#[allow(clippy::too_many_arguments)]
-pub fn basin_figure(
-    ctx: &Ctx,
-    dir: &Path,
-    name: &str,
-    model: &MeshModel,
-    n: usize,
-    x: (f64, f64),
-    v: (f64, f64),
-    title: &str,
-    identify: IdentifyOptions,
-) -> Result<(Figure, Table, BasinResult)> {
-    let r = basin_grid(ctx, dir, name, model, n, x, v, identify)?;
-    let (fig, table) = basin_render(ctx, dir, name, n, x, v, title, &r)?;
-    Ok((fig, table, r))
-}
-
-/// The basins of [`basin_figure`], computed (checkpointed as `dir/name`), without the figure.
+/// Basins of `model` on an `n x n` grid of the box `x0 in x`, `x0' in v` (checkpointed as
+/// `dir/name`); [`basin_render`] draws them.
 #[allow(clippy::too_many_arguments)]
 pub fn basin_grid(
     ctx: &Ctx,
@@ -457,8 +439,9 @@ pub fn basin_grid(
     ctx.basins(dir, &safe(name), model, &opts)
 }
 
-/// The figure and the attractor table of [`basin_figure`] from basins `r` computed by
-/// [`basin_grid`] with the same `name`, `n`, `x` and `v`.
+/// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv` from basins `r`
+/// computed by [`basin_grid`] with the same `name`, `n`, `x` and `v`. Returns the figure and a
+/// table of the attractors.
 #[allow(clippy::too_many_arguments)]
 pub fn basin_render(
     ctx: &Ctx,
