@@ -26,6 +26,11 @@ const F_MAX_TOLERANCE: (f64, f64) = (0.03, 0.1);
 /// this multiple of the roughness outside the seed's four bands.
 const ROUGH: f64 = 1.2;
 
+/// The seed's corner of the peak: xi above the first, F above the second.
+const PEAK_CORNER: (f64, f64) = (0.2, 0.175);
+/// "Small xi and F" of the smooth-corner claim: xi below the first, F below the second.
+const SMALL_CORNER: (f64, f64) = (0.04, 0.05);
+
 /// What the study computed: the omega calibration and the map.
 pub(super) struct MapData {
     /// The calibration's omegas.
@@ -211,10 +216,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
     let chaotic = |c: &MapCell| c.motion.is_chaotic();
     let rough_chaos = mean_where(&|c| chaotic(c));
     let rough_per = mean_where(&|c| c.motion.is_periodic());
-    let small = mean_where(&|c| c.x < 0.04 && c.y < 0.05);
+    let small = mean_where(&|c| c.x < SMALL_CORNER.0 && c.y < SMALL_CORNER.1);
     let small_chaos = cells
         .iter()
-        .filter(|c| c.x < 0.04 && c.y < 0.05 && chaotic(c))
+        .filter(|c| c.x < SMALL_CORNER.0 && c.y < SMALL_CORNER.1 && chaotic(c))
         .count();
     // every omega of the calibration scan once (the map's omega among them)
     let scan: Vec<String> = cal
@@ -223,7 +228,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
         .collect();
     let claims = vec![
         Claim::new("The largest maximum dynamic mesh force is F_max = 1.340", format!("{B003} §3.5; {B004} §4.5"), "1.340", format!("map maximum {} at omega = {} (the map's grid); corner scan (xi ∈ {{0.2, 0.25, 0.3}} × F ∈ {{0.175, 0.2}}) maxima: {}", f(pv), f(w_star), scan.join(", ")), if (pv - F_MAX_SEED).abs() <= F_MAX_TOLERANCE.0 { Verdict::Reproduced } else if (pv - F_MAX_SEED).abs() <= F_MAX_TOLERANCE.1 { Verdict::Partly } else { Verdict::NotReproduced }, "The seed does not give omega; it was chosen to match F_max (calibration figure), so this row checks that such an omega exists near the seed's other studies (1.4–1.5), not an independent prediction."),
-        Claim::new("The peak occurs where both xi and F are large (xi > 0.2, F > 0.175)", format!("{B004} §4.5; {B003} §3.5"), "xi > 0.2, F > 0.175", format!("peak at xi = {}, F = {}", f(px), f(py)), Verdict::of(px > 0.2 && py > 0.175), "Largest maximum mesh force on the map grid, compared with the seed's corner xi > 0.2, F > 0.175."),
+        Claim::new("The peak occurs where both xi and F are large (xi > 0.2, F > 0.175)", format!("{B004} §4.5; {B003} §3.5"), "xi > 0.2, F > 0.175", format!("peak at xi = {}, F = {}", f(px), f(py)), Verdict::of(px > PEAK_CORNER.0 && py > PEAK_CORNER.1), "Largest maximum mesh force on the map grid, compared with the seed's corner xi > 0.2, F > 0.175."),
         Claim::new("For small xi and F the maximum mesh force varies smoothly", format!("{B003} §3.5; {B004} §4.5"), "smooth", format!("mean neighbour difference for xi < 0.04, F < 0.05: {} ({} of the map outside the seed's four bands of strong fluctuation); chaotic cells there: {small_chaos}", f(small), pct(small / outside.max(1e-12))), if small <= ROUGH * outside && small_chaos == 0 { Verdict::Reproduced } else if small <= ROUGH * outside { Verdict::Partly } else { Verdict::NotReproduced }, format!("Roughness = mean absolute difference to the neighbouring cells; smooth = not above {} times the roughness outside the four bands (the rule of the band row below; the corner itself overlaps the band F < 0.007). Where it fails, chaotic cells at small F make the corner rough: chaos at small load also appears in the seed's own load table (Table 5.2, F < 0.0021).", f(ROUGH))),
         Claim::new("F_max fluctuates strongly for xi in (0.044, 0.126) and (0.236, 0.3), F in (0, 0.007) and (0.055, 0.095)", format!("{B004} §4.5, §6(3)"), "four bands", format!("roughness in the band / outside the bands: {}", band_txt.join("; ")), if band_hits == 4 { Verdict::Reproduced } else if band_hits > 0 { Verdict::Partly } else { Verdict::NotReproduced }, format!("A band counts when its roughness exceeds {} times that outside all bands. Bands need not agree: the seed's bands mix the xi sweep (omega = 1.5) and the load sweep (omega = 1.4).", f(ROUGH))),
         Claim::new("The fluctuations coincide with chaotic and back-side meshing behaviour", format!("{B003} §3.5; {B004} §4.5"), "fluctuations where chaotic", format!("roughness of chaotic cells {}, of periodic cells {}", f(rough_chaos), f(rough_per)), Verdict::of(rough_chaos > rough_per), "Decided class of every cell (second map)."),

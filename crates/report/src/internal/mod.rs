@@ -11,6 +11,11 @@
 //! attractor tables and basins that both attractor studies (and the readings) check. This
 //! module holds the plan, the settings the seed leaves open and the helpers several studies
 //! share.
+//!
+//! Each study computes its data (`compute`: the sweeps, continuations, basins and runs through
+//! the [`Ctx`] requests, returned as a plain struct) and renders it (`render`: CSV files,
+//! figures, readings and claims, the thresholds of the claims as named constants beside them);
+//! `study` is the one after the other.
 
 mod attractor_tables;
 mod attractors_f;
