@@ -18,15 +18,13 @@
 //! files carry six significant digits.
 #![warn(missing_docs)]
 
+mod breakage;
 mod claims;
 mod classes;
-mod fault_signatures;
+mod classic;
 mod html;
+mod internal;
 mod interpretations;
-mod orbits_load;
-mod plan_breakage;
-mod plan_classic;
-mod plan_internal;
 mod readings;
 mod runner;
 mod shared;
@@ -193,9 +191,9 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
         dir: dir.clone(),
     };
     let sections = match opts.preset.as_str() {
-        "breakage" => plan_breakage::plan(&ctx)?,
-        "internal" => plan_internal::plan(&ctx)?,
-        "classic" => plan_classic::plan(&ctx)?,
+        "breakage" => breakage::plan(&ctx)?,
+        "internal" => internal::plan(&ctx)?,
+        "classic" => classic::plan(&ctx)?,
         other => {
             anyhow::bail!("no study plan for preset '{other}': allowed breakage, internal, classic")
         }

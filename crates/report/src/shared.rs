@@ -422,10 +422,10 @@ pub fn box_text(x: (f64, f64), v: (f64, f64)) -> String {
     )
 }
 
-/// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv`; the box is
-/// `x0 in x`, `x0' in v`. Returns the figure, a table of the attractors and the result.
+/// Basins of `model` on an `n x n` grid of the box `x0 in x`, `x0' in v` (checkpointed as
+/// `dir/name`); [`basin_render`] draws them.
 #[allow(clippy::too_many_arguments)]
-pub fn basin_figure(
+pub fn basin_grid(
     ctx: &Ctx,
     dir: &Path,
     name: &str,
@@ -433,12 +433,27 @@ pub fn basin_figure(
     n: usize,
     x: (f64, f64),
     v: (f64, f64),
-    title: &str,
     identify: IdentifyOptions,
-) -> Result<(Figure, Table, BasinResult)> {
-    let name = &safe(name);
+) -> Result<BasinResult> {
     let opts = basin_options(n, x, v, identify);
-    let r = ctx.basins(dir, name, model, &opts)?;
+    ctx.basins(dir, &safe(name), model, &opts)
+}
+
+/// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv` from basins `r`
+/// computed by [`basin_grid`] with the same `name`, `n`, `x` and `v`. Returns the figure and a
+/// table of the attractors.
+#[allow(clippy::too_many_arguments)]
+pub fn basin_render(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    n: usize,
+    x: (f64, f64),
+    v: (f64, f64),
+    title: &str,
+    r: &BasinResult,
+) -> Result<(Figure, Table)> {
+    let name = &safe(name);
     let cols = attractor_colors(r.attractors.len());
     let black = PlotColor(0, 0, 0);
     let colors: Vec<PlotColor> = r
@@ -572,7 +587,7 @@ pub fn basin_figure(
         f(v.1),
         100.0 * r.boundary_fraction
     );
-    Ok((ctx.fig(&stem, &caption, &[cells_csv, att_csv]), table, r))
+    Ok((ctx.fig(&stem, &caption, &[cells_csv, att_csv]), table))
 }
 
 /// Continuation figure `dir/name.png|svg` (basin shares, branch tree) with `name_branches.csv`,

@@ -88,7 +88,35 @@ fn q_text(q: f64) -> String {
     }
 }
 
+/// What the study computed: the signals of both pairs at every point.
+pub(super) struct FaultSignaturesData {
+    /// The preset's chip (mm removed).
+    chip0: f64,
+    /// The request at every point.
+    req: SignalsRequest,
+    /// The speeds of the speed-load map.
+    speeds: Vec<f64>,
+    /// The loads of the speed-load map.
+    loads: Vec<f64>,
+    /// The (omega, F) of the chip-size points.
+    chip_at: (f64, f64),
+    /// The chip sizes (mm removed) besides the preset's.
+    chips: Vec<f64>,
+    /// The points: the speed-load map (its first `map_len`), then the chip sizes.
+    points: Vec<Point>,
+    /// Points of the speed-load map.
+    map_len: usize,
+    /// The signals of both pairs at each point.
+    results: Vec<SignalsResult>,
+}
+
+/// The study: [`compute`], then [`render`].
 pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base)?)
+}
+
+/// Records the broken pair and its healthy twin over the speed-load map and the chip sizes.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<FaultSignaturesData> {
     let chip0 = base
         .spec()
         .pair
@@ -126,14 +154,32 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
     let results: Vec<SignalsResult> = points
         .par_iter()
         .map(|p| -> Result<SignalsResult> {
-            let s = crate::plan_breakage::with_chip(base, p.chip_mm)?
+            let s = super::with_chip(base, p.chip_mm)?
                 .with_all(&[("omega", p.omega), ("F", p.load)])?;
             Ok(run_signals(&s, &req)?)
         })
         .collect::<Result<_>>()?;
+    Ok(FaultSignaturesData {
+        chip0,
+        req,
+        speeds,
+        loads,
+        chip_at,
+        chips,
+        points,
+        map_len,
+        results,
+    })
+}
+
+/// The CSV of every ratio, the tables, the figures, the readings and the claims.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Result<Section> {
+    let (chip0, req, chip_at, map_len) = (data.chip0, &data.req, data.chip_at, data.map_len);
+    let (speeds, loads, chips) = (&data.speeds, &data.loads, &data.chips);
+    let (points, results) = (&data.points, &data.results);
     // every ratio of every signal, long format
     let mut long = Vec::new();
-    for (p, r) in points.iter().zip(&results) {
+    for (p, r) in points.iter().zip(results) {
         for (s, sig) in SIGNAL_NAMES.iter().enumerate() {
             for name in INDICATOR_NAMES {
                 let q = ratio(r, s, name);
@@ -187,7 +233,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
     header.extend(INDICATOR_NAMES.iter().map(|s| s.to_string()));
     let rows: Vec<Vec<String>> = points
         .iter()
-        .zip(&results)
+        .zip(results)
         .map(|(p, r)| {
             let mut row = vec![
                 f(p.omega),
@@ -275,7 +321,7 @@ pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Se
         .chain(
             points
                 .iter()
-                .zip(&results)
+                .zip(results)
                 .filter(|(_, r)| !r.comparable)
                 .map(|(p, r)| {
                     format!(

@@ -9,7 +9,7 @@ use crate::readings::f;
 use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::orbits::{BifurcationKind, OrbitsRequest};
+use geardyn_analysis::orbits::{BifurcationKind, Continuation, OrbitsRequest};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
@@ -21,8 +21,31 @@ const START: f64 = 0.088;
 const RANGE: (f64, f64) = (0.03, 0.12);
 const QUICK_RANGE: (f64, f64) = (0.07, 0.1);
 
-/// Periodic orbits over F at the load sweep's speed `omega`.
+/// A stability change at the lowest stable orbit counts as where it stops attracting when it lies
+/// within this distance (in F) of it.
+const LOST_NEAR: f64 = 0.01;
+/// A real multiplier this close to +1 at an unnamed stability change is said to cross +1.
+const MULTIPLIER_ONE: f64 = 0.05;
+
+/// What the study computed: the branch of the high-load orbit.
+pub(super) struct OrbitsLoadData {
+    /// The scenario at the load sweep's speed.
+    scenario: Scenario,
+    /// That speed.
+    omega: f64,
+    /// The range of F followed.
+    range: (f64, f64),
+    /// The branch, followed down and up from [`START`].
+    branch: Continuation,
+}
+
+/// Periodic orbits over F at the load sweep's speed `omega`: [`compute`], then [`render`].
 pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result<Section> {
+    render(ctx, dir, &compute(ctx, base, omega)?)
+}
+
+/// Follows the orbit reached from rest at [`START`] down and up in F.
+pub(super) fn compute(ctx: &Ctx, base: &Scenario, omega: f64) -> Result<OrbitsLoadData> {
     let b = base.with("omega", omega)?;
     // (a quick page follows fewer points over a shorter range: the branch ends in a singular
     // stretch where the corrector's steps shrink, and the continuation runs on one core)
@@ -32,17 +55,29 @@ pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result
         max_points,
         ..Default::default()
     };
-    let c = crate::shared::branch_both_ways(&b, "F", START, (lo, hi), &req)?;
+    let branch = crate::shared::branch_both_ways(&b, "F", START, (lo, hi), &req)?;
+    Ok(OrbitsLoadData {
+        scenario: b,
+        omega,
+        range: (lo, hi),
+        branch,
+    })
+}
+
+/// The orbit figure over the simulated points and the reading of where the orbit stops
+/// attracting.
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Section> {
+    let (b, omega, (lo, hi), c) = (&data.scenario, data.omega, data.range, &data.branch);
     let (fig, mut readings) = crate::shared::orbit_figure(
         ctx,
         dir,
-        &b,
+        b,
         "F",
         (lo, hi),
         [0.0, 0.0],
         // (each value is 360 revolutions of 40 mesh cycles)
         ctx.n(8, 60),
-        &c,
+        c,
         "Seed A: periodic orbits over F",
         &format!("The orbit reached from rest at F = {START} followed down and up in F at omega = {omega} (stable orbits as lines, unstable ones as dots, bifurcation points marked), over the stroboscopic points simulated from rest (grey)."),
     )?;
@@ -55,12 +90,12 @@ pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result
     let lost = c
         .bifurcations
         .iter()
-        .filter(|x| stable_low.is_some_and(|s| (x.param - s).abs() < 0.01))
+        .filter(|x| stable_low.is_some_and(|s| (x.param - s).abs() < LOST_NEAR))
         .min_by(|a, b| b.param.total_cmp(&a.param));
     if let (Some(s), Some(x)) = (stable_low, lost) {
         let mu = &x.orbit.multipliers;
         let how = match x.kind {
-            BifurcationKind::StabilityChange if mu[0].im == 0.0 && (mu[0].re - 1.0).abs() < 0.05 => {
+            BifurcationKind::StabilityChange if mu[0].im == 0.0 && (mu[0].re - 1.0).abs() < MULTIPLIER_ONE => {
                 "a real multiplier crosses +1 while the branch goes on in F (no fold turns it back, no contact event changes): a stability change none of the smooth tests names".to_string()
             }
             k => format!("a {}", k.name()),
