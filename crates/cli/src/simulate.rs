@@ -4,7 +4,7 @@ use crate::run_config::ConfigArgs;
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::simulate::Method;
-use geardyn_io::{run_record, simulate_folder};
+use geardyn_io::simulate_folder;
 use std::path::PathBuf;
 
 /// Arguments of `geardyn simulate`.
