@@ -28,9 +28,11 @@ pub use geardyn_scenario as scenario;
 pub use geardyn_solvers as solvers;
 
 /// What a Rust caller of geardyn needs most: a scenario from a preset or a configuration, the
-/// single-run and sweep analyses with their options, and their results.
+/// requests that check what to compute, the executor that runs them (resumable, observed), the
+/// analyses with their options, and their results.
 pub mod prelude {
-    pub use geardyn_analysis::basins::{basins, Axis, BasinOptions, BasinResult};
+    pub use geardyn_analysis::attractor::IdentifyRequest;
+    pub use geardyn_analysis::basins::{basins, Axis, BasinOptions, BasinResult, BasinsRequest};
     pub use geardyn_analysis::bifurcation::{
         linspace, run_sweep, Section, SweepMode, SweepOptions, TaskResult,
     };
@@ -38,8 +40,15 @@ pub mod prelude {
     pub use geardyn_analysis::continuation::{
         continuation, ContinuationOptions, ContinuationResult,
     };
+    pub use geardyn_analysis::lyapunov::{LyapunovReport, LyapunovRequest, TleMethod};
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
+    pub use geardyn_analysis::orbits::OrbitsRequest;
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
+    pub use geardyn_io::config::{Face, SimOverrides};
+    pub use geardyn_io::executor::{
+        execute, BasinsJob, ContinuationJob, Job, MapJob, Observer, Progress, Store, SweepJob,
+    };
+    pub use geardyn_io::request::{ContinuationRequest, SweepSpec};
     pub use geardyn_io::Config;
     pub use geardyn_model::{presets, MeshModel};
     pub use geardyn_scenario::Scenario;

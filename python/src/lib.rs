@@ -11,7 +11,7 @@ use geardyn_analysis::basins::BasinsRequest;
 use geardyn_analysis::bifurcation::{detect_jumps, linspace, SweepOptions, TaskResult};
 use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
-use geardyn_analysis::map2d::{MapCell, MapOptions, METRICS};
+use geardyn_analysis::map2d::MapCell;
 use geardyn_io::config::{Face, SimOverrides};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, SweepJob};
 use geardyn_io::request::{ContinuationRequest, SweepSpec};
@@ -738,29 +738,15 @@ fn map2d<'py>(
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
-            if !METRICS.contains(&metric.as_str()) {
-                bail!(
-                    "unknown metric '{}': allowed {}",
-                    metric,
-                    METRICS.join(", ")
-                );
-            }
-            let opts = MapOptions {
-                x_param,
-                x_values: values_of(x_values, x_range)?,
-                y_param,
-                y_values: values_of(y_values, y_range)?,
-                sim: cfg.sim_options()?,
-                y0: [cfg.simulation.x0, cfg.simulation.v0],
-                lyapunov: metric == "tle",
-            };
-            opts.check_axes()?;
-            cfg.check_work(
-                scenario.model(),
-                &opts.sim,
-                opts.x_values.len() * opts.y_values.len(),
-                true,
+            let req = geardyn_io::request::MapRequest::new(
+                cfg,
+                src.source(),
+                &scenario,
+                metric,
+                (x_param, values_of(x_values, x_range)?),
+                (y_param, values_of(y_values, y_range)?),
             )?;
+            let (cfg, opts, metric) = (req.config, req.options, req.metric);
             let job = MapJob {
                 scenario: &scenario,
                 opts: &opts,

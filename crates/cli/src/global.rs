@@ -7,7 +7,6 @@ use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
 use geardyn_analysis::basins::BasinsRequest;
 use geardyn_analysis::bifurcation::linspace;
-use geardyn_analysis::map2d::{MapOptions, METRICS};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
@@ -373,40 +372,10 @@ impl MapArgs {
         let mut cfg = self.cfg.config()?;
         self.sim.apply(&mut cfg, &self.cfg.sets)?;
         let scenario = cfg.resolve()?;
-        if !METRICS.contains(&self.metric.as_str()) {
-            bail!(
-                "unknown metric '{}': allowed {}",
-                self.metric,
-                METRICS.join(", ")
-            );
-        }
-        let (xp, xv) = parse_param_axis(&self.x, "--x")?;
-        let (yp, yv) = parse_param_axis(&self.y, "--y")?;
-        let opts = MapOptions {
-            x_param: xp,
-            x_values: xv,
-            y_param: yp,
-            y_values: yv,
-            sim: cfg.sim_options()?,
-            y0: [cfg.simulation.x0, cfg.simulation.v0],
-            lyapunov: self.metric == "tle",
-        };
-        opts.check_axes()?;
-        cfg.check_work(
-            scenario.model(),
-            &opts.sim,
-            opts.x_values.len() * opts.y_values.len(),
-            true,
-        )?;
-        Ok((
-            MapRequest {
-                config: cfg,
-                source: self.cfg.source(),
-                metric: self.metric.clone(),
-                options: opts,
-            },
-            scenario,
-        ))
+        let x = parse_param_axis(&self.x, "--x")?;
+        let y = parse_param_axis(&self.y, "--y")?;
+        let req = MapRequest::new(cfg, self.cfg.source(), &scenario, self.metric.clone(), x, y)?;
+        Ok((req, scenario))
     }
 
     /// The output directory (`--out`): the store of `plan map2d`.

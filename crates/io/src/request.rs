@@ -79,6 +79,12 @@ pub enum SweepRequestError {
     /// The identification tolerances.
     #[error(transparent)]
     Identify(#[from] IdentifyError),
+    /// The axes of a map.
+    #[error(transparent)]
+    Map(#[from] geardyn_analysis::map2d::MapError),
+    /// A metric of a map not in [`geardyn_analysis::map2d::METRICS`].
+    #[error("unknown metric '{0}': allowed {all}", all = geardyn_analysis::map2d::METRICS.join(", "))]
+    Metric(String),
     /// The swept parameter refused at one end of the values.
     #[error("--param {param} = {value}")]
     Param {
@@ -270,6 +276,46 @@ pub fn check_sweep(
     };
     cfg.check_work(scenario.model(), &opts.sim, opts.values.len() * ics, true)?;
     Ok(())
+}
+
+impl MapRequest {
+    /// The request of a map of `metric` over the axes `x` and `y` (a parameter and its values
+    /// each) on configuration `config` (every override applied) and its resolved `scenario`:
+    /// checks the metric, the axes, then the work; `source` names the model in titles.
+    pub fn new(
+        config: Config,
+        source: String,
+        scenario: &Scenario,
+        metric: String,
+        x: (String, Vec<f64>),
+        y: (String, Vec<f64>),
+    ) -> Result<MapRequest, SweepRequestError> {
+        if !geardyn_analysis::map2d::METRICS.contains(&metric.as_str()) {
+            return Err(SweepRequestError::Metric(metric));
+        }
+        let options = MapOptions {
+            x_param: x.0,
+            x_values: x.1,
+            y_param: y.0,
+            y_values: y.1,
+            sim: config.sim_options()?,
+            y0: [config.simulation.x0, config.simulation.v0],
+            lyapunov: metric == "tle",
+        };
+        options.check_axes()?;
+        config.check_work(
+            scenario.model(),
+            &options.sim,
+            options.x_values.len() * options.y_values.len(),
+            true,
+        )?;
+        Ok(MapRequest {
+            config,
+            source,
+            metric,
+            options,
+        })
+    }
 }
 
 impl BifurcationRequest {
