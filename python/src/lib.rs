@@ -1079,8 +1079,16 @@ fn report(
 }
 
 /// The Rust half of the `geardyn` package.
+/// The defaults of the keyword arguments, from the library's requests (the CLI's flags show the
+/// same ones).
+#[pyfunction]
+fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+    json_to_py(py, &geardyn_io::request::face_defaults())
+}
+
 #[pymodule]
 fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_function(wrap_pyfunction!(parameter_names, m)?)?;

@@ -303,3 +303,43 @@ def test_report_equals_cli(cli, tmp_path):
         a = (tmp_path / "cli" / "classic" / name).read_text()
         b = (tmp_path / "py" / "classic" / name).read_text()
         assert a == b, name
+
+
+@pytest.mark.parametrize(
+    "command,func",
+    [
+        ("simulate", geardyn.simulate),
+        ("lyapunov", geardyn.lyapunov),
+        ("bifurcation", geardyn.bifurcation),
+        ("basins", geardyn.basins),
+        ("continuation", geardyn.continuation),
+        ("orbits", geardyn.orbits),
+        ("signals", geardyn.signals),
+        ("map2d", geardyn.map2d),
+    ],
+)
+def test_keyword_defaults_are_the_cli_defaults(cli, command, func):
+    """Every keyword whose flag shows a default in ``--help`` has that default in Python."""
+    import inspect
+
+    help_text = cli(command, "--help").stdout
+    flags = {}
+    for block in re.split(r"\n\s+--", help_text)[1:]:
+        name = block.split()[0].split("=")[0].replace("-", "_")
+        m = re.search(r"\[default: ([^\]]+)\]", block)
+        if m:
+            flags[name] = m.group(1)
+    params = inspect.signature(func).parameters
+    # Python's `early_stop` is the CLI's `--no-early-stop` inverted (a switch has no default shown)
+    compared = 0
+    for name, shown in flags.items():
+        if name in params and params[name].default is not inspect.Parameter.empty:
+            d = params[name].default
+            if isinstance(d, bool) or d is None or name == "out":
+                continue
+            if isinstance(d, str):
+                assert d == shown, (command, name)
+            else:
+                assert float(d) == float(shown), (command, name, d, shown)
+            compared += 1
+    assert compared >= 1, (command, flags)

@@ -27,10 +27,10 @@ pub struct BifurcationArgs {
     #[arg(long, default_value = "fixed", value_parser = ["fixed", "sweep", "multi"])]
     mode: String,
     /// Initial states per value (multi).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = SweepSpec::default().ics)]
     ics: usize,
     /// Seed of the initial states (multi).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SweepSpec::default().seed)]
     seed: u64,
     /// x0 range of the initial states (multi), MIN:MAX; default +-(D + 3 max(D, 1)), D the
     /// largest half backlash (a region that holds the coexisting attractors, not just the gap).

@@ -10,7 +10,7 @@ use geardyn_analysis::bifurcation::linspace;
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::request::{ContinuationRequest, MapRequest};
+use geardyn_io::request::{ContinuationRequest, MapRequest, SweepSpec};
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -206,10 +206,10 @@ pub struct ContinuationArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:61")]
     range: String,
     /// Initial states per value.
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = ContinuationRequest::DEFAULT_ICS)]
     ics: usize,
     /// Seed of the initial states.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SweepSpec::default().seed)]
     seed: u64,
     /// x0 range of the initial states, MIN:MAX; default +-(D + 3 max(D, 1)), D the largest half
     /// backlash (a region that holds the coexisting attractors).
@@ -345,7 +345,7 @@ pub struct MapArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "F:0.001:0.2:40")]
     y: String,
     /// Metric of the heatmap: max_force, min_force, p_id, period, tle, healthy, class.
-    #[arg(long, default_value = "max_force")]
+    #[arg(long, default_value = MapRequest::DEFAULT_METRIC)]
     metric: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/map2d")]

@@ -22,7 +22,7 @@ pub struct OrbitArgs {
     period: Option<u32>,
     /// Excitation periods simulated from the initial state (`--set x0= --set v0=`) before
     /// Newton's method starts (0: start from the initial state itself).
-    #[arg(long, default_value_t = 300)]
+    #[arg(long, default_value_t = OrbitsRequest::default().transient)]
     transient: u64,
     /// Parameter continued (omega, F, xi, c, kappa, D, pair.mu, ...); without it, one orbit.
     #[arg(long)]
@@ -31,16 +31,16 @@ pub struct OrbitArgs {
     #[arg(long)]
     range: Option<String>,
     /// Largest arclength step of the continuation (scaled (x, x', parameter) space).
-    #[arg(long, default_value_t = 0.02)]
+    #[arg(long, default_value_t = OrbitsRequest::default().ds)]
     ds: f64,
     /// Most branch points in all.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = OrbitsRequest::default().max_points)]
     max_points: usize,
     /// Follow the doubled branch at each period doubling, up to this period (0: no switching).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = OrbitsRequest::default().switch_up_to)]
     switch_up_to: u32,
     /// Relative tolerance of the integration (absolute: 1e-2 times it).
-    #[arg(long, default_value_t = 1e-11)]
+    #[arg(long, default_value_t = OrbitsRequest::default().rtol)]
     rtol: f64,
     /// Brute-force diagram drawn under the branches: values of the parameter over the range
     /// (simulated from the initial state, strobe points of the last 60 of 360 periods); 0: none.

@@ -21,31 +21,31 @@ pub struct SignalsArgs {
     #[command(flatten)]
     cfg: ConfigArgs,
     /// Pinion revolutions recorded.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = SignalsRequest::default().revolutions)]
     revolutions: u64,
     /// Pinion revolutions discarded first.
-    #[arg(long, default_value_t = 300)]
+    #[arg(long, default_value_t = SignalsRequest::default().transient)]
     transient: u64,
     /// Samples per mesh cycle (z1 times that per revolution).
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = SignalsRequest::default().samples_per_cycle)]
     samples_per_cycle: u32,
     /// Revolutions per Welch segment of the spectra (order resolution 1 / this).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = SignalsRequest::default().segment_revolutions)]
     segment_revolutions: u64,
     /// Shaft sidebands of every mesh harmonic removed from the difference signal.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SignalsRequest::default().sidebands)]
     sidebands: usize,
     /// Shaft orders 1..=N removed from the difference signal (and from the residual with
     /// --residual mesh_and_shaft).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = SignalsRequest::default().shaft_orders)]
     shaft_orders: usize,
     /// Residual signal: the TSA without the mesh harmonics (mesh) or also without the shaft
     /// orders (mesh_and_shaft).
-    #[arg(long, default_value = "mesh_and_shaft", value_parser = ["mesh", "mesh_and_shaft"])]
+    #[arg(long, default_value = SignalsRequest::default().residual.name(), value_parser = ["mesh", "mesh_and_shaft"])]
     residual: String,
     /// NA4/NB4 denominator: the record's own variance (own) or the variance averaged over the
     /// run healthy twin -> broken pair (run).
-    #[arg(long, default_value = "run", value_parser = ["own", "run"])]
+    #[arg(long, default_value = SignalsRequest::default().na4_reference.name(), value_parser = ["own", "run"])]
     na4_reference: String,
     /// Output directory.
     #[arg(long, default_value = "out/signals")]

@@ -40,7 +40,7 @@ pub struct SimulateArgs {
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    #[arg(long, default_value_t = simulate_folder::DEFAULT_TRAJECTORY_PERIODS, value_parser = clap::value_parser!(u64).range(1..=simulate_folder::MAX_TRAJECTORY_PERIODS))]
     trajectory_periods: u64,
     /// Output directory.
     #[arg(long, default_value = "out/simulate")]

@@ -215,6 +215,9 @@ pub struct ContinuationRequest {
 }
 
 impl ContinuationRequest {
+    /// Initial states per value by default (the CLI's `--ics`, Python's `ics=`).
+    pub const DEFAULT_ICS: usize = 32;
+
     /// The checked options on configuration `cfg` (its simulation settings) and its resolved
     /// `scenario` (the default region of the initial states is that of its largest half
     /// backlash). Checks the initial states, the phase, the identification, then the work.
@@ -279,6 +282,9 @@ pub fn check_sweep(
 }
 
 impl MapRequest {
+    /// The metric of a map by default.
+    pub const DEFAULT_METRIC: &'static str = "max_force";
+
     /// The request of a map of `metric` over the axes `x` and `y` (a parameter and its values
     /// each) on configuration `config` (every override applied) and its resolved `scenario`:
     /// checks the metric, the axes, then the work; `source` names the model in titles.
@@ -501,4 +507,39 @@ impl BifurcationRequest {
         )?;
         Ok(())
     }
+}
+
+/// The defaults every face shows for the options it does not require, by function (`simulate`,
+/// `lyapunov`, `bifurcation`, `continuation`, `identify`, `orbits`, `signals`, `map2d`), taken
+/// from the requests themselves: Python's keyword defaults are read from here, the CLI's flags
+/// name the same constants.
+pub fn face_defaults() -> serde_json::Value {
+    use geardyn_analysis::attractor::IdentifyRequest;
+    use geardyn_analysis::lyapunov::LyapunovRequest;
+    use geardyn_analysis::orbits::OrbitsRequest;
+    use geardyn_analysis::signals::SignalsRequest;
+    let sweep = SweepSpec::default();
+    let lyap = LyapunovRequest::default();
+    let orbits = OrbitsRequest::default();
+    let signals = SignalsRequest::default();
+    let ident = IdentifyRequest::DEFAULT;
+    serde_json::json!({
+        "simulate": { "trajectory_periods": crate::simulate_folder::DEFAULT_TRAJECTORY_PERIODS },
+        "lyapunov": { "method": lyap.method.name(), "max_periods": lyap.max_periods, "d0": lyap.d0 },
+        "bifurcation": { "param": sweep.param, "mode": sweep.mode, "ics": sweep.ics, "seed": sweep.seed },
+        "continuation": { "ics": ContinuationRequest::DEFAULT_ICS, "seed": sweep.seed },
+        "identify": { "capture_tol": ident.capture_tol, "ident_rtol": ident.ident_rtol, "early_stop": ident.early_capture },
+        "orbits": {
+            "transient": orbits.transient, "ds": orbits.ds, "max_points": orbits.max_points,
+            "switch_up_to": orbits.switch_up_to, "rtol": orbits.rtol,
+        },
+        "signals": {
+            "revolutions": signals.revolutions, "transient": signals.transient,
+            "samples_per_cycle": signals.samples_per_cycle,
+            "segment_revolutions": signals.segment_revolutions, "sidebands": signals.sidebands,
+            "shaft_orders": signals.shaft_orders, "residual": signals.residual.name(),
+            "na4_reference": signals.na4_reference.name(),
+        },
+        "map2d": { "metric": MapRequest::DEFAULT_METRIC },
+    })
 }

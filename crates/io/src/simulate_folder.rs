@@ -217,6 +217,9 @@ fn plots(
     Ok(())
 }
 
+/// Excitation periods a simulation keeps in its trajectory by default (the last ones).
+pub const DEFAULT_TRAJECTORY_PERIODS: u64 = 10;
+
 /// Most excitation periods a simulation keeps in its trajectory.
 pub const MAX_TRAJECTORY_PERIODS: u64 = 1_000_000;
 
