@@ -212,24 +212,71 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-fn show_progress(py: Python<'_>, what: &str, ctl: &Ctl, started: Instant, end: bool) {
-    let (done, total) = (
-        ctl.done.load(Ordering::Relaxed),
-        ctl.total.load(Ordering::Relaxed),
-    );
-    let secs = started.elapsed().as_secs_f64();
-    let line = if total > 0 {
-        format!(
-            "\r{what}: {done}/{total} ({:.0}%), {secs:.1} s elapsed",
-            100.0 * done as f64 / total as f64
-        )
-    } else {
-        format!("\r{what}: {secs:.1} s elapsed")
-    };
-    let line = if end { line + "\n" } else { line };
-    if let Ok(err) = py.import("sys").and_then(|s| s.getattr("stderr")) {
-        let _ = err.call_method1("write", (line,));
-        let _ = err.call_method0("flush");
+/// The progress display of one call: a tqdm bar when tqdm is installed and the call has a count
+/// of items, else a line rewritten on `sys.stderr`.
+struct ProgressShow {
+    bar: Option<Py<PyAny>>,
+    tried: bool,
+}
+
+impl ProgressShow {
+    fn new() -> Self {
+        ProgressShow {
+            bar: None,
+            tried: false,
+        }
+    }
+
+    /// A tqdm bar of `total` items (once; `None` without tqdm).
+    fn tqdm<'py>(&mut self, py: Python<'py>, what: &str, total: u64) -> Option<Bound<'py, PyAny>> {
+        if !self.tried {
+            self.tried = true;
+            let made = py.import("tqdm").and_then(|m| {
+                let kw = PyDict::new(py);
+                kw.set_item("total", total)?;
+                kw.set_item("desc", what)?;
+                kw.set_item("unit", "item")?;
+                m.getattr("tqdm")?.call((), Some(&kw))
+            });
+            self.bar = made.ok().map(|b| b.unbind());
+        }
+        self.bar.as_ref().map(|b| b.bind(py).clone())
+    }
+
+    fn show(&mut self, py: Python<'_>, what: &str, ctl: &Ctl, started: Instant, end: bool) {
+        let (done, total) = (
+            ctl.done.load(Ordering::Relaxed),
+            ctl.total.load(Ordering::Relaxed),
+        );
+        if total > 0 {
+            if let Some(bar) = self.tqdm(py, what, total) {
+                let n = bar
+                    .getattr("n")
+                    .and_then(|n| n.extract::<u64>())
+                    .unwrap_or(0);
+                if done > n {
+                    let _ = bar.call_method1("update", (done - n,));
+                }
+                if end {
+                    let _ = bar.call_method0("close");
+                }
+                return;
+            }
+        }
+        let secs = started.elapsed().as_secs_f64();
+        let line = if total > 0 {
+            format!(
+                "\r{what}: {done}/{total} ({:.0}%), {secs:.1} s elapsed",
+                100.0 * done as f64 / total as f64
+            )
+        } else {
+            format!("\r{what}: {secs:.1} s elapsed")
+        };
+        let line = if end { line + "\n" } else { line };
+        if let Ok(err) = py.import("sys").and_then(|s| s.getattr("stderr")) {
+            let _ = err.call_method1("write", (line,));
+            let _ = err.call_method0("flush");
+        }
     }
 }
 
@@ -323,6 +370,7 @@ where
     }
     let started = Instant::now();
     let mut last = Instant::now();
+    let mut shown = ProgressShow::new();
     loop {
         let r = py.detach(|| recv(&rx));
         match r {
@@ -330,13 +378,13 @@ where
                 // another call's Ctrl-C cut some of this call's runs: interrupted too, with
                 // what it finished before
                 if progress {
-                    show_progress(py, what, &ctl, started, true);
+                    shown.show(py, what, &ctl, started, true);
                 }
                 return Err(interrupted(py, what, &ctl, partial, true)?);
             }
             Ok((Ok(res), false)) => {
                 if progress {
-                    show_progress(py, what, &ctl, started, true);
+                    shown.show(py, what, &ctl, started, true);
                 }
                 return res.map_err(to_pyerr);
             }
@@ -372,13 +420,13 @@ where
                     }
                     // (the request is withdrawn by the last worker to end)
                     if progress {
-                        show_progress(py, what, &ctl, started, true);
+                        shown.show(py, what, &ctl, started, true);
                     }
                     return Err(interrupted(py, what, &ctl, partial, stopped)?);
                 }
                 if progress && last.elapsed() >= Duration::from_millis(250) {
                     last = Instant::now();
-                    show_progress(py, what, &ctl, started, false);
+                    shown.show(py, what, &ctl, started, false);
                 }
             }
         }
