@@ -463,6 +463,32 @@ class BasinsResult(Result):
         "config",
     )
 
+    def to_xarray(self):
+        """The grid as an ``xarray.DataArray`` ``attractor`` over dimensions ``v`` and ``x`` (the
+        initial velocity and displacement at the cell centres); xarray must be installed. The
+        attractors' labels are in its attribute ``labels`` (by id)."""
+        xr = _xarray()
+        return xr.DataArray(
+            self.cells,
+            dims=("v", "x"),
+            coords={"v": self.v, "x": self.x},
+            name="attractor",
+            attrs={
+                "labels": [a["label"] for a in self.attractors],
+                "diverged": -1,
+                "failed": -2,
+                "phase": self.phase,
+            },
+        )
+
+
+def _xarray():
+    try:
+        import xarray as xr
+    except ImportError:
+        raise ImportError("to_xarray needs xarray: pip install xarray") from None
+    return xr
+
 
 class ContinuationResult(Result):
     """Result of :func:`continuation`.
@@ -551,6 +577,25 @@ class MapResult(Result):
 
     _fields = ("values", "metric", "x_param", "x", "y_param", "y", "cells", "settings", "config")
     _main_table = "cells"
+
+    def to_xarray(self):
+        """The map as an ``xarray.Dataset`` over two dimensions named after the swept parameters
+        (``y_param`` by ``x_param``, as ``values``): one variable per numeric column of ``cells``
+        (``max_force``, ``p_id``, ``period``, ...) and ``label`` and ``motion`` as strings; xarray
+        must be installed. The map's metric is ``attrs["metric"]``."""
+        xr = _xarray()
+        dims = (self.y_param, self.x_param)
+        shape = (len(self.y), len(self.x))
+        data = {
+            k: (dims, np.asarray(v).reshape(shape))
+            for k, v in self.cells.items()
+            if k not in ("x", "y")
+        }
+        return xr.Dataset(
+            data,
+            coords={self.y_param: self.y, self.x_param: self.x},
+            attrs={"metric": self.metric},
+        )
 
 
 class StiffnessResult(Result):

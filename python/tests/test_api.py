@@ -147,6 +147,21 @@ def test_continuation_and_map_shapes():
     assert m.cells["label"].shape == (6,)
 
 
+def test_grids_as_xarray():
+    xr = pytest.importorskip("xarray")
+    m = geardyn.map2d(x=("omega", [0.8, 1.0]), y=("xi", 0.1, 0.2, 3), metric="period", periods=8,
+                      transient=30)
+    ds = m.to_xarray()
+    assert isinstance(ds, xr.Dataset) and ds["period"].dims == ("xi", "omega")
+    # the metric's grid is the map's own `values`, cell by cell, under the parameters' names
+    np.testing.assert_array_equal(ds["period"].values, m.values)
+    assert ds["period"].sel(omega=1.0, xi=0.2).item() == m.values[2, 1]
+    b = geardyn.basins(omega=1.8, x=(-2, 2, 6), v=(-1.5, 1.5, 4), transient=100, periods=32)
+    a = b.to_xarray()
+    assert a.dims == ("v", "x") and a.shape == (4, 6)
+    np.testing.assert_array_equal(a.sel(x=b.x[5], v=b.v[0]).item(), b.cells[0, 5])
+
+
 def test_stiffness_tables():
     s = geardyn.stiffness()
     assert s.pair is None and s.table["k_dimensionless"].shape == (1024,)

@@ -337,9 +337,14 @@ def test_keyword_defaults_are_the_cli_defaults(cli, command, func):
             d = params[name].default
             if isinstance(d, bool) or d is None or name == "out":
                 continue
-            if isinstance(d, str):
-                assert d == shown, (command, name)
-            else:
-                assert float(d) == float(shown), (command, name, d, shown)
+            # a tuple is the CLI's `A:B:C` (an axis) or `A,B` (a list)
+            want = list(d) if isinstance(d, (tuple, list)) else [d]
+            got = re.split(r"[:,]", shown) if len(want) > 1 or isinstance(d, (tuple, list)) else [shown]
+            assert len(got) == len(want), (command, name, d, shown)
+            for w, g in zip(want, got):
+                if isinstance(w, str):
+                    assert w == g, (command, name, d, shown)
+                else:
+                    assert float(w) == float(g), (command, name, d, shown)
             compared += 1
     assert compared >= 1, (command, flags)
