@@ -1,6 +1,7 @@
 """The Python API: shapes, dtypes, configuration round trips, errors, Ctrl-C, the GIL."""
 
 import json
+import sys
 import signal
 import threading
 import time
@@ -304,12 +305,21 @@ def test_long_calls_release_the_gil():
     assert done and ticks > 10
 
 
-def test_progress_goes_to_stderr(capsys):
+def test_progress_goes_to_stderr(capsys, monkeypatch):
+    # without tqdm: a line rewritten on stderr
+    monkeypatch.setitem(sys.modules, "tqdm", None)
     geardyn.bifurcation(range=(0.5, 2, 3), periods=4, transient=10, progress=True)
     err = capsys.readouterr().err
     assert "bifurcation: 3/3" in err
     geardyn.bifurcation(range=(0.5, 2, 3), periods=4, transient=10)
     assert capsys.readouterr().err == ""
+
+
+def test_progress_is_a_tqdm_bar_when_tqdm_is_installed(capsys):
+    pytest.importorskip("tqdm")
+    geardyn.bifurcation(range=(0.5, 2, 3), periods=4, transient=10, progress=True)
+    err = capsys.readouterr().err
+    assert "bifurcation" in err and "3/3" in err and "100%" in err
 
 
 def test_help_shows_docstrings():
