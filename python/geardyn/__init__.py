@@ -1304,7 +1304,7 @@ def indicators(
     return _geardyn.indicators(
         x,
         _count("samples_per_rev", samples_per_rev),
-        _count("mesh_order", mesh_order),
+        _count("mesh_order", mesh_order, lo=-_COUNT_MAX),
         _count("sidebands", sidebands),
         _count("shaft_orders", shaft_orders),
         str(residual),

@@ -1025,7 +1025,7 @@ fn indicators<'py>(
     py: Python<'py>,
     signal: Vec<f64>,
     samples_per_rev: u64,
-    mesh_order: u64,
+    mesh_order: i64,
     sidebands: u64,
     shaft_orders: u64,
     residual: String,
@@ -1035,13 +1035,24 @@ fn indicators<'py>(
     let big = |v: u64| usize::try_from(v).unwrap_or(usize::MAX);
     let o = IndicatorOptions {
         samples_per_rev: big(samples_per_rev),
-        mesh_order: big(mesh_order),
+        // a negative order is checked as 0 (below every allowed range), so that the message
+        // gives the range the sampling allows, with the value given
+        mesh_order: usize::try_from(mesh_order).unwrap_or(0),
         sidebands: big(sidebands),
         shaft_orders: big(shaft_orders),
         residual: ResidualKind::from_name(&residual).map_err(|e| to_pyerr(e.into()))?,
     };
     let runs: Vec<&[f64]> = run.iter().map(|v| v.as_slice()).collect();
-    let ind = indicators_with_run(&signal, &o, &runs).map_err(|e| to_pyerr(e.into()))?;
+    let ind = indicators_with_run(&signal, &o, &runs).map_err(|e| {
+        let msg = e.to_string();
+        if mesh_order < 0 {
+            pyo3::exceptions::PyValueError::new_err(
+                msg.replace("mesh_order = 0:", &format!("mesh_order = {mesh_order}:")),
+            )
+        } else {
+            to_pyerr(e.into())
+        }
+    })?;
     let d = PyDict::new(py);
     for (name, v) in ind.named() {
         d.set_item(name, v)?;

@@ -102,6 +102,9 @@ def test_bad_input_names_the_argument(signal, kw, word):
 def test_mesh_order_error_gives_the_range():
     with pytest.raises(ValueError, match=r"2 \.\.= 14"):
         geardyn.indicators(np.ones(64), samples_per_rev=32, mesh_order=15)
+    # a negative order too: the range the sampling allows, with the value given
+    with pytest.raises(ValueError, match=r"mesh_order = -3: allowed 2 \.\.= 14"):
+        geardyn.indicators(np.ones(64), samples_per_rev=32, mesh_order=-3)
 
 
 def test_signals_have_the_clis_columns_and_numbers(cli, tmp_path):
