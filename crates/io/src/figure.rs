@@ -89,6 +89,11 @@ const DISTINCT: [RGBColor; 24] = [
 /// Number of distinct colours of [`palette`] before it repeats.
 pub const DISTINCT_COLORS: usize = DISTINCT.len();
 
+/// Palette index of the healthy pair in every figure that shows a pair and its broken twin.
+pub const HEALTHY_PAIR: usize = 0;
+/// Palette index of the broken pair in those figures.
+pub const BROKEN_PAIR: usize = 1;
+
 /// The `k`-th of [`DISTINCT_COLORS`] distinct colours (repeats after that; callers group the
 /// rest as "other").
 pub fn palette(k: usize) -> RGBColor {

@@ -2,7 +2,10 @@
 //! broken), pair stiffness, load sharing, friction factors, half backlash and lubrication.
 //! Captions describe the pair shown (a broken pair, or a healthy one).
 
-use crate::figure::{palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style};
+use crate::figure::{
+    palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style, BROKEN_PAIR,
+    HEALTHY_PAIR,
+};
 use geardyn_physics::PairModel;
 use std::path::{Path, PathBuf};
 
@@ -121,12 +124,15 @@ pub fn pair_figures(
                 x_range: Some((lo, hi)),
                 panels: vec![Panel {
                     y_label: "k_m (N/µm)".into(),
-                    layers: vec![line(window(&hk), 0), line(window(&bk), 1)],
+                    layers: vec![
+                        line(window(&hk), HEALTHY_PAIR),
+                        line(window(&bk), BROKEN_PAIR),
+                    ],
                     ..Default::default()
                 }],
                 legend: vec![
-                    LegendEntry::line("healthy pair", palette(0)),
-                    LegendEntry::line("broken pair", palette(1)),
+                    LegendEntry::line("healthy pair", palette(HEALTHY_PAIR)),
+                    LegendEntry::line("broken pair", palette(BROKEN_PAIR)),
                 ],
                 ..Default::default()
             },
@@ -156,11 +162,14 @@ pub fn pair_figures(
     let hd = two(&|r| Some(r.h_drive));
     let hb = two(&|r| Some(r.h_back));
     let dl = two(&|r| Some(if r.single { ds } else { dd }));
-    let mut stiff_layers = vec![line(km, 0), line(k1, 2), line(k2, 3)];
+    // (the mesh stiffness in the colours of the other pair figures: the broken pair's, with its
+    // healthy twin, or the first colour for a pair without breakage)
+    let mesh_color = if broken { BROKEN_PAIR } else { 0 };
+    let mut stiff_layers = vec![line(km, mesh_color), line(k1, 2), line(k2, 3)];
     let mut legend = vec![
         LegendEntry::line(
             if broken { "mesh (broken pair)" } else { "mesh" },
-            palette(0),
+            palette(mesh_color),
         ),
         LegendEntry::line("entering pair", palette(2)),
         LegendEntry::line("leaving pair", palette(3)),
@@ -173,8 +182,11 @@ pub fn pair_figures(
             .copied()
             .filter(|p| p.0 >= lo && p.0 <= hi)
             .collect();
-        stiff_layers.insert(0, line(hkw, 1));
-        legend.insert(1, LegendEntry::line("mesh (healthy pair)", palette(1)));
+        stiff_layers.insert(0, line(hkw, HEALTHY_PAIR));
+        legend.insert(
+            1,
+            LegendEntry::line("mesh (healthy pair)", palette(HEALTHY_PAIR)),
+        );
     }
     let stem = dir.join("pairs_sharing_friction");
     write_figure(

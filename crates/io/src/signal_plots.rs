@@ -1,7 +1,10 @@
 //! Figures of `geardyn signals`: the spectra in orders with the mesh harmonics marked, and the
 //! time-synchronous averages of the healthy twin and the broken pair over one pinion revolution.
 
-use crate::figure::{palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style};
+use crate::figure::{
+    palette, write_figure, Figure, FigureError, Layer, LegendEntry, Panel, Style, BROKEN_PAIR,
+    HEALTHY_PAIR,
+};
 use geardyn_analysis::signals::{SignalsResult, SIGNAL_NAMES};
 use std::path::Path;
 
@@ -10,9 +13,9 @@ const LABELS: [&str; 3] = ["DTE (µm)", "mesh force (N)", "acceleration (m/s²)"
 
 fn pair_color(pair: &str) -> usize {
     if pair == "broken" {
-        1
+        BROKEN_PAIR
     } else {
-        0
+        HEALTHY_PAIR
     }
 }
 
