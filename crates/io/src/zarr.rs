@@ -56,7 +56,7 @@ impl DataType {
 }
 
 /// The values of one chunk, in C order over the whole chunk shape (an edge chunk is padded with
-/// the fill value: [`Chunk::padded`]).
+/// the fill value, as [`Chunk::filled`] makes it).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Chunk {
     /// `float64` values.
