@@ -76,7 +76,8 @@ where
     S: Variational<2> + Clone,
     crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
 {
-    let mut n = conv.start_periods.max(20);
+    // (the cap bounds the first run too: a cap below the usual start is one run of the cap)
+    let mut n = conv.start_periods.max(20).min(conv.max_periods.max(20));
     let mut rounds = Vec::new();
     loop {
         let o = LyapunovOptions {
@@ -143,5 +144,23 @@ mod tests {
         .unwrap();
         assert!(c.converged);
         assert!((c.result.tle + 0.1).abs() < 5e-4, "{}", c.result.tle);
+        // a cap below the first run's length is the longest run made
+        let capped = Convergence {
+            max_periods: 50,
+            abs_tol: 0.0,
+            rel_tol: 0.0,
+            ..Default::default()
+        };
+        let c = tle_converged(
+            sys,
+            Scheme::dopri_default(),
+            0.0,
+            [1.0, 0.0],
+            &opts,
+            &capped,
+            |_| {},
+        )
+        .unwrap();
+        assert_eq!(c.rounds.iter().map(|r| r.periods).max(), Some(50));
     }
 }

@@ -9,7 +9,9 @@
 //! ([`geardyn_analysis::classify::Motion`]) through `classes`, which tolerates an isolated
 //! value at a bifurcation point.
 //!
-//! Studies are cached in `DIR/<preset>/<study>/section.json` (keyed by the full settings);
+//! Studies are cached in `DIR/<preset>/<study>/section.json` (keyed by the full settings and by
+//! a digest of the source of the report and of the library crates it computes through, made by
+//! `build.rs`: a build with other code recomputes every study);
 //! sweeps inside a study are checkpointed while it runs (the checkpoint is removed when the
 //! study is complete), so an interrupted report resumes.
 //!

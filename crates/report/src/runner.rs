@@ -83,7 +83,7 @@ impl Ctx {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 11, "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "decision_budget": self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET), "geardyn": env!("CARGO_PKG_VERSION") }),
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 11, "source": env!("GEARDYN_SOURCE_DIGEST"), "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "decision_budget": self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET), "geardyn": env!("CARGO_PKG_VERSION") }),
         )?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {
