@@ -48,7 +48,7 @@ pub mod prelude {
     pub use geardyn_io::executor::{
         execute, BasinsJob, ContinuationJob, Job, MapJob, Observer, Progress, Store, SweepJob,
     };
-    pub use geardyn_io::request::{ContinuationRequest, SweepSpec};
+    pub use geardyn_io::request::{BifurcationRequest, ContinuationRequest, MapRequest, SweepSpec};
     pub use geardyn_io::Config;
     pub use geardyn_model::{presets, MeshModel};
     pub use geardyn_scenario::Scenario;

@@ -23,7 +23,9 @@ fn main() {
     let here = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
     let crates = here.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut files = Vec::new();
-    for name in ["report", "analysis", "model", "physics", "scenario", "solvers", "io"] {
+    for name in [
+        "report", "analysis", "model", "physics", "scenario", "solvers", "io",
+    ] {
         let src = crates.join(name).join("src");
         println!("cargo:rerun-if-changed={}", src.display());
         rust_files(&src, &mut files);
@@ -37,7 +39,11 @@ fn main() {
         }
     };
     for f in &files {
-        eat(f.strip_prefix(&crates).unwrap_or(f).to_string_lossy().as_bytes());
+        eat(f
+            .strip_prefix(&crates)
+            .unwrap_or(f)
+            .to_string_lossy()
+            .as_bytes());
         eat(&std::fs::read(f).unwrap_or_default());
     }
     println!("cargo:rustc-env=GEARDYN_SOURCE_DIGEST={h:016x}");

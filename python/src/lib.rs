@@ -8,7 +8,9 @@ mod util;
 use anyhow::{bail, Context, Result};
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest, Outcome};
 use geardyn_analysis::basins::BasinsRequest;
-use geardyn_analysis::bifurcation::{detect_jumps, linspace, SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{
+    detect_jumps, range_values, SweepOptions, TaskResult, MAX_RANGE_VALUES,
+};
 use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::MapCell;
@@ -125,6 +127,15 @@ impl Ident {
 /// Parameter values: explicit, or `(start, stop, count)` through the library's `linspace` (the
 /// CLI's `--range`).
 fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Result<Vec<f64>> {
+    values_named("range", values, range)
+}
+
+/// [`values_of`] of an axis called `name` in messages (a map's `x`, `y`).
+fn values_named(
+    name: &str,
+    values: Option<Vec<f64>>,
+    range: Option<(f64, f64, usize)>,
+) -> Result<Vec<f64>> {
     match (values, range) {
         (Some(_), Some(_)) => bail!("values and range exclude each other: give one of them"),
         (Some(v), None) => {
@@ -139,16 +150,7 @@ fn values_of(values: Option<Vec<f64>>, range: Option<(f64, f64, usize)>) -> Resu
             }
             Ok(v)
         }
-        (None, Some((a, b, n))) => {
-            if !(a.is_finite() && b.is_finite()) || n == 0 || n > 1_000_000 {
-                bail!(
-                    "bad range ({}, {}, {n}): finite START, STOP and 1 <= COUNT <= 1000000",
-                    geardyn_model::error::num(a),
-                    geardyn_model::error::num(b)
-                );
-            }
-            Ok(linspace(a, b, n))
-        }
+        (None, Some(r)) => Ok(range_values(name, r, MAX_RANGE_VALUES)?),
         (None, None) => {
             bail!("give the parameter values: values=[...] or range=(start, stop, count)")
         }
@@ -743,8 +745,8 @@ fn map2d<'py>(
                 src.source(),
                 &scenario,
                 metric,
-                (x_param, values_of(x_values, x_range)?),
-                (y_param, values_of(y_values, y_range)?),
+                (x_param, values_named("x", x_values, x_range)?),
+                (y_param, values_named("y", y_values, y_range)?),
             )?;
             let (cfg, opts, metric) = (req.config, req.options, req.metric);
             let job = MapJob {

@@ -1,10 +1,10 @@
 //! `geardyn bifurcation` and `geardyn response`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, run_checkpointed, SimArgs};
+use crate::sweep::{parse_pair, parse_range, run_checkpointed, ForceArg, SimArgs};
 use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::bifurcation::{detect_jumps, linspace};
+use geardyn_analysis::bifurcation::detect_jumps;
 use geardyn_io::request::{BifurcationRequest, SweepSpec};
 use geardyn_io::{output, run_record, sweep_output};
 use geardyn_scenario::Scenario;
@@ -17,6 +17,8 @@ pub struct BifurcationArgs {
     cfg: ConfigArgs,
     #[command(flatten)]
     sim: SimArgs,
+    #[command(flatten)]
+    force: ForceArg,
     /// Parameter swept (omega, F, xi, c, D, D_d, D_s, mu, R, kappa, ...).
     #[arg(long, default_value = "omega")]
     param: String,
@@ -24,7 +26,7 @@ pub struct BifurcationArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:200")]
     range: String,
     /// fixed (same initial state), sweep (continuation up and down) or multi (K initial states).
-    #[arg(long, default_value = "fixed", value_parser = ["fixed", "sweep", "multi"])]
+    #[arg(long, default_value = "fixed")]
     mode: String,
     /// Initial states per value (multi).
     #[arg(long, default_value_t = SweepSpec::default().ics)]
@@ -57,11 +59,11 @@ impl BifurcationArgs {
         let mut cfg = self.cfg.config()?;
         self.sim.apply(&mut cfg, &self.cfg.sets)?;
         let scenario = cfg.resolve()?;
-        let (lo, hi, n) = parse_range(&self.range)?;
+        let values = parse_range(&self.range)?;
         let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
         let spec = SweepSpec {
             param: self.param.clone(),
-            values: linspace(lo, hi, n),
+            values,
             mode: self.mode.clone(),
             ics: self.ics,
             seed: self.seed,
@@ -92,7 +94,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
         opts,
         &a.out,
         "bifurcation",
-        a.sim.force,
+        a.force.force,
     )?;
     let elapsed = t.elapsed().as_secs_f64();
     req.write_folder(&a.out, &scenario, &results, started)?;
@@ -116,6 +118,8 @@ pub struct ResponseArgs {
     cfg: ConfigArgs,
     #[command(flatten)]
     sim: SimArgs,
+    #[command(flatten)]
+    force: ForceArg,
     /// Parameter swept (normally omega).
     #[arg(long, default_value = "omega")]
     param: String,
@@ -132,10 +136,9 @@ pub fn response(a: ResponseArgs) -> Result<()> {
     let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
-    let (lo, hi, n) = parse_range(&a.range)?;
     let opts =
-        SweepSpec::response(a.param.clone(), linspace(lo, hi, n)).options(&cfg, &scenario)?;
-    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.sim.force)?;
+        SweepSpec::response(a.param.clone(), parse_range(&a.range)?).options(&cfg, &scenario)?;
+    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.force.force)?;
     output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     run_record::write_sweep_record(
         &a.out,
@@ -165,6 +168,10 @@ pub fn response(a: ResponseArgs) -> Result<()> {
             j.branch, a.param, j.from, j.to, j.rms_before, j.rms_after
         );
     }
-    println!("{} values, both sweeps -> {}", n, a.out.display());
+    println!(
+        "{} values, both sweeps -> {}",
+        opts.values.len(),
+        a.out.display()
+    );
     Ok(())
 }

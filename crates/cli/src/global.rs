@@ -1,12 +1,12 @@
 //! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, progress, SimArgs};
+use crate::sweep::{parse_pair, parse_range, progress, ForceArg, SimArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
 use geardyn_analysis::basins::BasinsRequest;
-use geardyn_analysis::bifurcation::linspace;
+use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
@@ -54,6 +54,8 @@ pub struct BasinArgs {
     #[command(flatten)]
     sim: SimArgs,
     #[command(flatten)]
+    force: ForceArg,
+    #[command(flatten)]
     ident: IdentArgs,
     /// Grid axes: `--grid x:MIN:MAX:N --grid v:MIN:MAX:N` (default 200 x 200 over ±2 D, ±1.5).
     #[arg(
@@ -76,11 +78,10 @@ fn parse_axis(s: &str) -> Result<(char, (f64, f64, usize))> {
     if parts.len() != 4 || !(parts[0] == "x" || parts[0] == "v") {
         bail!("bad --grid '{s}': expected x:MIN:MAX:N or v:MIN:MAX:N");
     }
-    let axis = crate::sweep::parse_range_of(
+    let axis = crate::sweep::parse_numbers(
         &parts[1..].join(":"),
         &format!("--grid {}", parts[0]),
         "x:MIN:MAX:N or v:MIN:MAX:N",
-        BasinsRequest::MAX_CELLS,
     )?;
     Ok((parts[0].chars().next().unwrap_or('x'), axis))
 }
@@ -121,7 +122,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     let t = std::time::Instant::now();
     let r = execute(
         &BasinsJob { model, opts: &opts },
-        Some(Store::folder(&a.out, &cfg, a.sim.force)?),
+        Some(Store::folder(&a.out, &cfg, a.force.force)?),
         &progress(&a.out),
     )?;
     let elapsed = t.elapsed().as_secs_f64();
@@ -198,6 +199,8 @@ pub struct ContinuationArgs {
     #[command(flatten)]
     sim: SimArgs,
     #[command(flatten)]
+    force: ForceArg,
+    #[command(flatten)]
     ident: IdentArgs,
     /// Parameter.
     #[arg(long, default_value = "omega")]
@@ -232,11 +235,11 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
     let mut cfg = a.cfg.config()?;
     a.sim.apply(&mut cfg, &a.cfg.sets)?;
     let scenario = cfg.resolve()?;
-    let (lo, hi, n) = parse_range(&a.range)?;
+    let values = parse_range(&a.range)?;
     let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
     let req = ContinuationRequest {
         param: a.param.clone(),
-        values: linspace(lo, hi, n),
+        values,
         ics: a.ics,
         seed: a.seed,
         x0_range: pair(&a.x0_range, "--x0-range")?,
@@ -250,7 +253,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
             scenario: &scenario,
             opts: &opts,
         },
-        Some(Store::folder(&a.out, &cfg, a.sim.force)?),
+        Some(Store::folder(&a.out, &cfg, a.force.force)?),
         &progress(&a.out),
     )?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
@@ -338,6 +341,8 @@ pub struct MapArgs {
     cfg: ConfigArgs,
     #[command(flatten)]
     sim: SimArgs,
+    #[command(flatten)]
+    force: ForceArg,
     /// x axis: NAME:START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "xi:0.001:0.3:40")]
     x: String,
@@ -356,13 +361,10 @@ fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
     let (name, rest) = s
         .split_once(':')
         .with_context(|| format!("bad {what} '{s}': expected NAME:START:STOP:COUNT"))?;
-    let (lo, hi, n) = crate::sweep::parse_range_of(
-        rest,
-        what,
-        "NAME:START:STOP:COUNT, e.g. omega:0.5:2:40",
-        1_000_000,
-    )?;
-    Ok((name.to_string(), linspace(lo, hi, n)))
+    let r = crate::sweep::parse_numbers(rest, what, "NAME:START:STOP:COUNT, e.g. omega:0.5:2:40")?;
+    // (the axis named as Python names it: `x`, `y`)
+    let axis = what.trim_start_matches('-');
+    Ok((name.to_string(), range_values(axis, r, MAX_RANGE_VALUES)?))
 }
 
 impl MapArgs {
@@ -395,7 +397,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
             scenario: &scenario,
             opts,
         },
-        Some(Store::folder(&a.out, &req.config, a.sim.force)?),
+        Some(Store::folder(&a.out, &req.config, a.force.force)?),
         &progress(&a.out),
     )?;
     let (lo, hi) = req.write_folder(&a.out, &scenario, &cells, started)?;

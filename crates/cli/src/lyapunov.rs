@@ -37,7 +37,7 @@ pub struct LyapunovArgs {
     #[command(flatten)]
     sim: SimArgs,
     /// variational (saltation matrices), two-trajectory, or both.
-    #[arg(long, default_value = "both", value_parser = TleMethod::NAMES)]
+    #[arg(long, default_value = "both")]
     method: String,
     /// Largest run length (excitation periods) while converging; `--periods N` runs exactly N.
     #[arg(long, default_value_t = LyapunovRequest::default().max_periods)]

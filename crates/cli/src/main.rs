@@ -92,8 +92,14 @@ enum Command {
 #[cfg(unix)]
 extern "C" fn on_interrupt(_: libc::c_int) {
     const MSG: &[u8] = b"\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate and lyapunov start over\n";
-    // SAFETY: write and _exit are async-signal-safe.
+    // the folder's lock goes with the process (the next run then finds no stale lock)
+    let lock = geardyn_io::run_record::held_lock_path();
+    // SAFETY: write, unlink and _exit are async-signal-safe; the lock path is a valid C string
+    // that is never freed.
     unsafe {
+        if !lock.is_null() {
+            libc::unlink(lock);
+        }
         libc::write(2, MSG.as_ptr().cast(), MSG.len());
         libc::_exit(130);
     }

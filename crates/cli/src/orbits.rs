@@ -2,9 +2,10 @@
 //! their branches and bifurcations.
 
 use crate::run_config::ConfigArgs;
-use crate::sweep::parse_range;
+use crate::sweep::parse_numbers;
 use anyhow::{bail, Result};
 use clap::Args;
+use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
 use geardyn_analysis::orbits::{run_orbits, strobe_diagram, OrbitsRequest};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
@@ -194,7 +195,9 @@ fn mu_text(m: geardyn_analysis::orbits::Multiplier) -> String {
 fn parse_two(s: &str) -> Result<(f64, f64)> {
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() == 3 {
-        let (lo, hi, _) = parse_range(s)?;
+        let (lo, hi, n) = parse_numbers(s, "--range", "START:STOP or START:STOP:COUNT")?;
+        // (checked as any range, though the count is not used)
+        range_values("range", (lo, hi, n), MAX_RANGE_VALUES)?;
         return Ok((lo, hi));
     }
     let bad = || anyhow::anyhow!("bad --range {s:?}: expected START:STOP with two finite numbers");

@@ -41,11 +41,11 @@ pub struct SignalsArgs {
     shaft_orders: usize,
     /// Residual signal: the TSA without the mesh harmonics (mesh) or also without the shaft
     /// orders (mesh_and_shaft).
-    #[arg(long, default_value = SignalsRequest::default().residual.name(), value_parser = ["mesh", "mesh_and_shaft"])]
+    #[arg(long, default_value = SignalsRequest::default().residual.name())]
     residual: String,
     /// NA4/NB4 denominator: the record's own variance (own) or the variance averaged over the
     /// run healthy twin -> broken pair (run).
-    #[arg(long, default_value = SignalsRequest::default().na4_reference.name(), value_parser = ["own", "run"])]
+    #[arg(long, default_value = SignalsRequest::default().na4_reference.name())]
     na4_reference: String,
     /// Output directory.
     #[arg(long, default_value = "out/signals")]

@@ -12,31 +12,8 @@ use std::path::PathBuf;
 pub struct SimulateArgs {
     #[command(flatten)]
     cfg: ConfigArgs,
-    /// Recorded excitation periods (default: simulation.record_periods of the config).
-    #[arg(long)]
-    periods: Option<u64>,
-    /// Transient excitation periods discarded first (default: simulation.transient_periods).
-    #[arg(long)]
-    transient: Option<u64>,
-    /// Integrator (default: simulation.method of the config, dopri): dopri (adaptive) or rk4
-    /// (fixed step, --steps-per-cycle per mesh cycle).
-    #[arg(long, value_parser = ["dopri", "rk4"])]
-    integrator: Option<String>,
-    /// RK4 steps per mesh cycle (default: simulation.steps_per_cycle).
-    #[arg(long)]
-    steps_per_cycle: Option<u32>,
-    /// Decision horizon: excitation periods (from the start) a motion with a positive Lyapunov
-    /// exponent is followed before it is called chaotic (default: simulation.decision_periods).
-    #[arg(long)]
-    decision_periods: Option<u64>,
-    /// Work budget of the decision in right-hand-side evaluations (default:
-    /// simulation.decision_budget).
-    #[arg(long)]
-    decision_budget: Option<u64>,
-    /// Cap on the estimated work in right-hand-side evaluations, the decision's worst case
-    /// included; above it the run is refused (default: simulation.max_work, 1e12).
-    #[arg(long)]
-    max_work: Option<f64>,
+    #[command(flatten)]
+    sim: crate::sweep::SimArgs,
     /// Excitation periods (the last ones recorded) kept in trajectory.csv and the phase portrait
     /// (the time-history and mesh-force plots show the last 5 of them, 1 when an excitation
     /// period holds several mesh cycles).
@@ -49,18 +26,7 @@ pub struct SimulateArgs {
 
 pub fn run(args: SimulateArgs) -> Result<()> {
     let mut cfg = args.cfg.config()?;
-    // the sweeps' flags, applied by the same code (simulate has no checkpoint: no --force)
-    crate::sweep::SimArgs {
-        periods: args.periods,
-        transient: args.transient,
-        integrator: args.integrator.clone(),
-        steps_per_cycle: args.steps_per_cycle,
-        decision_periods: args.decision_periods,
-        decision_budget: args.decision_budget,
-        max_work: args.max_work,
-        force: false,
-    }
-    .apply(&mut cfg, &args.cfg.sets)?;
+    args.sim.apply(&mut cfg, &args.cfg.sets)?;
     let out = &args.out;
     let run = simulate_folder::simulate(
         cfg,

@@ -3,43 +3,50 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{range_values, SweepOptions, TaskResult, MAX_RANGE_VALUES};
 use geardyn_io::config::{Face, SimOverrides};
 use geardyn_io::executor::{execute, Progress, Store, SweepJob};
 use geardyn_io::Config;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
-/// Integration settings on the command line (override the config's `[simulation]`).
+/// Integration settings on the command line (override the config's `[simulation]`). The values
+/// are read as numbers and checked by the library ([`SimOverrides::apply`]), so a bad value gets
+/// the message Python gives for the same keyword.
 #[derive(Args, Debug, Clone)]
 pub struct SimArgs {
-    /// Recorded excitation periods per run.
-    #[arg(long)]
-    pub periods: Option<u64>,
-    /// Transient excitation periods discarded per run.
-    #[arg(long)]
-    pub transient: Option<u64>,
+    /// Recorded excitation periods per run (default: the config's simulation.record_periods).
+    #[arg(long, allow_hyphen_values = true)]
+    pub periods: Option<f64>,
+    /// Transient excitation periods discarded per run (default: simulation.transient_periods).
+    #[arg(long, allow_hyphen_values = true)]
+    pub transient: Option<f64>,
     /// Integrator: dopri (adaptive, error-controlled, the default of every command) or rk4
     /// (fixed step, --steps-per-cycle per mesh cycle; sweeps, basins, maps and continuations
     /// advance it in 16 lockstep lanes: the classified C1 sweep of `geardyn bench
     /// --bifurcation` runs about twice as fast as with dopri).
-    #[arg(long, value_parser = ["dopri", "rk4"])]
-    pub integrator: Option<String>,
-    /// RK4 steps per mesh cycle.
     #[arg(long)]
-    pub steps_per_cycle: Option<u32>,
+    pub integrator: Option<String>,
+    /// RK4 steps per mesh cycle (default: simulation.steps_per_cycle).
+    #[arg(long, allow_hyphen_values = true)]
+    pub steps_per_cycle: Option<f64>,
     /// Decision horizon: excitation periods (from the start of a run) a motion with a positive
     /// Lyapunov exponent is followed before it is called chaotic [default: 10000].
-    #[arg(long)]
-    pub decision_periods: Option<u64>,
+    #[arg(long, allow_hyphen_values = true)]
+    pub decision_periods: Option<f64>,
     /// Work budget of one run's decision in right-hand-side evaluations (4 per RK4 step, 6 per
     /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 1000000000].
-    #[arg(long)]
-    pub decision_budget: Option<u64>,
+    #[arg(long, allow_hyphen_values = true)]
+    pub decision_budget: Option<f64>,
     /// Cap on the command's estimated work in right-hand-side evaluations (all runs, the
     /// decisions' worst case included); a command above it is refused [default: 1e12].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_work: Option<f64>,
+}
+
+/// `--force` of the commands that resume from a checkpoint in their output folder.
+#[derive(Args, Debug, Clone)]
+pub struct ForceArg {
     /// Discard a checkpoint in the output folder that was made with other settings, and start
     /// over (without it such a folder is refused).
     #[arg(long)]
@@ -52,31 +59,28 @@ impl SimArgs {
     /// is the library's ([`SimOverrides`]), shared with Python.
     pub fn apply(&self, cfg: &mut Config, sets: &[String]) -> Result<()> {
         let o = SimOverrides {
-            periods: self.periods.map(|p| p as f64),
-            transient: self.transient.map(|t| t as f64),
+            periods: self.periods,
+            transient: self.transient,
             integrator: self.integrator.clone(),
-            steps_per_cycle: self.steps_per_cycle.map(f64::from),
-            decision_periods: self.decision_periods.map(|n| n as f64),
-            decision_budget: self.decision_budget.map(|n| n as f64),
+            steps_per_cycle: self.steps_per_cycle,
+            decision_periods: self.decision_periods,
+            decision_budget: self.decision_budget,
             max_work: self.max_work,
         };
         Ok(o.apply(cfg, sets, Face::Cli)?)
     }
 }
 
-/// Parses `START:STOP:COUNT` of `--range`.
-pub fn parse_range(s: &str) -> Result<(f64, f64, usize)> {
-    parse_range_of(s, "--range", "START:STOP:COUNT, e.g. 0.5:2:200", 1_000_000)
+/// The values of `--range START:STOP:COUNT`, checked by the library ([`range_values`], as
+/// Python's `range=`).
+pub fn parse_range(s: &str) -> Result<Vec<f64>> {
+    let r = parse_numbers(s, "--range", "START:STOP:COUNT, e.g. 0.5:2:200")?;
+    Ok(range_values("range", r, MAX_RANGE_VALUES)?)
 }
 
-/// Parses `START:STOP:COUNT` given to option `flag` (named in errors, with the expected `form`),
-/// at most `max_count` values; the spacing `(STOP - START) / COUNT` must be finite too.
-pub fn parse_range_of(
-    s: &str,
-    flag: &str,
-    form: &str,
-    max_count: usize,
-) -> Result<(f64, f64, usize)> {
+/// The three numbers of `START:STOP:COUNT` given to option `flag` (named in errors, with the
+/// expected `form`); only their syntax is checked here, their range by the library.
+pub fn parse_numbers(s: &str, flag: &str, form: &str) -> Result<(f64, f64, usize)> {
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
         bail!("bad {flag} '{s}': expected {form}");
@@ -95,9 +99,6 @@ pub fn parse_range_of(
             parts[2]
         )
     })?;
-    if !(a.is_finite() && b.is_finite() && (b - a).is_finite()) || n == 0 || n > max_count {
-        bail!("bad {flag} '{s}': finite start and stop (finite difference too) and 1 <= count <= {max_count}");
-    }
     Ok((a, b, n))
 }
 

@@ -138,6 +138,14 @@ pub enum ConfigError {
     /// A command's estimated work above `simulation.max_work` ([`Config::check_work`]).
     #[error("{0}")]
     Work(String),
+    /// A bad value of an option (a flag, a keyword), with the field's own message.
+    #[error("bad {given}: {inner}")]
+    Option {
+        /// The option and its value as the caller wrote them (`--periods 0`, `periods=0`).
+        given: String,
+        /// What the field says of the value.
+        inner: Box<ConfigError>,
+    },
     /// A simulation setting out of range.
     #[error("invalid simulation.{field} = {value}: allowed {allowed}")]
     Simulation {
@@ -878,6 +886,15 @@ impl Face {
         }
     }
 
+    /// The option `name` given `value`, as this face spells it (`--periods 0`, `periods=0`).
+    pub fn given(self, name: &str, value: f64) -> String {
+        let v = geardyn_model::error::num(value);
+        match self {
+            Face::Cli => format!("{} {v}", self.option(name)),
+            Face::Python => format!("{}{v}", self.option(name)),
+        }
+    }
+
     /// How this face's assignments are quoted in messages.
     fn assignment_prefix(self) -> &'static str {
         match self {
@@ -945,7 +962,14 @@ impl SimOverrides {
                     name,
                     &face.option(option),
                     v,
-                )?;
+                )
+                .map_err(|e| match e {
+                    ConfigError::Twice { .. } => e,
+                    other => ConfigError::Option {
+                        given: face.given(option, v),
+                        inner: Box::new(other),
+                    },
+                })?;
             }
         }
         if let Some(m) = &self.integrator {

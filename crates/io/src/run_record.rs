@@ -243,12 +243,41 @@ impl FolderLock {
             })
         })();
         let _ = std::fs::remove_file(&tmp);
+        if let Ok(lock) = &result {
+            announce_held(&lock.path);
+        }
         result
     }
 }
 
+/// The path of the lock this process holds, as a C string for a signal handler (null when none
+/// is held). The strings are leaked, never freed: a handler may read one while the lock is
+/// dropped.
+static HELD: std::sync::atomic::AtomicPtr<std::ffi::c_char> =
+    std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
+
+fn announce_held(path: &Path) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        if let Ok(c) = std::ffi::CString::new(path.as_os_str().as_bytes()) {
+            HELD.store(c.into_raw(), std::sync::atomic::Ordering::SeqCst);
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+}
+
+/// The lock file this process holds (a C string), or null: a Ctrl-C handler that ends the
+/// process at once removes it (`unlink` is async-signal-safe), so that the interrupted folder
+/// is not left with a lock the next run must find stale.
+pub fn held_lock_path() -> *const std::ffi::c_char {
+    HELD.load(std::sync::atomic::Ordering::SeqCst)
+}
+
 impl Drop for FolderLock {
     fn drop(&mut self) {
+        HELD.store(std::ptr::null_mut(), std::sync::atomic::Ordering::SeqCst);
         let _ = std::fs::remove_file(&self.path);
     }
 }
