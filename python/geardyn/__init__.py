@@ -571,8 +571,9 @@ class MapResult(Result):
     x, y : ndarray, float64
         The axes' values.
     cells : dict of ndarray
-        Every cell (map.csv), row-major with ``y`` rows: ``x, y, label, period, healthy,
-        max_force, min_force, p_id, impacts, tle, motion``.
+        Every cell, row-major with ``y`` rows, with the columns of the CLI's map.csv: the two
+        parameters under their own names (``x_param``, ``y_param``), then ``label, period,
+        healthy, max_force, min_force, p_id, impacts, tle, class``.
     """
 
     _fields = ("values", "metric", "x_param", "x", "y_param", "y", "cells", "settings", "config")
@@ -581,7 +582,7 @@ class MapResult(Result):
     def to_xarray(self):
         """The map as an ``xarray.Dataset`` over two dimensions named after the swept parameters
         (``y_param`` by ``x_param``, as ``values``): one variable per numeric column of ``cells``
-        (``max_force``, ``p_id``, ``period``, ...) and ``label`` and ``motion`` as strings; xarray
+        (``max_force``, ``p_id``, ``period``, ...) and ``label`` and ``class`` as strings; xarray
         must be installed. The map's metric is ``attrs["metric"]``."""
         xr = _xarray()
         dims = (self.y_param, self.x_param)
@@ -589,7 +590,7 @@ class MapResult(Result):
         data = {
             k: (dims, np.asarray(v).reshape(shape))
             for k, v in self.cells.items()
-            if k not in ("x", "y")
+            if k not in (self.x_param, self.y_param)
         }
         return xr.Dataset(
             data,

@@ -769,25 +769,14 @@ fn map2d<'py>(
     d.set_item("y_param", &opts.y_param)?;
     d.set_item("x", arr1(py, opts.x_values.clone()))?;
     d.set_item("y", arr1(py, opts.y_values.clone()))?;
-    let c = Columns::new(py);
-    c.f64("x", cells.iter().map(|c| c.x).collect())?;
-    c.f64("y", cells.iter().map(|c| c.y).collect())?;
-    c.str("label", cells.iter().map(|c| c.label.clone()).collect())?;
-    c.i64("period", cells.iter().map(|c| c.period as i64).collect())?;
-    c.boolean("healthy", cells.iter().map(|c| c.healthy).collect())?;
-    c.f64("max_force", cells.iter().map(|c| c.max_force).collect())?;
-    c.f64("min_force", cells.iter().map(|c| c.min_force).collect())?;
-    c.f64("p_id", cells.iter().map(|c| c.p_id).collect())?;
-    c.i64("impacts", cells.iter().map(|c| c.impacts as i64).collect())?;
-    c.f64(
-        "tle",
-        cells.iter().map(|c| c.tle.unwrap_or(f64::NAN)).collect(),
+    // the columns of the CLI's map.csv (geardyn_io::schema::map_table)
+    d.set_item(
+        "cells",
+        util::table(
+            py,
+            &geardyn_io::schema::map_table(&opts.x_param, &opts.y_param, &cells),
+        )?,
     )?;
-    c.str(
-        "motion",
-        cells.iter().map(|c| c.motion.word().to_string()).collect(),
-    )?;
-    d.set_item("cells", c.dict)?;
     d.set_item("settings", ser_to_py(py, &opts)?)?;
     d.set_item("config", config_py(py, &cfg)?)?;
     Ok(d.into_any())

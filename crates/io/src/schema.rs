@@ -267,6 +267,10 @@ pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -
         Values::I64(cells.iter().map(|c| c.impacts as i64).collect()),
     );
     t.push("tle", f(&|c| c.tle.unwrap_or(f64::NAN)));
+    t.push(
+        "class",
+        Values::Str(cells.iter().map(|c| c.motion.word().to_string()).collect()),
+    );
     t
 }
 
