@@ -354,6 +354,27 @@ pub(super) fn continuation_opts(
     }
 }
 
+/// What an attractor study (over omega, over F) computed: the multi-initial sweep, the
+/// continuation, the basins and the marker runs, rendered by the study's own `render`.
+pub(super) struct AttractorsData {
+    /// Half backlash D_s of the scenario (the boxes of initial states scale with it).
+    pub(super) d: f64,
+    /// Values of the multi-initial sweep.
+    pub(super) values: Vec<f64>,
+    /// Initial states per value.
+    pub(super) ics: usize,
+    /// Basin cells per axis.
+    pub(super) nb: usize,
+    /// The multi-initial sweep.
+    pub(super) multi: Vec<geardyn_analysis::bifurcation::TaskResult>,
+    /// The attractor continuation (safety tree).
+    pub(super) continuation: geardyn_analysis::continuation::ContinuationResult,
+    /// Basins at the study's basin values.
+    pub(super) basins: Vec<BasinsAt>,
+    /// The motions at marker values with both backlash levels.
+    pub(super) markers: MarkerRuns,
+}
+
 /// The motions found at a few marker values with the pair's physical backlash and with the
 /// levels of the xi sweep (D_d = 0.9, D_s = 1): how much the attractor tables depend on the
 /// backlash levels the seed does not give.

@@ -5,7 +5,7 @@
 
 use super::attractor_tables::{
     backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    marker_runs, table_row, BasinsAt, MarkerRuns, Spec,
+    marker_runs, table_row, AttractorsData, Spec,
 };
 use super::{multi, B003, B004};
 use crate::claims::{Claim, Verdict};
@@ -17,7 +17,6 @@ use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
-use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
@@ -34,33 +33,13 @@ const UNHEALTHY_PARTLY: f64 = 0.3;
 /// counted before); partly when fewer by less.
 const FEWER_BY: f64 = 0.5;
 
-/// What the study computed over F.
-pub(super) struct AttractorsFData {
-    /// Half backlash D_s of the scenario (the boxes of initial states scale with it).
-    d: f64,
-    /// Values of the multi-initial sweep.
-    values: Vec<f64>,
-    /// Initial states per value.
-    ics: usize,
-    /// Basin cells per axis.
-    nb: usize,
-    /// The multi-initial sweep.
-    multi: Vec<TaskResult>,
-    /// The attractor continuation (safety tree).
-    continuation: ContinuationResult,
-    /// Basins at [`BASIN_LOADS`], each on three boxes.
-    basins: Vec<BasinsAt>,
-    /// The motions at marker values with both backlash levels.
-    markers: MarkerRuns,
-}
-
 /// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     render(ctx, dir, &compute(ctx, lin, dir)?)
 }
 
 /// The multi-initial sweep, the continuation, the basins and the marker runs over F.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsFData> {
+pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
     let set = [("omega", 1.4), ("xi", 0.09)];
     let b = lin.with_all(&set)?;
     let d = b.params().d_single;
@@ -102,7 +81,7 @@ pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Attractor
         "F",
         &[0.001, 0.02, 0.04, 0.044, 0.07, 0.1, 0.104, 0.11, 0.16, 0.19],
     )?;
-    Ok(AttractorsFData {
+    Ok(AttractorsData {
         d,
         values,
         ics,
@@ -115,7 +94,7 @@ pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Attractor
 }
 
 /// The figures, tables and the claims of the seed's table over F.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsFData) -> Result<Section> {
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
     let (r, c) = (&data.multi, &data.continuation);
     let box_txt = &data.basins[0].boxes[0].0;

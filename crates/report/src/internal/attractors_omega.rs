@@ -5,7 +5,7 @@
 
 use super::attractor_tables::{
     backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    found_in, marker_runs, presence, table_row, BasinsAt, MarkerRuns, Spec, PRESENT,
+    found_in, marker_runs, presence, table_row, AttractorsData, Spec, PRESENT,
 };
 use super::{multi, B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
@@ -16,8 +16,7 @@ use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
-use geardyn_analysis::continuation::ContinuationResult;
+use geardyn_analysis::bifurcation::{linspace, Section as Sec};
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
@@ -27,33 +26,13 @@ const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
 /// it lies within this distance of it (and nearer to it than to the other).
 const G1_TOLERANCE: f64 = 0.03;
 
-/// What the study computed over omega.
-pub(super) struct AttractorsOmegaData {
-    /// Half backlash D_s of the scenario (the boxes of initial states scale with it).
-    d: f64,
-    /// Values of the multi-initial sweep.
-    values: Vec<f64>,
-    /// Initial states per value.
-    ics: usize,
-    /// Basin cells per axis.
-    nb: usize,
-    /// The multi-initial sweep.
-    multi: Vec<TaskResult>,
-    /// The attractor continuation (safety tree).
-    continuation: ContinuationResult,
-    /// Basins at [`BASIN_OMEGAS`] (further boxes except at the first).
-    basins: Vec<BasinsAt>,
-    /// The motions at marker values with both backlash levels.
-    markers: MarkerRuns,
-}
-
 /// The study: [`compute`], then [`render`].
 pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
     render(ctx, dir, &compute(ctx, lin, dir)?)
 }
 
 /// The multi-initial sweep, the continuation, the basins and the marker runs over omega.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsOmegaData> {
+pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
     let set = [("F", 0.07), ("xi", 0.23)];
     let b = lin.with_all(&set)?;
     let d = b.params().d_single;
@@ -109,7 +88,7 @@ pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Attractor
             0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
         ],
     )?;
-    Ok(AttractorsOmegaData {
+    Ok(AttractorsData {
         d,
         values,
         ics,
@@ -122,7 +101,7 @@ pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Attractor
 }
 
 /// The figures, tables and the claims of the seed's table over omega.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsOmegaData) -> Result<Section> {
+pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
     let (r, c) = (&data.multi, &data.continuation);
     let box_txt = &data.basins[0].boxes[0].0;
