@@ -701,15 +701,17 @@ where
                 .copied()
                 .filter(|t| !done.contains_key(t) && only.is_none_or(|o| o.contains(t)))
                 .collect();
-            let fresh: Vec<TaskResult> = if crate::lanes::lanes_apply(&opts.sim) {
-                // fixed-step RK4: the runs of every value in lockstep lanes, in batches of tasks
-                // (each batch's results are handed on, so an interruption loses at most the two
-                // batches in progress); a run not decided periodic there is classified from its
-                // lanes result, without integrating it again: the runs of a batch together in
-                // rounds (TLEs in parallel; transient extensions, persistence checks and records
-                // again in the lanes: crate::lanes::decide_lanes). The batches are pipelined: a batch is classified while
-                // the next one runs in the lanes (rayon balances the two), so the threads are
-                // not left waiting on the few long classifications of a batch.
+            let fresh: Vec<TaskResult> = {
+                // in batches of tasks (each batch's results are handed on, so an interruption
+                // loses at most the two batches in progress): the first runs of a batch (with
+                // fixed-step RK4 in lockstep lanes, else one by one in parallel), then the
+                // decisions of the batch together in rounds (TLEs in parallel; transient
+                // extensions, persistence checks and records again in the lanes where they are
+                // RK4 — a decision's follow always is, crate::classify::follow_method — and the
+                // adaptive integrator's records in parallel: crate::lanes::decide_lanes). The
+                // batches are pipelined: a batch is classified while the next one runs (rayon
+                // balances the two), so the threads are not left waiting on the few long
+                // classifications of a batch.
                 let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
                     .div_ceil(k)
                     .max(1);
@@ -724,8 +726,14 @@ where
                         .collect();
                     let runs: Vec<(&MeshModel, [f64; 2])> =
                         items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
-                    let lane_results = crate::lanes::simulate_lanes(&runs, &opts.sim);
-                    (items, lane_results)
+                    let firsts = if crate::lanes::lanes_apply(&opts.sim) {
+                        crate::lanes::simulate_lanes(&runs, &opts.sim)
+                    } else {
+                        runs.par_iter()
+                            .map(|&(m, y0)| crate::simulate::simulate(m, y0, &opts.sim))
+                            .collect()
+                    };
+                    (items, firsts)
                 };
                 type Simulated = (
                     Vec<(usize, usize, [f64; 2])>,
@@ -768,19 +776,6 @@ where
                     }
                 }
                 out
-            } else {
-                todo.par_iter()
-                    .map(|&t| {
-                        let runs: Vec<Run> = (0..k)
-                            .into_par_iter()
-                            .map(|ic| {
-                                let y0 = initial_state(mode, opts.y0, t.index, ic);
-                                run_once(&models[t.index], y0, ic, opts)
-                            })
-                            .collect();
-                        finish(t, runs)
-                    })
-                    .collect()
             };
             for r in fresh {
                 results.insert(r.task, r);

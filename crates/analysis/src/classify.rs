@@ -83,6 +83,57 @@ pub const DECISION_BUDGET: u64 = 1_000_000_000;
 /// one core per run).
 pub const MAX_DECISION_BUDGET: u64 = 1000 * DECISION_BUDGET;
 
+/// Default [`SimOptions::follow_steps`]: fixed-step RK4 steps per natural period (`2 pi` of
+/// dimensionless time) of a decision's follow. At `h <= 2 pi / 64` an RK4 step errs by about
+/// `(h)^5 / 120 < 1e-7` of the state on the unit natural frequency, a pseudo-orbit as close to
+/// the motion as the adaptive integrator's at `rtol ~ 1e-7`; the broken pair's chaotic exponent
+/// (0.078–0.085 at `omega` = 1.2, `F` = 0.03–0.06) and the transient lifetimes of
+/// docs/analyses.md, rule 2, come out alike at this resolution and at the requested one.
+pub const FOLLOW_STEPS: u32 = 64;
+/// [`SimOptions::follow_steps`] accepted besides 0: below 16 steps per natural period RK4 leaves
+/// its useful accuracy (and at about 2.2 its stability).
+pub const FOLLOW_STEPS_RANGE: std::ops::RangeInclusive<u32> = 16..=1_000_000;
+/// Fewest RK4 steps per mesh cycle of a follow (a mesh cycle much shorter than the natural
+/// period still has its stiffness variation resolved).
+pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
+
+/// The integrator of a decision's *follow*: the transient of a persistence block, the long part
+/// of the decision that records nothing and asks one question only — does the motion leave the
+/// chaotic set for a periodic orbit before the horizon? Every record, period test and exponent
+/// uses the requested integrator; the follow only carries the state from one block's record to
+/// the next, and any faithful pseudo-orbit answers that question as well as another (a chaotic
+/// transient's end is a statistical event: two integrations that round differently end it at
+/// different times anyway). So it runs as fixed-step RK4 at `opts.follow_steps` steps per
+/// natural period, rounded up to a power of two steps per mesh cycle (at least
+/// [`MIN_FOLLOW_STEPS_PER_CYCLE`]; a sweep over `omega` shares lanes within an octave), which the
+/// lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
+/// requested integrator (`follow_steps` = 0, or a requested RK4 already as coarse).
+///
+/// ```
+/// use geardyn_analysis::classify::follow_method;
+/// use geardyn_analysis::simulate::{Method, SimOptions};
+/// let m = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
+/// // C1 (omega = 1.2): a mesh cycle of 5.24 holds 64 steps of at most 2 pi / 64
+/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 64 }));
+/// let off = SimOptions { follow_steps: 0, ..Default::default() };
+/// assert_eq!(follow_method(&m, &off), None);
+/// ```
+pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
+    if opts.follow_steps == 0 {
+        return None;
+    }
+    let per_cycle = f64::from(opts.follow_steps) * model.mesh_cycle_time() / std::f64::consts::TAU;
+    let steps = (per_cycle.ceil().min(f64::from(u32::MAX / 2)) as u32)
+        .max(MIN_FOLLOW_STEPS_PER_CYCLE)
+        .next_power_of_two();
+    match opts.method {
+        Method::Rk4 { steps_per_cycle } if steps_per_cycle <= steps => None,
+        _ => Some(Method::Rk4 {
+            steps_per_cycle: steps,
+        }),
+    }
+}
+
 /// The evidence that decided a run's class (`decided_by` in `summary.json` and runs tables).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -315,7 +366,20 @@ pub fn simulate_decided_from(
     opts: &SimOptions,
     how: Decide,
 ) -> Result<(SimResult, Summary, SimOptions), SimError> {
-    simulate_decided_with(model, first, opts, how, simulate)
+    // a follow in fixed-step RK4 runs on a one-lane engine with the run's phase tables: the
+    // same integration as in a sweep's lanes (crate::lanes::decide_lanes), so a run decides
+    // alike alone and in a sweep
+    let sim = |m: &MeshModel, y0: [f64; 2], o: &SimOptions| {
+        if o.method != opts.method
+            && crate::lanes::lanes_apply(o)
+            && crate::lanes::lanes_cover_contact(m)
+        {
+            crate::lanes::simulate_lane_grid(m, y0, o, opts.tau0)
+        } else {
+            simulate(m, y0, o)
+        }
+    };
+    simulate_decided_with(model, first, opts, how, sim)
 }
 
 /// As [`simulate_decided_from`], the transient extensions simulated by `sim` (a function with the
@@ -383,6 +447,11 @@ enum Wait {
     /// Persistence block `k` of a positive exponent (blocks of growing length up to the
     /// decision horizon).
     Persist(u32),
+    /// The follow of persistence block `k` ([`follow_method`]: the block's transient and, but in
+    /// the last block, its record of the stroboscopic points). When those points show a period,
+    /// or in the last block, the record with the requested integrator (`record` periods, the
+    /// stroboscopic points only unless `last`) is [`Wait::Persist`] next; else block `k + 1`.
+    Follow { k: u32, record: u64, last: bool },
     /// The TLE at the decision horizon: chaos only if it is still significantly positive.
     TlePersist,
     /// The TLE where the work budget ran out before the horizon.
@@ -501,6 +570,12 @@ impl<'m> Decision<'m> {
         let Need::Sim { opts: more, .. } = self.need else {
             panic!("no run was asked for");
         };
+        if let (Wait::Follow { k, .. }, Err(_)) = (self.wait, &r) {
+            // the coarse follow failed where the requested integrator may not: that block again
+            // with the requested integrator
+            self.persist_with(k, false);
+            return;
+        }
         let res2 = match r {
             Ok(r) => r,
             Err(e) => {
@@ -512,6 +587,35 @@ impl<'m> Decision<'m> {
         let opts = self.opts;
         let strict = opts.method.period_tol();
         match self.wait {
+            Wait::Follow { k, record, last } => {
+                // a period in the follow's own stroboscopic points (fixed-step RK4 maps its
+                // orbits onto themselves to rounding: the strict test) is confirmed by a record
+                // with the requested integrator; without one the motion is followed on, and the
+                // follow's periods are transient either way
+                let seen = more.record_periods > 0
+                    && summarize(self.model, &res2, &more).motion.is_periodic();
+                self.take(res2, &more);
+                let (t, y) = self.res.final_state;
+                let scale = self.model.backlash_levels().1.max(1.0);
+                if !(y[0].abs() <= DIVERGED_SCALES * scale) {
+                    self.s.set_motion(Motion::Diverged { x_max: y[0].abs() });
+                    self.ask(Wait::Done, Need::Done);
+                    return;
+                }
+                if !(seen || last) {
+                    self.persist(k + 1);
+                    return;
+                }
+                let rec = SimOptions {
+                    tau0: t,
+                    start_memory: self.res.final_memory,
+                    transient_periods: 0,
+                    record_periods: record,
+                    strobe_only: !last,
+                    ..self.opts
+                };
+                self.ask(Wait::Persist(k), Need::Sim { y0: y, opts: rec });
+            }
             Wait::Persist(k) => {
                 if self.continued(res2, more, strict) {
                     self.persist(k + 1);
@@ -734,6 +838,11 @@ impl<'m> Decision<'m> {
     /// work budget cuts the horizon short, the exponent where it ran out is taken instead
     /// ([`Wait::TleBudget`]: unsettled if still positive).
     fn persist(&mut self, k: u32) {
+        self.persist_with(k, true)
+    }
+
+    /// [`Decision::persist`]; `follow`: the block's transient may run with [`follow_method`].
+    fn persist_with(&mut self, k: u32, follow: bool) {
         let done = self.integrated();
         let horizon = self.opts.decision_periods;
         let periods = tle_periods(&self.opts);
@@ -795,7 +904,28 @@ impl<'m> Decision<'m> {
         };
         let y0 = self.res.final_state.1;
         self.persisted = true;
-        self.ask(Wait::Persist(k), Need::Sim { y0, opts: more });
+        match follow_method(self.model, &self.opts) {
+            Some(method) if follow && transient > 0 => {
+                // its own record of the stroboscopic points (none in the last block: the record
+                // the verdict reports follows)
+                let coarse = SimOptions {
+                    method,
+                    record_periods: if last { 0 } else { more.record_periods },
+                    strobe_only: true,
+                    trajectory: false,
+                    ..more
+                };
+                self.ask(
+                    Wait::Follow {
+                        k,
+                        record: more.record_periods,
+                        last,
+                    },
+                    Need::Sim { y0, opts: coarse },
+                );
+            }
+            _ => self.ask(Wait::Persist(k), Need::Sim { y0, opts: more }),
+        }
     }
 
     /// Takes `res` (a continuation run with `more`) as the record: the replaced record becomes

@@ -1019,7 +1019,7 @@ pub fn decide_lanes(
     let models: Vec<&MeshModel> = ds.iter().map(|d| d.model()).collect();
     loop {
         let mut tles: Vec<(usize, f64, [f64; 2], f64, u64)> = Vec::new();
-        let mut sims: Vec<Item<'_>> = Vec::new();
+        let mut sims: Vec<(Item<'_>, SimOptions)> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();
         for (i, d) in ds.iter().enumerate() {
             match d.need() {
@@ -1030,16 +1030,19 @@ pub fn decide_lanes(
                     periods,
                 } => tles.push((i, t, y, memory, periods)),
                 Need::Sim { y0, opts: o } => {
-                    sims.push(Item {
-                        out: sims.len(),
-                        model: models[i],
-                        y0,
-                        t0: o.tau0,
-                        memory: o.start_memory,
-                        transient: o.transient_periods,
-                        record: o.record_periods,
-                        strobe_only: o.strobe_only,
-                    });
+                    sims.push((
+                        Item {
+                            out: sims.len(),
+                            model: models[i],
+                            y0,
+                            t0: o.tau0,
+                            memory: o.start_memory,
+                            transient: o.transient_periods,
+                            record: o.record_periods,
+                            strobe_only: o.strobe_only,
+                        },
+                        o,
+                    ));
                     sim_of.push(i);
                 }
                 Need::Done => {}
@@ -1048,9 +1051,6 @@ pub fn decide_lanes(
         if tles.is_empty() && sims.is_empty() {
             break;
         }
-        // longest first, so that the lanes of a chunk retire together (the results do not
-        // depend on the order)
-        sims.sort_by_key(|it| std::cmp::Reverse(it.transient));
         let (tle_res, sim_res) = rayon::join(
             || {
                 // one batch per window length (the last look at an undecided run is longer),
@@ -1072,10 +1072,7 @@ pub fn decide_lanes(
                 }
                 out
             },
-            || {
-                let lone = LONE_RUNS * rayon::current_num_threads().max(1);
-                simulate_items(&sims, opts, opts.tau0, Dispatch::Auto, lone)
-            },
+            || run_needs(&sims, opts.tau0),
         );
         for (&(i, ..), r) in tles.iter().zip(tle_res) {
             ds[i].tle(r);
@@ -1085,6 +1082,67 @@ pub fn decide_lanes(
         }
     }
     ds.into_iter().map(|d| d.finish()).collect()
+}
+
+/// The integrations a round of [`decide_lanes`] asks for (`sims[k]`: output `k` with its options),
+/// results in that order: fixed-step RK4 ones whose contact the lanes cover together in the
+/// lanes (one batch per step size: the requested RK4, or a follow's,
+/// [`crate::classify::follow_method`]), with the phase tables of the sweep's `tau0`; the others
+/// (the adaptive integrator's records) one by one, in parallel.
+fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult, SimError>> {
+    let in_lanes = |(it, o): &(Item<'_>, SimOptions)| lanes_apply(o) && lanes_cover_contact(it.model);
+    let mut steps: Vec<u32> = sims
+        .iter()
+        .filter(|s| in_lanes(s))
+        .filter_map(|(_, o)| match o.method {
+            Method::Rk4 { steps_per_cycle } => Some(steps_per_cycle),
+            Method::Dopri { .. } => None,
+        })
+        .collect();
+    steps.sort_unstable();
+    steps.dedup();
+    let lone = LONE_RUNS * rayon::current_num_threads().max(1);
+    let mut out: Vec<Option<Result<SimResult, SimError>>> = (0..sims.len()).map(|_| None).collect();
+    let (batches, single) = rayon::join(
+        || {
+            steps
+                .iter()
+                .map(|&n| {
+                    let mut items: Vec<(Item<'_>, SimOptions)> = sims
+                        .iter()
+                        .filter(|s| {
+                            in_lanes(s)
+                                && s.1.method == Method::Rk4 { steps_per_cycle: n }
+                        })
+                        .copied()
+                        .collect();
+                    // longest first, so that the lanes of a chunk retire together (the results
+                    // do not depend on the order)
+                    items.sort_by_key(|(it, _)| std::cmp::Reverse(it.transient));
+                    let o = items[0].1;
+                    let batch: Vec<Item<'_>> = items
+                        .iter()
+                        .enumerate()
+                        .map(|(k, (it, _))| Item { out: k, ..*it })
+                        .collect();
+                    let res = simulate_items(&batch, &o, tau0, Dispatch::Auto, lone);
+                    items.into_iter().map(|(it, _)| it.out).zip(res).collect::<Vec<_>>()
+                })
+                .collect::<Vec<_>>()
+        },
+        || {
+            sims.par_iter()
+                .filter(|s| !in_lanes(s))
+                .map(|(it, o)| (it.out, crate::simulate::simulate(it.model, it.y0, o)))
+                .collect::<Vec<_>>()
+        },
+    );
+    for (k, r) in batches.into_iter().flatten().chain(single) {
+        out[k] = Some(r);
+    }
+    out.into_iter()
+        .map(|r| r.expect("every integration has a result"))
+        .collect()
 }
 
 /// A decided run: the record, its summary and the settings of the record.

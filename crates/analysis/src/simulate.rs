@@ -114,12 +114,22 @@ pub struct SimOptions {
     /// the run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
     /// never chaotic (default [`crate::classify::DECISION_BUDGET`]).
     pub decision_budget: u64,
+    /// Resolution of a decision's *follow* (the transients of the persistence blocks, which
+    /// record nothing: [`crate::classify::follow_method`]): fixed-step RK4 steps per natural
+    /// period (`2 pi` of dimensionless time); 0 follows with [`SimOptions::method`] itself.
+    /// Default [`crate::classify::FOLLOW_STEPS`].
+    #[serde(default = "default_follow_steps")]
+    pub follow_steps: u32,
     /// Record the stroboscopic points only (no statistics, forces, events or mesh-cycle strobe;
     /// `x_range` from the points): the cheap record of a decision's persistence blocks, whose only
     /// question is whether a period has appeared ([`crate::classify`]). Not an option of the
     /// commands.
     #[serde(skip)]
     pub strobe_only: bool,
+}
+
+fn default_follow_steps() -> u32 {
+    crate::classify::FOLLOW_STEPS
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -140,6 +150,7 @@ impl Default for SimOptions {
             start_memory: 0.0,
             decision_periods: crate::classify::DECISION_PERIODS,
             decision_budget: crate::classify::DECISION_BUDGET,
+            follow_steps: crate::classify::FOLLOW_STEPS,
             strobe_only: false,
         }
     }

@@ -40,6 +40,9 @@ pub struct SimulationConfig {
     /// Work budget of one run's decision (right-hand-side evaluations in all); a run still not periodic when it
     /// is spent is `unsettled`.
     pub decision_budget: u64,
+    /// Resolution of a decision's follow (the transients of its persistence blocks): fixed-step
+    /// RK4 steps per natural period; 0 follows with the requested integrator.
+    pub follow_steps: u32,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
     /// decisions' worst case included): a command above it is refused before it starts.
     pub max_work: f64,
@@ -59,6 +62,7 @@ impl Default for SimulationConfig {
             tau0: 0.0,
             decision_periods: geardyn_analysis::classify::DECISION_PERIODS,
             decision_budget: geardyn_analysis::classify::DECISION_BUDGET,
+            follow_steps: geardyn_analysis::classify::FOLLOW_STEPS,
             max_work: geardyn_analysis::work::DEFAULT_MAX_WORK,
         }
     }
@@ -179,8 +183,29 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "record_periods",
     "decision_periods",
     "decision_budget",
+    "follow_steps",
     "max_work",
 ];
+
+/// `simulation.follow_steps` checked: 0 (follow with the requested integrator) or a whole number
+/// in [`geardyn_analysis::classify::FOLLOW_STEPS_RANGE`].
+fn follow_steps(v: f64) -> Result<u32, ConfigError> {
+    let r = geardyn_analysis::classify::FOLLOW_STEPS_RANGE;
+    if v == 0.0 || (v.fract() == 0.0 && v >= f64::from(*r.start()) && v <= f64::from(*r.end())) {
+        Ok(v as u32)
+    } else {
+        Err(ConfigError::Simulation {
+            field: "follow_steps",
+            value: geardyn_model::error::num(v),
+            allowed: format!(
+                "0 (follow with the requested integrator) or a whole number in [{}, {}] (RK4 steps per natural period)",
+                r.start(),
+                r.end()
+            )
+            .into(),
+        })
+    }
+}
 
 /// Largest configuration file read (bytes): a config is a few kilobytes.
 pub const MAX_CONFIG_BYTES: u64 = 1 << 20;
@@ -586,6 +611,9 @@ impl Config {
             "record_periods" => s.record_periods = as_count("record_periods", value)?,
             "decision_periods" => s.decision_periods = as_count("decision_periods", value)?,
             "decision_budget" => s.decision_budget = as_count("decision_budget", value)?,
+            "follow_steps" => {
+                s.follow_steps = follow_steps(value)?;
+            }
             "max_work" => {
                 if !(value.is_finite() && (1e6..=1e18).contains(&value)) {
                     return Err(ConfigError::Simulation {
@@ -707,6 +735,7 @@ impl Config {
                 .into(),
             });
         }
+        follow_steps(f64::from(s.follow_steps))?;
         if s.record_periods == 0 {
             return Err(ConfigError::Simulation {
                 field: "record_periods",
@@ -726,6 +755,7 @@ impl Config {
             start_memory: 0.0,
             decision_periods: s.decision_periods,
             decision_budget: s.decision_budget,
+            follow_steps: s.follow_steps,
             ..SimOptions::default()
         })
     }
