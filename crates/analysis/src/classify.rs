@@ -112,11 +112,17 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// ```
 /// use geardyn_analysis::classify::follow_method;
 /// use geardyn_analysis::simulate::{Method, SimOptions};
-/// let m = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
-/// // C1 (omega = 1.2): a mesh cycle of 5.24 holds 64 steps of at most 2 pi / 64
+/// let mut p = geardyn_model::presets::classic();
+/// p.omega = 1.2;
+/// let m = geardyn_model::MeshModel::new(&p).unwrap();
+/// // C1 at omega = 1.2: a mesh cycle of 5.24 holds 64 steps of at most 2 pi / 64
 /// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 64 }));
 /// let off = SimOptions { follow_steps: 0, ..Default::default() };
 /// assert_eq!(follow_method(&m, &off), None);
+/// // at omega = 0.6 the mesh cycle is twice as long: 128 steps
+/// p.omega = 0.6;
+/// let m = geardyn_model::MeshModel::new(&p).unwrap();
+/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 128 }));
 /// ```
 pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
     if opts.follow_steps == 0 {

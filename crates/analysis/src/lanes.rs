@@ -1085,12 +1085,11 @@ pub fn decide_lanes(
 }
 
 /// The integrations a round of [`decide_lanes`] asks for (`sims[k]`: output `k` with its options),
-/// results in that order: fixed-step RK4 ones whose contact the lanes cover together in the
-/// lanes (one batch per step size: the requested RK4, or a follow's,
+/// results in that order: fixed-step RK4 ones together in the lanes (one batch per step size: the requested RK4, or a follow's,
 /// [`crate::classify::follow_method`]), with the phase tables of the sweep's `tau0`; the others
 /// (the adaptive integrator's records) one by one, in parallel.
 fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult, SimError>> {
-    let in_lanes = |(it, o): &(Item<'_>, SimOptions)| lanes_apply(o) && lanes_cover_contact(it.model);
+    let in_lanes = |(_, o): &(Item<'_>, SimOptions)| lanes_apply(o);
     let mut steps: Vec<u32> = sims
         .iter()
         .filter(|s| in_lanes(s))
@@ -1149,7 +1148,8 @@ fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult
 pub type Decided = Result<(SimResult, Summary, SimOptions), SimError>;
 
 /// The decisions ([`simulate_decided`](crate::classify::simulate_decided)) of many runs whose
-/// first runs `first` came from [`simulate_lanes`] (`runs[i]` gave `first[i]`): the runs whose
+/// first runs `first` came from [`simulate_lanes`] or, with the adaptive integrator, from
+/// [`simulate`](crate::simulate::simulate) (`runs[i]` gave `first[i]`): the runs whose
 /// contact the lanes cover ([`lanes_cover_contact`]) are decided together ([`decide_lanes`]),
 /// the others one by one from their lanes record, and a run the lanes could not finish is
 /// decided by the scalar path from its start. Results in input order.
