@@ -190,6 +190,7 @@ def _nested(depth):
         (lambda: geardyn.simulate(periods=0), ValueError, "record_periods"),
         (lambda: geardyn.simulate(periods=1.5), ValueError, "record_periods"),
         (lambda: geardyn.simulate(integrator="euler"), ValueError, "method"),
+        (lambda: geardyn.simulate(follow_steps=3), ValueError, "follow_steps"),
         (lambda: geardyn.simulate(set={"pair.mu": 0.1}), ValueError, "pair"),
         (lambda: geardyn.bifurcation(mode="both"), ValueError, "mode"),
         (lambda: geardyn.bifurcation(sections="strobe,nope"), ValueError, "unknown section 'nope'"),

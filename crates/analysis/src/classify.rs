@@ -15,7 +15,10 @@
 //!   periodic orbit (C1 at omega = 1.4271: 6 965 periods of transient chaos; the broken pair at
 //!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
 //!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
-//!   short stays `unsettled`;
+//!   short stays `unsettled`. The transients of those blocks (the *follow*, most of the work)
+//!   run as fixed-step RK4 at [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
+//!   the lockstep lanes where a sweep decides its runs together; the records that decide a
+//!   period and the exponents keep the requested integrator;
 //! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
 //!   lengthened to that for the transient extensions of an undecided run: a period-3 orbit read
 //!   on 8 recorded periods is not "not periodic"; a motion found periodic that way is recorded
@@ -104,9 +107,9 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// the next, and any faithful pseudo-orbit answers that question as well as another (a chaotic
 /// transient's end is a statistical event: two integrations that round differently end it at
 /// different times anyway). So it runs as fixed-step RK4 at `opts.follow_steps` steps per
-/// natural period, rounded up to a power of two steps per mesh cycle (at least
-/// [`MIN_FOLLOW_STEPS_PER_CYCLE`]; a sweep over `omega` shares lanes within an octave), which the
-/// lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
+/// natural period, rounded up to the ladder 32, 48, 64, 96, 128, ... steps per mesh cycle (at
+/// least [`MIN_FOLLOW_STEPS_PER_CYCLE`]; the runs of a sweep over `omega` share lanes within a
+/// rung), which the lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
 /// requested integrator (`follow_steps` = 0, or a requested RK4 already as coarse).
 ///
 /// ```
@@ -119,19 +122,29 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 64 }));
 /// let off = SimOptions { follow_steps: 0, ..Default::default() };
 /// assert_eq!(follow_method(&m, &off), None);
-/// // at omega = 0.6 the mesh cycle is twice as long: 128 steps
+/// // at omega = 0.6 the mesh cycle is twice as long: 107 steps needed, 128 taken
 /// p.omega = 0.6;
 /// let m = geardyn_model::MeshModel::new(&p).unwrap();
 /// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 128 }));
+/// // at omega = 0.8: 80 needed, 96 taken
+/// p.omega = 0.8;
+/// let m = geardyn_model::MeshModel::new(&p).unwrap();
+/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 96 }));
 /// ```
 pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
     if opts.follow_steps == 0 {
         return None;
     }
     let per_cycle = f64::from(opts.follow_steps) * model.mesh_cycle_time() / std::f64::consts::TAU;
-    let steps = (per_cycle.ceil().min(f64::from(u32::MAX / 2)) as u32)
-        .max(MIN_FOLLOW_STEPS_PER_CYCLE)
-        .next_power_of_two();
+    let need =
+        (per_cycle.ceil().min(f64::from(u32::MAX / 2)) as u32).max(MIN_FOLLOW_STEPS_PER_CYCLE);
+    // the ladder 32, 48, 64, 96, 128, ...: at most a third more steps than needed
+    let two = need.next_power_of_two();
+    let steps = if two / 4 * 3 >= need {
+        two / 4 * 3
+    } else {
+        two
+    };
     match opts.method {
         Method::Rk4 { steps_per_cycle } if steps_per_cycle <= steps => None,
         _ => Some(Method::Rk4 {
@@ -603,7 +616,8 @@ impl<'m> Decision<'m> {
                 self.take(res2, &more);
                 let (t, y) = self.res.final_state;
                 let scale = self.model.backlash_levels().1.max(1.0);
-                if !(y[0].abs() <= DIVERGED_SCALES * scale) {
+                // (NaN counts as runaway too)
+                if y[0].is_nan() || y[0].abs() > DIVERGED_SCALES * scale {
                     self.s.set_motion(Motion::Diverged { x_max: y[0].abs() });
                     self.ask(Wait::Done, Need::Done);
                     return;

@@ -1109,10 +1109,7 @@ fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult
                 .map(|&n| {
                     let mut items: Vec<(Item<'_>, SimOptions)> = sims
                         .iter()
-                        .filter(|s| {
-                            in_lanes(s)
-                                && s.1.method == Method::Rk4 { steps_per_cycle: n }
-                        })
+                        .filter(|s| in_lanes(s) && s.1.method == Method::Rk4 { steps_per_cycle: n })
                         .copied()
                         .collect();
                     // longest first, so that the lanes of a chunk retire together (the results
@@ -1125,7 +1122,11 @@ fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult
                         .map(|(k, (it, _))| Item { out: k, ..*it })
                         .collect();
                     let res = simulate_items(&batch, &o, tau0, Dispatch::Auto, lone);
-                    items.into_iter().map(|(it, _)| it.out).zip(res).collect::<Vec<_>>()
+                    items
+                        .into_iter()
+                        .map(|(it, _)| it.out)
+                        .zip(res)
+                        .collect::<Vec<_>>()
                 })
                 .collect::<Vec<_>>()
         },

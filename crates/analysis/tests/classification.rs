@@ -527,8 +527,7 @@ fn the_mesh_cycle_period_of_one_orbit_does_not_jump_between_neighbouring_loads()
     };
     for f in [0.1, 0.11] {
         let sc = base.with_all(&[("omega", 1.2), ("F", f)]).unwrap();
-        let (_, s, _) = simulate_decided(sc.model(), [0.0, 0.0], &opts, Decide::default())
-        .unwrap();
+        let (_, s, _) = simulate_decided(sc.model(), [0.0, 0.0], &opts, Decide::default()).unwrap();
         assert_eq!(s.label, "3-60-0", "F = {f}");
         assert_eq!(s.mesh_period, Some(6), "F = {f}");
     }

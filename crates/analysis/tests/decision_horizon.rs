@@ -293,5 +293,9 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
         assert_eq!(r.runs[0].label, s.label, "omega {w}");
         assert_eq!(r.runs[0].final_state, res.final_state.1, "omega {w}");
     }
-    assert!(swept[1].runs[0].label == "chaotic", "{}", swept[1].runs[0].label);
+    assert!(
+        swept[1].runs[0].label == "chaotic",
+        "{}",
+        swept[1].runs[0].label
+    );
 }

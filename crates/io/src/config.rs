@@ -807,6 +807,25 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("decision_budget"), "{e}");
+        // follow_steps: 0 (the requested integrator) or 16 and more steps per natural period
+        c.set("follow_steps", 0.0).unwrap();
+        assert_eq!(c.sim_options().unwrap().follow_steps, 0);
+        c.set("follow_steps", 128.0).unwrap();
+        assert_eq!(c.sim_options().unwrap().follow_steps, 128);
+        for bad in [8.0, 64.5, -1.0, f64::NAN] {
+            let e = c.set("follow_steps", bad).unwrap_err().to_string();
+            assert!(
+                e.contains("follow_steps") && e.contains("[16, 1000000]"),
+                "{e}"
+            );
+        }
+        let mut f = Config::preset("classic").unwrap();
+        f.simulation.follow_steps = 4;
+        let e = Config::from_toml(&f.to_toml())
+            .and_then(|c| c.sim_options())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("follow_steps"), "{e}");
     }
 
     #[test]
