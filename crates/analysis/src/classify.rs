@@ -76,11 +76,12 @@ pub const DECISION_PERIODS: u64 = 10_000;
 /// Default work budget of one run's decision ([`SimOptions::decision_budget`]): right-hand-side
 /// evaluations in all (the integrators' unit of work: 4 per RK4 step, 6 per DP5 step, plus event
 /// location), counted from the start of the run. Measured need: the broken pair at `omega` = 1.2
-/// follows 10 000 revolutions in ~170 M evaluations with DP5 and ~820 M with RK4 at 512 steps per
-/// cycle, C1 10 000 periods in ~21 M; the budget lies above them. Work per excitation period grows
-/// at low frequencies (the broken pair at `omega` = 0.1: ~233 000 per revolution, 14 times the
-/// cost at 1.2), where the budget ends the decision after ~4 300 revolutions (about a minute)
-/// instead of ten minutes per run: such a run is `unsettled` (decided by `budget`), never chaotic.
+/// follows 10 000 revolutions in ~170 M evaluations with DP5 throughout, ~820 M with RK4 at 512
+/// steps per cycle and ~120 M with the default follow ([`follow_method`]: RK4 at 64 steps per
+/// cycle), C1 10 000 periods in ~21 M; the budget lies above them. Work per excitation period
+/// grows at low frequencies (the broken pair at `omega` = 0.1: ~233 000 per revolution with DP5,
+/// ~123 000 with the follow's 768 steps per cycle), where the budget ends the decision after
+/// ~8 000 revolutions: such a run is `unsettled` (decided by `budget`), never chaotic.
 pub const DECISION_BUDGET: u64 = 1_000_000_000;
 /// Largest [`SimOptions::decision_budget`] accepted: a thousand times the default (about a day of
 /// one core per run).
