@@ -16,7 +16,8 @@
 //!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
 //!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
 //!   short stays `unsettled`. The transients of those blocks (the *follow*, most of the work)
-//!   run as fixed-step RK4 at [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
+//!   run, on models with the linear contact law and no impacts, as fixed-step RK4 at
+//!   [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
 //!   the lockstep lanes where a sweep decides its runs together; the records that decide a
 //!   period and the exponents keep the requested integrator;
 //! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
@@ -76,12 +77,12 @@ pub const DECISION_PERIODS: u64 = 10_000;
 /// Default work budget of one run's decision ([`SimOptions::decision_budget`]): right-hand-side
 /// evaluations in all (the integrators' unit of work: 4 per RK4 step, 6 per DP5 step, plus event
 /// location), counted from the start of the run. Measured need: the broken pair at `omega` = 1.2
-/// follows 10 000 revolutions in ~170 M evaluations with DP5 throughout, ~820 M with RK4 at 512
-/// steps per cycle and ~120 M with the default follow ([`follow_method`]: RK4 at 64 steps per
-/// cycle), C1 10 000 periods in ~21 M; the budget lies above them. Work per excitation period
-/// grows at low frequencies (the broken pair at `omega` = 0.1: ~233 000 per revolution with DP5,
-/// ~123 000 with the follow's 768 steps per cycle), where the budget ends the decision after
-/// ~8 000 revolutions: such a run is `unsettled` (decided by `budget`), never chaotic.
+/// follows 10 000 revolutions in ~170 M evaluations with DP5 and ~820 M with RK4 at 512 steps per
+/// cycle, C1 10 000 periods in ~21 M with DP5 and ~3 M with the follow ([`follow_method`]); the
+/// budget lies above them. Work per excitation period grows at low frequencies (the broken pair
+/// at `omega` = 0.1: ~233 000 per revolution, 14 times the cost at 1.2), where the budget ends the
+/// decision after ~4 300 revolutions (about a minute) instead of ten minutes per run: such a run is
+/// `unsettled` (decided by `budget`), never chaotic.
 pub const DECISION_BUDGET: u64 = 1_000_000_000;
 /// Largest [`SimOptions::decision_budget`] accepted: a thousand times the default (about a day of
 /// one core per run).
@@ -89,10 +90,9 @@ pub const MAX_DECISION_BUDGET: u64 = 1000 * DECISION_BUDGET;
 
 /// Default [`SimOptions::follow_steps`]: fixed-step RK4 steps per natural period (`2 pi` of
 /// dimensionless time) of a decision's follow. At `h <= 2 pi / 64` an RK4 step errs by about
-/// `(h)^5 / 120 < 1e-7` of the state on the unit natural frequency, a pseudo-orbit as close to
-/// the motion as the adaptive integrator's at `rtol ~ 1e-7`; the broken pair's chaotic exponent
-/// (0.078–0.085 at `omega` = 1.2, `F` = 0.03–0.06) and the transient lifetimes of
-/// docs/analyses.md, rule 2, come out alike at this resolution and at the requested one.
+/// `(h)^5 / 120 < 1e-7` of the state on the unit natural frequency; on W1 (C1, 200 values) the
+/// verdicts came out as with RK4 512 but for one value whose transient ended inside the horizon
+/// (docs/analyses.md, rule 2).
 pub const FOLLOW_STEPS: u32 = 64;
 /// [`SimOptions::follow_steps`] accepted besides 0: below 16 steps per natural period RK4 leaves
 /// its useful accuracy (and at about 2.2 its stability).
@@ -111,7 +111,10 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// natural period, rounded up to the ladder 32, 48, 64, 96, 128, ... steps per mesh cycle (at
 /// least [`MIN_FOLLOW_STEPS_PER_CYCLE`]; the runs of a sweep over `omega` share lanes within a
 /// rung), which the lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
-/// requested integrator (`follow_steps` = 0, or a requested RK4 already as coarse).
+/// requested integrator (`follow_steps` = 0, a requested RK4 already as coarse, or a model other
+/// than a linear contact law without hysteresis and without impacts: with impacts the coarse
+/// follow lost a periodic attractor, with a stiff nonlinear contact it changed more verdicts than
+/// chaotic transients explain, see the body).
 ///
 /// ```
 /// use geardyn_analysis::classify::follow_method;
@@ -133,7 +136,15 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 96 }));
 /// ```
 pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
-    if opts.follow_steps == 0 {
+    // only where the coarse follow was shown faithful: the linear contact law without
+    // hysteresis and without impacts (case C1's kind). With impacts (restitution) the velocity
+    // reset is read from the RK4 step's interpolant, whose derivative errs as h^3: at 64–256 steps
+    // per mesh cycle the follow lost a genuine attractor of the broken pair (omega = 1.18,
+    // F = 0.05: the impacting 3-50-40 orbit, kept by DP5 and by RK4 at 512 steps). With a stiff
+    // nonlinear contact (the internal pair's Lankarani–Nikravesh law) it changed the class of 2 %
+    // of the quick report's runs (W1: 0.5 %), not shown to be the noise of chaotic transients
+    let faithful = crate::lanes::lanes_cover_contact(model) && model.impact_law().is_none();
+    if opts.follow_steps == 0 || !faithful {
         return None;
     }
     let per_cycle = f64::from(opts.follow_steps) * model.mesh_cycle_time() / std::f64::consts::TAU;
@@ -608,6 +619,15 @@ impl<'m> Decision<'m> {
         let strict = opts.method.period_tol();
         match self.wait {
             Wait::Follow { k, record, last } => {
+                let y = res2.final_state.1;
+                let scale = self.model.backlash_levels().1.max(1.0);
+                // (NaN counts as runaway too)
+                if y[0].is_nan() || y[0].abs() > DIVERGED_SCALES * scale {
+                    // a runaway is decided on the requested integrator's run, not the follow's:
+                    // that block again without the follow
+                    self.persist_with(k, false);
+                    return;
+                }
                 // a period in the follow's own stroboscopic points (fixed-step RK4 maps its
                 // orbits onto themselves to rounding: the strict test) is confirmed by a record
                 // with the requested integrator; without one the motion is followed on, and the
@@ -616,13 +636,6 @@ impl<'m> Decision<'m> {
                     && summarize(self.model, &res2, &more).motion.is_periodic();
                 self.take(res2, &more);
                 let (t, y) = self.res.final_state;
-                let scale = self.model.backlash_levels().1.max(1.0);
-                // (NaN counts as runaway too)
-                if y[0].is_nan() || y[0].abs() > DIVERGED_SCALES * scale {
-                    self.s.set_motion(Motion::Diverged { x_max: y[0].abs() });
-                    self.ask(Wait::Done, Need::Done);
-                    return;
-                }
                 if !(seen || last) {
                     self.persist(k + 1);
                     return;
@@ -925,8 +938,18 @@ impl<'m> Decision<'m> {
         };
         let y0 = self.res.final_state.1;
         self.persisted = true;
+        // the follow only where it is cheaper per period than the run so far (the budget reckons
+        // a block at that mean: a finer follow would overrun it)
+        let per_period = self.res.rhs_evals / self.integrated().max(1);
+        let cheaper = |m: Method| match m {
+            Method::Rk4 { steps_per_cycle } => {
+                4 * u64::from(steps_per_cycle) * u64::from(self.model.cycles_per_period().max(1))
+                    < per_period
+            }
+            Method::Dopri { .. } => false,
+        };
         match follow_method(self.model, &self.opts) {
-            Some(method) if follow && transient > 0 => {
+            Some(method) if follow && transient > 0 && cheaper(method) => {
                 // its own record of the stroboscopic points (none in the last block: the record
                 // the verdict reports follows)
                 let coarse = SimOptions {

@@ -519,15 +519,15 @@ fn the_mesh_cycle_period_of_one_orbit_does_not_jump_between_neighbouring_loads()
         .unwrap()
         .resolve()
         .unwrap();
-    // (from rest a chaotic transient leads to it or to the coexisting 1-20-0 orbit, depending on
-    // how its follow rounds: followed with the requested integrator it reaches 3-60-0)
-    let opts = SimOptions {
-        follow_steps: 0,
-        ..Default::default()
-    };
     for f in [0.1, 0.11] {
         let sc = base.with_all(&[("omega", 1.2), ("F", f)]).unwrap();
-        let (_, s, _) = simulate_decided(sc.model(), [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let (_, s, _) = simulate_decided(
+            sc.model(),
+            [0.0, 0.0],
+            &SimOptions::default(),
+            Decide::default(),
+        )
+        .unwrap();
         assert_eq!(s.label, "3-60-0", "F = {f}");
         assert_eq!(s.mesh_period, Some(6), "F = {f}");
     }

@@ -38,8 +38,7 @@ fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
 fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     // the broken pair at omega = 1.2, F = 0.07 (seed A's load sweep): transient chaos (exponent
     // positive over the first record) for ~3 000 revolutions from rest, then the 1-20-0 orbit
-    // (transient_lifetimes: settles at 2 995; the decision's coarser follow leaves the chaos
-    // earlier, after ~1 000); the former rule called it chaotic
+    // (transient_lifetimes: settles at 2 995); the former rule called it chaotic
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
     let sc = sc.with_all(&[("omega", 1.2), ("F", 0.07)]).unwrap();
     let (_, s, _) = simulate_decided(
@@ -51,9 +50,8 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     .unwrap();
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert_eq!(s.decided_by, DecidedBy::PeriodTest);
-    // (followed beyond the first record of 400 revolutions: its exponent was positive)
     assert!(
-        s.periods_integrated > 800 && s.periods_integrated < DECISION_PERIODS,
+        s.periods_integrated > 2_000 && s.periods_integrated < DECISION_PERIODS,
         "{}",
         s.periods_integrated
     );
@@ -298,4 +296,42 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
         "{}",
         swept[1].runs[0].label
     );
+}
+
+#[test]
+fn a_pair_with_impacts_or_a_nonlinear_contact_follows_with_the_requested_integrator() {
+    use geardyn_analysis::classify::follow_method;
+    // the broken pair's back side is modelled by impacts with restitution: at 64–256 RK4 steps per
+    // mesh cycle the follow lost its impacting 3-50-40 orbit at omega = 1.18, F = 0.05 (DP5 and
+    // RK4 512 keep it), so it is followed with the requested integrator; C1 has no impacts
+    let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
+    let sc = sc.with_all(&[("omega", 1.18), ("F", 0.05)]).unwrap();
+    assert!(sc.model().impact_law().is_some());
+    assert_eq!(follow_method(sc.model(), &SimOptions::default()), None);
+    assert!(follow_method(&c1(1.3), &SimOptions::default()).is_some());
+    // nor the internal pair's stiff nonlinear contact (Lankarani–Nikravesh, exponent 1.19)
+    let mut p = presets::internal();
+    p.omega = 1.8;
+    let m = MeshModel::new(&p).unwrap();
+    assert_eq!(follow_method(&m, &SimOptions::default()), None);
+}
+
+#[test]
+fn a_follow_finer_than_the_run_keeps_the_budget() {
+    // C1 with the adaptive integrator (~2 000 right-hand sides per period) and a follow of 200 000
+    // RK4 steps per natural period (~800 000 per period): the follow would overrun the budget that
+    // reckons blocks at the run's mean work, so the blocks run with the requested integrator
+    let opts = SimOptions {
+        follow_steps: 200_000,
+        decision_budget: 50_000_000,
+        ..Default::default()
+    };
+    let (res, s, _) = simulate_decided(&c1(1.38), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert!(
+        res.rhs_evals <= opts.decision_budget + opts.decision_budget / 20,
+        "{} evaluations for a budget of {}",
+        res.rhs_evals,
+        opts.decision_budget
+    );
+    assert!(s.periods_integrated > 1_000, "{}", s.periods_integrated);
 }
