@@ -101,6 +101,26 @@ pub const FOLLOW_STEPS_RANGE: std::ops::RangeInclusive<u32> = 16..=1_000_000;
 /// period still has its stiffness variation resolved).
 pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 
+/// Whether the coarse follow has been shown faithful for `model`'s kind: case C1's — the linear
+/// contact law without hysteresis, bilateral, no impacts, no friction, a constant backlash.
+/// Elsewhere it was not: with impacts (restitution) the velocity reset is read from the RK4
+/// step's interpolant, whose derivative errs as `h^3`, and at 64–256 steps per mesh cycle the
+/// follow lost a genuine attractor of the broken pair (`omega` = 1.18, `F` = 0.05: the impacting
+/// 3-50-40 orbit, which DP5 and RK4 at 512 steps keep); on the internal pair (friction,
+/// time-varying backlash; linear contact in the report's studies) it changed the class of 30 of
+/// the quick report's 1 760 runs, against 1 of W1's 200, which chaotic transients have not been
+/// shown to explain.
+pub fn follow_validated(model: &MeshModel) -> bool {
+    let p = model.params();
+    let cycles = f64::from(model.cycles_per_period().max(1));
+    let d0 = model.backlash_at(0.0);
+    crate::lanes::lanes_cover_contact(model)
+        && model.impact_law().is_none()
+        && !p.unilateral
+        && p.friction.mu == 0.0
+        && (0..64).all(|i| model.backlash_at(cycles * f64::from(i) / 64.0) == d0)
+}
+
 /// The integrator of a decision's *follow*: the transient of a persistence block, the long part
 /// of the decision that records nothing and asks one question only — does the motion leave the
 /// chaotic set for a periodic orbit before the horizon? Every record, period test and exponent
@@ -111,10 +131,8 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// natural period, rounded up to the ladder 32, 48, 64, 96, 128, ... steps per mesh cycle (at
 /// least [`MIN_FOLLOW_STEPS_PER_CYCLE`]; the runs of a sweep over `omega` share lanes within a
 /// rung), which the lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
-/// requested integrator (`follow_steps` = 0, a requested RK4 already as coarse, or a model other
-/// than a linear contact law without hysteresis and without impacts: with impacts the coarse
-/// follow lost a periodic attractor, with a stiff nonlinear contact it changed more verdicts than
-/// chaotic transients explain, see the body).
+/// requested integrator (`follow_steps` = 0, a requested RK4 already as coarse, or a model of a
+/// kind the follow has not been shown faithful for: [`follow_validated`]).
 ///
 /// ```
 /// use geardyn_analysis::classify::follow_method;
@@ -136,15 +154,7 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 /// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 96 }));
 /// ```
 pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
-    // only where the coarse follow was shown faithful: the linear contact law without
-    // hysteresis and without impacts (case C1's kind). With impacts (restitution) the velocity
-    // reset is read from the RK4 step's interpolant, whose derivative errs as h^3: at 64–256 steps
-    // per mesh cycle the follow lost a genuine attractor of the broken pair (omega = 1.18,
-    // F = 0.05: the impacting 3-50-40 orbit, kept by DP5 and by RK4 at 512 steps). With a stiff
-    // nonlinear contact (the internal pair's Lankarani–Nikravesh law) it changed the class of 2 %
-    // of the quick report's runs (W1: 0.5 %), not shown to be the noise of chaotic transients
-    let faithful = crate::lanes::lanes_cover_contact(model) && model.impact_law().is_none();
-    if opts.follow_steps == 0 || !faithful {
+    if opts.follow_steps == 0 || !follow_validated(model) {
         return None;
     }
     let per_cycle = f64::from(opts.follow_steps) * model.mesh_cycle_time() / std::f64::consts::TAU;
