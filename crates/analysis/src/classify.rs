@@ -16,7 +16,7 @@
 //!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
 //!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
 //!   short stays `unsettled`. The transients of those blocks (the *follow*, most of the work)
-//!   run, on models with the linear contact law and no impacts, as fixed-step RK4 at
+//!   run, on models of case C1's kind ([`follow_validated`]), as fixed-step RK4 at
 //!   [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
 //!   the lockstep lanes where a sweep decides its runs together; the records that decide a
 //!   period and the exponents keep the requested integrator;

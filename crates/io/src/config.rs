@@ -40,9 +40,9 @@ pub struct SimulationConfig {
     /// Work budget of one run's decision (right-hand-side evaluations in all); a run still not periodic when it
     /// is spent is `unsettled`.
     pub decision_budget: u64,
-    /// Resolution of a decision's follow (the transients of its persistence blocks, on models with
-    /// the linear contact law and no impacts): fixed-step RK4 steps per natural period; 0 follows
-    /// with the requested integrator.
+    /// Resolution of a decision's follow (the transients of its persistence blocks, on models of
+    /// case C1's kind: `geardyn_analysis::classify::follow_validated`): fixed-step RK4 steps per
+    /// natural period; 0 follows with the requested integrator.
     pub follow_steps: u32,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
     /// decisions' worst case included): a command above it is refused before it starts.
