@@ -701,7 +701,27 @@ where
                 .copied()
                 .filter(|t| !done.contains_key(t) && only.is_none_or(|o| o.contains(t)))
                 .collect();
-            let fresh: Vec<TaskResult> = {
+            // the batched path pays off where the lanes integrate something: fixed-step RK4, or a
+            // decision's follow (crate::classify::follow_method); an adaptive sweep of any other
+            // model decides each run on its own thread (rounds would only add barriers)
+            let batched = crate::lanes::lanes_apply(&opts.sim)
+                || models
+                    .iter()
+                    .any(|m| crate::classify::follow_method(m, &opts.sim).is_some());
+            let fresh: Vec<TaskResult> = if !batched {
+                todo.par_iter()
+                    .map(|&t| {
+                        let runs: Vec<Run> = (0..k)
+                            .into_par_iter()
+                            .map(|ic| {
+                                let y0 = initial_state(mode, opts.y0, t.index, ic);
+                                run_once(&models[t.index], y0, ic, opts)
+                            })
+                            .collect();
+                        finish(t, runs)
+                    })
+                    .collect()
+            } else {
                 // in batches of tasks (each batch's results are handed on, so an interruption
                 // loses at most the two batches in progress): the first runs of a batch (with
                 // fixed-step RK4 in lockstep lanes, else one by one in parallel), then the
