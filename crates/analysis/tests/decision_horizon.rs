@@ -36,11 +36,11 @@ fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
 
 #[test]
 fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
-    // the broken pair at omega = 1.2, F = 0.07 (seed A's load sweep): transient chaos (exponent
-    // positive over the first record) for ~3 000 revolutions from rest, then the 1-20-0 orbit
-    // (transient_lifetimes: settles at 2 995); the former rule called it chaotic
+    // the broken pair at omega = 1.2, F = 0.065 (seed A's load sweep): transient chaos (exponent
+    // positive over the first record) for ~5 300 revolutions from rest, then the 1-20-0 orbit;
+    // the former rule called it chaotic
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
-    let sc = sc.with_all(&[("omega", 1.2), ("F", 0.07)]).unwrap();
+    let sc = sc.with_all(&[("omega", 1.2), ("F", 0.065)]).unwrap();
     let (_, s, _) = simulate_decided(
         sc.model(),
         [0.0, 0.0],
@@ -51,7 +51,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert_eq!(s.decided_by, DecidedBy::PeriodTest);
     assert!(
-        s.periods_integrated > 2_000 && s.periods_integrated < DECISION_PERIODS,
+        s.periods_integrated > 4_000 && s.periods_integrated < DECISION_PERIODS,
         "{}",
         s.periods_integrated
     );

@@ -15,6 +15,10 @@ use geardyn_model::{Breakage, ModelParams, StiffnessForm, ZonePiece};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+/// Pitch-point crossings closer than this (in mesh cycles) to a piece border are not split off
+/// (a sliver piece of a few samples would only add a breakpoint).
+const PITCH_SPLIT_MIN: f64 = 1e-9;
+
 fn one() -> f64 {
     1.0
 }
@@ -515,7 +519,40 @@ impl PairSpec {
                 pieces.push((e_dbl, eps - 1.0, true, true));
             }
             pieces.push((eps - 1.0, 1.0, true, false));
+            // The sliding direction of a pair flips where it passes the pitch point: the friction
+            // factor jumps there, so that instant is a piece border (a time breakpoint the
+            // integrator steps onto), not a jump smeared across one table interval.
+            let pitch = (geom.s_p - geom.s_a) / geom.pb;
+            let flips = [pitch, pitch - 1.0];
+            let pieces: Vec<_> = pieces
+                .into_iter()
+                .flat_map(|(a, bnd, single, zone_ii)| {
+                    let mut cuts: Vec<f64> = flips
+                        .iter()
+                        .copied()
+                        .filter(|_| mu > 0.0 || self.lubrication.is_some())
+                        .filter(|&f| f > a + PITCH_SPLIT_MIN && f < bnd - PITCH_SPLIT_MIN)
+                        .collect();
+                    cuts.sort_by(f64::total_cmp);
+                    let mut ends = vec![a];
+                    ends.extend(cuts);
+                    ends.push(bnd);
+                    ends.windows(2)
+                        .map(|w| (w[0], w[1], single, zone_ii))
+                        .collect::<Vec<_>>()
+                })
+                .collect();
             for (a, bnd, single, zone_ii) in pieces {
+                // a sample on the pitch point takes the direction of the piece it belongs to
+                // (that of the pair's position at the piece's middle)
+                let mid = geom.s_a + 0.5 * (a + bnd) * geom.pb;
+                let direction = |s: f64, s_mid: f64| {
+                    if (s - geom.s_p).abs() <= PITCH_SPLIT_MIN * geom.pb {
+                        geom.sliding_direction(s_mid)
+                    } else {
+                        geom.sliding_direction(s)
+                    }
+                };
                 let cnt = (((bnd - a) * n as f64).ceil() as usize).max(2);
                 let mut rows = Vec::with_capacity(cnt + 1);
                 for j in 0..=cnt {
@@ -552,9 +589,9 @@ impl PairSpec {
                     let st1 = if in1 { lub_at(s1, l[1]) } else { None };
                     let mu0 = st0.map_or(mu, |st| st.mu);
                     let mu1 = if in1 { st1.map_or(mu, |st| st.mu) } else { 0.0 };
-                    let mut fr = mu0 * geom.sliding_direction(s0) * arms(s0) * l[0];
+                    let mut fr = mu0 * direction(s0, mid) * arms(s0) * l[0];
                     if in1 {
-                        fr += mu1 * geom.sliding_direction(s1) * arms(s1) * l[1];
+                        fr += mu1 * direction(s1, mid + geom.pb) * arms(s1) * l[1];
                     }
                     rows.push(StiffnessRow {
                         position: phi,

@@ -428,3 +428,57 @@ fn physically_absurd_pairs_are_refused_with_the_field_range_and_unit() {
     assert!(geardyn_physics::presets::breakage().build().is_ok());
     assert!(geardyn_physics::presets::internal().build().is_ok());
 }
+
+/// The sliding direction flips at the pitch point (`lambda` of docs/model.md): the
+/// friction factor jumps there by `2 mu g L`, so the pitch point must be a piece border (a time
+/// breakpoint the integrator steps onto) and every piece's table must be continuous. The jump
+/// had been sampled across one table interval: RK4 at 256 steps per mesh cycle then erred by
+/// 1e-3 per revolution on the broken pair and a period-3 orbit existed only in the tables.
+#[test]
+fn friction_jumps_only_at_piece_borders_and_the_pitch_point_is_one() {
+    let mut broken = geardyn_physics::presets::breakage();
+    broken.samples_per_cycle = 512;
+    for spec in [spec_40_40(), broken] {
+        let m = spec.build().unwrap();
+        let g = &m.geom;
+        let pitch = (g.s_p - g.s_a) / g.pb;
+        assert!(
+            pitch > g.eps - 1.0 && pitch < 1.0,
+            "pitch point in the single zone"
+        );
+        for c in 0..m.cycles {
+            let at = c as f64 + pitch;
+            let border = m
+                .pieces
+                .windows(2)
+                .find(|w| (w[0].end - at).abs() < 1e-9 && (w[1].start - at).abs() < 1e-9)
+                .unwrap_or_else(|| panic!("no piece border at the pitch point {at}"));
+            // the jump: lambda flips from -1 to +1 on the single pair (load share 1)
+            let before = *border[0].h_drive.last().unwrap();
+            let after = border[1].h_drive[0];
+            let arm = {
+                let (sp, sg) = g.friction_arms(g.s_p);
+                m.m_e * (g.rb1 * sp / m.i_p + g.rb2 * sg / m.i_g)
+            };
+            let mu = spec.mu;
+            assert!(
+                ((after - before) - 2.0 * mu * arm).abs() < 1e-9,
+                "jump {} vs 2 mu g = {}",
+                after - before,
+                2.0 * mu * arm
+            );
+        }
+        for p in &m.pieces {
+            for w in p.h_drive.windows(2) {
+                // within a piece one sample interval (1/512 cycle) changes h by far less than
+                // the pitch jump (0.11 here)
+                assert!(
+                    (w[1] - w[0]).abs() < 0.01,
+                    "{w:?} in [{}, {}]",
+                    p.start,
+                    p.end
+                );
+            }
+        }
+    }
+}
