@@ -299,26 +299,28 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
 }
 
 #[test]
-fn only_a_pair_of_c1s_kind_is_followed_coarsely() {
+fn the_follow_is_coarse_only_where_the_lanes_step_the_contact_law() {
     use geardyn_analysis::classify::follow_method;
-    // the broken pair's back side is modelled by impacts with restitution: at 64–256 RK4 steps per
-    // mesh cycle the follow lost its impacting 3-50-40 orbit at omega = 1.18, F = 0.05 (DP5 and
-    // RK4 512 keep it), so it is followed with the requested integrator; C1 has no impacts
+    // C1, and the broken pair (impacts with restitution, friction): the linear contact law
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
     let sc = sc.with_all(&[("omega", 1.18), ("F", 0.05)]).unwrap();
     assert!(sc.model().impact_law().is_some());
-    assert_eq!(follow_method(sc.model(), &SimOptions::default()), None);
+    assert!(follow_method(sc.model(), &SimOptions::default()).is_some());
     assert!(follow_method(&c1(1.3), &SimOptions::default()).is_some());
-    // nor the internal pair: its nonlinear contact law, and with the linear one (the report's
-    // studies) its friction and time-varying backlash
+    // the internal pair with its nonlinear contact law: not checked, the requested integrator
     let mut p = presets::internal();
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
+    assert!(!geardyn_analysis::lanes::lanes_cover_contact(&m));
     assert_eq!(follow_method(&m, &SimOptions::default()), None);
+    // with the linear law (the report's studies): friction and a time-varying backlash, followed
     p.contact = geardyn_model::contact_law::ContactLaw::Linear;
     let lin = MeshModel::new(&p).unwrap();
-    assert!(geardyn_analysis::lanes::lanes_cover_contact(&lin));
-    assert_eq!(follow_method(&lin, &SimOptions::default()), None);
+    assert!(follow_method(&lin, &SimOptions::default()).is_some());
+    // nor a unilateral contact
+    p.unilateral = true;
+    let uni = MeshModel::new(&p).unwrap();
+    assert_eq!(follow_method(&uni, &SimOptions::default()), None);
 }
 
 #[test]

@@ -191,6 +191,7 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
         scenario: scenario.clone(),
         quick: opts.quick,
         dir: dir.clone(),
+        integration: cfg.sim_options()?,
     };
     let sections = match opts.preset.as_str() {
         "breakage" => breakage::plan(&ctx)?,

@@ -8,7 +8,7 @@ use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
 use geardyn_analysis::classify::{DECISION_BUDGET, DECISION_PERIODS};
 use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
-use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_io::checkpoint::fnv1a;
 use geardyn_io::executor::{
     execute, BasinsJob, ContinuationJob, Job, MapJob, Progress, Store, SweepJob,
@@ -30,6 +30,10 @@ pub struct Ctx {
     pub quick: bool,
     /// Report directory.
     pub dir: PathBuf,
+    /// The configuration's integrator and follow (`[simulation]` `method`, `rtol`, `atol`,
+    /// `steps_per_cycle`, `follow_steps`; `--set` sets them): every decided run of the plan uses
+    /// them. Transients, records and the decision horizon are the plan's own.
+    pub integration: SimOptions,
 }
 
 /// Decision horizon of a `--quick` report (excitation periods): a coarse look, an order of
@@ -57,7 +61,8 @@ impl Ctx {
     /// report decides chaos at the default horizon, the quick one at [`QUICK_DECISION_PERIODS`].
     pub fn sim(&self, transient: (u64, u64), record: (u64, u64)) -> SimOptions {
         SimOptions {
-            method: Method::default(),
+            method: self.integration.method,
+            follow_steps: self.integration.follow_steps,
             transient_periods: self.n(transient.0, transient.1),
             record_periods: self.n(record.0, record.1),
             decision_periods: self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS),
