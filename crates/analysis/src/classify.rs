@@ -13,10 +13,10 @@
 //!   [`DECISION_BUDGET`]) and measured again there; only if it is still significantly positive is
 //!   the motion called chaotic (with that second exponent): a chaotic transient that lands on a
 //!   periodic orbit (C1 at omega = 1.4271: 6 965 periods of transient chaos; the broken pair at
-//!   omega = 1.2, F = 0.065: 6 870 revolutions) is then periodic, one that lands near a slowly
+//!   omega = 1.2, F = 0.065: 6 090 revolutions) is then periodic, one that lands near a slowly
 //!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
 //!   short stays `unsettled`. The transients of those blocks (the *follow*, most of the work)
-//!   run, on models of case C1's kind ([`follow_validated`]), as fixed-step RK4 at
+//!   run, on models whose contact law the lanes step ([`follow_validated`]), as fixed-step RK4 at
 //!   [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
 //!   the lockstep lanes where a sweep decides its runs together; the records that decide a
 //!   period and the exponents keep the requested integrator;
@@ -71,7 +71,7 @@ pub const TLE_POSITIVE: f64 = 1e-3;
 /// of a run): a motion with a positive exponent is called chaotic only when it is still not
 /// periodic after this many periods. Measured chaotic transients (docs/analyses.md, rule 2;
 /// `crates/analysis/examples/transient_lifetimes.rs`) lasted up to 6 965 periods on case C1
-/// (`omega` = 1.4271, from rest) and 6 870 revolutions on the broken pair (`omega` = 1.2,
+/// (`omega` = 1.4271, from rest) and 6 090 revolutions on the broken pair (`omega` = 1.2,
 /// `F` = 0.065); the horizon lies above both.
 pub const DECISION_PERIODS: u64 = 10_000;
 /// Default work budget of one run's decision ([`SimOptions::decision_budget`]): right-hand-side

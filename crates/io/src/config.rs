@@ -40,8 +40,8 @@ pub struct SimulationConfig {
     /// Work budget of one run's decision (right-hand-side evaluations in all); a run still not periodic when it
     /// is spent is `unsettled`.
     pub decision_budget: u64,
-    /// Resolution of a decision's follow (the transients of its persistence blocks, on models of
-    /// case C1's kind: `geardyn_analysis::classify::follow_validated`): fixed-step RK4 steps per
+    /// Resolution of a decision's follow (the transients of its persistence blocks, on models
+    /// whose contact law the lanes step: `geardyn_analysis::classify::follow_validated`): fixed-step RK4 steps per
     /// natural period; 0 follows with the requested integrator.
     pub follow_steps: u32,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
