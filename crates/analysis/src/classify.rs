@@ -103,8 +103,8 @@ pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
 
 /// Whether the coarse follow has been shown faithful for `model`'s kind: a contact law the
 /// lockstep lanes step themselves (linear, without hysteresis), bilateral — C1, and the broken
-/// and internal pairs with impacts, friction and a time-varying backlash. The check (docs/
-/// analyses.md, rule 2): the quick reports of the three presets decided with and without the
+/// and internal pairs with impacts, friction and a time-varying backlash. The check
+/// (docs/analyses.md, rule 2): the quick reports of the three presets decided with and without the
 /// follow differ in no more runs than two runs of the requested integrator whose tolerances
 /// differ by 10 % (internal: 156 class changes of 2 048 with the follow, 169 and 176 with rtol
 /// 1.1e-9 and 0.9e-9; breakage: 5 of 102, against 3 and 4). Other laws follow with the

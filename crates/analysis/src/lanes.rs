@@ -1104,8 +1104,10 @@ fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult
     let mut out: Vec<Option<Result<SimResult, SimError>>> = (0..sims.len()).map(|_| None).collect();
     let (batches, single) = rayon::join(
         || {
+            // the rungs side by side: a rung of a few long follows would otherwise leave a core
+            // idle until it ends
             steps
-                .iter()
+                .par_iter()
                 .map(|&n| {
                     let mut items: Vec<(Item<'_>, SimOptions)> = sims
                         .iter()
