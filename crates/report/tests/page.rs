@@ -327,3 +327,27 @@ fn seed_report(preset: &str, min_reproduced: f64, min_with_partly: f64) {
         }
     }
 }
+
+/// The plan integrates with the configuration's integrator and follow (`--set rtol=...`,
+/// `follow_steps`, a config file's `[simulation]`): a setting out of range is refused before any
+/// study runs, naming the field (the studies had used the default integrator whatever the
+/// configuration said).
+#[test]
+fn the_report_takes_the_configurations_integrator() {
+    let out = std::env::temp_dir().join(format!("geardyn-report-rtol-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let opts = ReportOptions {
+        preset: "classic".into(),
+        quick: true,
+        out: out.clone(),
+    };
+    let mut cfg = Config::preset("classic").unwrap();
+    cfg.simulation.rtol = -1.0;
+    let err = run(&cfg, &opts).unwrap_err().to_string();
+    assert!(err.contains("simulation.rtol"), "{err}");
+    let mut cfg = Config::preset("classic").unwrap();
+    cfg.simulation.follow_steps = 3;
+    let err = run(&cfg, &opts).unwrap_err().to_string();
+    assert!(err.contains("simulation.follow_steps"), "{err}");
+    let _ = std::fs::remove_dir_all(&out);
+}
