@@ -38,6 +38,12 @@ pub struct SimArgs {
     /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 1000000000].
     #[arg(long, allow_hyphen_values = true)]
     pub decision_budget: Option<f64>,
+    /// Resolution of a decision's follow (the long transients of a positive exponent's
+    /// persistence checks, which record nothing): fixed-step RK4 steps per natural period, in
+    /// the lockstep lanes, on models whose contact law the lanes step; 0 follows with the
+    /// requested integrator (0 or 16 ... 1000000) [default: 64].
+    #[arg(long, allow_hyphen_values = true)]
+    pub follow_steps: Option<f64>,
     /// Cap on the command's estimated work in right-hand-side evaluations (all runs, the
     /// decisions' worst case included); a command above it is refused [default: 1e12].
     #[arg(long, allow_hyphen_values = true)]
@@ -65,6 +71,7 @@ impl SimArgs {
             steps_per_cycle: self.steps_per_cycle,
             decision_periods: self.decision_periods,
             decision_budget: self.decision_budget,
+            follow_steps: self.follow_steps,
             max_work: self.max_work,
         };
         Ok(o.apply(cfg, sets, Face::Cli)?)

@@ -827,6 +827,23 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("follow_steps"), "{e}");
+        // the option --follow-steps (Python: follow_steps=) sets it, checked the same way
+        let mut c = Config::preset("classic").unwrap();
+        let o = SimOverrides {
+            follow_steps: Some(0.0),
+            ..Default::default()
+        };
+        o.apply(&mut c, &[], Face::Cli).unwrap();
+        assert_eq!(c.sim_options().unwrap().follow_steps, 0);
+        let bad = SimOverrides {
+            follow_steps: Some(3.0),
+            ..Default::default()
+        };
+        let e = bad.apply(&mut c, &[], Face::Cli).unwrap_err().to_string();
+        assert!(
+            e.contains("--follow-steps 3") && e.contains("[16, 1000000]"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -956,7 +973,7 @@ impl Face {
 
 /// The simulation settings a caller overrides on a configuration (`--periods`, `--transient`,
 /// `--integrator`, `--steps-per-cycle`, `--decision-periods`, `--decision-budget`,
-/// `--max-work`; Python's keywords of the same names): the one list of them, applied and
+/// `--follow-steps`, `--max-work`; Python's keywords of the same names): the one list of them, applied and
 /// checked by [`SimOverrides::apply`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SimOverrides {
@@ -973,6 +990,9 @@ pub struct SimOverrides {
     /// Work budget of one run's decision in right-hand-side evaluations
     /// (`simulation.decision_budget`).
     pub decision_budget: Option<f64>,
+    /// Resolution of a decision's follow, RK4 steps per natural period; 0 follows with the
+    /// requested integrator (`simulation.follow_steps`).
+    pub follow_steps: Option<f64>,
     /// Cap on a command's estimated work (`simulation.max_work`).
     pub max_work: Option<f64>,
 }
@@ -1002,6 +1022,7 @@ impl SimOverrides {
                 self.decision_periods,
             ),
             ("decision_budget", "decision_budget", self.decision_budget),
+            ("follow_steps", "follow_steps", self.follow_steps),
             ("max_work", "max_work", self.max_work),
         ];
         for (name, option, value) in fields {

@@ -155,6 +155,14 @@ pub fn claim_folder(out: &Path) -> Result<(), FolderError> {
     Ok(())
 }
 
+/// Whether `name` is the temporary sibling of the marker ([`crate::safe_write`]:
+/// `..geardyn.<pid>.tmp`), left by a run killed between writing the marker and renaming it.
+fn is_marker_temp(name: &str) -> bool {
+    name.strip_prefix(&format!(".{MARKER}."))
+        .and_then(|rest| rest.strip_suffix(".tmp"))
+        .is_some_and(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Whether `name` ends like a file geardyn writes (a result, a figure, a record or a checkpoint).
 fn is_result_name(name: &str) -> bool {
     const ENDINGS: [&str; 10] = [
@@ -167,7 +175,11 @@ fn is_result_name(name: &str) -> bool {
 /// (`kind` and `version`), or a checkpoint whose key line names a `kind` (earlier versions left
 /// no marker). A file merely named `run.json` is not enough.
 fn is_ours(out: &Path, names: &[String]) -> bool {
-    if names.iter().any(|n| n == MARKER || n == LOCK) {
+    // (a run killed while it wrote the marker leaves the marker's temporary sibling only)
+    if names
+        .iter()
+        .any(|n| n == MARKER || n == LOCK || is_marker_temp(n))
+    {
         return true;
     }
     let record = crate::safe_write::read_bounded(&out.join("run.json"), 1 << 20)
@@ -442,6 +454,27 @@ fn rayon_threads() -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_run_killed_while_writing_the_marker_leaves_a_folder_geardyn_resumes() {
+        // kill -9 between the marker's temporary file and its rename (seen by the crash test
+        // under load): the folder holds `..geardyn.<pid>.tmp` alone, and the rerun must not
+        // refuse it as somebody else's
+        let dir = std::env::temp_dir().join(format!("geardyn-marker-tmp-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("..geardyn.19925.tmp"), "geardyn output").unwrap();
+        prepare_folder(&dir, "bifurcation", Some("K1"), false).unwrap();
+        assert!(dir.join(MARKER).exists());
+        // a file merely named alike is not taken for it
+        let other = dir.with_extension("other");
+        let _ = std::fs::remove_dir_all(&other);
+        std::fs::create_dir_all(&other).unwrap();
+        std::fs::write(other.join("..geardyn.x.tmp"), "").unwrap();
+        assert!(prepare_folder(&other, "bifurcation", Some("K1"), false).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+        let _ = std::fs::remove_dir_all(&other);
+    }
 
     #[test]
     fn folders_never_mix() {
