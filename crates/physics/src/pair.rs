@@ -522,20 +522,23 @@ impl PairSpec {
             // The sliding direction of a pair flips where it passes the pitch point: the friction
             // factor jumps there, so that instant is a piece border (a time breakpoint the
             // integrator steps onto), not a jump smeared across one table interval.
+            // (the crossings of the pair entering at the cycle's start and of the one ahead of
+            // it, in ascending order; none without friction)
             let pitch = (geom.s_p - geom.s_a) / geom.pb;
-            let flips = [pitch, pitch - 1.0];
+            let flips: &[f64] = if mu > 0.0 || self.lubrication.is_some() {
+                &[pitch - 1.0, pitch]
+            } else {
+                &[]
+            };
             let pieces: Vec<_> = pieces
                 .into_iter()
                 .flat_map(|(a, bnd, single, zone_ii)| {
-                    let mut cuts: Vec<f64> = flips
-                        .iter()
-                        .copied()
-                        .filter(|_| mu > 0.0 || self.lubrication.is_some())
-                        .filter(|&f| f > a + PITCH_SPLIT_MIN && f < bnd - PITCH_SPLIT_MIN)
-                        .collect();
-                    cuts.sort_by(f64::total_cmp);
                     let mut ends = vec![a];
-                    ends.extend(cuts);
+                    ends.extend(
+                        flips
+                            .iter()
+                            .filter(|&&f| f > a + PITCH_SPLIT_MIN && f < bnd - PITCH_SPLIT_MIN),
+                    );
                     ends.push(bnd);
                     ends.windows(2)
                         .map(|w| (w[0], w[1], single, zone_ii))
