@@ -539,11 +539,18 @@ fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
 }
 
 /// Chunk length: whole lane loads, at least eight chunks per thread (rayon balances them; within
-/// a chunk, retired lanes refill at once).
+/// a chunk, retired lanes refill at once); a batch of fewer than eight lane loads per thread is
+/// split into equal chunks, a multiple of the thread count: 18 runs on two threads as 9 + 9, not
+/// 16 + 2 (a breakage follow costs about in proportion to its busy lanes, so the 16-lane chunk
+/// alone set the wall time while the other thread idled).
 pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
     let threads = rayon::current_num_threads().max(1);
     let loads = items.div_ceil(lanes);
-    lanes * loads.div_ceil(threads * 8).max(1)
+    if loads >= threads * 8 {
+        return lanes * loads.div_ceil(threads * 8);
+    }
+    let chunks = loads.div_ceil(threads) * threads;
+    items.div_ceil(chunks).clamp(1, lanes)
 }
 
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
@@ -1012,16 +1019,53 @@ pub fn decide_lanes(
     opts: &SimOptions,
     how: Decide,
 ) -> Vec<Result<(SimResult, Summary, SimOptions), SimError>> {
-    let mut ds: Vec<Decision<'_>> = runs
+    type Out = Result<(SimResult, Summary, SimOptions), SimError>;
+    let mut ds: Vec<Option<Decision<'_>>> = runs
         .into_iter()
-        .map(|(m, first)| Decision::new(m, first, opts, how))
+        .map(|(m, first)| Some(Decision::new(m, first, opts, how)))
         .collect();
-    let models: Vec<&MeshModel> = ds.iter().map(|d| d.model()).collect();
-    loop {
+    let models: Vec<&MeshModel> = ds.iter().flatten().map(|d| d.model()).collect();
+    let lone = LONE_RUNS * rayon::current_num_threads().max(1);
+    // the decisions finished on their own (see `decide_alone`), pushed once each
+    let alone: std::sync::Mutex<Vec<(usize, Out)>> = std::sync::Mutex::new(Vec::new());
+    rayon::scope(|scope| loop {
+        // A decision whose next integration would run on a one-lane engine anyway (its rung
+        // has fewer than `lone` runs) leaves the rounds and finishes on its own, beside them:
+        // a round waits for its slowest integration, and a few long follows at low omega
+        // (many steps per period) otherwise kept a core idle for most of a round.
+        let mut rung: std::collections::HashMap<u32, usize> = Default::default();
+        for d in ds.iter().flatten() {
+            if let Need::Sim { opts: o, .. } = d.need() {
+                if let (true, Method::Rk4 { steps_per_cycle }) = (lanes_apply(&o), o.method) {
+                    *rung.entry(steps_per_cycle).or_default() += 1;
+                }
+            }
+        }
+        for (i, slot) in ds.iter_mut().enumerate() {
+            let detach = slot.as_ref().is_some_and(|d| match d.need() {
+                Need::Sim { opts: o, .. } => match o.method {
+                    Method::Rk4 { steps_per_cycle } if lanes_apply(&o) => {
+                        rung[&steps_per_cycle] < lone
+                    }
+                    _ => false,
+                },
+                _ => false,
+            });
+            if detach {
+                let mut d = slot.take().expect("checked above");
+                let alone = &alone;
+                scope.spawn(move |_| {
+                    decide_alone(&mut d, opts);
+                    let r = d.finish();
+                    alone.lock().expect("no panic holds it").push((i, r));
+                });
+            }
+        }
         let mut tles: Vec<(usize, f64, [f64; 2], f64, u64)> = Vec::new();
         let mut sims: Vec<(Item<'_>, SimOptions)> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();
         for (i, d) in ds.iter().enumerate() {
+            let Some(d) = d else { continue };
             match d.need() {
                 Need::Tle {
                     t,
@@ -1075,13 +1119,50 @@ pub fn decide_lanes(
             || run_needs(&sims, opts.tau0),
         );
         for (&(i, ..), r) in tles.iter().zip(tle_res) {
-            ds[i].tle(r);
+            ds[i].as_mut().expect("in the rounds").tle(r);
         }
         for (&i, r) in sim_of.iter().zip(sim_res) {
-            ds[i].simulated(r);
+            ds[i].as_mut().expect("in the rounds").simulated(r);
+        }
+    });
+    let mut out: Vec<Option<Out>> = ds.into_iter().map(|d| d.map(|d| d.finish())).collect();
+    for (i, r) in alone.into_inner().expect("no panic holds it") {
+        out[i] = Some(r);
+    }
+    out.into_iter()
+        .map(|r| r.expect("every run is decided"))
+        .collect()
+}
+
+/// Takes decision `d` to its end alone: each integration it asks for is the one a round of
+/// [`decide_lanes`] would run for it (a follow or record in fixed-step RK4 on the sweep's phase
+/// tables, one lane; the adaptive integrator's records as they are; the exponents of
+/// [`tles_of`]), each with the same result alone as among others, so the decision is the same.
+fn decide_alone(d: &mut Decision<'_>, opts: &SimOptions) {
+    loop {
+        match d.need() {
+            Need::Sim { y0, opts: o } => {
+                let r = if lanes_apply(&o) {
+                    simulate_lane_grid(d.model(), y0, &o, opts.tau0)
+                } else {
+                    crate::simulate::simulate(d.model(), y0, &o)
+                };
+                d.simulated(r);
+            }
+            Need::Tle {
+                t,
+                y,
+                memory,
+                periods,
+            } => {
+                let r = tles_of(&[(d.model(), t, y, memory)], opts, periods)
+                    .pop()
+                    .flatten();
+                d.tle(r);
+            }
+            Need::Done => return,
         }
     }
-    ds.into_iter().map(|d| d.finish()).collect()
 }
 
 /// The integrations a round of [`decide_lanes`] asks for (`sims[k]`: output `k` with its options),
@@ -1217,4 +1298,31 @@ pub fn decide_lane_runs(
 /// [`decide_lane_runs`]. Results in input order, the same for any thread count.
 pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<Decided> {
     decide_lane_runs(runs, simulate_lanes(runs, opts), opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::chunk_len;
+
+    /// A small batch splits into equal chunks, a multiple of the thread count (18 runs on two
+    /// threads: 9 + 9, not 16 + 2, whose 16-lane chunk alone set the wall time); a large one
+    /// into whole lane loads, eight chunks per thread or more.
+    #[test]
+    fn chunks_are_balanced_over_the_threads() {
+        let on = |threads: usize, items: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| chunk_len(items, 16))
+        };
+        assert_eq!(on(2, 18), 9);
+        assert_eq!(on(2, 29), 15);
+        assert_eq!(on(2, 3), 2);
+        assert_eq!(on(1, 18), 9);
+        assert_eq!(on(1, 16), 16);
+        assert_eq!(on(2, 200), 15);
+        assert_eq!(on(2, 1000), 64);
+        assert_eq!(on(4, 1), 1);
+    }
 }

@@ -756,3 +756,54 @@ fn continuation_in_lanes_agrees_with_the_scalar_identification() {
     }
     assert_eq!(dopri.assignment, rk4.assignment);
 }
+
+/// A decision leaves the rounds of `decide_lanes` and finishes alone, beside them, when its next
+/// integration would run on a one-lane engine anyway (fewer than four runs per thread in its
+/// follow's rung); both ways give the same decision, to the bit. Ten runs at `omega` = 1.3 share
+/// one rung of the follow: batched on one and two threads (10 >= 4, 8), alone on three
+/// (10 < 12); the weakly chaotic run at 1.40452 has a rung of its own and goes alone on every
+/// thread count. Also balanced chunks: on three threads the ten share no chunk at all.
+#[test]
+fn a_decision_is_the_same_in_the_rounds_and_alone() {
+    use geardyn_analysis::lanes::simulate_decided_lanes;
+    let models = c1_at(&[1.3, 1.40452261307]);
+    let mut runs: Vec<(&MeshModel, [f64; 2])> = (0..10)
+        .map(|k| (&models[0], [0.1 * k as f64, -0.05 * k as f64]))
+        .collect();
+    runs.push((&models[1], [0.0, 0.0]));
+    let opts = SimOptions {
+        method: Method::Rk4 {
+            steps_per_cycle: 256,
+        },
+        transient_periods: 100,
+        record_periods: 40,
+        decision_periods: 3000,
+        ..Default::default()
+    };
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| simulate_decided_lanes(&runs, &opts))
+            .into_iter()
+            .map(|d| {
+                let (r, s, used) = d.unwrap();
+                (
+                    s.motion,
+                    s.label,
+                    s.decided_by,
+                    s.periods_integrated,
+                    r.final_state.0.to_bits(),
+                    r.final_state.1.map(f64::to_bits),
+                    used.transient_periods,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let one = on(1);
+    let chaotic = one.iter().filter(|d| d.0.is_chaotic()).count();
+    assert!(chaotic >= 8, "the follows ran: {one:?}");
+    assert_eq!(one, on(2));
+    assert_eq!(one, on(3));
+}
