@@ -381,7 +381,12 @@ pub struct Progress {
 impl Progress {
     /// A bar labelled with the job's kind, or with `label` when given (a report's computation).
     pub fn new(label: Option<&str>) -> Self {
-        let bar = indicatif::ProgressBar::new(0);
+        // one stack of bars for the process: a report's studies run side by side, and bars
+        // drawn on their own overwrote each other's line
+        static BARS: std::sync::OnceLock<indicatif::MultiProgress> = std::sync::OnceLock::new();
+        let bar = BARS
+            .get_or_init(indicatif::MultiProgress::new)
+            .add(indicatif::ProgressBar::new(0));
         bar.set_style(
             indicatif::ProgressStyle::with_template(
                 "{msg:32} [{bar:40}] {pos}/{len}, {elapsed} elapsed, ETA {eta}",

@@ -26,7 +26,7 @@ mod stiffness;
 pub(crate) use stiffness::write_stiffness_csv;
 
 use crate::interpretations::{label_claims, Axis, Interpretation};
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::Section;
 use anyhow::{Context, Result};
 use geardyn_analysis::bifurcation::{Section as Sec, SweepMode, SweepOptions};
@@ -98,30 +98,59 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         .context("the breakage plan needs the physical [pair]")?;
     let base = ctx.base()?;
     let healthy = base.healthy()?;
-    let mut out = vec![ctx.study("stiffness", &(), |dir| {
-        stiffness::study(ctx, &pm, &base, dir)
-    })?];
-    out.push(ctx.study("states", &(), |dir| states::study(ctx, &pm, &base, dir))?);
-    out.push(ctx.study("revolution", &(), |dir| {
-        revolution::study(ctx, &base, &healthy, dir)
-    })?);
-    out.push(load_sweep::study(ctx, &base, &healthy)?);
-    out.push(ctx.study("load_sensitivity", &(), |dir| {
-        load_sensitivity::study(ctx, &base, dir)
-    })?);
-    out.push(ctx.study("coexistence_load", &(), |dir| {
-        coexistence_load::study(ctx, &base, dir)
-    })?);
-    out.push(ctx.study("orbits_load", &OMEGA_LOAD.to_bits(), |dir| {
-        orbits_load::orbits_load(ctx, &base, OMEGA_LOAD, dir)
-    })?);
-    out.push(ctx.study("frequency_sweep", &(), |dir| {
-        frequency_sweep::study(ctx, &base, dir)
-    })?);
-    out.push(ctx.study("portraits", &(), |dir| portraits::study(ctx, &base, dir))?);
-    out.push(ctx.study("fault_signatures", &(), |dir| {
-        fault_signatures::detectability(ctx, &base, dir)
-    })?);
+    let (pm, base, healthy) = (&pm, &base, &healthy);
+    // the longest first (they start first), then the rest
+    let jobs: Vec<Study<'_>> = vec![
+        Box::new(move || {
+            ctx.study("frequency_sweep", &(), |dir| {
+                frequency_sweep::study(ctx, base, dir)
+            })
+        }),
+        Box::new(move || {
+            ctx.study("load_sensitivity", &(), |dir| {
+                load_sensitivity::study(ctx, base, dir)
+            })
+        }),
+        Box::new(move || {
+            ctx.study("coexistence_load", &(), |dir| {
+                coexistence_load::study(ctx, base, dir)
+            })
+        }),
+        Box::new(move || load_sweep::study(ctx, base, healthy)),
+        Box::new(move || {
+            ctx.study("orbits_load", &OMEGA_LOAD.to_bits(), |dir| {
+                orbits_load::orbits_load(ctx, base, OMEGA_LOAD, dir)
+            })
+        }),
+        Box::new(move || {
+            ctx.study("revolution", &(), |dir| {
+                revolution::study(ctx, base, healthy, dir)
+            })
+        }),
+        Box::new(move || ctx.study("portraits", &(), |dir| portraits::study(ctx, base, dir))),
+        Box::new(move || {
+            ctx.study("fault_signatures", &(), |dir| {
+                fault_signatures::detectability(ctx, base, dir)
+            })
+        }),
+        Box::new(move || ctx.study("stiffness", &(), |dir| stiffness::study(ctx, pm, base, dir))),
+        Box::new(move || ctx.study("states", &(), |dir| states::study(ctx, pm, base, dir))),
+    ];
+    // in the page's order
+    let order = [
+        "stiffness",
+        "states",
+        "revolution",
+        "load_sweep",
+        "load_sensitivity",
+        "coexistence_load",
+        "orbits_load",
+        "frequency_sweep",
+        "portraits",
+        "fault_signatures",
+    ];
+    let mut out = ctx.studies(jobs)?;
+    out.sort_by_key(|s| order.iter().position(|o| *o == s.id));
     // the load sweep and every other study run the headline reading of the text
     let headline = Interpretation::headline(&AXES).label(&AXES);
     for sec in &mut out {

@@ -9,27 +9,36 @@ mod bifurcation;
 mod orbits;
 mod response;
 
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::Section;
 use anyhow::Result;
 
 /// The plan.
 pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
-    let mut out = Vec::new();
     let base = ctx.base()?;
+    let base = &base;
     let n = ctx.n(60, 200);
     let sim = ctx.sim((150, 300), (40, 100));
-    out.push(ctx.study("bifurcation", &(n,), |dir| {
-        bifurcation::study(ctx, &base, n, sim, dir)
-    })?);
     let nr = ctx.n(40, 150);
-    out.push(ctx.study("response", &(nr,), |dir| {
-        response::study(ctx, &base, nr, sim, dir)
-    })?);
     let nb = ctx.n(40, 140);
-    out.push(ctx.study("basins", &(nb,), |dir| basins::study(ctx, &base, nb, dir))?);
-    out.push(ctx.study("orbits", &(ctx.n(40, 60),), |dir| {
-        orbits::study(ctx, &base, dir)
-    })?);
+    let jobs: Vec<Study<'_>> = vec![
+        Box::new(move || {
+            ctx.study("bifurcation", &(n,), |dir| {
+                bifurcation::study(ctx, base, n, sim, dir)
+            })
+        }),
+        Box::new(move || {
+            ctx.study("response", &(nr,), |dir| {
+                response::study(ctx, base, nr, sim, dir)
+            })
+        }),
+        Box::new(move || ctx.study("basins", &(nb,), |dir| basins::study(ctx, base, nb, dir))),
+        Box::new(move || {
+            ctx.study("orbits", &(ctx.n(40, 60),), |dir| {
+                orbits::study(ctx, base, dir)
+            })
+        }),
+    ];
+    let out = ctx.studies(jobs)?;
     Ok(out)
 }

@@ -31,7 +31,7 @@ mod xi_sweep;
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{label_claims, Axis, Interpretation};
 use crate::readings::{interval_header, interval_rows, range};
-use crate::runner::{with_linear_law, Ctx};
+use crate::runner::{with_linear_law, Ctx, Study};
 use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{attractor_region, Section as Sec, SweepMode, SweepOptions};
@@ -124,34 +124,49 @@ fn multi(param: &str, values: Vec<f64>, sim: SimOptions, ics: usize, d: f64) -> 
 
 /// The plan.
 pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
-    let mut out = Vec::new();
     let base = ctx.base()?;
     let lin = with_linear_law(&base)?;
-    if let Some(pm) = base.pair_model().cloned() {
-        out.push(ctx.study("stiffness", &(), |dir| {
-            stiffness::study(ctx, &pm, &base, dir)
-        })?);
+    let pm = base.pair_model().cloned();
+    let (base, lin) = (&base, &lin);
+    let mut jobs: Vec<Study<'_>> = Vec::new();
+    if let Some(pm) = pm {
+        jobs.push(Box::new(move || {
+            ctx.study("stiffness", &(), |dir| {
+                stiffness::study(ctx, &pm, base, dir)
+            })
+        }));
     }
-    out.push(ctx.study("mechanism", &(), |dir| mechanism::study(ctx, &lin, dir))?);
-    out.push(
+    jobs.push(Box::new(move || {
+        ctx.study("mechanism", &(), |dir| mechanism::study(ctx, lin, dir))
+    }));
+    jobs.push(Box::new(move || {
         ctx.study("backlash_sweep", &(BACKLASH_STEP, F_BACKLASH), |dir| {
-            backlash_sweep::study(ctx, &lin, &base, dir)
-        })?,
-    );
-    out.push(ctx.study("xi_sweep", &(), |dir| {
-        xi_sweep::study(ctx, &lin, &base, dir)
-    })?);
-    out.push(ctx.study("orbits_xi", &(), |dir| orbits_xi::study(ctx, &lin, dir))?);
-    out.push(ctx.study("map_xi_F", &(), |dir| map_xi_f::study(ctx, &lin, dir))?);
-    out.push(ctx.study("attractors_omega", &(), |dir| {
-        attractors_omega::study(ctx, &lin, dir)
-    })?);
-    out.push(ctx.study("attractors_F", &(), |dir| {
-        attractors_f::study(ctx, &lin, dir)
-    })?);
-    out.push(ctx.study("readings", &(), |dir| {
-        readings::study(ctx, &lin, &base, dir)
-    })?);
+            backlash_sweep::study(ctx, lin, base, dir)
+        })
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("xi_sweep", &(), |dir| xi_sweep::study(ctx, lin, base, dir))
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("orbits_xi", &(), |dir| orbits_xi::study(ctx, lin, dir))
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("map_xi_F", &(), |dir| map_xi_f::study(ctx, lin, dir))
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("attractors_omega", &(), |dir| {
+            attractors_omega::study(ctx, lin, dir)
+        })
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("attractors_F", &(), |dir| {
+            attractors_f::study(ctx, lin, dir)
+        })
+    }));
+    jobs.push(Box::new(move || {
+        ctx.study("readings", &(), |dir| readings::study(ctx, lin, base, dir))
+    }));
+    let mut out = ctx.studies(jobs)?;
     // the reading of the text each section's claims use
     for sec in &mut out {
         let it = match sec.id.as_str() {
