@@ -3,6 +3,8 @@
 //! transient that ends before it is periodic, and a budget that cuts the horizon short leaves the
 //! run unsettled. Each case was chaotic under the former rule (one 500-cycle persistence run).
 
+mod common;
+
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
 use geardyn_analysis::lanes::simulate_decided_lanes;
 use geardyn_analysis::simulate::{Method, SimOptions, Summary};
@@ -172,11 +174,7 @@ fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
         ..Default::default()
     };
     let on = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| simulate_decided_lanes(&runs, &opts))
+        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
             .into_iter()
             .map(|d| {
                 let (r, s, _) = d.unwrap();

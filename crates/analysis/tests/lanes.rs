@@ -2,6 +2,8 @@
 //! recorded quantity of `simulate` (crossings, counts, durations, extrema, integrals, events,
 //! impacts) on case C1 and on the breakage preset.
 
+mod common;
+
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};
 use geardyn_model::{presets, MeshModel};
@@ -781,11 +783,7 @@ fn a_decision_is_the_same_in_the_rounds_and_alone() {
         ..Default::default()
     };
     let on = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| simulate_decided_lanes(&runs, &opts))
+        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
             .into_iter()
             .map(|d| {
                 let (r, s, used) = d.unwrap();
