@@ -58,7 +58,12 @@ pub struct BenchArgs {
     /// RK4 steps per mesh cycle of the basin (W1 uses --steps-per-cycle).
     #[arg(long, default_value_t = 512)]
     basin_steps: u32,
-    /// Everything: --bifurcation --basins --numba.
+    /// Also time a decision's follow on the broken pair (the `breakage` preset at omega = 1.2,
+    /// chaotic loads F = 0.03 ... 0.06, fixed-step RK4 at the follow's resolution, strobe only):
+    /// ns per lane-step on a one-lane engine and on a full engine, one thread.
+    #[arg(long)]
+    follow: bool,
+    /// Everything: --bifurcation --basins --follow --numba.
     #[arg(long)]
     all: bool,
     /// Run the numba yardstick in this command and print ratios.
@@ -315,6 +320,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
             best * 1e9 / steps as f64
         );
     }
+    if a.follow || a.all {
+        follow_figures(a.repeat)?;
+    }
     let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic())?;
     let rk4 = Method::Rk4 {
         steps_per_cycle: a.steps_per_cycle,
@@ -467,6 +475,57 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "summary: W1 ensemble {el:.3} s, numba {nb:.3} s (mean of {} runs), ratio {:.1}x",
             numba.times.len(),
             nb / el
+        );
+    }
+    Ok(())
+}
+
+/// Revolutions of each run of the follow figures.
+const FOLLOW_REVOLUTIONS: u64 = 200;
+
+/// ns per lane-step of a decision's follow on the broken pair (see [`BenchArgs::follow`]): one
+/// run alone (the one-lane engine of a decision that finishes on its own) and `LANES` runs
+/// together, on one thread, best of `repeat`.
+fn follow_figures(repeat: u32) -> Result<()> {
+    let base = geardyn_scenario::ScenarioSpec::preset("breakage")?
+        .resolve()?
+        .with("omega", 1.2)?;
+    let scen: Vec<geardyn_scenario::Scenario> = linspace(0.03, 0.06, LANES)
+        .into_iter()
+        .map(|f| base.with("F", f))
+        .collect::<Result<_, _>>()?;
+    let method = geardyn_analysis::classify::follow_method(
+        scen[0].model(),
+        &SimOptions {
+            follow_steps: geardyn_analysis::classify::FOLLOW_STEPS,
+            ..Default::default()
+        },
+    )
+    .context("the broken pair has no lanes follow")?;
+    let opts = SimOptions {
+        method,
+        transient_periods: FOLLOW_REVOLUTIONS,
+        record_periods: 0,
+        strobe_only: true,
+        ..Default::default()
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let runs: Vec<(&MeshModel, [f64; 2])> = scen.iter().map(|s| (s.model(), [0.0, 0.0])).collect();
+    for n in [1, LANES] {
+        let mut best = f64::INFINITY;
+        let mut steps = 0;
+        for _ in 0..repeat {
+            let t = Instant::now();
+            let r = pool.install(|| simulate_lanes(&runs[..n], &opts));
+            let el = t.elapsed().as_secs_f64();
+            if el < best {
+                best = el;
+                steps = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
+            }
+        }
+        println!(
+            "breakage omega=1.2 follow ({method:?}), {FOLLOW_REVOLUTIONS} revolutions x{n} on 1 thread: {steps:>9} steps, total {best:.4} s, {:.2} ns/step",
+            best * 1e9 / steps.max(1) as f64
         );
     }
     Ok(())

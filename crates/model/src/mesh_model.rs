@@ -448,12 +448,23 @@ impl MeshModel {
     fn tabulate(&mut self, eps: f64, friction_on: bool) {
         if let StiffnessForm::Zoned { pieces } = &self.params.stiffness {
             let pieces = pieces.clone();
+            // Pieces with equal samples share one copy: the healthy cycles of a pair repeat the
+            // same tables (the broken pair: 121 pieces, 5 distinct), and a step that crosses a
+            // segment border then reads a few kilobytes that stay in the cache instead of a
+            // megabyte that does not (the values read are the same either way).
+            let mut seen: std::collections::HashMap<Vec<u64>, u32> = Default::default();
             for pc in &pieces {
                 let n = pc.k.len();
-                let off = self.uniform.len() as u32;
-                self.uniform.extend_from_slice(&pc.k);
-                self.uniform.extend_from_slice(&pc.h_drive);
-                self.uniform.extend_from_slice(&pc.h_back);
+                let key: Vec<u64> = (pc.k.iter().chain(&pc.h_drive).chain(&pc.h_back))
+                    .map(|x| x.to_bits())
+                    .collect();
+                let off = *seen.entry(key).or_insert_with(|| {
+                    let off = self.uniform.len() as u32;
+                    self.uniform.extend_from_slice(&pc.k);
+                    self.uniform.extend_from_slice(&pc.h_drive);
+                    self.uniform.extend_from_slice(&pc.h_back);
+                    off
+                });
                 self.segs.push(Segment {
                     start: pc.start,
                     end: pc.end,
@@ -725,6 +736,12 @@ impl MeshModel {
         let j = xs.partition_point(|&x| x <= u).clamp(1, len - 1);
         let (x0, x1) = (xs[j - 1], xs[j]);
         ks[j - 1] + (ks[j] - ks[j - 1]) * (u - x0) / (x1 - x0)
+    }
+
+    /// Samples held by the uniform tables of a zoned stiffness (stiffness and both friction
+    /// factors; pieces with equal samples are held once), 0 for the other forms.
+    pub fn table_samples(&self) -> usize {
+        self.uniform.len()
     }
 
     /// Stiffness at position `u` in mesh cycles from the start of the excitation period
