@@ -513,18 +513,20 @@ fn follow_figures(repeat: u32) -> Result<()> {
     let runs: Vec<(&MeshModel, [f64; 2])> = scen.iter().map(|s| (s.model(), [0.0, 0.0])).collect();
     for n in [1, LANES] {
         let mut best = f64::INFINITY;
-        let mut steps = 0;
+        let (mut steps, mut events) = (0, 0);
         for _ in 0..repeat {
             let t = Instant::now();
             let r = pool.install(|| simulate_lanes(&runs[..n], &opts));
             let el = t.elapsed().as_secs_f64();
             if el < best {
                 best = el;
-                steps = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
+                let ok = || r.iter().filter_map(|x| x.as_ref().ok());
+                steps = ok().map(|s| s.steps).sum();
+                events = ok().map(|s| s.rhs_evals).sum::<u64>();
             }
         }
         println!(
-            "breakage omega=1.2 follow ({method:?}), {FOLLOW_REVOLUTIONS} revolutions x{n} on 1 thread: {steps:>9} steps, total {best:.4} s, {:.2} ns/step",
+            "breakage omega=1.2 follow ({method:?}), {FOLLOW_REVOLUTIONS} revolutions x{n} on 1 thread: {steps:>9} steps, {events} evaluations, total {best:.4} s, {:.2} ns/step",
             best * 1e9 / steps.max(1) as f64
         );
     }
