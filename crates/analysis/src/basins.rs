@@ -130,7 +130,7 @@ where
     S: Recordable,
     F: Fn(usize, &Outcome) + Sync,
 {
-    basins_with(model, opts, done, on_cell, true)
+    basins_with(model, opts, done, &on_cell, true)
 }
 
 /// As [`basins`], every cell integrated by the scalar integrator (for comparisons and
@@ -145,19 +145,18 @@ where
     S: Recordable,
     F: Fn(usize, &Outcome) + Sync,
 {
-    basins_with(model, opts, done, on_cell, false)
+    basins_with(model, opts, done, &on_cell, false)
 }
 
-fn basins_with<S, F>(
+fn basins_with<S>(
     model: &S,
     opts: &BasinOptions,
     done: &HashMap<usize, Outcome>,
-    on_cell: F,
+    on_cell: &(dyn Fn(usize, &Outcome) + Sync),
     lanes: bool,
 ) -> BasinResult
 where
     S: Recordable,
-    F: Fn(usize, &Outcome) + Sync,
 {
     // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
     let on_cell = |c: usize, o: &Outcome| {

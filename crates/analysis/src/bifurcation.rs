@@ -591,7 +591,7 @@ pub fn run_sweep<F>(
 where
     F: Fn(&TaskResult) + Sync,
 {
-    sweep_tasks(base, opts, done, None, on_done)
+    sweep_tasks(base, opts, done, None, &on_done)
 }
 
 /// The tasks `only` of a fixed or multi-initial sweep (each of [`tasks`]), in [`tasks`] order:
@@ -623,20 +623,19 @@ where
         )));
     }
     let only: std::collections::HashSet<Task> = only.iter().copied().collect();
-    sweep_tasks(base, opts, &HashMap::new(), Some(&only), on_done)
+    sweep_tasks(base, opts, &HashMap::new(), Some(&only), &on_done)
 }
 
-/// [`run_sweep`] of the tasks in `only` (all when `None`) not in `done`.
-fn sweep_tasks<F>(
+/// [`run_sweep`] of the tasks in `only` (all when `None`) not in `done`. Not generic over the
+/// callback (the public functions are thin generic wrappers): the sweep, its lanes and decisions
+/// are compiled once, here, not again in every crate and test that passes its own closure.
+fn sweep_tasks(
     base: &Scenario,
     opts: &SweepOptions,
     done: &HashMap<Task, TaskResult>,
     only: Option<&std::collections::HashSet<Task>>,
-    on_done: F,
-) -> Result<Vec<TaskResult>, SweepError>
-where
-    F: Fn(&TaskResult) + Sync,
-{
+    on_done: &(dyn Fn(&TaskResult) + Sync),
+) -> Result<Vec<TaskResult>, SweepError> {
     if opts.values.is_empty() {
         return Err(SweepError::Empty);
     }

@@ -194,6 +194,16 @@ pub fn continuation<F>(
 where
     F: Fn(&ValueAttractors) + Sync,
 {
+    continuation_dyn(base, opts, done, &on_done)
+}
+
+/// [`continuation`], compiled once (not generic over the callback).
+fn continuation_dyn(
+    base: &Scenario,
+    opts: &ContinuationOptions,
+    done: &HashMap<usize, ValueAttractors>,
+    on_done: &(dyn Fn(&ValueAttractors) + Sync),
+) -> Result<ContinuationResult, ScenarioError> {
     let models: Vec<MeshModel> = opts
         .values
         .iter()

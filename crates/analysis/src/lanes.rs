@@ -945,7 +945,7 @@ pub fn identify_lanes<F>(
 where
     F: Fn(usize, &Outcome) + Sync,
 {
-    identify_lanes_in(model, y0s, known, None, opts, on_done)
+    identify_lanes_in_dyn(model, y0s, known, None, opts, &on_done)
 }
 
 /// As [`identify_lanes`], also captured by the labelled cells of a basin grid
@@ -961,6 +961,19 @@ pub fn identify_lanes_in<F>(
 where
     F: Fn(usize, &Outcome) + Sync,
 {
+    identify_lanes_in_dyn(model, y0s, known, cells, opts, &on_done)
+}
+
+/// [`identify_lanes_in`], compiled once (not generic over the callback: the lanes engine it
+/// drives is instantiated here only).
+fn identify_lanes_in_dyn(
+    model: &MeshModel,
+    y0s: &[[f64; 2]],
+    known: &[Descriptor],
+    cells: Option<&CellLabels>,
+    opts: &IdentifyOptions,
+    on_done: &(dyn Fn(usize, &Outcome) + Sync),
+) -> Vec<Outcome> {
     let Method::Rk4 { steps_per_cycle } = opts.sim.method else {
         panic!("identify_lanes needs the RK4 method");
     };

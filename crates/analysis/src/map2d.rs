@@ -227,7 +227,7 @@ where
     check_map(base, o)?;
     let total = o.x_values.len() * o.y_values.len();
     let todo: Vec<usize> = (0..total).filter(|i| !done.contains_key(i)).collect();
-    let mut fresh = map_cells(base, o, &todo, on_done).into_iter();
+    let mut fresh = map_cells(base, o, &todo, &on_done).into_iter();
     let cells = (0..total)
         .map(|i| match done.get(&i) {
             Some(c) => c.clone(),
@@ -257,14 +257,17 @@ where
             "cell {i} is outside the map of {total} cells"
         )));
     }
-    Ok(map_cells(base, o, indices, on_done))
+    Ok(map_cells(base, o, indices, &on_done))
 }
 
-/// The cells `todo` of a checked map, in that order.
-fn map_cells<F>(base: &Scenario, o: &MapOptions, todo: &[usize], on_done: F) -> Vec<MapCell>
-where
-    F: Fn(&MapCell) + Sync,
-{
+/// The cells `todo` of a checked map, in that order (compiled once: not generic over the
+/// callback).
+fn map_cells(
+    base: &Scenario,
+    o: &MapOptions,
+    todo: &[usize],
+    on_done: &(dyn Fn(&MapCell) + Sync),
+) -> Vec<MapCell> {
     // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
     let on_done = |c: &MapCell| {
         if !geardyn_solvers::cancel::requested() {

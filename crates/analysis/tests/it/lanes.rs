@@ -2,7 +2,7 @@
 //! recorded quantity of `simulate` (crossings, counts, durations, extrema, integrals, events,
 //! impacts) on case C1 and on the breakage preset.
 
-mod common;
+use crate::common;
 
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};

@@ -3,7 +3,7 @@
 //! transient that ends before it is periodic, and a budget that cuts the horizon short leaves the
 //! run unsettled. Each case was chaotic under the former rule (one 500-cycle persistence run).
 
-mod common;
+use crate::common;
 
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
 use geardyn_analysis::lanes::simulate_decided_lanes;
