@@ -1,36 +1,18 @@
 //! Basins of attraction: symmetry, sums, refinement, determinism, early termination.
 
-use geardyn_analysis::attractor::{IdentifyOptions, Outcome, StrobeOnly};
+use crate::common::double_well;
+use crate::common::on_threads;
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::simulate::SimOptions;
-use geardyn_model::reference::Duffing;
 use geardyn_model::{presets, MeshModel};
-use geardyn_solvers::Scheme;
 use std::collections::HashMap;
-
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 #[test]
 fn symmetric_pair_of_attractors_has_equal_basins() {
     // unforced damped double-well Duffing: x'' + 0.25 x' - x + x^3 = 0, attractors (+-1, 0),
     // symmetric under (x, v) -> (-x, -v); the grid is symmetric too
-    let sys = StrobeOnly {
-        sys: Duffing {
-            delta: 0.25,
-            alpha: -1.0,
-            beta: 1.0,
-            gamma: 0.0,
-            omega: 1.0,
-        },
-        period: 2.0,
-        scheme: Scheme::dopri_default(),
-    };
+    let sys = double_well();
     let opts = BasinOptions {
         x: Axis {
             min: -2.0,
@@ -105,8 +87,8 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
             ..Default::default()
         },
     };
-    let coarse = in_pool(1, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
-    let coarse2 = in_pool(2, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
+    let coarse = on_threads(1, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
+    let coarse2 = on_threads(2, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
     assert_eq!(coarse.cells, coarse2.cells);
     assert!(
         coarse.attractors.len() >= 2,
@@ -202,7 +184,7 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
         identify,
     };
     let quick = std::sync::atomic::AtomicUsize::new(0);
-    let one = in_pool(1, || {
+    let one = on_threads(1, || {
         basins(&m, &opts, &HashMap::new(), |_, o| {
             // capture by an attractor needs tens of periods (from O(1) to 1e-4 of it); by the
             // labelled cells, a few
@@ -211,7 +193,7 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
             }
         })
     });
-    let two = in_pool(2, || basins(&m, &opts, &HashMap::new(), |_, _| {}));
+    let two = on_threads(2, || basins(&m, &opts, &HashMap::new(), |_, _| {}));
     assert_eq!(one.cells, two.cells);
     assert_eq!(one.periods, two.periods);
     // the scalar path: the same cells (a capture may come a period apart: the lanes' phase

@@ -1,26 +1,15 @@
 //! A damaged basin checkpoint never panics and never changes the result: records that cannot
 //! belong to the run (a capture by an attractor the pass does not know) are recomputed.
 
-use geardyn_analysis::attractor::{IdentifyOptions, Outcome, StrobeOnly};
+use crate::common::double_well;
+use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
 use geardyn_analysis::simulate::SimOptions;
-use geardyn_model::reference::Duffing;
-use geardyn_solvers::Scheme;
 use std::collections::HashMap;
 
 #[test]
 fn an_out_of_range_attractor_id_is_recomputed_not_trusted() {
-    let sys = StrobeOnly {
-        sys: Duffing {
-            delta: 0.25,
-            alpha: -1.0,
-            beta: 1.0,
-            gamma: 0.0,
-            omega: 1.0,
-        },
-        period: 2.0,
-        scheme: Scheme::dopri_default(),
-    };
+    let sys = double_well();
     let axis = Axis {
         min: -2.0,
         max: 2.0,

@@ -1,5 +1,6 @@
 //! Sweeps: determinism across thread counts, resumption, hysteresis versus coexistence.
 
+use crate::common::on_threads;
 use geardyn_analysis::bifurcation::{
     detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task, TaskResult,
 };
@@ -32,22 +33,14 @@ fn multi(ics: usize) -> SweepMode {
     }
 }
 
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
-
 #[test]
 fn identical_results_for_any_thread_count() {
     let base = geardyn_scenario::Scenario::dimensionless(presets::classic()).unwrap();
     for mode in [SweepMode::Fixed, SweepMode::Sweep, multi(4)] {
         let o = opts(linspace(0.8, 1.4, 7), mode);
-        let one = in_pool(1, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
-        let two = in_pool(2, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
-        let four = in_pool(4, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
+        let one = on_threads(1, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
+        let two = on_threads(2, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
+        let four = on_threads(4, || run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap());
         let js = |r: &Vec<TaskResult>| serde_json::to_string(r).unwrap();
         assert_eq!(js(&one), js(&two));
         assert_eq!(js(&one), js(&four));

@@ -1,5 +1,6 @@
 //! Attractor continuation and 2-parameter maps.
 
+use crate::common::on_threads;
 use geardyn_analysis::attractor::IdentifyOptions;
 use geardyn_analysis::bifurcation::{linspace, run_sweep, SweepMode, SweepOptions, Task};
 use geardyn_analysis::continuation::{continuation, ContinuationOptions};
@@ -7,14 +8,6 @@ use geardyn_analysis::map2d::{map2d, MapOptions};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::presets;
 use std::collections::HashMap;
-
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 fn copts(values: Vec<f64>) -> ContinuationOptions {
     ContinuationOptions {
@@ -71,10 +64,10 @@ fn continuation_finds_both_attractors_of_the_hysteresis_window() {
     };
     let (up, down) = (label(1), label(2));
     let o = copts(vec![1.75, 1.8, 1.85]);
-    let one = in_pool(1, || {
+    let one = on_threads(1, || {
         continuation(&base, &o, &HashMap::new(), |_| {}).unwrap()
     });
-    let two = in_pool(2, || {
+    let two = on_threads(2, || {
         continuation(&base, &o, &HashMap::new(), |_| {}).unwrap()
     });
     assert_eq!(
@@ -132,8 +125,8 @@ fn map_of_max_force_is_deterministic() {
         y0: [0.0, 0.0],
         lyapunov: false,
     };
-    let a = in_pool(1, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
-    let b = in_pool(2, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
+    let a = on_threads(1, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
+    let b = on_threads(2, || map2d(&base, &o, &HashMap::new(), |_| {}).unwrap());
     assert_eq!(
         serde_json::to_string(&a).unwrap(),
         serde_json::to_string(&b).unwrap()
