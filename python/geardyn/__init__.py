@@ -888,9 +888,10 @@ def bifurcation(
     steps_per_cycle=None,
     set=None,
     progress=False,
+    out=None,
     **params,
 ):
-    """Bifurcation diagram over a parameter (``geardyn bifurcation``, without the files).
+    """Bifurcation diagram over a parameter (``geardyn bifurcation``).
 
     Parameters
     ----------
@@ -919,6 +920,14 @@ def bifurcation(
         Integration settings of every run.
     progress : bool
         Print progress on ``sys.stderr``.
+    out : str or os.PathLike, optional
+        Also write the folder ``geardyn bifurcation --out`` writes there (config.toml, run.json,
+        checkpoint.jsonl, bifurcation.csv, runs.csv, impact_force.csv, the figures), with its
+        rules: a new or empty folder or one geardyn made, locked while the sweep runs. Every
+        finished value is kept in its checkpoint as it finishes, so a sweep that was interrupted
+        (Ctrl-C, a killed process) resumes there: the same call (or the same CLI command) with
+        the same ``out`` computes only the values that had not finished. Other settings in the
+        same folder are refused, naming the folder.
 
     Returns
     -------
@@ -943,6 +952,7 @@ def bifurcation(
             [str(s) for s in sections],
             bool(lyapunov),
             bool(progress),
+            None if out is None else os.fspath(out),
         )
     return _sweep_result(d)
 

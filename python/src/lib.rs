@@ -15,8 +15,8 @@ use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::MapCell;
 use geardyn_io::config::{Face, SimOverrides};
-use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, SweepJob};
-use geardyn_io::request::{ContinuationRequest, SweepSpec};
+use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store, SweepJob};
+use geardyn_io::request::{BifurcationRequest, ContinuationRequest, SweepSpec};
 use geardyn_io::{shard, Config};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -475,9 +475,10 @@ fn kept_sweep(py: Python<'_>, param: &str, ctl: &util::Ctl) -> PyResult<Option<P
     ))
 }
 
-/// `geardyn bifurcation` without the files.
+/// `geardyn bifurcation`: with `out`, also its folder (checkpoint, tables, figures) there, and
+/// resumed from that folder's checkpoint as the CLI resumes it.
 #[pyfunction]
-#[pyo3(signature = (src, sim, param, values, range, mode, ics, seed, x0_range, v0_range, sections_, lyapunov, progress))]
+#[pyo3(signature = (src, sim, param, values, range, mode, ics, seed, x0_range, v0_range, sections_, lyapunov, progress, out))]
 #[allow(clippy::too_many_arguments)]
 fn bifurcation<'py>(
     py: Python<'py>,
@@ -494,10 +495,12 @@ fn bifurcation<'py>(
     sections_: Vec<String>,
     lyapunov: bool,
     progress: bool,
+    out: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let name = param.clone();
     let partial: util::Partial = Box::new(move |py, ctl| kept_sweep(py, &name, ctl));
     let (results, cfg, opts) = util::run(py, "bifurcation", progress, Some(partial), move |ctl| {
+        let started = geardyn_io::run_record::now_unix_s();
         let mut cfg = src.config()?;
         sim.apply(&mut cfg, &src.sets)?;
         let scenario = cfg.resolve()?;
@@ -512,9 +515,19 @@ fn bifurcation<'py>(
             sections: sections_,
             lyapunov,
         };
-        let opts = spec.options(&cfg, &scenario)?;
-        let results = sweep(ctl, &scenario, &opts)?;
-        Ok((results, cfg, opts))
+        let Some(out) = out else {
+            let opts = spec.options(&cfg, &scenario)?;
+            let results = sweep(ctl, &scenario, &opts)?;
+            return Ok((results, cfg, opts));
+        };
+        // the CLI's folder: the same request, store and writer as `geardyn bifurcation --out`
+        // (so either face resumes the other's folder)
+        let req = BifurcationRequest::new(cfg, src.source(), &scenario, &spec)?;
+        let store = Store::folder(&out, &req.config, false)?;
+        let job = SweepJob::new("bifurcation", &scenario, &req.options);
+        let results = execute(&job, Some(store), ctl)?;
+        req.write_folder(&out, &scenario, &results, started)?;
+        Ok((results, req.config, req.options))
     })?;
     let d = sweep_results(py, &opts.param, &results)?;
     d.set_item("param", &opts.param)?;

@@ -355,3 +355,36 @@ def test_keyword_defaults_are_the_cli_defaults(cli, command, func):
                     assert float(w) == float(g), (command, name, d, shown)
             compared += 1
     assert compared >= 1, (command, flags)
+
+
+def test_bifurcation_out_writes_the_cli_folder_and_resumes(cli, tmp_path):
+    """`bifurcation(out=)` writes the folder `geardyn bifurcation --out` writes, with the same
+    tables; a folder whose checkpoint lost some values (an interrupted sweep) is resumed: only
+    those are computed again, and the tables come out the same."""
+    args = ["--range", "0.6:1.8:7", "--periods", "16", "--transient", "60"]
+    cli("bifurcation", *args, "--out", tmp_path / "cli")
+    py = tmp_path / "py"
+    r = geardyn.bifurcation(range=(0.6, 1.8, 7), periods=16, transient=60, out=py)
+    for name in ["runs.csv", "bifurcation.csv", "impact_force.csv", "config.toml"]:
+        assert (py / name).read_text() == (tmp_path / "cli" / name).read_text(), name
+    assert (py / "bifurcation.png").stat().st_size > 0
+    assert json.loads((py / "run.json").read_text())["kind"] == "bifurcation"
+    assert list(r.runs["omega"]) == column(py / "runs.csv", "omega")
+    # an interrupted sweep: the checkpoint holds its header and the first three values
+    cp = py / "checkpoint.jsonl"
+    lines = cp.read_text().splitlines(keepends=True)
+    assert len(lines) > 4
+    cp.write_text("".join(lines[:4]))
+    runs_before = (py / "runs.csv").read_text()
+    (py / "runs.csv").unlink()
+    again = geardyn.bifurcation(range=(0.6, 1.8, 7), periods=16, transient=60, out=py)
+    assert (py / "runs.csv").read_text() == runs_before
+    assert list(again.runs["label"]) == list(r.runs["label"])
+    # the kept values were not computed again: the checkpoint gained only the missing ones
+    assert cp.read_text().splitlines(keepends=True)[:4] == lines[:4]
+    assert len(cp.read_text().splitlines()) == len(lines)
+    # the CLI resumes the same folder too (nothing left to compute), and other settings there
+    # are refused
+    cli("bifurcation", *args, "--out", py)
+    with pytest.raises(Exception, match="checkpoint|settings|folder"):
+        geardyn.bifurcation(range=(0.6, 1.8, 8), periods=16, transient=60, out=py)
