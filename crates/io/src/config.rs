@@ -314,8 +314,19 @@ impl Config {
         })?;
         Self::check_unit_variants(&v)?;
         Self::fill_pair_placeholders(&mut v)?;
-        v.try_into()
-            .map_err(|e: toml::de::Error| parse_err(e.message().replace('\n', " ")))
+        // (through serde_path_to_error: serde's own message names the type, not the field)
+        serde_path_to_error::deserialize(v).map_err(|e| {
+            let path = e.path().to_string();
+            let msg = e.into_inner().message().replace('\n', " ");
+            let msg = msg.replace("expected f64", "expected a number");
+            let msg = msg.replace("expected u64", "expected a whole number");
+            let msg = msg.replace("expected u32", "expected a whole number");
+            parse_err(if path.is_empty() || path == "." {
+                msg
+            } else {
+                format!("{path}: {msg}")
+            })
+        })
     }
 
     /// Tables whose variant takes no parameters must not carry any: serde ignores unknown keys
@@ -890,6 +901,19 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("malformed"), "{e}");
+        // a wrong-typed value names its key and the kind of value needed (serde's message alone
+        // said `invalid type: string "fast", expected f64`)
+        assert!(
+            e.contains("model.omega:") && e.contains("expected a number"),
+            "{e}"
+        );
+        let e = Config::from_toml("[simulation]\ndecision_periods = \"x\"")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("simulation.decision_periods:") && e.contains("expected a whole number"),
+            "{e}"
+        );
         let mut t = Config::preset("classic").unwrap().to_toml();
         t = t.replace("omega = 0.8", "omega = 0.8\nomegaa = 1.0");
         let e = Config::from_toml(&t).unwrap_err().to_string();
