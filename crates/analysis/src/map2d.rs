@@ -1,7 +1,7 @@
 //! Two-parameter maps of scalar responses (maximum mesh force, P_ID, period, label class, TLE)
 //! over a grid of two model parameters (docs/model.md §5), in parallel, deterministic and resumable.
 
-use crate::classify::{simulate_decided, Decide, Motion};
+use crate::classify::{simulate_decided, Decide, DecidedBy, Motion};
 use crate::lanes::Decided;
 use crate::simulate::SimOptions;
 use geardyn_model::MeshModel;
@@ -57,6 +57,13 @@ pub struct MapCell {
     /// Decided class of the motion.
     #[serde(default)]
     pub motion: Motion,
+    /// Excitation periods the run was followed in all ([`crate::simulate::Summary::periods_integrated`]; 0 for
+    /// an invalid model).
+    #[serde(default)]
+    pub periods_integrated: u64,
+    /// The evidence of the verdict ([`crate::simulate::Summary::decided_by`]).
+    #[serde(default)]
+    pub decided_by: DecidedBy,
 }
 
 impl MapCell {
@@ -156,6 +163,8 @@ fn cell_of(
         impacts: 0,
         tle: None,
         motion: Motion::default(),
+        periods_integrated: 0,
+        decided_by: DecidedBy::Error,
     };
     let m = match model {
         Err(e) => {
@@ -180,6 +189,8 @@ fn cell_of(
             cell.min_force = s.min_force;
             cell.p_id = s.p_id;
             cell.impacts = s.impacts;
+            cell.periods_integrated = s.periods_integrated;
+            cell.decided_by = s.decided_by;
             if o.lyapunov {
                 let (t, y) = r.final_state;
                 let start = (m, t, y, r.final_memory);

@@ -150,6 +150,8 @@ pub fn response(a: ResponseArgs) -> Result<()> {
         run_record::now_unix_s() - started,
     )?;
     sweep_output::write_response(&a.out.join("response.csv"), &a.param, &results)?;
+    // every run of both sweeps with the columns of every runs table (Python's `response().runs`)
+    sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
     let jumps = detect_jumps(&results);
     output::write_json(&a.out.join("jumps.json"), &jumps)?;
     sweep_output::plot_response(

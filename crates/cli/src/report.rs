@@ -21,6 +21,8 @@ pub struct ReportArgs {
     /// preset's page present (rerunning the same command resumes).
     #[arg(long, default_value = "out/report")]
     out: PathBuf,
+    #[command(flatten)]
+    decision: crate::sweep::DecisionArgs,
 }
 
 pub fn run(a: ReportArgs) -> Result<()> {
@@ -28,6 +30,10 @@ pub fn run(a: ReportArgs) -> Result<()> {
     for s in &a.sets {
         cfg.apply_set(s)?;
     }
+    // the decision flags (a field given by a flag and by --set is refused)
+    a.decision
+        .overrides()
+        .apply(&mut cfg, &a.sets, geardyn_io::config::Face::Cli)?;
     cfg.resolve()?;
     let t = std::time::Instant::now();
     let index = geardyn_report::run(

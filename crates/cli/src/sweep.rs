@@ -30,6 +30,18 @@ pub struct SimArgs {
     /// RK4 steps per mesh cycle (default: simulation.steps_per_cycle).
     #[arg(long, allow_hyphen_values = true)]
     pub steps_per_cycle: Option<f64>,
+    #[command(flatten)]
+    pub decision: DecisionArgs,
+    /// Cap on the command's estimated work in right-hand-side evaluations (all runs, the
+    /// decisions' worst case included); a command above it is refused [default: 1e12].
+    #[arg(long, allow_hyphen_values = true)]
+    pub max_work: Option<f64>,
+}
+
+/// The settings of a chaos verdict's decision (docs/analyses.md, rule 2): on every command that
+/// classifies motions, the report included.
+#[derive(Args, Debug, Clone)]
+pub struct DecisionArgs {
     /// Decision horizon: excitation periods (from the start of a run) a motion with a positive
     /// Lyapunov exponent is followed before it is called chaotic [default: 10000].
     #[arg(long, allow_hyphen_values = true)]
@@ -44,10 +56,18 @@ pub struct SimArgs {
     /// requested integrator (0 or 16 ... 1000000) [default: 64].
     #[arg(long, allow_hyphen_values = true)]
     pub follow_steps: Option<f64>,
-    /// Cap on the command's estimated work in right-hand-side evaluations (all runs, the
-    /// decisions' worst case included); a command above it is refused [default: 1e12].
-    #[arg(long, allow_hyphen_values = true)]
-    pub max_work: Option<f64>,
+}
+
+impl DecisionArgs {
+    /// The overrides of these flags alone (the rest `None`).
+    pub fn overrides(&self) -> SimOverrides {
+        SimOverrides {
+            decision_periods: self.decision_periods,
+            decision_budget: self.decision_budget,
+            follow_steps: self.follow_steps,
+            ..Default::default()
+        }
+    }
 }
 
 /// `--force` of the commands that resume from a checkpoint in their output folder.
@@ -69,10 +89,8 @@ impl SimArgs {
             transient: self.transient,
             integrator: self.integrator.clone(),
             steps_per_cycle: self.steps_per_cycle,
-            decision_periods: self.decision_periods,
-            decision_budget: self.decision_budget,
-            follow_steps: self.follow_steps,
             max_work: self.max_work,
+            ..self.decision.overrides()
         };
         Ok(o.apply(cfg, sets, Face::Cli)?)
     }

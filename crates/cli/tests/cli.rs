@@ -294,6 +294,16 @@ fn lyapunov_and_response_commands() {
     assert!(out.contains("both sweeps"));
     let csv = std::fs::read_to_string(d.join("response.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 22);
+    // every runs table states the verdict's evidence and length (the response's too), and the
+    // folder has the runs table of every sweep
+    let head = csv.lines().next().unwrap();
+    assert!(
+        head.ends_with(",class,decided_by,periods_integrated"),
+        "{head}"
+    );
+    let runs = std::fs::read_to_string(d.join("runs.csv")).unwrap();
+    assert!(runs.lines().next().unwrap().contains("decided_by"));
+    assert_eq!(runs.lines().count(), 1 + 22);
     assert!(d.join("response.png").exists() && d.join("jumps.json").exists());
     let (code, _, err) = geardyn(&[
         "bifurcation",
@@ -449,12 +459,18 @@ fn basins_continuation_and_map_commands() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("max_force in"), "{out}");
-    assert_eq!(
-        std::fs::read_to_string(m.join("map.csv"))
+    let map = std::fs::read_to_string(m.join("map.csv")).unwrap();
+    assert_eq!(map.lines().count(), 10);
+    assert!(
+        map.lines()
+            .next()
             .unwrap()
-            .lines()
-            .count(),
-        10
+            .ends_with(",class,decided_by,periods_integrated"),
+        "{map}"
+    );
+    assert!(
+        map.lines().skip(1).all(|l| !l.ends_with(",error,0")),
+        "{map}"
     );
     let (code, _, err) = geardyn(&["map2d", "--metric", "nope", "--out", m.to_str().unwrap()]);
     assert_ne!(code, 0);
@@ -478,4 +494,49 @@ fn the_built_in_numba_yardstick_is_the_project_one() {
         ),
         Err(_) => eprintln!("{} not present: compared nothing", shared.display()),
     }
+}
+
+#[test]
+fn report_takes_the_decision_flags() {
+    // the quick classic page at a horizon of 200 periods instead of the quick 1000: every
+    // persistently chaotic run stops there (the record ends past it), and the page says so
+    let d = tmp("report-decision");
+    let (code, _, err) = geardyn(&[
+        "report",
+        "--preset",
+        "classic",
+        "--quick",
+        "--decision-periods",
+        "200",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let runs = std::fs::read_to_string(d.join("classic/bifurcation/bif_omega_runs.csv")).unwrap();
+    let header: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (by, n) = (col("decided_by"), col("periods_integrated"));
+    let chaotic: Vec<u64> = runs
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| f[by] == "persistent_chaos")
+        .map(|f| f[n].parse().unwrap())
+        .collect();
+    assert!(!chaotic.is_empty());
+    assert!(chaotic.iter().all(|&p| p < 1000), "{chaotic:?}");
+    let page = std::fs::read_to_string(d.join("classic/index.html")).unwrap();
+    assert!(page.contains("a horizon of 200 excitation periods"));
+    // given twice: refused, naming both
+    let (code, _, err) = geardyn(&[
+        "report",
+        "--decision-periods",
+        "100",
+        "--set",
+        "decision_periods=200",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("given twice"), "{err}");
 }

@@ -271,6 +271,19 @@ pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -
         "class",
         Values::Str(cells.iter().map(|c| c.motion.word().to_string()).collect()),
     );
+    t.push(
+        "decided_by",
+        Values::Str(
+            cells
+                .iter()
+                .map(|c| c.decided_by.name().to_string())
+                .collect(),
+        ),
+    );
+    t.push(
+        "periods_integrated",
+        Values::I64(cells.iter().map(|c| c.periods_integrated as i64).collect()),
+    );
     t
 }
 

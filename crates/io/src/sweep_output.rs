@@ -246,6 +246,9 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
         "p2p_force",
         "max_force",
         "p_id",
+        "class",
+        "decided_by",
+        "periods_integrated",
     ];
     let rows = results.iter().filter_map(|r| {
         let run = &r.runs[0];
@@ -262,6 +265,9 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
                 num(a.p2p_force),
                 num(run.max_force),
                 num(run.p_id),
+                run.motion.word().to_string(),
+                run.decided_by.name().to_string(),
+                run.periods_integrated.to_string(),
             ]
         })
     });

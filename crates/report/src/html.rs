@@ -174,14 +174,24 @@ pub fn page(info: &PageInfo) -> String {
         if info.cfg.pair.is_some() { "stiffness, zones, backlash and friction from the physical [pair]" } else { "dimensionless stiffness form" },
         env!("CARGO_PKG_VERSION"),
         info.seconds,
-        if info.quick {
-            format!(
-                " with coarse grids (--quick: chaos is decided at a horizon of {} excitation periods instead of {}, so the verdicts are indicative only)",
-                crate::runner::QUICK_DECISION_PERIODS,
-                geardyn_analysis::classify::DECISION_PERIODS
-            )
-        } else {
-            String::new()
+        {
+            let horizon = info
+                .cfg
+                .sim_options()
+                .map(|o| crate::runner::decision_of(&o, info.quick).0)
+                .unwrap_or(geardyn_analysis::classify::DECISION_PERIODS);
+            let default = geardyn_analysis::classify::DECISION_PERIODS;
+            if info.quick {
+                format!(
+                    " with coarse grids (--quick: chaos is decided at a horizon of {horizon} excitation periods instead of {default}, so the verdicts are indicative only)"
+                )
+            } else if horizon != default {
+                format!(
+                    " (chaos decided at a horizon of {horizon} excitation periods instead of the default {default})"
+                )
+            } else {
+                String::new()
+            }
         },
         info.size as f64 / 1e6,
         info.budget as f64 / 1e6,

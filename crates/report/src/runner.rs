@@ -35,7 +35,8 @@ pub struct Ctx {
     pub dir: PathBuf,
     /// The configuration's integrator and follow (`[simulation]` `method`, `rtol`, `atol`,
     /// `steps_per_cycle`, `follow_steps`; `--set` sets them): every decided run of the plan uses
-    /// them. Transients, records and the decision horizon are the plan's own.
+    /// them, and its decision horizon and budget ([`Ctx::decision`]). Transients and records are
+    /// the plan's own.
     pub integration: SimOptions,
 }
 
@@ -50,7 +51,35 @@ pub const QUICK_DECISION_PERIODS: u64 = 1_000;
 /// `unsettled` (decided by `budget`) in the quick report instead of costing a minute each.
 pub const QUICK_DECISION_BUDGET: u64 = DECISION_BUDGET / 10;
 
+/// The decision horizon and work budget of a report's runs: the configuration's (`--decision-periods`,
+/// `--decision-budget`, `--set`); a `--quick` report takes [`QUICK_DECISION_PERIODS`] and
+/// [`QUICK_DECISION_BUDGET`] where the configuration keeps the defaults.
+pub fn decision_of(integration: &SimOptions, quick: bool) -> (u64, u64) {
+    let (p, b) = (integration.decision_periods, integration.decision_budget);
+    if quick {
+        (
+            if p == DECISION_PERIODS {
+                QUICK_DECISION_PERIODS
+            } else {
+                p
+            },
+            if b == DECISION_BUDGET {
+                QUICK_DECISION_BUDGET
+            } else {
+                b
+            },
+        )
+    } else {
+        (p, b)
+    }
+}
+
 impl Ctx {
+    /// The decision horizon and budget of every decided run of the plan ([`decision_of`]).
+    pub fn decision(&self) -> (u64, u64) {
+        decision_of(&self.integration, self.quick)
+    }
+
     /// `quick` or `full`, by mode.
     pub fn n<T>(&self, quick: T, full: T) -> T {
         if self.quick {
@@ -60,16 +89,17 @@ impl Ctx {
         }
     }
 
-    /// Dormand–Prince settings with `(quick, full)` transient and recorded periods; the full
-    /// report decides chaos at the default horizon, the quick one at [`QUICK_DECISION_PERIODS`].
+    /// Dormand–Prince settings with `(quick, full)` transient and recorded periods, decided at
+    /// [`Ctx::decision`] (the full report at the default horizon unless the configuration sets
+    /// another, the quick one at [`QUICK_DECISION_PERIODS`]).
     pub fn sim(&self, transient: (u64, u64), record: (u64, u64)) -> SimOptions {
         SimOptions {
             method: self.integration.method,
             follow_steps: self.integration.follow_steps,
             transient_periods: self.n(transient.0, transient.1),
             record_periods: self.n(record.0, record.1),
-            decision_periods: self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS),
-            decision_budget: self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET),
+            decision_periods: self.decision().0,
+            decision_budget: self.decision().1,
             ..Default::default()
         }
     }
@@ -91,7 +121,7 @@ impl Ctx {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
         let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 11, "source": env!("GEARDYN_SOURCE_DIGEST"), "decision_periods": self.n(QUICK_DECISION_PERIODS, DECISION_PERIODS), "decision_budget": self.n(QUICK_DECISION_BUDGET, DECISION_BUDGET), "geardyn": env!("CARGO_PKG_VERSION") }),
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 11, "source": env!("GEARDYN_SOURCE_DIGEST"), "decision_periods": self.decision().0, "decision_budget": self.decision().1, "geardyn": env!("CARGO_PKG_VERSION") }),
         )?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {
