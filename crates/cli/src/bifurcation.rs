@@ -99,12 +99,28 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     let elapsed = t.elapsed().as_secs_f64();
     req.write_folder(&a.out, &scenario, &results, started)?;
     let runs: usize = results.iter().map(|r| r.runs.len()).sum();
+    // the runs whose decision went on past the requested record (runs.csv: periods_integrated)
+    let base = opts.sim.transient_periods + opts.sim.record_periods;
+    let longer = results
+        .iter()
+        .flat_map(|r| &r.runs)
+        .filter(|u| u.periods_integrated > base)
+        .count();
+    let longer = if longer > 0 {
+        format!(
+            " ({longer} followed further to decide them, up to {} periods)",
+            opts.sim.decision_periods
+        )
+    } else {
+        String::new()
+    };
     println!(
-        "{} values, {} runs in all, of {}+{} periods in {:.2} s -> {}",
+        "{} values, {} runs in all, of {}+{} periods{} in {:.2} s -> {}",
         n,
         runs,
         opts.sim.transient_periods,
         opts.sim.record_periods,
+        longer,
         elapsed,
         a.out.display()
     );
