@@ -1345,9 +1345,10 @@ def map2d(
     steps_per_cycle=None,
     set=None,
     progress=False,
+    out=None,
     **params,
 ):
-    """Two-parameter map of a response (``geardyn map2d``, without the files).
+    """Two-parameter map of a response (``geardyn map2d``).
 
     Parameters
     ----------
@@ -1357,6 +1358,11 @@ def map2d(
         ``max_force``, ``min_force``, ``p_id``, ``period``, ``tle``, ``healthy`` or ``class``
         (0 healthy periodic, 1 non-healthy periodic, 2 chaotic, 3 failed, 4 quasi-periodic,
         5 unsettled).
+    out : str or os.PathLike, optional
+        Also write the folder ``geardyn map2d --out`` writes there (config.toml, run.json,
+        checkpoint.jsonl, map.csv, map.npy, the heatmap), with its rules; every finished cell is
+        kept in the checkpoint, so an interrupted map resumes there (the same call, or the same
+        CLI command, with the same ``out`` computes only the missing cells).
 
     Returns
     -------
@@ -1376,6 +1382,7 @@ def map2d(
         yr,
         str(metric),
         bool(progress),
+        None if out is None else os.fspath(out),
     )
     d["cells"] = _table(d["cells"])
     return MapResult(**d)

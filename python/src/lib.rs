@@ -727,9 +727,10 @@ fn continuation<'py>(
     Ok(d.into_any())
 }
 
-/// `geardyn map2d` without the files.
+/// `geardyn map2d`: with `out`, also its folder there, resumed from that folder's checkpoint as
+/// the CLI resumes it.
 #[pyfunction]
-#[pyo3(signature = (src, sim, x_param, x_values, x_range, y_param, y_values, y_range, metric, progress))]
+#[pyo3(signature = (src, sim, x_param, x_values, x_range, y_param, y_values, y_range, metric, progress, out))]
 #[allow(clippy::too_many_arguments)]
 fn map2d<'py>(
     py: Python<'py>,
@@ -743,6 +744,7 @@ fn map2d<'py>(
     y_range: Option<(f64, f64, usize)>,
     metric: String,
     progress: bool,
+    out: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (cells, cfg, opts, metric) = util::run(
         py,
@@ -750,6 +752,7 @@ fn map2d<'py>(
         progress,
         Some(Box::new(util::kept_list::<MapCell>)),
         move |ctl| {
+            let started = geardyn_io::run_record::now_unix_s();
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
@@ -761,13 +764,21 @@ fn map2d<'py>(
                 (x_param, values_named("x", x_values, x_range)?),
                 (y_param, values_named("y", y_values, y_range)?),
             )?;
-            let (cfg, opts, metric) = (req.config, req.options, req.metric);
             let job = MapJob {
                 scenario: &scenario,
-                opts: &opts,
+                opts: &req.options,
             };
-            let cells = execute(&job, None, ctl)?;
-            Ok((cells, cfg, opts, metric))
+            // with `out`: the store and writer of `geardyn map2d --out` (either face resumes the
+            // other's folder)
+            let store = out
+                .as_deref()
+                .map(|o| Store::folder(o, &req.config, false))
+                .transpose()?;
+            let cells = execute(&job, store, ctl)?;
+            if let Some(o) = &out {
+                req.write_folder(o, &scenario, &cells, started)?;
+            }
+            Ok((cells, req.config, req.options, req.metric))
         },
     )?;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());

@@ -388,3 +388,27 @@ def test_bifurcation_out_writes_the_cli_folder_and_resumes(cli, tmp_path):
     cli("bifurcation", *args, "--out", py)
     with pytest.raises(Exception, match="checkpoint|settings|folder"):
         geardyn.bifurcation(range=(0.6, 1.8, 8), periods=16, transient=60, out=py)
+
+
+def test_map2d_out_writes_the_cli_folder_and_resumes(cli, tmp_path):
+    """`map2d(out=)` writes the folder `geardyn map2d --out` writes; a checkpoint that lost some
+    cells (an interrupted map) is resumed: only those are computed again."""
+    args = ["--x", "omega:0.7:1.5:3", "--y", "F:0.05:0.15:2", "--metric", "class",
+            "--periods", "16", "--transient", "60"]
+    cli("map2d", *args, "--out", tmp_path / "cli")
+    py = tmp_path / "py"
+    kw = dict(x=("omega", 0.7, 1.5, 3), y=("F", 0.05, 0.15, 2), metric="class", periods=16,
+              transient=60)
+    r = geardyn.map2d(**kw, out=py)
+    assert (py / "map.csv").read_text() == (tmp_path / "cli" / "map.csv").read_text()
+    np.testing.assert_array_equal(np.load(py / "map.npy"), r.values)
+    assert json.loads((py / "run.json").read_text())["kind"] == "map2d"
+    cp = py / "checkpoint.jsonl"
+    lines = cp.read_text().splitlines(keepends=True)
+    assert len(lines) == 1 + 6
+    cp.write_text("".join(lines[:3]))
+    again = geardyn.map2d(**kw, out=py)
+    np.testing.assert_array_equal(again.values, r.values)
+    assert cp.read_text().splitlines(keepends=True)[:3] == lines[:3]
+    assert len(cp.read_text().splitlines()) == len(lines)
+    assert (py / "map.csv").read_text() == (tmp_path / "cli" / "map.csv").read_text()
