@@ -14,7 +14,7 @@ use geardyn_analysis::bifurcation::{
 use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::MapCell;
-use geardyn_io::config::{Face, SimOverrides};
+use geardyn_io::config::{assigns, Face, SimOverrides};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store, SweepJob};
 use geardyn_io::request::{BifurcationRequest, ContinuationRequest, SweepSpec};
 use geardyn_io::{shard, Config};
@@ -1098,6 +1098,10 @@ fn report(
                 preset,
                 quick,
                 out: out.into(),
+                decision_given: (
+                    sets.iter().any(|s| assigns(s, "decision_periods")),
+                    sets.iter().any(|s| assigns(s, "decision_budget")),
+                ),
             },
         )?;
         Ok(index.display().to_string())

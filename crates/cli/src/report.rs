@@ -2,6 +2,7 @@
 
 use anyhow::Result;
 use clap::Args;
+use geardyn_io::config::assigns;
 use geardyn_io::Config;
 use std::path::PathBuf;
 
@@ -42,6 +43,12 @@ pub fn run(a: ReportArgs) -> Result<()> {
             preset: a.preset.clone(),
             quick: a.quick,
             out: a.out.clone(),
+            decision_given: (
+                a.decision.decision_periods.is_some()
+                    || a.sets.iter().any(|s| assigns(s, "decision_periods")),
+                a.decision.decision_budget.is_some()
+                    || a.sets.iter().any(|s| assigns(s, "decision_budget")),
+            ),
         },
     )?;
     println!(

@@ -527,6 +527,9 @@ fn report_takes_the_decision_flags() {
     assert!(chaotic.iter().all(|&p| p < 1000), "{chaotic:?}");
     let page = std::fs::read_to_string(d.join("classic/index.html")).unwrap();
     assert!(page.contains("a horizon of 200 excitation periods"));
+    // the page's configuration states the horizon its runs were decided at
+    let cfg = std::fs::read_to_string(d.join("classic/config.toml")).unwrap();
+    assert!(cfg.contains("decision_periods = 200"), "{cfg}");
     // given twice: refused, naming both
     let (code, _, err) = geardyn(&[
         "report",

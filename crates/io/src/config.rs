@@ -216,6 +216,11 @@ const PAIR_MODEL_KEYS: &[&str] = &["eps", "stiffness", "breakage", "friction"];
 /// `[model]` keys a pair's physical operating point states.
 const OPERATING_MODEL_KEYS: &[&str] = &["omega", "F", "xi", "D_d", "D_s"];
 
+/// Whether the `NAME=VALUE` assignment `set` (a `--set`) assigns the field `name`.
+pub fn assigns(set: &str, name: &str) -> bool {
+    set.split_once('=').is_some_and(|(n, _)| n.trim() == name)
+}
+
 fn parse_err(msg: impl Into<String>) -> ConfigError {
     ConfigError::Parse {
         path: "<text>".into(),
@@ -490,10 +495,7 @@ impl Config {
         by: &str,
         value: f64,
     ) -> Result<(), ConfigError> {
-        if let Some(s) = sets
-            .iter()
-            .find(|s| s.split_once('=').is_some_and(|(n, _)| n.trim() == name))
-        {
+        if let Some(s) = sets.iter().find(|s| assigns(s, name)) {
             return Err(ConfigError::Twice {
                 name: name.into(),
                 by: by.into(),

@@ -129,6 +129,8 @@ pub struct PageInfo<'a> {
     pub sections: &'a [Section],
     /// Quick mode.
     pub quick: bool,
+    /// The decision horizon the runs were decided at (excitation periods).
+    pub horizon: u64,
     /// Wall time (s).
     pub seconds: f64,
     /// Size of the folder (bytes).
@@ -175,11 +177,7 @@ pub fn page(info: &PageInfo) -> String {
         env!("CARGO_PKG_VERSION"),
         info.seconds,
         {
-            let horizon = info
-                .cfg
-                .sim_options()
-                .map(|o| crate::runner::decision_of(&o, info.quick).0)
-                .unwrap_or(geardyn_analysis::classify::DECISION_PERIODS);
+            let horizon = info.horizon;
             let default = geardyn_analysis::classify::DECISION_PERIODS;
             if info.quick {
                 format!(

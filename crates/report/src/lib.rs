@@ -108,6 +108,10 @@ pub struct ReportOptions {
     pub quick: bool,
     /// Output directory.
     pub out: PathBuf,
+    /// Whether the caller gave the decision horizon and the work budget (`--decision-periods`,
+    /// `--decision-budget` or their `--set`): a quick report keeps them instead of its own
+    /// ([`runner::decision_of`]).
+    pub decision_given: (bool, bool),
 }
 
 /// The size budget of a report folder.
@@ -192,7 +196,16 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
         quick: opts.quick,
         dir: dir.clone(),
         integration: cfg.sim_options()?,
+        decision_given: opts.decision_given,
     };
+    // the configuration the runs used: with the horizon and budget the plan decided at (a quick
+    // report's own where none was given), so config.toml and run.json state what ran
+    let mut ran = cfg.clone();
+    (
+        ran.simulation.decision_periods,
+        ran.simulation.decision_budget,
+    ) = ctx.decision();
+    let cfg = &ran;
     let sections = match opts.preset.as_str() {
         "breakage" => breakage::plan(&ctx)?,
         "internal" => internal::plan(&ctx)?,
@@ -224,6 +237,7 @@ pub fn run(cfg: &Config, opts: &ReportOptions) -> Result<PathBuf> {
             scenario: &scenario,
             sections: &sections,
             quick: opts.quick,
+            horizon: ctx.decision().0,
             seconds: t.elapsed().as_secs_f64(),
             size,
             budget: size_budget(opts.quick),

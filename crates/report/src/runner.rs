@@ -5,7 +5,7 @@ use crate::{rel, Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::basins::{BasinOptions, BasinResult};
 use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
-use geardyn_analysis::classify::{DECISION_BUDGET, DECISION_PERIODS};
+use geardyn_analysis::classify::DECISION_BUDGET;
 use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_analysis::simulate::SimOptions;
@@ -38,6 +38,9 @@ pub struct Ctx {
     /// them, and its decision horizon and budget ([`Ctx::decision`]). Transients and records are
     /// the plan's own.
     pub integration: SimOptions,
+    /// Whether the horizon and the budget of `integration` were given by the caller
+    /// ([`crate::ReportOptions::decision_given`]).
+    pub decision_given: (bool, bool),
 }
 
 /// Decision horizon of a `--quick` report (excitation periods): a coarse look, an order of
@@ -51,33 +54,29 @@ pub const QUICK_DECISION_PERIODS: u64 = 1_000;
 /// `unsettled` (decided by `budget`) in the quick report instead of costing a minute each.
 pub const QUICK_DECISION_BUDGET: u64 = DECISION_BUDGET / 10;
 
-/// The decision horizon and work budget of a report's runs: the configuration's (`--decision-periods`,
-/// `--decision-budget`, `--set`); a `--quick` report takes [`QUICK_DECISION_PERIODS`] and
-/// [`QUICK_DECISION_BUDGET`] where the configuration keeps the defaults.
-pub fn decision_of(integration: &SimOptions, quick: bool) -> (u64, u64) {
+/// The decision horizon and work budget of a report's runs: the configuration's (the defaults,
+/// or what `--decision-periods`, `--decision-budget` or `--set` gave: `given`); a `--quick`
+/// report takes [`QUICK_DECISION_PERIODS`] and [`QUICK_DECISION_BUDGET`] for those not given.
+pub fn decision_of(integration: &SimOptions, quick: bool, given: (bool, bool)) -> (u64, u64) {
     let (p, b) = (integration.decision_periods, integration.decision_budget);
-    if quick {
-        (
-            if p == DECISION_PERIODS {
-                QUICK_DECISION_PERIODS
-            } else {
-                p
-            },
-            if b == DECISION_BUDGET {
-                QUICK_DECISION_BUDGET
-            } else {
-                b
-            },
-        )
-    } else {
-        (p, b)
-    }
+    (
+        if quick && !given.0 {
+            QUICK_DECISION_PERIODS
+        } else {
+            p
+        },
+        if quick && !given.1 {
+            QUICK_DECISION_BUDGET
+        } else {
+            b
+        },
+    )
 }
 
 impl Ctx {
     /// The decision horizon and budget of every decided run of the plan ([`decision_of`]).
     pub fn decision(&self) -> (u64, u64) {
-        decision_of(&self.integration, self.quick)
+        decision_of(&self.integration, self.quick, self.decision_given)
     }
 
     /// `quick` or `full`, by mode.
@@ -91,7 +90,7 @@ impl Ctx {
 
     /// Dormand–Prince settings with `(quick, full)` transient and recorded periods, decided at
     /// [`Ctx::decision`] (the full report at the default horizon unless the configuration sets
-    /// another, the quick one at [`QUICK_DECISION_PERIODS`]).
+    /// another, the quick one at [`QUICK_DECISION_PERIODS`] unless one is given).
     pub fn sim(&self, transient: (u64, u64), record: (u64, u64)) -> SimOptions {
         SimOptions {
             method: self.integration.method,
@@ -336,4 +335,27 @@ pub fn with_linear_law(s: &Scenario) -> Result<Scenario> {
 /// Header strings.
 pub fn hdr(h: &[&str]) -> Vec<String> {
     h.iter().map(|s| s.to_string()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_quick_report_keeps_a_given_horizon_even_the_default_one() {
+        let o = SimOptions::default();
+        let d = (o.decision_periods, o.decision_budget);
+        assert_eq!(decision_of(&o, false, (false, false)), d);
+        assert_eq!(
+            decision_of(&o, true, (false, false)),
+            (QUICK_DECISION_PERIODS, QUICK_DECISION_BUDGET)
+        );
+        // given explicitly, the default horizon is kept by a quick report too (it was read as
+        // "not given" when the choice compared values)
+        assert_eq!(
+            decision_of(&o, true, (true, false)),
+            (d.0, QUICK_DECISION_BUDGET)
+        );
+        assert_eq!(decision_of(&o, true, (true, true)), d);
+    }
 }
