@@ -295,35 +295,48 @@ fn simulate<'py>(
     let n = res.strobe.len();
     d.set_item(
         "strobe",
-        arr2(py, res.strobe.iter().flatten().copied().collect(), n, 3)?,
+        arr2(
+            py,
+            res.strobe
+                .iter()
+                .flat_map(|p| [p.tau, p.y[0], p.y[1]])
+                .collect(),
+            n,
+            3,
+        )?,
     )?;
     let tr = Columns::new(py);
-    tr.f64("tau", res.trajectory.iter().map(|p| p.tau).collect())?;
-    tr.f64("x", res.trajectory.iter().map(|p| p.x).collect())?;
-    tr.f64("v", res.trajectory.iter().map(|p| p.v).collect())?;
+    tr.f64("tau", res.mesh().trajectory.iter().map(|p| p.tau).collect())?;
+    tr.f64("x", res.mesh().trajectory.iter().map(|p| p.x).collect())?;
+    tr.f64("v", res.mesh().trajectory.iter().map(|p| p.v).collect())?;
     tr.f64(
         "mesh_force",
-        res.trajectory.iter().map(|p| p.mesh_force).collect(),
+        res.mesh().trajectory.iter().map(|p| p.mesh_force).collect(),
     )?;
     d.set_item(
         "trajectory_state",
         arr1(
             py,
-            res.trajectory.iter().map(|p| p.state).collect::<Vec<i8>>(),
+            res.mesh()
+                .trajectory
+                .iter()
+                .map(|p| p.state)
+                .collect::<Vec<i8>>(),
         ),
     )?;
     tr.dict.set_item("state", d.get_item("trajectory_state")?)?;
     d.del_item("trajectory_state")?;
     d.set_item("trajectory", tr.dict)?;
     let ev = Columns::new(py);
-    ev.f64("tau", res.events.iter().map(|e| e.tau).collect())?;
+    ev.f64("tau", res.mesh().events.iter().map(|e| e.tau).collect())?;
     ev.f64(
         "cycle_position",
-        res.events.iter().map(|e| e.cycle_position).collect(),
+        res.mesh().events.iter().map(|e| e.cycle_position).collect(),
     )?;
     ev.str(
         "kind",
-        res.events
+        res.mesh()
+            .events
             .iter()
             .map(|e| {
                 serde_json::to_value(e.kind)
@@ -333,25 +346,32 @@ fn simulate<'py>(
             })
             .collect(),
     )?;
-    ev.f64("x", res.events.iter().map(|e| e.x).collect())?;
-    ev.f64("v_before", res.events.iter().map(|e| e.v_before).collect())?;
-    ev.f64("v_after", res.events.iter().map(|e| e.v_after).collect())?;
+    ev.f64("x", res.mesh().events.iter().map(|e| e.x).collect())?;
+    ev.f64(
+        "v_before",
+        res.mesh().events.iter().map(|e| e.v_before).collect(),
+    )?;
+    ev.f64(
+        "v_after",
+        res.mesh().events.iter().map(|e| e.v_after).collect(),
+    )?;
     ev.f64(
         "peak_force",
-        res.events.iter().map(|e| e.peak_force).collect(),
+        res.mesh().events.iter().map(|e| e.peak_force).collect(),
     )?;
     d.set_item("events", ev.dict)?;
     let se = Columns::new(py);
     se.str(
         "section",
-        res.crossings
+        res.mesh()
+            .crossings
             .iter()
             .map(|c| c.level.name().to_string())
             .collect(),
     )?;
-    se.f64("tau", res.crossings.iter().map(|c| c.tau).collect())?;
-    se.f64("x", res.crossings.iter().map(|c| c.x).collect())?;
-    se.f64("v", res.crossings.iter().map(|c| c.v).collect())?;
+    se.f64("tau", res.mesh().crossings.iter().map(|c| c.tau).collect())?;
+    se.f64("x", res.mesh().crossings.iter().map(|c| c.x).collect())?;
+    se.f64("v", res.mesh().crossings.iter().map(|c| c.v).collect())?;
     d.set_item("sections", se.dict)?;
     d.set_item("summary", json_to_py(py, &summary)?)?;
     d.set_item("description", description)?;
@@ -371,7 +391,7 @@ fn simulate<'py>(
     }
     d.set_item(
         "impact_force_per_period",
-        arr1(py, res.impact_force_per_period.clone()),
+        arr1(py, res.mesh().impact_force_per_period.clone()),
     )?;
     d.set_item("amplitudes", ser_to_py(py, &res.amplitudes())?)?;
     d.set_item(

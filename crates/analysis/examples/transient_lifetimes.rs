@@ -25,7 +25,7 @@ const TOL: f64 = 1e-5;
 
 /// First index from which the points repeat with some period `n <= 32` to the end, and `n`;
 /// `None` when the last 3 x 32 points are not periodic.
-fn settle(pts: &[[f64; 3]]) -> Option<(usize, usize)> {
+fn settle(pts: &[geardyn_analysis::simulate::Strobe<2>]) -> Option<(usize, usize)> {
     let scale = 1.0
         + pts
             .iter()

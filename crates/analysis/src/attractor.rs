@@ -87,7 +87,7 @@ impl Recordable for MeshModel {
         };
         match simulate_decided(self, y0, &opts, Decide::default()) {
             Ok((res, s, _)) => {
-                let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+                let pts: Vec<[f64; 2]> = res.strobe_states();
                 let mut out =
                     Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
                 out.motion = s.motion;
@@ -107,7 +107,7 @@ impl Recordable for MeshModel {
             crate::simulate::SimError::Solver(s) => s,
         })?;
         let s = summarize(self, &res, &rec_opts);
-        let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        let pts: Vec<[f64; 2]> = res.strobe_states();
         let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
         d.motion = s.motion;
         d.mesh_period = s.mesh_period;

@@ -530,16 +530,18 @@ fn run_of(
             for sec in &opts.sections {
                 match sec {
                     Section::Strobe => {
-                        points.extend(res.strobe.iter().map(|p| (Section::Strobe, p[1], p[2])))
+                        points.extend(res.strobe.iter().map(|p| (Section::Strobe, p.y[0], p.y[1])))
                     }
                     Section::Impact => points.extend(
-                        res.events
+                        res.mesh()
+                            .events
                             .iter()
                             .filter(|e| e.kind == geardyn_model::EventKind::Impact)
                             .map(|e| (Section::Impact, e.x, e.v_before)),
                     ),
                     _ => points.extend(
-                        res.crossings
+                        res.mesh()
+                            .crossings
                             .iter()
                             .filter(|c| Section::of_level(c.level) == *sec)
                             .map(|c| (*sec, c.x, c.v)),
@@ -558,7 +560,7 @@ fn run_of(
                 max_force: s.max_force,
                 min_force: s.min_force,
                 impacts: s.impacts,
-                impact_force_per_period: res.impact_force_per_period.clone(),
+                impact_force_per_period: res.mesh().impact_force_per_period.clone(),
                 amplitudes: Some(res.amplitudes()),
                 points,
                 tle,

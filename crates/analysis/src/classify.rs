@@ -1013,7 +1013,8 @@ impl<'m> Decision<'m> {
     /// Decided diverged if the current run ran away.
     fn runaway(&mut self) -> bool {
         let scale = self.model.backlash_levels().1.max(1.0);
-        let x_max = self.res.x_range.0.abs().max(self.res.x_range.1.abs());
+        let x = self.res.mesh().x_range;
+        let x_max = x.0.abs().max(x.1.abs());
         // NaN counts as runaway too
         if x_max.is_nan() || x_max > DIVERGED_SCALES * scale {
             self.s.set_motion(Motion::Diverged { x_max });
@@ -1039,7 +1040,7 @@ impl<'m> Decision<'m> {
         if self.settles >= MAX_EXTENSIONS && !self.strobe_record {
             return;
         }
-        let pts: Vec<[f64; 2]> = self.res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+        let pts: Vec<[f64; 2]> = self.res.strobe_states();
         if self.how.extend && approaches_lower_period(&pts, self.s.period, tol) {
             let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << self.settles;
             self.settles += 1;

@@ -26,10 +26,8 @@
 use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
 use crate::classify::{tles_of, Decide, Decision, Need};
 use crate::driver::Observer;
-use crate::simulate::{
-    crosses_level, extreme_middle, parabola_peak, summarize, Method, Recorder, SimError,
-    SimOptions, SimResult, Summary,
-};
+use crate::record::{crosses_level, extreme_middle, parabola_peak, Recorder};
+use crate::simulate::{summarize, Method, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::dense::{hermite, nested_at};
 use geardyn_solvers::ensemble::{
@@ -42,6 +40,9 @@ use rayon::prelude::*;
 /// hide the latency of the RK4 stage chain; on the C1 workload W1 (one thread) 16 lanes ran
 /// about 20% faster than 8 and 10% faster than 32.
 pub const LANES: usize = 16;
+
+/// The recorder of a pair's run (the lanes step the single pair only).
+pub(crate) type PairRecorder<'s> = Recorder<&'s MeshModel, 2>;
 
 /// Running totals of the recorder of every lane, in lanes.
 pub(crate) struct Acc<const L: usize> {
@@ -73,15 +74,15 @@ impl<const L: usize> Acc<L> {
     }
 
     /// Takes lane `l`'s totals and settings from its recorder.
-    pub(crate) fn load(&mut self, l: usize, rec: &Recorder<'_>) {
-        let r = &rec.res;
+    pub(crate) fn load(&mut self, l: usize, rec: &PairRecorder<'_>) {
+        let r = &rec.res.meshes[0];
         for s in 0..3 {
             self.dur[s][l] = r.durations[s];
         }
         for s in 0..4 {
             self.int[s][l] = r.integrals[s];
-            self.lv[s][l] = rec.levels[s];
-            self.cnt[s][l] = rec.count_levels[s];
+            self.lv[s][l] = rec.levels[0].levels[s];
+            self.cnt[s][l] = rec.levels[0].count[s];
         }
         self.xmin[l] = r.x_range.0;
         self.xmax[l] = r.x_range.1;
@@ -91,8 +92,8 @@ impl<const L: usize> Acc<L> {
     }
 
     /// Writes lane `l`'s totals back into its recorder.
-    pub(crate) fn store(&self, l: usize, rec: &mut Recorder<'_>) {
-        let r = &mut rec.res;
+    pub(crate) fn store(&self, l: usize, rec: &mut PairRecorder<'_>) {
+        let r = &mut rec.res.meshes[0];
         for s in 0..3 {
             r.durations[s] = self.dur[s][l];
         }
@@ -284,7 +285,7 @@ struct Job<'s> {
     out: usize,
     model: &'s MeshModel,
     phase: Phase,
-    rec: Option<Recorder<'s>>,
+    rec: Option<PairRecorder<'s>>,
     /// Periods to record.
     record: u64,
     /// The stroboscopic points only ([`SimOptions::strobe_only`]).
@@ -364,7 +365,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
     fn on_step(
         &mut self,
         l: usize,
-        sys: &MeshModel,
+        _sys: &MeshModel,
         step: &Step<2>,
         before: &MeshMode,
         stop: Stop,
@@ -378,7 +379,8 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
             return;
         };
         self.acc.store(l, rec);
-        rec.on_step(&sys, step, before, stop, after, y_after);
+        let own = rec.sys;
+        rec.on_step(&own, step, before, stop, after, y_after);
         self.acc.load(l, rec);
     }
 
@@ -751,7 +753,7 @@ enum IdPhase<'s, 'q> {
     Record {
         left: u64,
         t0: f64,
-        rec: Box<Recorder<'s>>,
+        rec: Box<PairRecorder<'s>>,
     },
     /// Decided (captured, diverged) at a strobe instant.
     Decided(Outcome),
@@ -804,7 +806,7 @@ where
     fn on_step(
         &mut self,
         l: usize,
-        sys: &MeshModel,
+        _sys: &MeshModel,
         step: &Step<2>,
         before: &MeshMode,
         stop: Stop,
@@ -816,7 +818,8 @@ where
         }
         if let Some((_, IdPhase::Record { rec, .. })) = self.jobs[l].as_mut() {
             self.acc.store(l, rec);
-            rec.on_step(&sys, step, before, stop, after, y_after);
+            let own = rec.sys;
+            rec.on_step(&own, step, before, stop, after, y_after);
             self.acc.load(l, rec);
         }
     }
@@ -910,7 +913,7 @@ where
                     ..self.opts.sim
                 };
                 let s = summarize(self.model, &res, &rec_opts);
-                let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
+                let pts: Vec<[f64; 2]> = res.strobe_states();
                 let mut d =
                     Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
                 d.motion = s.motion;

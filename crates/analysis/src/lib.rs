@@ -18,9 +18,11 @@ pub mod lyapunov;
 pub mod map2d;
 pub mod orbits;
 pub mod period;
+pub mod record;
 pub mod signals;
 pub mod simulate;
 pub mod spectrum;
+pub mod summary;
 pub mod tle_convergence;
 pub mod work;
 

@@ -1665,7 +1665,7 @@ pub fn strobe_diagram(
                 .with(param, v)
                 .ok()
                 .and_then(|m| simulate(m.model(), y0, &opts).ok())
-                .map(|r| r.strobe.iter().map(|p| (v, p[1])).collect())
+                .map(|r| r.strobe.iter().map(|p| (v, p.y[0])).collect())
                 .unwrap_or_default();
             pts
         })

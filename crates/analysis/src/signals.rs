@@ -14,7 +14,8 @@ use crate::driver::{run_periods, Discard, Observer};
 use crate::indicators::{
     decompose, indicators, Decomposition, IndicatorOptions, Indicators, RemovedOrders, ResidualKind,
 };
-use crate::simulate::{summarize, Method, Recorder, SimError, SimOptions, Summary};
+use crate::record::Recorder;
+use crate::simulate::{summarize, Method, SimError, SimOptions, Summary};
 use crate::spectrum::{setting, welch_orders, SettingError, Spectrum};
 use geardyn_model::{MeshMode, MeshModel};
 use geardyn_scenario::{Scenario, ScenarioError};
@@ -422,33 +423,26 @@ impl Sampler<'_> {
 }
 
 struct Both<'a> {
-    rec: Recorder<'a>,
+    rec: Recorder<&'a MeshModel, 2>,
     sampler: Sampler<'a>,
 }
 
 impl<'m> Observer<&'m MeshModel, 2> for Both<'_> {
     fn on_step(
         &mut self,
-        sys: &&'m MeshModel,
+        _sys: &&'m MeshModel,
         step: &Step<2>,
         before: &MeshMode,
         stop: Stop,
         after: &MeshMode,
         y_after: &[f64; 2],
     ) {
-        Observer::<&'m MeshModel, 2>::on_step(
-            &mut self.rec,
-            sys,
-            step,
-            before,
-            stop,
-            after,
-            y_after,
-        );
+        let own = self.rec.sys;
+        self.rec.on_step(&own, step, before, stop, after, y_after);
         self.sampler.on_step(step, before);
     }
     fn on_strobe(&mut self, t: f64, y: &[f64; 2]) {
-        Observer::<&'m MeshModel, 2>::on_strobe(&mut self.rec, t, y);
+        Observer::<&MeshModel, 2>::on_strobe(&mut self.rec, t, y);
     }
 }
 

@@ -78,7 +78,7 @@ pub fn write_trajectory(path: &Path, res: &SimResult) -> Result<(), OutputError>
     write_csv(
         path,
         &["tau", "x", "v", "mesh_force", "state"],
-        res.trajectory.iter().map(|p| {
+        res.mesh().trajectory.iter().map(|p| {
             [
                 num(p.tau),
                 num(p.x),
@@ -95,7 +95,9 @@ pub fn write_strobe(path: &Path, res: &SimResult) -> Result<(), OutputError> {
     write_csv(
         path,
         &["tau", "x", "v"],
-        res.strobe.iter().map(|p| [num(p[0]), num(p[1]), num(p[2])]),
+        res.strobe
+            .iter()
+            .map(|p| [num(p.tau), num(p.y[0]), num(p.y[1])]),
     )
 }
 
@@ -112,7 +114,7 @@ pub fn write_events(path: &Path, res: &SimResult) -> Result<(), OutputError> {
             "v_after",
             "peak_force",
         ],
-        res.events.iter().map(|e| {
+        res.mesh().events.iter().map(|e| {
             let kind = serde_json::to_value(e.kind)
                 .ok()
                 .and_then(|v| v.as_str().map(str::to_string))
@@ -135,7 +137,8 @@ pub fn write_sections(path: &Path, res: &SimResult) -> Result<(), OutputError> {
     write_csv(
         path,
         &["section", "tau", "x", "v"],
-        res.crossings
+        res.mesh()
+            .crossings
             .iter()
             .map(|c| [c.level.name().to_string(), num(c.tau), num(c.x), num(c.v)]),
     )

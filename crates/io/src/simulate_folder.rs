@@ -52,7 +52,7 @@ pub fn summary_extra(f: &Finished<'_>) -> serde_json::Value {
     let (res, used, opts) = (f.res, f.used, f.requested);
     serde_json::json!({
         "parameters": f.scenario.record(),
-        "contact_durations": { "drive": res.durations[0], "separated": res.durations[1], "back": res.durations[2] },
+        "contact_durations": { "drive": res.mesh().durations[0], "separated": res.mesh().durations[1], "back": res.mesh().durations[2] },
         "excitation_period": f.scenario.model().excitation_period(),
         "transient_periods": used.transient_periods,
         "transient_requested": opts.transient_periods,
@@ -105,6 +105,7 @@ fn plots(
     };
     let t_end = res.final_state.0;
     let window: Vec<_> = res
+        .mesh()
         .trajectory
         .iter()
         .filter(|p| p.tau >= t_end - shown * ts)
@@ -176,14 +177,15 @@ fn plots(
             ..Default::default()
         },
     )?;
-    let stride = (res.trajectory.len() / 40_000).max(1);
+    let stride = (res.mesh().trajectory.len() / 40_000).max(1);
     let phase: Vec<(f64, f64)> = res
+        .mesh()
         .trajectory
         .iter()
         .step_by(stride)
         .map(|p| (p.x, p.v))
         .collect();
-    let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p[1], p[2])).collect();
+    let strobe: Vec<(f64, f64)> = res.strobe.iter().map(|p| (p.y[0], p.y[1])).collect();
     write_figure(
         &out.join("phase_portrait"),
         &Figure {

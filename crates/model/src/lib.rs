@@ -24,6 +24,7 @@ pub mod params;
 pub mod phase;
 pub mod presets;
 pub mod reference;
+pub mod system;
 
 pub use contact_law::{johnson_exponent, ContactLaw};
 pub use error::ModelError;
@@ -33,3 +34,4 @@ pub use mesh_model::{ContactState, EventKind, MeshMode, MeshModel, Segment, Zone
 pub use params::{
     BackSide, Breakage, Friction, ModelParams, StiffnessForm, ZonePiece, PARAMETER_NAMES,
 };
+pub use system::GearSystem;

@@ -1270,3 +1270,46 @@ impl Variational<2> for MeshModel {
         }
     }
 }
+
+/// The single spur pair as a gear system: one mesh whose relative displacement is the state's
+/// `x` itself.
+impl crate::system::GearSystem<2> for MeshModel {
+    fn excitation_period(&self) -> f64 {
+        MeshModel::excitation_period(self)
+    }
+    fn cycles_per_period(&self) -> u32 {
+        MeshModel::cycles_per_period(self)
+    }
+    fn mesh_cycle_time(&self) -> f64 {
+        MeshModel::mesh_cycle_time(self)
+    }
+    fn cycle_position(&self, t: f64) -> f64 {
+        MeshModel::cycle_position(self, t)
+    }
+    /// `2 pi / sqrt(k_peak)` of the stiffest mesh state ([`MeshModel::peak_stiffness`], at
+    /// least 1).
+    fn natural_period(&self) -> f64 {
+        2.0 * PI / self.peak_stiffness().max(1.0).sqrt()
+    }
+    #[inline(always)]
+    fn mesh_state(&self, y: &[f64; 2], _k: usize) -> [f64; 2] {
+        *y
+    }
+    #[inline(always)]
+    fn mesh_force(&self, t: f64, y: &[f64; 2], mode: &MeshMode, _k: usize) -> f64 {
+        MeshModel::mesh_force(self, t, y, mode)
+    }
+    #[inline(always)]
+    fn contact(&self, mode: &MeshMode, _k: usize) -> ContactState {
+        mode.contact
+    }
+    fn backlash_levels(&self, _k: usize) -> (f64, f64) {
+        MeshModel::backlash_levels(self)
+    }
+    fn event(&self, before: &MeshMode, after: &MeshMode, index: usize) -> (usize, EventKind) {
+        (0, self.event_kind(before, after, index))
+    }
+    fn impact_peak_force(&self, _k: usize, v: f64) -> f64 {
+        MeshModel::impact_peak_force(self, v)
+    }
+}

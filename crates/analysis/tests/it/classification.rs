@@ -205,7 +205,7 @@ fn a_contact_entered_by_a_backlash_jump_is_counted() {
         ..Default::default()
     };
     let (res, s, _) = simulate_decided(&m, [0.95, 0.0], &opts, Decide::default()).unwrap();
-    let (lo, hi) = res.x_range;
+    let (lo, hi) = res.mesh().x_range;
     assert!(lo > 0.9 && hi < 1.1, "x in [{lo}, {hi}]");
     assert_eq!(s.label, "1-0-0-1-0");
 }
@@ -306,8 +306,8 @@ fn a_periodic_record_describes_the_orbit_not_its_approach() {
     };
     let (res, s, used) = simulate_decided(&m, y0, &opts, Decide::default()).unwrap();
     assert_eq!(s.label, "1-1-0-1-0");
-    assert!(s.healthy, "{} min force {}", s.label, res.min_force);
-    assert!(res.min_force > -0.1, "{}", res.min_force);
+    assert!(s.healthy, "{} min force {}", s.label, res.mesh().min_force);
+    assert!(res.mesh().min_force > -0.1, "{}", res.mesh().min_force);
     assert_eq!(used.transient_periods, 500);
     // the same orbit recorded long after the transient has the same statistics
     let late = SimOptions {
@@ -317,7 +317,7 @@ fn a_periodic_record_describes_the_orbit_not_its_approach() {
     };
     let (res_late, s_late, _) = simulate_decided(&m, y0, &late, Decide::default()).unwrap();
     assert_eq!(s_late.label, s.label);
-    assert!((res_late.max_force - res.max_force).abs() < 1e-6);
+    assert!((res_late.mesh().max_force - res.mesh().max_force).abs() < 1e-6);
     assert!((s_late.p_id - s.p_id).abs() < 1e-6);
     // 380 + 60 periods: the transient passes a period-2 saddle at the end of the record, which
     // had been reported as the motion (2-2-0-2-0)

@@ -29,6 +29,7 @@ fn steady(m: &MeshModel, y0: [f64; 2]) -> (Vec<[f64; 2]>, String, usize, bool) {
         .map(|p| [p[1], p[2]])
         .collect();
     let impacts = res
+        .mesh()
         .events
         .iter()
         .any(|e| matches!(e.kind, EventKind::DriveEnter | EventKind::BackEnter));

@@ -30,8 +30,12 @@ fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
         ..opts
     };
     let (res, s, _) = simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default()).unwrap();
-    assert!(res.max_force > 0.0 && s.max_force > 0.0, "{}", s.label);
-    assert!(res.durations.iter().sum::<f64>() > 0.0);
+    assert!(
+        res.mesh().max_force > 0.0 && s.max_force > 0.0,
+        "{}",
+        s.label
+    );
+    assert!(res.mesh().durations.iter().sum::<f64>() > 0.0);
     assert!(s.p_id > 0.0 && s.p_id < 1.0, "{}", s.p_id);
     s
 }
@@ -207,14 +211,15 @@ fn the_attractor_region_holds_the_impacting_orbit_of_the_broken_pair() {
     };
     let res = simulate(m, [2.88, 0.14], &opts).unwrap();
     assert_eq!(
-        res.impacts, 200,
+        res.mesh().impacts,
+        200,
         "the impacting orbit: 40 impacts per revolution"
     );
-    for p in &res.trajectory {
+    for p in &res.mesh().trajectory {
         assert!(xr.0 <= p.x && p.x <= xr.1, "x {} outside {xr:?}", p.x);
         assert!(vr.0 <= p.v && p.v <= vr.1, "v {} outside {vr:?}", p.v);
     }
-    let x_max = res.trajectory.iter().fold(0.0f64, |a, p| a.max(p.x));
+    let x_max = res.mesh().trajectory.iter().fold(0.0f64, |a, p| a.max(p.x));
     assert!(x_max > 1.5, "beyond the former box: {x_max}");
     // a multi-initial sweep over the region finds both orbits; over the former box only one
     let labels = |x0_range, v0_range| {

@@ -34,10 +34,14 @@ fn impacts_stay_on_the_stop_and_outputs_stay_finite() {
     };
     let res = simulate(&m, [0.0, 0.0], &opts).unwrap();
     let d = 1.0;
-    assert!(res.x_range.0 >= -d - 1e-9, "{:?}", res.x_range);
-    assert!(res.max_force.is_finite() && res.min_force.is_finite());
+    assert!(
+        res.mesh().x_range.0 >= -d - 1e-9,
+        "{:?}",
+        res.mesh().x_range
+    );
+    assert!(res.mesh().max_force.is_finite() && res.mesh().min_force.is_finite());
     let mut impacts = 0;
-    for e in &res.events {
+    for e in &res.mesh().events {
         assert!(e.peak_force.is_finite());
         if e.kind == EventKind::Impact {
             impacts += 1;

@@ -55,39 +55,52 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
             check(p[i], q[i], "strobe");
         }
     }
-    assert_eq!(a.counts_per_period, b.counts_per_period, "{what}: counts");
-    assert_eq!(a.crossings.len(), b.crossings.len(), "{what}: crossings");
-    for (p, q) in a.crossings.iter().zip(&b.crossings) {
+    assert_eq!(
+        a.mesh().counts_per_period,
+        b.mesh().counts_per_period,
+        "{what}: counts"
+    );
+    assert_eq!(
+        a.mesh().crossings.len(),
+        b.mesh().crossings.len(),
+        "{what}: crossings"
+    );
+    for (p, q) in a.mesh().crossings.iter().zip(&b.mesh().crossings) {
         assert_eq!(p.level, q.level);
         check(p.tau, q.tau, "crossing tau");
         check(p.v, q.v, "crossing v");
     }
-    assert_eq!(a.events.len(), b.events.len(), "{what}: events");
-    for (p, q) in a.events.iter().zip(&b.events) {
+    assert_eq!(
+        a.mesh().events.len(),
+        b.mesh().events.len(),
+        "{what}: events"
+    );
+    for (p, q) in a.mesh().events.iter().zip(&b.mesh().events) {
         assert_eq!(p.kind, q.kind);
         check(p.tau, q.tau, "event tau");
         check(p.v_before, q.v_before, "event v");
         check(p.v_after, q.v_after, "event v after");
         check(p.peak_force, q.peak_force, "event peak force");
     }
-    assert_eq!(a.impacts, b.impacts, "{what}: impacts");
+    assert_eq!(a.mesh().impacts, b.mesh().impacts, "{what}: impacts");
     for (x, y) in a
+        .mesh()
         .impact_force_per_period
         .iter()
-        .zip(&b.impact_force_per_period)
+        .zip(&b.mesh().impact_force_per_period)
     {
         check(*x, *y, "impact force");
     }
     for i in 0..3 {
-        check(a.durations[i], b.durations[i], "durations");
+        check(a.mesh().durations[i], b.mesh().durations[i], "durations");
     }
     for i in 0..4 {
-        check(a.integrals[i], b.integrals[i], "integrals");
+        check(a.mesh().integrals[i], b.mesh().integrals[i], "integrals");
     }
-    check(a.max_force, b.max_force, "max force");
-    check(a.min_force, b.min_force, "min force");
-    check(a.x_range.0, b.x_range.0, "x min");
-    check(a.x_range.1, b.x_range.1, "x max");
+    check(a.mesh().max_force, b.mesh().max_force, "max force");
+    check(a.mesh().min_force, b.mesh().min_force, "min force");
+    check(a.mesh().x_range.0, b.mesh().x_range.0, "x min");
+    check(a.mesh().x_range.1, b.mesh().x_range.1, "x max");
     assert_eq!(
         a.mesh_strobe.len(),
         b.mesh_strobe.len(),

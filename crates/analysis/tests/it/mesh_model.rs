@@ -416,7 +416,7 @@ fn unilateral_option_forbids_tensile_mesh_force() {
         bilateral.min_force
     );
     assert!(unilateral.min_force >= 0.0, "{}", unilateral.min_force);
-    assert_eq!(r.impacts, 0);
+    assert_eq!(r.mesh().impacts, 0);
 }
 
 #[test]
@@ -438,20 +438,24 @@ fn trajectory_window_keeps_the_last_periods_on_the_same_uniform_grid() {
     );
     // everything but the trajectory is identical
     assert_eq!(a.strobe, b.strobe);
-    assert_eq!(a.max_force, b.max_force);
+    assert_eq!(a.mesh().max_force, b.mesh().max_force);
     let t_from = a.strobe[6][0];
     let tail: Vec<_> = a
+        .mesh()
         .trajectory
         .iter()
         .filter(|p| p.tau >= t_from - 1e-9)
         .collect();
-    assert!(!b.trajectory.is_empty() && b.trajectory.iter().all(|p| p.tau >= t_from - 1e-9));
+    assert!(
+        !b.mesh().trajectory.is_empty()
+            && b.mesh().trajectory.iter().all(|p| p.tau >= t_from - 1e-9)
+    );
     // same samples (times on the same uniform grid, up to round-off of its origin)
     assert!(
-        (tail.len() as i64 - b.trajectory.len() as i64).abs() <= 2,
+        (tail.len() as i64 - b.mesh().trajectory.len() as i64).abs() <= 2,
         "{} vs {}",
         tail.len(),
-        b.trajectory.len()
+        b.mesh().trajectory.len()
     );
 }
 
@@ -486,6 +490,7 @@ fn trajectory_sampling_follows_the_natural_period_at_low_frequency() {
         .unwrap();
         // the widest gap (events only add points between uniform samples)
         let mut gaps: Vec<f64> = r
+            .mesh()
             .trajectory
             .windows(2)
             .map(|w| w[1].tau - w[0].tau)
@@ -530,7 +535,7 @@ fn rk4_converges_on_the_broken_pair_with_friction() {
             ..Default::default()
         };
         let r = simulate(sc.model(), [1.0551878960979093, -0.38787661149898606], &o).unwrap();
-        (r.final_state.1, r.impacts)
+        (r.final_state.1, r.mesh().impacts)
     };
     let (exact, impacts) = run(Method::Dopri {
         rtol: 1e-13,

@@ -31,12 +31,12 @@ fn a_strobe_only_record_has_the_full_records_points_and_nothing_else() {
         let cheap = simulate(&m, [0.1, 0.0], &opts(method, true)).unwrap();
         assert_eq!(full.strobe, cheap.strobe, "{method:?}");
         assert_eq!(full.final_state, cheap.final_state);
-        assert!(cheap.events.is_empty() && cheap.mesh_strobe.is_empty());
-        assert_eq!(cheap.durations, [0.0; 3]);
+        assert!(cheap.mesh().events.is_empty() && cheap.mesh_strobe.is_empty());
+        assert_eq!(cheap.mesh().durations, [0.0; 3]);
         // x_range from the points: inside the full record's range
-        let (lo, hi) = cheap.x_range;
-        assert!(lo <= hi && lo >= full.x_range.0 && hi <= full.x_range.1);
-        assert!(full.events.len() > 10 && full.max_force > 0.0);
+        let (lo, hi) = cheap.mesh().x_range;
+        assert!(lo <= hi && lo >= full.mesh().x_range.0 && hi <= full.mesh().x_range.1);
+        assert!(full.mesh().events.len() > 10 && full.mesh().max_force > 0.0);
     }
     // the lanes: the same points as their full record, and as the scalar path's
     let rk4 = Method::Rk4 {
@@ -49,6 +49,8 @@ fn a_strobe_only_record_has_the_full_records_points_and_nothing_else() {
         let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
         assert_eq!(a.strobe, b.strobe);
         assert_eq!(a.final_state, b.final_state);
-        assert!(b.events.is_empty() && b.max_force == 0.0 && a.max_force > 0.0);
+        assert!(
+            b.mesh().events.is_empty() && b.mesh().max_force == 0.0 && a.mesh().max_force > 0.0
+        );
     }
 }

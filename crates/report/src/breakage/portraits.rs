@@ -82,9 +82,15 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &PortraitsData) -> Result<Sect
     let mut rows = Vec::new();
     for p in &data.portraits {
         let (name, sets, revs, r, summary) = (p.name, &p.sets, p.revs, &p.run, &p.summary);
-        let traj: Vec<[f64; 3]> = r.trajectory.iter().map(|p| [p.tau, p.x, p.v]).collect();
-        let strobe: Vec<[f64; 3]> = r.strobe.clone();
+        let traj: Vec<[f64; 3]> = r
+            .mesh()
+            .trajectory
+            .iter()
+            .map(|p| [p.tau, p.x, p.v])
+            .collect();
+        let strobe: Vec<[f64; 3]> = r.strobe.iter().map(|p| [p.tau, p.y[0], p.y[1]]).collect();
         let impacts: Vec<[f64; 3]> = r
+            .mesh()
             .events
             .iter()
             .filter(|e| e.kind == EventKind::Impact)
@@ -119,7 +125,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &PortraitsData) -> Result<Sect
             crate::readings::sets(sets),
             motion,
             summary.mesh_period.map_or(String::new(), |m| m.to_string()),
-            r.impacts.to_string(),
+            r.mesh().impacts.to_string(),
             f(summary.p_id),
             f(summary.max_force),
         ]);

@@ -92,12 +92,14 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<
         let sets = [("omega", w), ("F", fv)];
         let rb = run(&base.with_all(&sets)?, &sim)?;
         let rh = run(&healthy.with_all(&sets)?, &hsim)?;
-        let sep = |r: &SimResult| r.durations[1] / r.durations.iter().sum::<f64>().max(1e-12);
+        let sep = |r: &SimResult| {
+            r.mesh().durations[1] / r.mesh().durations.iter().sum::<f64>().max(1e-12)
+        };
         points.push(GridPoint {
             omega: w,
             load: fv,
-            healthy: rh.max_force,
-            broken: rb.max_force,
+            healthy: rh.mesh().max_force,
+            broken: rb.mesh().max_force,
             separation: sep(&rb),
         });
         if (w, fv) == main {
@@ -126,10 +128,10 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<
     };
     let sets = [("omega", main.0), ("F", main.1)];
     let (bm, hm) = (base.with_all(&sets)?, healthy.with_all(&sets)?);
-    let mut by_start: Vec<(f64, f64)> = vec![(rh.max_force, rb.max_force)];
+    let mut by_start: Vec<(f64, f64)> = vec![(rh.mesh().max_force, rb.mesh().max_force)];
     for &y0 in &starts[1..] {
-        let b = simulate(bm.model(), y0, &plain)?.max_force;
-        let h = simulate(hm.model(), y0, &hplain)?.max_force;
+        let b = simulate(bm.model(), y0, &plain)?.mesh().max_force;
+        let h = simulate(hm.model(), y0, &hplain)?.mesh().max_force;
         by_start.push((h, b));
     }
     let cyc = base.with("omega", main.0)?.model().mesh_cycle_time();
@@ -184,19 +186,21 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         })
         .collect::<Vec<_>>()
         .join("; ");
-    let t0b = rb.trajectory.first().map_or(0.0, |p| p.tau);
-    let t0h = rh.trajectory.first().map_or(0.0, |p| p.tau);
+    let t0b = rb.mesh().trajectory.first().map_or(0.0, |p| p.tau);
+    let t0h = rh.mesh().trajectory.first().map_or(0.0, |p| p.tau);
     let fb: Vec<(f64, f64)> = rb
+        .mesh()
         .trajectory
         .iter()
         .map(|p| ((p.tau - t0b) / cyc, p.mesh_force))
         .collect();
     let fh: Vec<(f64, f64)> = rh
+        .mesh()
         .trajectory
         .iter()
         .map(|p| ((p.tau - t0h) / cyc, p.mesh_force))
         .collect();
-    let gain = rb.max_force / rh.max_force - 1.0;
+    let gain = rb.mesh().max_force / rh.mesh().max_force - 1.0;
     let fig = line_figure_y(
         ctx,
         dir,
@@ -245,8 +249,8 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         figures: vec![fig],
         readings: vec![format!(
             "At omega = 0.3, F = 0.15 the largest mesh force is {} (healthy) and {} (broken), {:+.0} %.",
-            f(rh.max_force),
-            f(rb.max_force),
+            f(rh.mesh().max_force),
+            f(rb.mesh().max_force),
             100.0 * gain
         )],
         tables: vec![table],

@@ -103,7 +103,7 @@ pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<Stat
     let mut pos = [0usize; 5];
     let mut neg = [0usize; 5];
     let mut zero = [0usize; 5];
-    for w in r.trajectory.windows(2) {
+    for w in r.mesh().trajectory.windows(2) {
         let k = state_of(&m, pm, w[0].tau, w[0].state);
         time[k] += w[1].tau - w[0].tau;
         if w[0].mesh_force > 1e-12 {
@@ -115,6 +115,7 @@ pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<Stat
         }
     }
     let impacts = r
+        .mesh()
         .events
         .iter()
         .filter(|e| e.kind == EventKind::Impact)
@@ -124,8 +125,9 @@ pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<Stat
     let nb = pm.spec.breakage.map_or(0, |b| b.broken_cycle) as f64;
     let period = m.excitation_period();
     let cyc = m.mesh_cycle_time();
-    let t_rec = r.trajectory.first().map_or(0.0, |p| p.tau);
+    let t_rec = r.mesh().trajectory.first().map_or(0.0, |p| p.tau);
     let imp_t: Vec<(f64, f64)> = r
+        .mesh()
         .events
         .iter()
         .filter(|e| e.kind == EventKind::Impact)
@@ -142,7 +144,12 @@ pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<Stat
     let score = |k: u64| {
         let (_, w0, w1) = window(k);
         let mut seen = [false; 5];
-        for p in r.trajectory.iter().filter(|p| p.tau >= w0 && p.tau <= w1) {
+        for p in r
+            .mesh()
+            .trajectory
+            .iter()
+            .filter(|p| p.tau >= w0 && p.tau <= w1)
+        {
             seen[state_of(&m, pm, p.tau, p.state)] = true;
         }
         if imp_t.iter().any(|t| t.0 >= w0 && t.0 <= w1) {
@@ -181,6 +188,7 @@ pub(super) fn render(
     let (t_start, w0, w1) = data.window;
     let cyc = m.mesh_cycle_time();
     let imp_t: Vec<(f64, f64)> = r
+        .mesh()
         .events
         .iter()
         .filter(|e| e.kind == EventKind::Impact)
@@ -217,6 +225,7 @@ pub(super) fn render(
         rows,
     )?;
     let win: Vec<_> = r
+        .mesh()
         .trajectory
         .iter()
         .filter(|p| p.tau >= w0 && p.tau <= w1)

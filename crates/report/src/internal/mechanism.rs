@@ -95,13 +95,15 @@ pub(super) fn compute(ctx: &Ctx, lin: &Scenario) -> Result<MechanismData> {
         let r = simulate(&m, [0.0, 0.0], &sim)?;
         let (dd, ds) = (m.params().d_double, m.params().d_single);
         let exits: Vec<(f64, f64)> = r
+            .mesh()
             .events
             .iter()
             .filter(|e| e.kind == EventKind::DriveExit)
             .map(|e| (e.tau, e.x))
             .collect();
         let tensile_before = |tau: f64| {
-            r.trajectory
+            r.mesh()
+                .trajectory
                 .iter()
                 .filter(|p| p.tau <= tau && p.tau > tau - 0.1 && p.state == 1)
                 .any(|p| p.mesh_force < 0.0)
@@ -144,10 +146,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
         data.exits_d,
     );
     let (dd, ds) = (m.params().d_double, m.params().d_single);
-    let t_end = r.trajectory.last().map_or(0.0, |p| p.tau);
+    let t_end = r.mesh().trajectory.last().map_or(0.0, |p| p.tau);
     let t0 = t_end - 2.0 * m.excitation_period();
     let cyc = m.mesh_cycle_time();
-    let win: Vec<_> = r.trajectory.iter().filter(|p| p.tau >= t0).collect();
+    let win: Vec<_> = r.mesh().trajectory.iter().filter(|p| p.tau >= t0).collect();
     let xs: Vec<(f64, f64)> = win.iter().map(|p| ((p.tau - t0) / cyc, p.x)).collect();
     let fs: Vec<(f64, f64)> = win
         .iter()
