@@ -245,11 +245,13 @@ VOLATILE_KEYS = {
     "version",         # run.json: geardyn version (also a report's cache key: its "geardyn")
     "command",         # run.json: argv, with the binary's path
     "threads",         # run.json: worker threads (fixed by the harness anyway)
+    "wall_time_s",     # simulate's summary.json: wall time
 }
 
 # volatile fragments of text outputs (report pages, stdout): (pattern, replacement)
 VOLATILE_TEXT = [
-    (re.compile(rb"\d+(?:\.\d+)? s\b"), b"<T> s"),
+    (re.compile(rb"\d+(?:\.\d+)? s\b"), b"<T> s"),             # "in 0.25 s", "(1.3 s)"
+    (re.compile(rb"\d+(?:\.\d+)? cells/s\b"), b"<R> cells/s"),  # basins' rate
 ]
 
 
@@ -345,6 +347,25 @@ def compare_commands(a: bytes, b: bytes) -> str | None:
     return None
 
 
+def compare_checkpoint(a: bytes, b: bytes) -> str | None:
+    """A sweep's checkpoint: its first line (the run's identity) byte for byte, then one line per
+    finished item, appended in the order the worker threads finish them. That order is
+    scheduling, not a result (it differs between two runs of one binary), so the items are
+    compared as a multiset of lines, each byte for byte."""
+    la, lb = a.split(b"\n"), b.split(b"\n")
+    if la[0] != lb[0]:
+        return f"first line (the run's identity) differs: {text_hint(la[0], lb[0])}"
+    sa, sb = sorted(la[1:]), sorted(lb[1:])
+    if sa == sb:
+        return None
+    set_a, set_b = set(sa), set(sb)
+    only_a = [x for x in sa if x not in set_b]
+    only_b = [x for x in sb if x not in set_a]
+    return (f"{len(la) - 1} vs {len(lb) - 1} item lines (order ignored); "
+            f"first only in A: {short(only_a[0]) if only_a else '-'}; "
+            f"first only in B: {short(only_b[0]) if only_b else '-'}")
+
+
 def compare_file(rel: str, a: bytes, b: bytes) -> str | None:
     """None when equal, else a short hint."""
     if a == b:
@@ -358,6 +379,8 @@ def compare_file(rel: str, a: bytes, b: bytes) -> str | None:
         except (UnicodeDecodeError, json.JSONDecodeError) as e:
             return f"not JSON ({e}); {len(a)} vs {len(b)} bytes"
         return first_json_diff(ja, jb)
+    if name == "checkpoint.jsonl":
+        return compare_checkpoint(a, b)
     if name.endswith(".html") or rel.startswith("stdout/"):
         ma, mb = mask(a), mask(b)
         return None if ma == mb else text_hint(ma, mb)

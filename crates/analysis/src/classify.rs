@@ -35,7 +35,8 @@ use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
-use geardyn_model::MeshModel;
+use crate::engine::Engine;
+use geardyn_model::{GearSystem, MeshModel};
 use serde::{Deserialize, Serialize};
 
 /// Doublings of the transient tried before a non-periodic, non-chaotic run is called
@@ -60,8 +61,28 @@ pub const PERSIST_CYCLES: u64 = 500;
 
 /// [`PERSIST_CYCLES`] in excitation periods of `model` (one period spans several mesh cycles on
 /// a pair with a broken tooth).
-fn persist_periods(model: &MeshModel) -> u64 {
-    PERSIST_CYCLES.div_ceil(u64::from(model.cycles_per_period().max(1)))
+fn persist_periods<S: GearSystem<N>, const N: usize>(sys: &S) -> u64 {
+    PERSIST_CYCLES.div_ceil(u64::from(sys.cycles_per_period().max(1)))
+}
+
+/// The scale of a runaway: the largest half backlash `D_s` of the meshes, at least 1.
+fn runaway_scale<S: GearSystem<N>, const N: usize>(sys: &S) -> f64 {
+    (0..sys.mesh_count())
+        .map(|k| sys.backlash_levels(k).1)
+        .fold(f64::NEG_INFINITY, f64::max)
+        .max(1.0)
+}
+
+/// The largest mesh displacement `|x_k|` of state `y` (NaN if any is).
+fn largest_mesh_displacement<S: GearSystem<N>, const N: usize>(sys: &S, y: &[f64; N]) -> f64 {
+    (0..sys.mesh_count()).fold(0.0, |m: f64, k| {
+        let x = sys.mesh_state(y, k)[0].abs();
+        if x.is_nan() || m.is_nan() {
+            f64::NAN
+        } else {
+            m.max(x)
+        }
+    })
 }
 /// A TLE (per unit dimensionless time) is significantly positive when it exceeds both this and
 /// three standard errors.
@@ -377,12 +398,12 @@ pub const ATTRACTING_PERIOD_TOL_FACTOR: f64 = 100.0;
 /// Simulates and classifies: the periodic test first, then the TLE (chaos), then longer
 /// transients; the summary's `motion` and `label` state the decision and `transient_periods`
 /// in the returned options is the transient actually used.
-pub fn simulate_decided(
-    model: &MeshModel,
-    y0: [f64; 2],
+pub fn simulate_decided<S: Engine<N>, const N: usize>(
+    model: &S,
+    y0: [f64; N],
     opts: &SimOptions,
     how: Decide,
-) -> Result<(SimResult, Summary, SimOptions), SimError> {
+) -> Result<(SimResult<N>, Summary, SimOptions), SimError> {
     let res = simulate(model, y0, opts)?;
     let s = summarize(model, &res, opts);
     simulate_decided_from(model, (res, s), opts, how)
@@ -393,37 +414,28 @@ pub fn simulate_decided(
 /// of [`crate::lanes`]) and its [`summarize`]; the decision (period test, TLE, transient
 /// extensions) continues from its final state exactly as [`simulate_decided`] does after its own
 /// first run, so the first run is never integrated twice.
-pub fn simulate_decided_from(
-    model: &MeshModel,
-    first: (SimResult, Summary),
+pub fn simulate_decided_from<S: Engine<N>, const N: usize>(
+    model: &S,
+    first: (SimResult<N>, Summary),
     opts: &SimOptions,
     how: Decide,
-) -> Result<(SimResult, Summary, SimOptions), SimError> {
-    // a follow in fixed-step RK4 runs on a one-lane engine with the run's phase tables: the
-    // same integration as in a sweep's lanes (crate::lanes::decide_lanes), so a run decides
-    // alike alone and in a sweep
-    let sim = |m: &MeshModel, y0: [f64; 2], o: &SimOptions| {
-        if o.method != opts.method
-            && crate::lanes::lanes_apply(o)
-            && crate::lanes::lanes_cover_contact(m)
-        {
-            crate::lanes::simulate_lane_grid(m, y0, o, opts.tau0)
-        } else {
-            simulate(m, y0, o)
-        }
-    };
+) -> Result<(SimResult<N>, Summary, SimOptions), SimError> {
+    // a follow may run on the system's faster engine ([`Engine::simulate_in_decision`]: the
+    // pair's one-lane engine with its phase tables, the integration of a sweep's lanes, so a
+    // run decides alike alone and in a sweep)
+    let sim = |m: &S, y0: [f64; N], o: &SimOptions| m.simulate_in_decision(y0, o, opts);
     simulate_decided_with(model, first, opts, how, sim)
 }
 
 /// As [`simulate_decided_from`], the transient extensions simulated by `sim` (a function with the
 /// contract of [`simulate`], e.g. [`crate::lanes::simulate_lane`] for fixed-step RK4).
-pub fn simulate_decided_with(
-    model: &MeshModel,
-    first: (SimResult, Summary),
+pub fn simulate_decided_with<S: Engine<N>, const N: usize>(
+    model: &S,
+    first: (SimResult<N>, Summary),
     opts: &SimOptions,
     how: Decide,
-    sim: impl Fn(&MeshModel, [f64; 2], &SimOptions) -> Result<SimResult, SimError>,
-) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    sim: impl Fn(&S, [f64; N], &SimOptions) -> Result<SimResult<N>, SimError>,
+) -> Result<(SimResult<N>, Summary, SimOptions), SimError> {
     let mut d = Decision::new(model, first, opts, how);
     loop {
         match d.need() {
@@ -433,11 +445,7 @@ pub fn simulate_decided_with(
                 y,
                 memory,
                 periods,
-            } => d.tle(
-                tles_of(&[(model, t, y, memory)], opts, periods)
-                    .pop()
-                    .flatten(),
-            ),
+            } => d.tle(model.tle(opts, t, y, memory, periods)),
             Need::Done => return d.finish(),
         }
     }
@@ -445,13 +453,13 @@ pub fn simulate_decided_with(
 
 /// The next integration a [`Decision`] waits for.
 #[derive(Clone, Copy, Debug)]
-pub enum Need {
+pub enum Need<const N: usize = 2> {
     /// A run of [`simulate`] from `y0` with `opts` (a transient extension, the persistence check
     /// of a positive exponent, or the record again of a periodic run whose head is transient);
     /// hand its result to [`Decision::simulated`].
     Sim {
         /// Initial state.
-        y0: [f64; 2],
+        y0: [f64; N],
         /// Options of the run (`tau0` is its start time).
         opts: SimOptions,
     },
@@ -461,7 +469,7 @@ pub enum Need {
         /// Start time.
         t: f64,
         /// Start state.
-        y: [f64; 2],
+        y: [f64; N],
         /// Memory of the start mode ([`SimResult::final_memory`] of the run it continues).
         memory: f64,
         /// Excitation periods of the estimate ([`tle_periods`], or [`TLE_LONG_PERIODS`] for the
@@ -514,19 +522,19 @@ enum Wait {
 /// needs next ([`Decision::need`]) and takes its result, so that the integrations of many runs
 /// can be done together (the lockstep lanes of [`crate::lanes::decide_lanes`]). Driven by
 /// [`simulate_decided_with`] it is that function: one decision code for both.
-pub struct Decision<'m> {
-    model: &'m MeshModel,
+pub struct Decision<'m, S = MeshModel, const N: usize = 2> {
+    model: &'m S,
     opts: SimOptions,
     how: Decide,
     used: SimOptions,
-    res: SimResult,
+    res: SimResult<N>,
     s: Summary,
     tle: Option<(f64, f64)>,
     /// The exponent over the short window while the long look runs ([`Wait::TleLong`]).
     short_tle: Option<(f64, f64)>,
     last_opts: SimOptions,
     wait: Wait,
-    need: Need,
+    need: Need<N>,
     err: Option<SimError>,
     /// Records again and longer transients taken by [`Decision::settle`] (bounded).
     settles: u32,
@@ -543,12 +551,12 @@ pub struct Decision<'m> {
     strobe_record: bool,
 }
 
-impl<'m> Decision<'m> {
+impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
     /// Starts the decision of a first run (`first`: the result of [`simulate`] with `opts` and its
     /// [`summarize`]).
     pub fn new(
-        model: &'m MeshModel,
-        first: (SimResult, Summary),
+        model: &'m S,
+        first: (SimResult<N>, Summary),
         opts: &SimOptions,
         how: Decide,
     ) -> Self {
@@ -589,17 +597,17 @@ impl<'m> Decision<'m> {
     }
 
     /// The model of the run.
-    pub fn model(&self) -> &'m MeshModel {
+    pub fn model(&self) -> &'m S {
         self.model
     }
 
     /// The integration needed next.
-    pub fn need(&self) -> Need {
+    pub fn need(&self) -> Need<N> {
         self.need
     }
 
     /// The result of the run [`Need::Sim`] asked for.
-    pub fn simulated(&mut self, r: Result<SimResult, SimError>) {
+    pub fn simulated(&mut self, r: Result<SimResult<N>, SimError>) {
         let Need::Sim { opts: more, .. } = self.need else {
             panic!("no run was asked for");
         };
@@ -621,10 +629,10 @@ impl<'m> Decision<'m> {
         let strict = opts.method.period_tol();
         match self.wait {
             Wait::Follow { k, record, last } => {
-                let y = res2.final_state.1;
-                let scale = self.model.backlash_levels().1.max(1.0);
+                let x = largest_mesh_displacement(self.model, &res2.final_state.1);
+                let scale = runaway_scale(self.model);
                 // (NaN counts as runaway too)
-                if y[0].is_nan() || y[0].abs() > DIVERGED_SCALES * scale {
+                if x.is_nan() || x > DIVERGED_SCALES * scale {
                     // a runaway is decided on the requested integrator's run, not the follow's:
                     // that block again without the follow
                     self.persist_with(k, false);
@@ -808,7 +816,7 @@ impl<'m> Decision<'m> {
 
     /// The decision: the run (its last record), its summary (`motion` and `label` state the
     /// decision) and the options actually used (`transient_periods`).
-    pub fn finish(self) -> Result<(SimResult, Summary, SimOptions), SimError> {
+    pub fn finish(self) -> Result<(SimResult<N>, Summary, SimOptions), SimError> {
         assert!(matches!(self.need, Need::Done), "not decided yet");
         debug_assert!(
             !self.strobe_record || matches!(self.s.motion, Motion::Diverged { .. }),
@@ -839,7 +847,7 @@ impl<'m> Decision<'m> {
 
     /// Takes a continuation run (`more` after the current record) as the record; `true` when it
     /// is still undecided (neither run away nor periodic: the periodic one is settled here).
-    fn continued(&mut self, res: SimResult, more: SimOptions, strict: f64) -> bool {
+    fn continued(&mut self, res: SimResult<N>, more: SimOptions, strict: f64) -> bool {
         self.s = summarize(self.model, &res, &more);
         self.take(res, &more);
         self.ask(Wait::Done, Need::Done);
@@ -950,7 +958,7 @@ impl<'m> Decision<'m> {
             }
             Method::Dopri { .. } => false,
         };
-        match follow_method(self.model, &self.opts) {
+        match self.model.follow_method(&self.opts) {
             Some(method) if follow && transient > 0 && cheaper(method) => {
                 // its own record of the stroboscopic points (none in the last block: the record
                 // the verdict reports follows)
@@ -976,7 +984,7 @@ impl<'m> Decision<'m> {
 
     /// Takes `res` (a continuation run with `more`) as the record: the replaced record becomes
     /// transient, the record length is the new run's, and the work counters add up.
-    fn take(&mut self, mut res: SimResult, more: &SimOptions) {
+    fn take(&mut self, mut res: SimResult<N>, more: &SimOptions) {
         self.used.transient_periods += self.res.strobe.len() as u64 + more.transient_periods;
         self.used.record_periods = more.record_periods;
         self.strobe_record = more.strobe_only;
@@ -985,7 +993,7 @@ impl<'m> Decision<'m> {
         self.res = res;
     }
 
-    fn ask(&mut self, wait: Wait, need: Need) {
+    fn ask(&mut self, wait: Wait, need: Need<N>) {
         self.wait = wait;
         self.need = need;
     }
@@ -1012,9 +1020,15 @@ impl<'m> Decision<'m> {
 
     /// Decided diverged if the current run ran away.
     fn runaway(&mut self) -> bool {
-        let scale = self.model.backlash_levels().1.max(1.0);
-        let x = self.res.mesh().x_range;
-        let x_max = x.0.abs().max(x.1.abs());
+        let scale = runaway_scale(self.model);
+        let x_max = self.res.meshes.iter().fold(0.0, |m: f64, r| {
+            let x = r.x_range.0.abs().max(r.x_range.1.abs());
+            if x.is_nan() || m.is_nan() {
+                f64::NAN
+            } else {
+                m.max(x)
+            }
+        });
         // NaN counts as runaway too
         if x_max.is_nan() || x_max > DIVERGED_SCALES * scale {
             self.s.set_motion(Motion::Diverged { x_max });
@@ -1040,7 +1054,7 @@ impl<'m> Decision<'m> {
         if self.settles >= MAX_EXTENSIONS && !self.strobe_record {
             return;
         }
-        let pts: Vec<[f64; 2]> = self.res.strobe_states();
+        let pts = self.res.strobe_states();
         if self.how.extend && approaches_lower_period(&pts, self.s.period, tol) {
             let extra = (self.opts.transient_periods.max(MIN_EXTENSION)) << self.settles;
             self.settles += 1;

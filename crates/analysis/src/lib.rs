@@ -10,6 +10,7 @@ pub mod bifurcation;
 pub mod classify;
 pub mod continuation;
 pub mod driver;
+pub mod engine;
 pub mod generic;
 pub mod indicators;
 pub mod lanes;

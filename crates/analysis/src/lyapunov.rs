@@ -195,6 +195,94 @@ tangent_impl!(1, 3);
 tangent_impl!(2, 5);
 tangent_impl!(3, 7);
 tangent_impl!(4, 9);
+tangent_impl!(5, 11);
+tangent_impl!(6, 13);
+tangent_impl!(7, 15);
+tangent_impl!(8, 17);
+tangent_impl!(9, 19);
+tangent_impl!(10, 21);
+tangent_impl!(11, 23);
+tangent_impl!(12, 25);
+tangent_impl!(13, 27);
+tangent_impl!(14, 29);
+tangent_impl!(15, 31);
+tangent_impl!(16, 33);
+tangent_impl!(17, 35);
+tangent_impl!(18, 37);
+tangent_impl!(19, 39);
+tangent_impl!(20, 41);
+tangent_impl!(21, 43);
+tangent_impl!(22, 45);
+tangent_impl!(23, 47);
+tangent_impl!(24, 49);
+
+/// A system whose tangent dynamics [`Tangent`] can be integrated: any [`Variational`] system of
+/// dimension 1 to 24 (the augmented state has `2N + 1` components, a size the stable compiler
+/// cannot compute from a generic `N`, so each dimension is implemented once here). Analyses
+/// generic over the dimension call the variational exponent through it.
+pub trait TangentSpace<const N: usize>: Variational<N> + Clone {
+    /// [`tle_variational_with`] of this system.
+    fn tle_variational_with(
+        &self,
+        scheme: Scheme,
+        t0: f64,
+        y0: [f64; N],
+        memory: f64,
+        opts: &LyapunovOptions,
+        use_saltation: bool,
+    ) -> Result<LyapunovResult, SolverError>;
+}
+
+macro_rules! tangent_space_impl {
+    ($n:literal, $m:literal) => {
+        impl<S: Variational<$n> + Clone> TangentSpace<$n> for S {
+            fn tle_variational_with(
+                &self,
+                scheme: Scheme,
+                t0: f64,
+                y0: [f64; $n],
+                memory: f64,
+                opts: &LyapunovOptions,
+                use_saltation: bool,
+            ) -> Result<LyapunovResult, SolverError> {
+                tle_variational_with::<S, $n, $m>(
+                    self.clone(),
+                    scheme,
+                    t0,
+                    y0,
+                    memory,
+                    opts,
+                    use_saltation,
+                )
+            }
+        }
+    };
+}
+
+tangent_space_impl!(1, 3);
+tangent_space_impl!(2, 5);
+tangent_space_impl!(3, 7);
+tangent_space_impl!(4, 9);
+tangent_space_impl!(5, 11);
+tangent_space_impl!(6, 13);
+tangent_space_impl!(7, 15);
+tangent_space_impl!(8, 17);
+tangent_space_impl!(9, 19);
+tangent_space_impl!(10, 21);
+tangent_space_impl!(11, 23);
+tangent_space_impl!(12, 25);
+tangent_space_impl!(13, 27);
+tangent_space_impl!(14, 29);
+tangent_space_impl!(15, 31);
+tangent_space_impl!(16, 33);
+tangent_space_impl!(17, 35);
+tangent_space_impl!(18, 37);
+tangent_space_impl!(19, 39);
+tangent_space_impl!(20, 41);
+tangent_space_impl!(21, 43);
+tangent_space_impl!(22, 45);
+tangent_space_impl!(23, 47);
+tangent_space_impl!(24, 49);
 
 /// Settings of a TLE computation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

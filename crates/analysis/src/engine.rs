@@ -1,0 +1,105 @@
+//! How the analyses integrate a system: the [`Engine`] a [`GearSystem`] runs on.
+//!
+//! Every analysis is generic over `S: Engine<N>`. The defaults integrate one trajectory at a
+//! time with the requested integrator and compute exponents by the variational equation with
+//! saltation ([`crate::lyapunov`]): correct for any system. A system with a faster engine
+//! overrides them: the single pair runs its follows and exponents in the lockstep lanes
+//! ([`crate::lanes`], [`crate::lanes_tle`]), which step its own mesh kernel.
+//!
+//! ```
+//! use geardyn_analysis::engine::Engine;
+//! use geardyn_analysis::simulate::SimOptions;
+//! use geardyn_model::reference::TwoMassClearance;
+//! // a system of your own runs on the scalar engine: nothing to write
+//! let sys = TwoMassClearance::default();
+//! assert_eq!(sys.follow_method(&SimOptions::default()), None);
+//! ```
+
+use crate::lyapunov::{LyapunovOptions, TangentSpace};
+use crate::simulate::{simulate, Method, SimError, SimOptions, SimResult};
+use geardyn_model::{GearSystem, MeshModel};
+
+/// The integration engine of a [`GearSystem`] (see the module doc).
+pub trait Engine<const N: usize>: GearSystem<N> + TangentSpace<N> {
+    /// The integrator of a decision's *follow* ([`crate::classify::follow_method`]); `None`
+    /// follows with the requested integrator. Default: `None` (a coarse follow is validated
+    /// per kind of system, docs/analyses.md).
+    fn follow_method(&self, _opts: &SimOptions) -> Option<Method> {
+        None
+    }
+
+    /// A run of [`simulate`] with `o` inside a decision whose requested settings are
+    /// `requested` (a follow may run on a faster engine that integrates the same way).
+    /// Default: [`simulate`].
+    fn simulate_in_decision(
+        &self,
+        y0: [f64; N],
+        o: &SimOptions,
+        _requested: &SimOptions,
+    ) -> Result<SimResult<N>, SimError> {
+        simulate(self, y0, o)
+    }
+
+    /// Top Lyapunov exponent and its standard error of the motion continuing from `(t, y)` in a
+    /// mode of memory `memory`, over `periods` excitation periods with the integrator of `opts`;
+    /// `None` if it cannot be computed. Default: the variational equation with saltation
+    /// ([`crate::lyapunov::tle_variational_with`]).
+    fn tle(
+        &self,
+        opts: &SimOptions,
+        t: f64,
+        y: [f64; N],
+        memory: f64,
+        periods: u64,
+    ) -> Option<(f64, f64)> {
+        let lo = LyapunovOptions {
+            period: self.excitation_period(),
+            transient_periods: 0,
+            periods,
+            d0: 1e-6,
+        };
+        self.tle_variational_with(opts.method.scheme(self), t, y, memory, &lo, true)
+            .ok()
+            .filter(|r| r.tle.is_finite() && r.spread.is_finite())
+            .map(|r| (r.tle, r.spread))
+    }
+}
+
+/// The single pair: follows on a one-lane engine with its phase tables (the integration of a
+/// sweep's lanes, so a run decides alike alone and in a sweep) and exponents in the lanes.
+impl Engine<2> for MeshModel {
+    fn follow_method(&self, opts: &SimOptions) -> Option<Method> {
+        crate::classify::follow_method(self, opts)
+    }
+
+    fn simulate_in_decision(
+        &self,
+        y0: [f64; 2],
+        o: &SimOptions,
+        requested: &SimOptions,
+    ) -> Result<SimResult, SimError> {
+        if o.method != requested.method
+            && crate::lanes::lanes_apply(o)
+            && crate::lanes::lanes_cover_contact(self)
+        {
+            crate::lanes::simulate_lane_grid(self, y0, o, requested.tau0)
+        } else {
+            simulate(self, y0, o)
+        }
+    }
+
+    fn tle(
+        &self,
+        opts: &SimOptions,
+        t: f64,
+        y: [f64; 2],
+        memory: f64,
+        periods: u64,
+    ) -> Option<(f64, f64)> {
+        crate::classify::tles_of(&[(self, t, y, memory)], opts, periods)
+            .pop()
+            .flatten()
+    }
+}
+
+impl Engine<4> for geardyn_model::reference::TwoMassClearance {}
