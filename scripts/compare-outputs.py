@@ -22,22 +22,31 @@ Usage (Python 3.11 standard library only; run from the repository root):
     # 3. compare: prints each differing file with a hint and a count; exit 0 when identical
     python3 scripts/compare-outputs.py compare /tmp/cmp/before /tmp/cmp/after
 
-`run BINARY OUTDIR` runs the fixed suite below (about 4 minutes on 2 cores; `--quick-report`
-adds `report --quick` of each preset, about a minute each) with RAYON_NUM_THREADS=2 (results
-depend on the thread count through the lane batching, so both runs must use the same; change it
-with --threads). The commands run inside OUTDIR with relative --out folders, so that no absolute
-path enters the results. Commands that print their results (show, presets, lyapunov, status)
-have their stdout in OUTDIR/stdout/NAME.txt; every command's stdout is kept there, and
-OUTDIR/commands.jsonl records each command line, exit code, stderr and wall time. A failing
-command is a result like any other: it is recorded and the suite goes on. OUTDIR must be new or
-empty (--clean empties a previous OUTDIR of this script). --only SUBSTRING runs the commands
-whose name contains it (for a quick try; compare only runs made with the same selection).
+`run BINARY OUTDIR` runs the fixed suite of `suite()` below: every command that computes
+something (show, stiffness, simulate, bifurcation in its fixed, sweep and multi modes with
+--lyapunov on one and a `pair.*` sweep, lyapunov, response, basins, continuation, orbits (one
+orbit and a branch), signals, map2d, and a map2d planned in 2 shards, run shard by shard and
+merged) on every preset, with tiny grids and short runs: about 1 minute on 2 cores. With
+`--quick-report` it also makes `report --quick` of each preset (classic ~6 s, internal ~0.5-1
+min, breakage ~1-2 min). RAYON_NUM_THREADS is set to 2 (results depend on the thread count
+through the lane batching, so both runs must use the same; --threads changes it). The commands
+run inside OUTDIR with relative --out folders, so that no absolute path enters the results.
+Every command's stdout goes to OUTDIR/stdout/NAME.txt (the results of show, presets, lyapunov,
+status), and OUTDIR/commands.jsonl records each command line, exit code, stderr and wall time.
+A failing command is a result like any other: it is recorded and the suite goes on; a command
+the CLI refuses by design (signals on classic, which has no pair) is recorded as skipped. OUTDIR
+must be new or empty (--clean empties a previous OUTDIR of this script). --only SUBSTRING runs
+the commands whose name contains it (for a quick try; compare only runs of the same selection).
 
 `compare DIR_A DIR_B` walks both trees: a file present on one side only is a difference;
 `.json` files are compared as data after removing the volatile keys (VOLATILE_KEYS below);
 report `.html` pages and stdout files after masking timings (VOLATILE_TEXT); commands.jsonl on
-exit code and stderr (timings masked); every other file (csv, png, svg, npy, toml, jsonl
-checkpoints, zarr chunks, ...) byte for byte.
+exit code and stderr (timings masked, lines in any order: a report's studies print as they
+finish); a checkpoint.jsonl on its first line and the set of its item lines (the order items
+finish in is scheduling, not a result); every other file (csv, png, svg, npy, toml, zarr chunks
+and metadata, ...) byte for byte. It prints each differing file with a hint (the first differing
+JSON key, text line and column, or binary size and offset) and a count; exit status 0 when the
+trees are identical, 1 otherwise.
 
 The harness's own test: two runs of one binary compare identical
 (`run B /tmp/x1 && run B /tmp/x2 && compare /tmp/x1 /tmp/x2`).
@@ -161,7 +170,7 @@ def run_step(binary: str, outdir: Path, step: dict, env: dict, timeout: float) -
     args = list(step["args"])
     if step["out"]:
         args += ["--out", step["name"]]
-    rec = {"name": step["name"], "argv": ["BINARY", *args]}
+    rec = {"name": step["name"], "binary": binary, "argv": ["BINARY", *args]}
     t = time.monotonic()
     try:
         p = subprocess.run([binary, *args], cwd=outdir, env=env, capture_output=True,
@@ -237,29 +246,52 @@ def cmd_run(a) -> int:
 # compare
 
 # JSON keys that vary between two runs of one binary, or between two builds of the same code,
-# and say nothing about the results: removed wherever they occur
+# and say nothing about the results, by file name: the paths of the keys removed before comparing
+# (a section.json is three JSON lines: the cache key, the files' digests, the section)
 VOLATILE_KEYS = {
-    "elapsed_s",       # run.json: wall time
-    "started_unix_s",  # run.json: start time
-    "git_commit",      # run.json: the build's commit
-    "version",         # run.json: geardyn version (also a report's cache key: its "geardyn")
-    "command",         # run.json: argv, with the binary's path
-    "threads",         # run.json: worker threads (fixed by the harness anyway)
-    "wall_time_s",     # simulate's summary.json: wall time
+    "run.json": [
+        ("elapsed_s",),       # wall time
+        ("started_unix_s",),  # start time
+        ("git_commit",),      # the build's commit
+        ("version",),         # geardyn version
+        ("command",),         # argv, with the binary's path
+        ("threads",),         # worker threads (fixed by the harness anyway)
+    ],
+    "summary.json": [("wall_time_s",)],  # simulate: wall time
+    "zarr.json": [  # a plan's store: who planned it
+        ("attributes", "geardyn", "git_commit"),
+        ("attributes", "geardyn", "version"),
+    ],
+    "section.json": [  # a report's cached study
+        (0, "source"),   # cache key: digest of the library's source (changes with any edit)
+        (0, "geardyn"),  # cache key: geardyn version
+        (2, "seconds"),  # the study's wall time
+    ],
 }
 
-# volatile fragments of text outputs (report pages, stdout): (pattern, replacement)
+# volatile fragments of text outputs (report pages, stdout, stderr): (pattern, replacement)
 VOLATILE_TEXT = [
     (re.compile(rb"\d+(?:\.\d+)? s\b"), b"<T> s"),             # "in 0.25 s", "(1.3 s)"
     (re.compile(rb"\d+(?:\.\d+)? cells/s\b"), b"<R> cells/s"),  # basins' rate
+    (re.compile(rb"Generated by geardyn [^ <]+"), b"Generated by geardyn <V>"),  # version
+    # a report's folder size: it counts run.json, whose timing digits vary in length
+    (re.compile(rb"This folder: [\d.]+ MB"), b"This folder: <S> MB"),
 ]
 
 
-def strip_json(v, path=()):
-    if isinstance(v, dict):
-        return {k: strip_json(x, path + (k,)) for k, x in v.items() if k not in VOLATILE_KEYS}
-    if isinstance(v, list):
-        return [strip_json(x, path) for x in v]
+def strip_json(v, paths):
+    """`v` without the keys at `paths` (tuples of keys and list indices)."""
+    for path in paths:
+        node = v
+        for k in path[:-1]:
+            ok = isinstance(node, dict) and k in node or (
+                isinstance(node, list) and isinstance(k, int) and k < len(node))
+            if not ok:
+                break
+            node = node[k]
+        else:
+            if isinstance(node, dict):
+                node.pop(path[-1], None)
     return v
 
 
@@ -295,7 +327,7 @@ def first_json_diff(a, b, path="$"):
 
 
 def short(v, n=80):
-    s = json.dumps(v) if not isinstance(v, bytes) else v.decode("utf-8", "replace")
+    s = json.dumps(v, ensure_ascii=False) if not isinstance(v, bytes) else v.decode("utf-8", "replace")
     return s if len(s) <= n else s[: n - 3] + "..."
 
 
@@ -306,10 +338,14 @@ def mask(data: bytes) -> bytes:
 
 
 def text_hint(a: bytes, b: bytes) -> str:
+    """Where two texts first differ: line, column and the two lines around that column."""
     la, lb = a.split(b"\n"), b.split(b"\n")
     for i, (x, y) in enumerate(zip(la, lb)):
         if x != y:
-            return f"line {i + 1}: {short(x)!s} | {short(y)!s}"
+            c = next((j for j, (p, q) in enumerate(zip(x, y)) if p != q), min(len(x), len(y)))
+            lo = max(0, c - 30)
+            cut = lambda t: ("..." if lo else "") + short(t[lo:], 90)
+            return f"line {i + 1}, column {c + 1}: {cut(x)} | {cut(y)}"
     return f"{len(la)} vs {len(lb)} lines"
 
 
@@ -329,22 +365,28 @@ def compare_commands(a: bytes, b: bytes) -> str | None:
         for line in data.decode("utf-8").splitlines():
             if line.strip():
                 r = json.loads(line)
-                out[r["name"]] = (r.get("exit"), mask(r.get("stderr", "").encode()).decode(),
-                                  r.get("skipped"))
+                # lines in any order: a report's studies run side by side and print as they end
+                err = sorted(mask(r.get("stderr", "").encode()).decode().splitlines())
+                out[r["name"]] = (r.get("exit"), "\n".join(err), r.get("skipped"))
         return out
 
     ra, rb = load(a), load(b)
+    hints = []
     for name in list(ra) + [n for n in rb if n not in ra]:
         if name not in ra or name not in rb:
-            return f"{name}: run on one side only ({'A' if name in ra else 'B'})"
+            hints.append(f"{name}: run on one side only ({'A' if name in ra else 'B'})")
+            continue
         (ea, sa, ka), (eb, sb, kb) = ra[name], rb[name]
         if ea != eb:
-            return f"{name}: exit {ea} vs {eb}"
-        if ka != kb:
-            return f"{name}: skipped {ka!r} vs {kb!r}"
-        if sa != sb:
-            return f"{name}: stderr {text_hint(sa.encode(), sb.encode())}"
-    return None
+            hints.append(f"{name}: exit {ea} vs {eb}")
+        elif ka != kb:
+            hints.append(f"{name}: skipped {ka!r} vs {kb!r}")
+        elif sa != sb:
+            hints.append(f"{name}: stderr (lines sorted) {text_hint(sa.encode(), sb.encode())}")
+    if not hints:
+        return None
+    more = f" (and {len(hints) - 1} more command(s))" if len(hints) > 1 else ""
+    return hints[0] + more
 
 
 def compare_checkpoint(a: bytes, b: bytes) -> str | None:
@@ -375,7 +417,8 @@ def compare_file(rel: str, a: bytes, b: bytes) -> str | None:
         return compare_commands(a, b)
     if name.endswith(".json"):
         try:
-            ja, jb = strip_json(load_json_text(a)), strip_json(load_json_text(b))
+            paths = VOLATILE_KEYS.get(name, [])
+            ja, jb = strip_json(load_json_text(a), paths), strip_json(load_json_text(b), paths)
         except (UnicodeDecodeError, json.JSONDecodeError) as e:
             return f"not JSON ({e}); {len(a)} vs {len(b)} bytes"
         return first_json_diff(ja, jb)
@@ -416,13 +459,14 @@ def cmd_compare(a) -> int:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run", help="run the suite with BINARY into OUTDIR")
     r.add_argument("binary")
     r.add_argument("outdir")
     r.add_argument("--quick-report", action="store_true",
-                   help="also `report --quick` of each preset (about a minute each)")
+                   help="also `report --quick` of each preset (about 3 minutes in all)")
     r.add_argument("--jobs", type=int, default=1, help="commands run side by side (default 1)")
     r.add_argument("--threads", type=int, default=2, help="RAYON_NUM_THREADS (default 2)")
     r.add_argument("--timeout", type=float, default=900, help="seconds per command (default 900)")

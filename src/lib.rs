@@ -43,6 +43,9 @@ pub mod prelude {
     pub use geardyn_analysis::lyapunov::{LyapunovReport, LyapunovRequest, TleMethod};
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
     pub use geardyn_analysis::orbits::OrbitsRequest;
+    pub use geardyn_analysis::classify::{simulate_decided, Decide};
+    pub use geardyn_analysis::engine::Engine;
+    pub use geardyn_analysis::generic::{decided_sweep, Family};
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
     pub use geardyn_io::config::{Face, SimOverrides};
     pub use geardyn_io::executor::{
@@ -50,7 +53,7 @@ pub mod prelude {
     };
     pub use geardyn_io::request::{BifurcationRequest, ContinuationRequest, MapRequest, SweepSpec};
     pub use geardyn_io::Config;
-    pub use geardyn_model::{presets, MeshModel};
+    pub use geardyn_model::{presets, GearSystem, MeshModel};
     pub use geardyn_scenario::Scenario;
 }
 
@@ -58,3 +61,8 @@ pub mod prelude {
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
+
+// The Rust examples of docs/library.md, likewise.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/library.md")]
+struct LibraryDoctests;

@@ -1,8 +1,14 @@
 //! Analyses for any [`HybridSystem`], not only the gear model: stroboscopic bifurcation diagrams
-//! of a one-parameter family (fixed initial state or continuation), in parallel, deterministic.
-//! The gear-specific sweeps ([`crate::bifurcation`]) add impact sections, labels and P_ID.
+//! of a one-parameter family (fixed initial state or continuation), in parallel, deterministic;
+//! and for any gear system ([`Engine`]) the *decided* sweep ([`decided_sweep`]): every value's
+//! motion decided as the single pair's are (period test, persistence of a positive exponent,
+//! budget), with its label per mesh. The pair's own sweeps ([`crate::bifurcation`]) add impact
+//! sections, the lanes and checkpoints.
 
+use crate::classify::{simulate_decided, Decide};
 use crate::driver::{run_periods, Discard, Observer};
+use crate::engine::Engine;
+use crate::simulate::{SimError, SimOptions, Summary};
 use crate::period::minimal_period;
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError};
 use rayon::prelude::*;
@@ -119,6 +125,107 @@ pub fn strobe_bifurcation<F: Family<N>, const N: usize>(
         values
             .par_iter()
             .map(|&p| one(fam, p, scheme, y0, transient, record).0)
+            .collect()
+    }
+}
+
+/// One value of a [`decided_sweep`].
+#[derive(Clone, Debug)]
+pub struct DecidedPoint<const N: usize> {
+    /// Parameter value.
+    pub value: f64,
+    /// The decided summary (class, label per mesh, forces, P_ID, `decided_by`); `None` when the
+    /// integration failed (`error`).
+    pub summary: Option<Summary>,
+    /// Stroboscopic states of the record the verdict reports.
+    pub strobe: Vec<[f64; N]>,
+    /// Final state of the run (the next value's start in a continuation).
+    pub final_state: [f64; N],
+    /// Integration failure, if any.
+    pub error: Option<SimError>,
+}
+
+fn decided_one<F, const N: usize>(
+    fam: &F,
+    p: f64,
+    y0: [f64; N],
+    opts: &SimOptions,
+    how: Decide,
+) -> DecidedPoint<N>
+where
+    F: Family<N>,
+    F::System: Engine<N>,
+{
+    let sys = fam.at(p);
+    match simulate_decided(&sys, y0, opts, how) {
+        Ok((res, s, _)) => DecidedPoint {
+            value: p,
+            summary: Some(s),
+            strobe: res.strobe_states(),
+            final_state: res.final_state.1,
+            error: None,
+        },
+        Err(e) => DecidedPoint {
+            value: p,
+            summary: None,
+            strobe: Vec::new(),
+            final_state: y0,
+            error: Some(e),
+        },
+    }
+}
+
+/// Decided sweep of a one-parameter family of gear systems: each value from `y0` (in parallel;
+/// results in `values` order whatever the thread count) or, with `continuation`, from the final
+/// state of the previous value (sequential). Each motion is decided by
+/// [`simulate_decided`] with `opts` ([`Family::period`] is not used: the system states its own
+/// excitation period).
+///
+/// ```
+/// use geardyn_analysis::generic::{decided_sweep, Family};
+/// use geardyn_analysis::simulate::SimOptions;
+/// use geardyn_analysis::classify::Decide;
+/// use geardyn_model::reference::TwoMassClearance;
+/// struct Load;
+/// impl Family<4> for Load {
+///     type System = TwoMassClearance;
+///     fn at(&self, f: f64) -> TwoMassClearance {
+///         TwoMassClearance { load: [2.0 * f, f], amplitude: 0.05, ..Default::default() }
+///     }
+///     fn period(&self, _f: f64) -> f64 { 2.0 * std::f64::consts::PI / 0.7 }
+/// }
+/// let opts = SimOptions { transient_periods: 200, record_periods: 20, ..Default::default() };
+/// let d = decided_sweep(&Load, &[0.5], [1.5, 0.0, 0.0, 0.0], &opts, Decide::default(), false);
+/// let s = d[0].summary.as_ref().unwrap();
+/// assert_eq!(s.period, 1);        // a heavy load keeps both meshes in contact
+/// assert_eq!(s.meshes.len(), 2);  // one label per mesh
+/// ```
+pub fn decided_sweep<F, const N: usize>(
+    fam: &F,
+    values: &[f64],
+    y0: [f64; N],
+    opts: &SimOptions,
+    how: Decide,
+    continuation: bool,
+) -> Vec<DecidedPoint<N>>
+where
+    F: Family<N>,
+    F::System: Engine<N>,
+{
+    if continuation {
+        let mut y = y0;
+        values
+            .iter()
+            .map(|&p| {
+                let d = decided_one(fam, p, y, opts, how);
+                y = d.final_state;
+                d
+            })
+            .collect()
+    } else {
+        values
+            .par_iter()
+            .map(|&p| decided_one(fam, p, y0, opts, how))
             .collect()
     }
 }

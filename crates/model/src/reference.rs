@@ -160,8 +160,8 @@ pub type TwoContacts = [crate::ContactState; 2];
 /// `m1 x1'' = F0 + A cos(Omega t) - f0(x1, x1') - f1(x1 - x2, x1' - x2')`,
 /// `m2 x2'' = -F1 + f1(x1 - x2, x1' - x2')`.
 ///
-/// With `D0 = D1 = 0` both meshes are always in contact and the system is linear (the tests check
-/// it against the closed-form response and the eigenvalues).
+/// Loaded so that both meshes stay in drive contact, the system is linear about its static
+/// deflection (the tests check it against the closed-form response and the eigenvalues).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TwoMassClearance {
     /// Masses `m1`, `m2`.
@@ -170,7 +170,8 @@ pub struct TwoMassClearance {
     pub k: [f64; 2],
     /// Contact damping `c0`, `c1` (acting in contact only).
     pub c: [f64; 2],
-    /// Half clearances `D0`, `D1` (`>= 0`).
+    /// Half clearances `D0`, `D1` (`> 0`: a zero-width separation band has no room for the
+    /// separated mode between its two contact surfaces).
     pub d: [f64; 2],
     /// Mean driving force `F0` on mass 1 and load `F1` on mass 2.
     pub load: [f64; 2],

@@ -22,3 +22,4 @@ mod mesh_model;
 mod orbits;
 mod shards;
 mod strobe_only;
+mod system;
