@@ -34,22 +34,29 @@
 
 use crate::classify::{simulate_decided, Decide, Motion};
 use crate::driver::{run_periods, Discard, Observer};
+use crate::engine::Engine;
 use crate::period::minimal_period;
 use crate::simulate::{simulate, summarize, SimOptions};
 use geardyn_model::MeshModel;
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError};
 use serde::{Deserialize, Serialize};
 
-/// A system whose attractors can be identified: a 2-dimensional [`HybridSystem`] with a
-/// stroboscopic period and a way to record and describe a steady state. The gear model records
-/// labels, P_ID and forces; [`StrobeOnly`] describes any system by its stroboscopic points.
-pub trait Recordable: HybridSystem<2> + Sync {
+/// A system whose attractors can be identified: an `N`-dimensional [`HybridSystem`] with a
+/// stroboscopic period and a way to record and describe a steady state. A gear system records
+/// labels, P_ID and forces ([`describe_gear`], [`decide_gear`]: the pair, the toy, a system of
+/// your own with a one-line impl); [`StrobeOnly`] describes any system by its stroboscopic points.
+pub trait Recordable<const N: usize>: HybridSystem<N> + Sync {
     /// Stroboscopic period.
     fn strobe_period(&self) -> f64;
     /// Integration scheme for these settings.
     fn scheme(&self, sim: &SimOptions) -> Scheme;
     /// Records `sim.record_periods` periods from `(t0, y0)` and describes the steady state.
-    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError>;
+    fn describe(
+        &self,
+        t0: f64,
+        y0: [f64; N],
+        sim: &SimOptions,
+    ) -> Result<Descriptor<N>, SolverError>;
     /// The gear model, when the system is one (its cells can then run in lockstep lanes,
     /// [`crate::lanes`]). Default: none.
     fn as_mesh(&self) -> Option<&MeshModel> {
@@ -59,12 +66,86 @@ pub trait Recordable: HybridSystem<2> + Sync {
     /// still hold an approach): continues from one of its points and returns the decided
     /// description (it may turn out periodic, or of a lower period, after a longer transient).
     /// Default: the descriptor as it is.
-    fn decide(&self, d: &Descriptor, _sim: &SimOptions) -> Descriptor {
+    fn decide(&self, d: &Descriptor<N>, _sim: &SimOptions) -> Descriptor<N> {
         d.clone()
     }
 }
 
-impl Recordable for MeshModel {
+/// [`Recordable::decide`] of a gear system: the decided classification of [`simulate_decided`]
+/// continued from the last point of the record (it may turn out periodic, or of a lower period,
+/// after a longer transient).
+pub fn decide_gear<S: Engine<N>, const N: usize>(
+    sys: &S,
+    d: &Descriptor<N>,
+    sim: &SimOptions,
+) -> Descriptor<N> {
+    let Some(&y0) = d.points.last() else {
+        return d.clone();
+    };
+    // a point of the stroboscopic record: its time is tau0 plus whole excitation periods
+    let opts = SimOptions {
+        transient_periods: 0,
+        record_periods: sim.record_periods.max(DECIDE_RECORD),
+        trajectory: false,
+        ..*sim
+    };
+    match simulate_decided(sys, y0, &opts, Decide::default()) {
+        Ok((res, s, _)) => {
+            let pts = res.strobe_states();
+            let mut out = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
+            out.motion = s.motion;
+            out.mesh_period = s.mesh_period;
+            out
+        }
+        Err(_) => d.clone(),
+    }
+}
+
+/// [`Recordable::describe`] of a gear system: [`simulate`] and [`summarize`] of the record.
+pub fn describe_gear<S: Engine<N>, const N: usize>(
+    sys: &S,
+    t0: f64,
+    y0: [f64; N],
+    sim: &SimOptions,
+) -> Result<Descriptor<N>, SolverError> {
+    let rec_opts = SimOptions {
+        transient_periods: 0,
+        tau0: t0,
+        ..*sim
+    };
+    let res = simulate(sys, y0, &rec_opts).map_err(|e| match e {
+        crate::simulate::SimError::Solver(s) => s,
+    })?;
+    let s = summarize(sys, &res, &rec_opts);
+    let pts = res.strobe_states();
+    let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
+    d.motion = s.motion;
+    d.mesh_period = s.mesh_period;
+    Ok(d)
+}
+
+/// The toy gear system of the tests and examples, identified as any gear system.
+impl Recordable<4> for geardyn_model::reference::TwoMassClearance {
+    fn strobe_period(&self) -> f64 {
+        geardyn_model::GearSystem::excitation_period(self)
+    }
+    fn scheme(&self, sim: &SimOptions) -> Scheme {
+        sim.method.scheme(self)
+    }
+    fn decide(&self, d: &Descriptor<4>, sim: &SimOptions) -> Descriptor<4> {
+        decide_gear(self, d, sim)
+    }
+    fn describe(
+        &self,
+        t0: f64,
+        y0: [f64; 4],
+        sim: &SimOptions,
+    ) -> Result<Descriptor<4>, SolverError> {
+        describe_gear(self, t0, y0, sim)
+    }
+}
+
+impl Recordable<2> for MeshModel {
     fn as_mesh(&self) -> Option<&MeshModel> {
         Some(self)
     }
@@ -75,48 +156,15 @@ impl Recordable for MeshModel {
         sim.method.scheme(self)
     }
     fn decide(&self, d: &Descriptor, sim: &SimOptions) -> Descriptor {
-        let Some(&y0) = d.points.last() else {
-            return d.clone();
-        };
-        // a point of the stroboscopic record: its time is tau0 plus whole excitation periods
-        let opts = SimOptions {
-            transient_periods: 0,
-            record_periods: sim.record_periods.max(DECIDE_RECORD),
-            trajectory: false,
-            ..*sim
-        };
-        match simulate_decided(self, y0, &opts, Decide::default()) {
-            Ok((res, s, _)) => {
-                let pts: Vec<[f64; 2]> = res.strobe_states();
-                let mut out =
-                    Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
-                out.motion = s.motion;
-                out.mesh_period = s.mesh_period;
-                out
-            }
-            Err(_) => d.clone(),
-        }
+        decide_gear(self, d, sim)
     }
     fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
-        let rec_opts = SimOptions {
-            transient_periods: 0,
-            tau0: t0,
-            ..*sim
-        };
-        let res = simulate(self, y0, &rec_opts).map_err(|e| match e {
-            crate::simulate::SimError::Solver(s) => s,
-        })?;
-        let s = summarize(self, &res, &rec_opts);
-        let pts: Vec<[f64; 2]> = res.strobe_states();
-        let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
-        d.motion = s.motion;
-        d.mesh_period = s.mesh_period;
-        Ok(d)
+        describe_gear(self, t0, y0, sim)
     }
 }
 
-/// Any 2-dimensional system described by its stroboscopic points alone (label `P<n>` or
-/// `chaotic`; "healthy" = periodic).
+/// Any system described by its stroboscopic points alone (label `P<n>` or `chaotic`; "healthy" =
+/// periodic).
 pub struct StrobeOnly<S> {
     /// The system.
     pub sys: S,
@@ -126,25 +174,25 @@ pub struct StrobeOnly<S> {
     pub scheme: Scheme,
 }
 
-impl<S: HybridSystem<2>> HybridSystem<2> for StrobeOnly<S> {
+impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for StrobeOnly<S> {
     type Mode = S::Mode;
     type TimeTerms = S::TimeTerms;
-    fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> S::Mode {
+    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode {
         self.sys.initial_mode(t, y)
     }
     fn time_terms(&self, t: f64) -> S::TimeTerms {
         self.sys.time_terms(t)
     }
-    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; 2], m: &S::Mode, dy: &mut [f64; 2]) {
+    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], m: &S::Mode, dy: &mut [f64; N]) {
         self.sys.rhs(t, tt, y, m, dy)
     }
-    fn guards(&self, t: f64, y: &[f64; 2], m: &S::Mode, g: &mut geardyn_solvers::Guards) {
+    fn guards(&self, t: f64, y: &[f64; N], m: &S::Mode, g: &mut geardyn_solvers::Guards) {
         self.sys.guards(t, y, m, g)
     }
     fn on_event(
         &self,
         t: f64,
-        y: &mut [f64; 2],
+        y: &mut [f64; N],
         m: &mut S::Mode,
         i: usize,
     ) -> geardyn_solvers::EventAction {
@@ -153,7 +201,7 @@ impl<S: HybridSystem<2>> HybridSystem<2> for StrobeOnly<S> {
     fn next_breakpoint(&self, t: f64, m: &S::Mode) -> f64 {
         self.sys.next_breakpoint(t, m)
     }
-    fn on_breakpoint(&self, t: f64, y: &mut [f64; 2], m: &mut S::Mode) {
+    fn on_breakpoint(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode) {
         self.sys.on_breakpoint(t, y, m)
     }
     fn max_step(&self) -> f64 {
@@ -164,21 +212,26 @@ impl<S: HybridSystem<2>> HybridSystem<2> for StrobeOnly<S> {
     }
 }
 
-struct Collect(Vec<[f64; 2]>);
-impl<S: HybridSystem<2>> Observer<S, 2> for Collect {
-    fn on_strobe(&mut self, _t: f64, y: &[f64; 2]) {
+struct Collect<const N: usize>(Vec<[f64; N]>);
+impl<S: HybridSystem<N>, const N: usize> Observer<S, N> for Collect<N> {
+    fn on_strobe(&mut self, _t: f64, y: &[f64; N]) {
         self.0.push(*y);
     }
 }
 
-impl<S: HybridSystem<2> + Sync> Recordable for StrobeOnly<S> {
+impl<S: HybridSystem<N> + Sync, const N: usize> Recordable<N> for StrobeOnly<S> {
     fn strobe_period(&self) -> f64 {
         self.period
     }
     fn scheme(&self, _sim: &SimOptions) -> Scheme {
         self.scheme
     }
-    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
+    fn describe(
+        &self,
+        t0: f64,
+        y0: [f64; N],
+        sim: &SimOptions,
+    ) -> Result<Descriptor<N>, SolverError> {
         let mut it = Integrator::new(self, self.scheme, t0, y0)?;
         let mut c = Collect(Vec::new());
         run_periods(&mut it, self.period, sim.record_periods, &mut c)?;
@@ -194,18 +247,20 @@ impl<S: HybridSystem<2> + Sync> Recordable for StrobeOnly<S> {
 
 /// Compact description of an attractor.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Descriptor {
+pub struct Descriptor<const N: usize = 2> {
     /// Period in excitation periods (0: chaotic or quasi-periodic).
     pub period: usize,
     /// Motion label.
     pub label: String,
     /// Healthy (periodic, no back-side contact or impact).
     pub healthy: bool,
-    /// Stroboscopic points: the `period` points of a periodic orbit, or up to 128 points of a
-    /// chaotic one.
-    pub points: Vec<[f64; 2]>,
-    /// Bounding box `[xmin, xmax, vmin, vmax]` of the points.
-    pub bbox: [f64; 4],
+    /// Stroboscopic points (full states): the `period` points of a periodic orbit, or up to 128
+    /// points of a chaotic one.
+    #[serde(with = "states")]
+    pub points: Vec<[f64; N]>,
+    /// Bounding box `[min_0, max_0, min_1, max_1, ...]` of the points (the pair:
+    /// `[xmin, xmax, vmin, vmax]`).
+    pub bbox: Vec<f64>,
     /// Maximum mesh force on the attractor.
     pub max_force: f64,
     /// Dynamic instability proportion.
@@ -367,7 +422,7 @@ impl Default for IdentifyRequest {
 
 /// Outcome of one trajectory.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Outcome {
+pub enum Outcome<const N: usize = 2> {
     /// Captured early by known attractor `id` after `periods` periods.
     Captured {
         /// Attractor index in the known list.
@@ -376,46 +431,113 @@ pub enum Outcome {
         periods: u64,
     },
     /// Ran the whole transient and was recorded.
-    Recorded(Descriptor),
+    Recorded(Descriptor<N>),
     /// Left the bounded region.
     Diverged,
     /// The integrator failed.
     Failed(String),
 }
 
-fn bbox(points: &[[f64; 2]]) -> [f64; 4] {
-    let mut b = [
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    ];
+fn bbox<const N: usize>(points: &[[f64; N]]) -> Vec<f64> {
+    let mut b: Vec<f64> = (0..2 * N)
+        .map(|i| {
+            if i % 2 == 0 {
+                f64::INFINITY
+            } else {
+                f64::NEG_INFINITY
+            }
+        })
+        .collect();
     for p in points {
-        b[0] = b[0].min(p[0]);
-        b[1] = b[1].max(p[0]);
-        b[2] = b[2].min(p[1]);
-        b[3] = b[3].max(p[1]);
+        for i in 0..N {
+            b[2 * i] = b[2 * i].min(p[i]);
+            b[2 * i + 1] = b[2 * i + 1].max(p[i]);
+        }
     }
     b
 }
 
+/// Largest component difference (the max norm).
 #[inline]
-fn dist(a: &[f64; 2], b: &[f64; 2]) -> f64 {
-    (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
+fn dist<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    // (|a_0 - b_0| first: the same arithmetic as `|dx|.max(|dv|)` for N = 2)
+    (1..N).fold((a[0] - b[0]).abs(), |m, i| m.max((a[i] - b[i]).abs()))
 }
 
-impl Descriptor {
+/// Serialises a list of states as a list of lists (`[[x, v], ...]` for the pair) and reads one
+/// back, checking each state's length.
+mod states {
+    use serde::{Deserialize, Deserializer, Serializer};
+    pub fn serialize<const N: usize, S: Serializer>(
+        v: &[[f64; N]],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|y| &y[..]))
+    }
+    pub fn deserialize<'de, const N: usize, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<[f64; N]>, D::Error> {
+        let rows: Vec<Vec<f64>> = Vec::deserialize(d)?;
+        rows.into_iter()
+            .map(|r| {
+                <[f64; N]>::try_from(r.as_slice()).map_err(|_| {
+                    serde::de::Error::custom(format!(
+                        "a state of {} components where {N} were expected",
+                        r.len()
+                    ))
+                })
+            })
+            .collect()
+    }
+}
+
+impl<const N: usize> Outcome<N> {
+    /// The same outcome of a system whose dimension is known to be `M` (= `N`; panics
+    /// otherwise): the lanes of the pair speak `Outcome<2>`.
+    pub fn resized<const M: usize>(self) -> Outcome<M> {
+        match self {
+            Outcome::Captured { id, periods } => Outcome::Captured { id, periods },
+            Outcome::Recorded(d) => Outcome::Recorded(d.resized()),
+            Outcome::Diverged => Outcome::Diverged,
+            Outcome::Failed(e) => Outcome::Failed(e),
+        }
+    }
+}
+
+impl<const N: usize> Descriptor<N> {
+    /// The same descriptor of a system whose dimension is known to be `M` (= `N`; panics
+    /// otherwise).
+    pub fn resized<const M: usize>(self) -> Descriptor<M> {
+        assert_eq!(N, M, "a descriptor of dimension {N} read as {M}");
+        Descriptor {
+            period: self.period,
+            label: self.label,
+            healthy: self.healthy,
+            points: self
+                .points
+                .iter()
+                .map(|p| std::array::from_fn(|i| p[i]))
+                .collect(),
+            bbox: self.bbox,
+            max_force: self.max_force,
+            p_id: self.p_id,
+            motion: self.motion,
+            mesh_period: self.mesh_period,
+            persistence_checked: self.persistence_checked,
+        }
+    }
+
     /// A descriptor from recorded stroboscopic points: the last `period` points of a periodic
     /// orbit, or up to 128 evenly spread points of a chaotic one.
     pub fn new(
         period: usize,
         label: String,
         healthy: bool,
-        pts: &[[f64; 2]],
+        pts: &[[f64; N]],
         max_force: f64,
         p_id: f64,
     ) -> Self {
-        let points: Vec<[f64; 2]> = if period > 0 && pts.len() >= period {
+        let points: Vec<[f64; N]> = if period > 0 && pts.len() >= period {
             pts[pts.len() - period..].to_vec()
         } else {
             let step = (pts.len() / 128).max(1);
@@ -441,20 +563,25 @@ impl Descriptor {
     }
 
     /// Whether two descriptors describe the same attractor (see module doc).
-    pub fn matches(&self, other: &Descriptor, tol: f64) -> bool {
-        let within = |a: &[[f64; 2]], b: &[[f64; 2]], r: f64| {
+    pub fn matches(&self, other: &Descriptor<N>, tol: f64) -> bool {
+        let within = |a: &[[f64; N]], b: &[[f64; N]], r: f64| {
             a.iter().all(|p| b.iter().any(|q| dist(p, q) <= r))
         };
         match (self.period, other.period) {
             (0, 0) => {
-                let b = [
-                    self.bbox[0].min(other.bbox[0]),
-                    self.bbox[1].max(other.bbox[1]),
-                    self.bbox[2].min(other.bbox[2]),
-                    self.bbox[3].max(other.bbox[3]),
-                ];
-                let r = (NEAR * (b[1] - b[0]).hypot(b[3] - b[2])).max(tol);
-                let share = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+                // the diagonal of the joint bounding box (hypot from the first extent on: the
+                // pair's `dx.hypot(dv)` exactly)
+                let diag = (0..N).fold(0.0f64, |d, i| {
+                    let lo = self.bbox[2 * i].min(other.bbox[2 * i]);
+                    let hi = self.bbox[2 * i + 1].max(other.bbox[2 * i + 1]);
+                    if i == 0 {
+                        hi - lo
+                    } else {
+                        d.hypot(hi - lo)
+                    }
+                });
+                let r = (NEAR * diag).max(tol);
+                let share = |a: &[[f64; N]], b: &[[f64; N]]| {
                     let n = a
                         .iter()
                         .filter(|p| b.iter().any(|q| dist(p, q) <= r))
@@ -484,7 +611,7 @@ impl Descriptor {
     /// Merges `other` (the same attractor) into `self`: a periodic description wins over a
     /// non-periodic one; two clouds keep the union of their points (at most [`MAX_CLOUD`],
     /// evenly thinned) and the decided class of either.
-    fn absorb(&mut self, other: &Descriptor) {
+    fn absorb(&mut self, other: &Descriptor<N>) {
         if self.period > 0 {
             return;
         }
@@ -517,9 +644,9 @@ impl Descriptor {
 /// `first_new` on ([`Recordable::decide`]), merges matching
 /// descriptors of `known` (the earliest index survives) and renumbers `ids` (entries `< 0` are
 /// left alone). Deterministic: sequential, in index order.
-pub fn consolidate<S: Recordable>(
+pub fn consolidate<S: Recordable<N>, const N: usize>(
     sys: &S,
-    known: &mut Vec<Descriptor>,
+    known: &mut Vec<Descriptor<N>>,
     first_new: usize,
     ids: &mut [i64],
     opts: &IdentifyOptions,
@@ -539,7 +666,7 @@ pub fn consolidate<S: Recordable>(
     // and if it lands on a periodic orbit it was transient chaos (long chaotic transients are
     // common near crises); the cells that reached it go to that orbit
     loop {
-        let periodic: Vec<Descriptor> = known.iter().filter(|d| d.period > 0).cloned().collect();
+        let periodic: Vec<Descriptor<N>> = known.iter().filter(|d| d.period > 0).cloned().collect();
         let mut changed = false;
         for d in known.iter_mut() {
             if d.period > 0 || d.persistence_checked {
@@ -587,7 +714,7 @@ pub const PERSIST_FACTOR: u64 = 10;
 
 /// Merges matching descriptors of `known` transitively (the earliest index survives) and
 /// renumbers `ids`.
-fn merge_all(known: &mut Vec<Descriptor>, ids: &mut [i64], match_tol: f64) {
+fn merge_all<const N: usize>(known: &mut Vec<Descriptor<N>>, ids: &mut [i64], match_tol: f64) {
     // union-find over the table, earliest index as the root
     let n = known.len();
     let mut root: Vec<usize> = (0..n).collect();
@@ -693,8 +820,8 @@ impl CellLabels {
     }
 }
 
-pub(crate) struct Capture<'a> {
-    pub(crate) known: &'a [Descriptor],
+pub(crate) struct Capture<'a, const N: usize = 2> {
+    pub(crate) known: &'a [Descriptor<N>],
     pub(crate) tol: f64,
     pub(crate) divergence: f64,
     /// per known periodic attractor: (consecutive matches, phase index, last distance)
@@ -706,9 +833,9 @@ pub(crate) struct Capture<'a> {
     pub(crate) cell_run: (usize, u32),
 }
 
-impl<'a> Capture<'a> {
+impl<'a, const N: usize> Capture<'a, N> {
     pub(crate) fn new(
-        known: &'a [Descriptor],
+        known: &'a [Descriptor<N>],
         cells: Option<&'a CellLabels>,
         opts: &IdentifyOptions,
     ) -> Self {
@@ -725,9 +852,14 @@ impl<'a> Capture<'a> {
     }
 }
 
-impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
-    fn on_strobe(&mut self, _t: f64, y: &[f64; 2]) {
-        if !(y[0].abs() < self.divergence && y[1].abs() < self.divergence) {
+/// Whether every component of `y` is below `divergence` in magnitude (NaN is not).
+fn bounded<const N: usize>(y: &[f64; N], divergence: f64) -> bool {
+    y.iter().all(|v| v.abs() < divergence)
+}
+
+impl<S: HybridSystem<N>, const N: usize> Observer<S, N> for Capture<'_, N> {
+    fn on_strobe(&mut self, _t: f64, y: &[f64; N]) {
+        if !bounded(y, self.divergence) {
             self.diverged = true;
             return;
         }
@@ -765,8 +897,9 @@ impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
         if self.captured.is_some() {
             return;
         }
-        if let Some(cells) = self.cells {
-            self.cell_run = match cells.lookup(y) {
+        // (labelled cells are a plane of the state: the pair's whole state)
+        if let Some(cells) = self.cells.filter(|_| N == 2) {
+            self.cell_run = match cells.lookup(&[y[0], y[1]]) {
                 Some(k) if k < self.known.len() => {
                     let run = if self.cell_run.0 == k {
                         self.cell_run.1 + 1
@@ -786,25 +919,25 @@ impl<S: HybridSystem<2>> Observer<S, 2> for Capture<'_> {
 
 /// Integrates from `y0` and identifies the attractor reached (see module doc). `known` are the
 /// attractors found so far; the system is borrowed, not cloned.
-pub fn identify<S: Recordable>(
+pub fn identify<S: Recordable<N>, const N: usize>(
     sys: &S,
-    y0: [f64; 2],
-    known: &[Descriptor],
+    y0: [f64; N],
+    known: &[Descriptor<N>],
     opts: &IdentifyOptions,
-) -> Outcome {
+) -> Outcome<N> {
     identify_in(sys, y0, known, None, opts)
 }
 
 /// As [`identify`], also captured by the labelled cells of a basin grid (see [`CellLabels`];
 /// early capture must be on). `cells` labels are ids into `known`.
-pub fn identify_in<S: Recordable>(
+pub fn identify_in<S: Recordable<N>, const N: usize>(
     sys: &S,
-    y0: [f64; 2],
-    known: &[Descriptor],
+    y0: [f64; N],
+    known: &[Descriptor<N>],
     cells: Option<&CellLabels>,
     opts: &IdentifyOptions,
-) -> Outcome {
-    let run = || -> Result<Outcome, SolverError> {
+) -> Outcome<N> {
+    let run = || -> Result<Outcome<N>, SolverError> {
         let mut it = Integrator::new(sys, sys.scheme(&opts.sim), opts.sim.tau0, y0)?;
         let period = sys.strobe_period();
         let mut cap = Capture::new(known, cells, opts);
@@ -827,7 +960,7 @@ pub fn identify_in<S: Recordable>(
             }
         }
         let y = *it.y();
-        if !(y[0].abs() < opts.divergence && y[1].abs() < opts.divergence) {
+        if !bounded(&y, opts.divergence) {
             return Ok(Outcome::Diverged);
         }
         // the record continues the run (an impact in progress keeps its hysteresis)
@@ -845,7 +978,11 @@ pub fn identify_in<S: Recordable>(
 
 /// Merges the new descriptors of `outcomes` (in order) into `known`, returning for each outcome
 /// its attractor index, or `-1` (diverged) / `-2` (failed).
-pub fn assign(known: &mut Vec<Descriptor>, outcomes: &[Outcome], match_tol: f64) -> Vec<i64> {
+pub fn assign<const N: usize>(
+    known: &mut Vec<Descriptor<N>>,
+    outcomes: &[Outcome<N>],
+    match_tol: f64,
+) -> Vec<i64> {
     outcomes
         .iter()
         .map(|o| match o {

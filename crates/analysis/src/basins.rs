@@ -40,22 +40,55 @@ impl Axis {
 
 /// Settings of a basin computation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct BasinOptions {
-    /// Initial displacement axis.
+pub struct BasinOptions<const N: usize = 2> {
+    /// Initial displacement axis (state component [`Slice::axes`]`.0`).
     pub x: Axis,
-    /// Initial velocity axis.
+    /// Initial velocity axis (state component [`Slice::axes`]`.1`).
     pub v: Axis,
     /// Identification settings (`sim.tau0` sets the phase of the initial states).
     pub identify: IdentifyOptions,
+    /// The 2-D slice of the state the grid lies in (the pair: its whole state).
+    #[serde(skip)]
+    pub slice: Slice<N>,
+}
+
+/// A plane of the state space: the grid's two axes are components `axes.0` and `axes.1`, every
+/// other component is that of `base`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slice<const N: usize> {
+    /// State components of the grid's `x` and `v` axes.
+    pub axes: (usize, usize),
+    /// The other components of every initial state.
+    pub base: [f64; N],
+}
+
+impl<const N: usize> Default for Slice<N> {
+    /// The first two components, the others zero.
+    fn default() -> Self {
+        Slice {
+            axes: (0, 1),
+            base: [0.0; N],
+        }
+    }
+}
+
+impl<const N: usize> Slice<N> {
+    /// The initial state at grid values `(a, b)`.
+    pub fn state(&self, a: f64, b: f64) -> [f64; N] {
+        let mut y = self.base;
+        y[self.axes.0] = a;
+        y[self.axes.1] = b;
+        y
+    }
 }
 
 /// An attractor with its basin.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BasinAttractor {
+pub struct BasinAttractor<const N: usize = 2> {
     /// Id (index into the table).
     pub id: usize,
     /// Description.
-    pub descriptor: Descriptor,
+    pub descriptor: Descriptor<N>,
     /// Number of cells.
     pub cells: usize,
     /// Basin fraction.
@@ -64,7 +97,7 @@ pub struct BasinAttractor {
 
 /// Basin result.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BasinResult {
+pub struct BasinResult<const N: usize = 2> {
     /// Grid.
     pub x: Axis,
     /// Grid.
@@ -73,7 +106,7 @@ pub struct BasinResult {
     /// -2 failed.
     pub cells: Vec<i64>,
     /// Attractor table.
-    pub attractors: Vec<BasinAttractor>,
+    pub attractors: Vec<BasinAttractor<N>>,
     /// Fraction of divergent cells.
     pub diverged: f64,
     /// Fraction of failed cells.
@@ -90,13 +123,16 @@ pub struct BasinResult {
 /// stride is the first of 16, 32, 64, ... that keeps it within this (16 on grids up to 304 x 304).
 const FIRST_PASS_CELLS: usize = 361;
 
-fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
+fn canonical_order<const N: usize>(known: &[Descriptor<N>]) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..known.len()).collect();
-    let key = |d: &Descriptor| {
-        let p0 = d.points.iter().fold(
-            [f64::INFINITY, 0.0],
-            |m, p| if p[0] < m[0] { *p } else { m },
-        );
+    let key = |d: &Descriptor<N>| {
+        let p0 = d.points.iter().fold([f64::INFINITY, 0.0], |m, p| {
+            if p[0] < m[0] {
+                [p[0], p[1]]
+            } else {
+                m
+            }
+        });
         (
             !d.healthy,
             if d.period == 0 { usize::MAX } else { d.period },
@@ -120,54 +156,54 @@ fn canonical_order(known: &[Descriptor]) -> Vec<usize> {
 ///
 /// With fixed-step RK4 on the gear model the cells of a pass run in lockstep lanes
 /// ([`crate::lanes::identify_lanes`]: the same outcomes as [`identify`](crate::attractor::identify)).
-pub fn basins<S, F>(
+pub fn basins<S, F, const N: usize>(
     model: &S,
-    opts: &BasinOptions,
-    done: &HashMap<usize, Outcome>,
+    opts: &BasinOptions<N>,
+    done: &HashMap<usize, Outcome<N>>,
     on_cell: F,
-) -> BasinResult
+) -> BasinResult<N>
 where
-    S: Recordable,
-    F: Fn(usize, &Outcome) + Sync,
+    S: Recordable<N>,
+    F: Fn(usize, &Outcome<N>) + Sync,
 {
     basins_with(model, opts, done, &on_cell, true)
 }
 
 /// As [`basins`], every cell integrated by the scalar integrator (for comparisons and
 /// benchmarks).
-pub fn basins_scalar<S, F>(
+pub fn basins_scalar<S, F, const N: usize>(
     model: &S,
-    opts: &BasinOptions,
-    done: &HashMap<usize, Outcome>,
+    opts: &BasinOptions<N>,
+    done: &HashMap<usize, Outcome<N>>,
     on_cell: F,
-) -> BasinResult
+) -> BasinResult<N>
 where
-    S: Recordable,
-    F: Fn(usize, &Outcome) + Sync,
+    S: Recordable<N>,
+    F: Fn(usize, &Outcome<N>) + Sync,
 {
     basins_with(model, opts, done, &on_cell, false)
 }
 
-fn basins_with<S>(
+fn basins_with<S, const N: usize>(
     model: &S,
-    opts: &BasinOptions,
-    done: &HashMap<usize, Outcome>,
-    on_cell: &(dyn Fn(usize, &Outcome) + Sync),
+    opts: &BasinOptions<N>,
+    done: &HashMap<usize, Outcome<N>>,
+    on_cell: &(dyn Fn(usize, &Outcome<N>) + Sync),
     lanes: bool,
-) -> BasinResult
+) -> BasinResult<N>
 where
-    S: Recordable,
+    S: Recordable<N>,
 {
     // a run cut by a stop request (geardyn_solvers::cancel) is not finished work
-    let on_cell = |c: usize, o: &Outcome| {
+    let on_cell = |c: usize, o: &Outcome<N>| {
         if !geardyn_solvers::cancel::requested() {
             on_cell(c, o)
         }
     };
     let (nx, nv) = (opts.x.n, opts.v.n);
     let total = nx * nv;
-    let mut outcomes: Vec<Option<Outcome>> = vec![None; total];
-    let mut known: Vec<Descriptor> = Vec::new();
+    let mut outcomes: Vec<Option<Outcome<N>>> = vec![None; total];
+    let mut known: Vec<Descriptor<N>> = Vec::new();
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
     let mut prev_stride = 0usize;
     // halving the stride from pass to pass: each pass captures by a lattice twice as fine
@@ -182,20 +218,22 @@ where
             .collect();
         let snapshot = known.clone();
         // the cells of the earlier passes, as labelled lattice for capture by the grid
+        // (a grid of the whole state only: on a slice of a larger state the stroboscopic points
+        // leave the plane of the labelled cells)
         let labels =
-            (prev_stride > 0 && opts.identify.early_capture && !snapshot.is_empty()).then(|| {
-                CellLabels {
+            (N == 2 && prev_stride > 0 && opts.identify.early_capture && !snapshot.is_empty())
+                .then(|| CellLabels {
                     x: opts.x,
                     v: opts.v,
                     stride: prev_stride,
                     labels: assigned.clone(),
-                }
-            });
+                });
         prev_stride = stride;
         let mesh = model
             .as_mesh()
-            .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify));
-        let fresh: Vec<(usize, Outcome)> = if let Some(mesh) = mesh {
+            .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify))
+            .filter(|_| opts.slice == Slice::default());
+        let fresh: Vec<(usize, Outcome<N>)> = if let Some(mesh) = mesh {
             // fixed-step RK4 on the gear model: the cells of the pass in lockstep lanes (the
             // same reuse rule for saved outcomes as below)
             let reuse = |c: usize| match done.get(&c) {
@@ -203,7 +241,7 @@ where
                 Some(o) => Some(o.clone()),
                 None => None,
             };
-            let saved: Vec<Option<Outcome>> = cells.iter().map(|&c| reuse(c)).collect();
+            let saved: Vec<Option<Outcome<N>>> = cells.iter().map(|&c| reuse(c)).collect();
             let todo: Vec<(usize, [f64; 2])> = cells
                 .iter()
                 .zip(&saved)
@@ -211,15 +249,18 @@ where
                 .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
                 .collect();
             let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
+            // (the pair's lanes speak its own dimension: N = 2 here)
+            let pair_snapshot: Vec<Descriptor> =
+                snapshot.iter().map(|d| d.clone().resized()).collect();
             let computed = crate::lanes::identify_lanes_in(
                 mesh,
                 &y0s,
-                &snapshot,
+                &pair_snapshot,
                 labels.as_ref(),
                 &opts.identify,
-                |i, o| on_cell(todo[i].0, o),
+                |i, o| on_cell(todo[i].0, &o.clone().resized()),
             );
-            let mut computed = computed.into_iter();
+            let mut computed = computed.into_iter().map(Outcome::resized);
             cells
                 .iter()
                 .zip(saved)
@@ -239,14 +280,14 @@ where
                         Some(o) => return (c, o.clone()),
                         None => {}
                     }
-                    let y0 = [opts.x.value(c % nx), opts.v.value(c / nx)];
+                    let y0 = opts.slice.state(opts.x.value(c % nx), opts.v.value(c / nx));
                     let o = identify_in(model, y0, &snapshot, labels.as_ref(), &opts.identify);
                     on_cell(c, &o);
                     (c, o)
                 })
                 .collect()
         };
-        let outs: Vec<Outcome> = fresh.iter().map(|(_, o)| o.clone()).collect();
+        let outs: Vec<Outcome<N>> = fresh.iter().map(|(_, o)| o.clone()).collect();
         let first_new = known.len();
         let ids = assign(&mut known, &outs, opts.identify.match_tol);
         for ((c, o), id) in fresh.into_iter().zip(ids) {
@@ -422,6 +463,11 @@ impl BasinsRequest {
         let phase = crate::attractor::check_phase(self.phase)?;
         let (x, v) = self.axes(model.params().d_single)?;
         identify.sim.tau0 = phase * model.excitation_period();
-        Ok(BasinOptions { x, v, identify })
+        Ok(BasinOptions {
+            x,
+            v,
+            identify,
+            slice: Slice::default(),
+        })
     }
 }

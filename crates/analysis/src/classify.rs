@@ -31,11 +31,11 @@
 //! Why: a slowly converging periodic orbit near a bifurcation has no period within a short
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
+use crate::engine::Engine;
 use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
-use crate::engine::Engine;
 use geardyn_model::{GearSystem, MeshModel};
 use serde::{Deserialize, Serialize};
 

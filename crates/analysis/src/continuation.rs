@@ -13,7 +13,10 @@
 // Branch matching indexes several parallel tables by attractor number.
 #![allow(clippy::needless_range_loop)]
 
-use crate::attractor::{assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome};
+use crate::attractor::{
+    assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome, Recordable,
+};
+use crate::basins::Slice;
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -47,18 +50,18 @@ pub struct ContinuationOptions {
 
 /// Attractors found at one value.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ValueAttractors {
+pub struct ValueAttractors<const N: usize = 2> {
     /// Index of the value.
     pub index: usize,
     /// Parameter value.
     pub value: f64,
     /// Attractors (in order of discovery).
-    pub attractors: Vec<Descriptor>,
+    pub attractors: Vec<Descriptor<N>>,
     /// Attractor of each initial state (-1 divergent, -2 failed).
     pub assignment: Vec<i64>,
 }
 
-impl ValueAttractors {
+impl<const N: usize> ValueAttractors<N> {
     /// Basin fraction of attractor `a` (over all initial states).
     pub fn fraction(&self, a: usize) -> f64 {
         self.assignment.iter().filter(|&&x| x == a as i64).count() as f64
@@ -152,28 +155,53 @@ pub fn attractors_at(
     value: f64,
     opts: &ContinuationOptions,
 ) -> ValueAttractors {
+    attractors_of(model, index, value, opts, &Slice::default())
+}
+
+/// As [`attractors_at`] for any system that can be identified, its initial states in `slice`
+/// (the pair: its whole state). With fixed-step RK4 the pair's initial states run in lockstep
+/// lanes (the same outcomes).
+pub fn attractors_of<S: Recordable<N>, const N: usize>(
+    sys: &S,
+    index: usize,
+    value: f64,
+    opts: &ContinuationOptions,
+    slice: &Slice<N>,
+) -> ValueAttractors<N> {
     let k = opts.ics.max(1);
     let first = k.div_ceil(4);
     let mut id = opts.identify;
-    id.sim.tau0 = opts.phase * model.excitation_period();
-    let mut known = Vec::new();
+    id.sim.tau0 = opts.phase * sys.strobe_period();
+    let start = |ic: usize| {
+        let [a, b] = initial_state(opts, ic);
+        slice.state(a, b)
+    };
+    let mut known: Vec<Descriptor<N>> = Vec::new();
     let mut assignment = vec![-2i64; k];
     for (lo, hi) in [(0, first), (first, k)] {
         let snapshot = known.clone();
-        let outs: Vec<Outcome> = if crate::lanes::identify_lanes_apply(&id) {
-            // fixed-step RK4: the initial states in lockstep lanes (the same outcomes)
+        let lanes = sys
+            .as_mesh()
+            .filter(|_| crate::lanes::identify_lanes_apply(&id) && *slice == Slice::default());
+        let outs: Vec<Outcome<N>> = if let Some(model) = lanes {
+            // fixed-step RK4: the initial states in lockstep lanes (the same outcomes; the
+            // pair's lanes speak its own dimension, N = 2 here)
             let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
-            crate::lanes::identify_lanes(model, &y0s, &snapshot, &id, |_, _| {})
+            let pair: Vec<Descriptor> = snapshot.iter().map(|d| d.clone().resized()).collect();
+            crate::lanes::identify_lanes(model, &y0s, &pair, &id, |_, _| {})
+                .into_iter()
+                .map(Outcome::resized)
+                .collect()
         } else {
             (lo..hi)
                 .into_par_iter()
-                .map(|ic| identify(model, initial_state(opts, ic), &snapshot, &id))
+                .map(|ic| identify(sys, start(ic), &snapshot, &id))
                 .collect()
         };
         let first_new = known.len();
         let ids = assign(&mut known, &outs, id.match_tol);
         assignment[lo..hi].copy_from_slice(&ids);
-        consolidate(model, &mut known, first_new, &mut assignment, &id);
+        consolidate(sys, &mut known, first_new, &mut assignment, &id);
     }
     ValueAttractors {
         index,
@@ -181,6 +209,27 @@ pub fn attractors_at(
         attractors: known,
         assignment,
     }
+}
+
+/// Attractor continuation of a one-parameter family of systems (any system that can be
+/// identified, e.g. a gear system of your own with [`crate::attractor::describe_gear`]): the
+/// attractors at every value of `opts.values` from the same initial states (in `slice`), linked
+/// into branches with their events and intervals ([`link`]; `opts.param` names the parameter).
+/// In parallel, the same result on any thread count.
+pub fn continuation_of<F, const N: usize>(
+    fam: &F,
+    opts: &ContinuationOptions,
+    slice: &Slice<N>,
+) -> ContinuationResult
+where
+    F: crate::generic::Family<N>,
+    F::System: Recordable<N>,
+{
+    let per_value: Vec<ValueAttractors<N>> = (0..opts.values.len())
+        .into_par_iter()
+        .map(|i| attractors_of(&fam.at(opts.values[i]), i, opts.values[i], opts, slice))
+        .collect();
+    link(&opts.param, &per_value, opts.identify.match_tol)
 }
 
 /// Runs the continuation. `done` holds values finished by an interrupted run; `on_done` receives
@@ -227,7 +276,11 @@ fn continuation_dyn(
 }
 
 /// Links the attractors of consecutive values into branches and derives events and intervals.
-pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> ContinuationResult {
+pub fn link<const N: usize>(
+    param: &str,
+    per_value: &[ValueAttractors<N>],
+    match_tol: f64,
+) -> ContinuationResult {
     let mut points = Vec::new();
     let mut events = Vec::new();
     let mut lost = Vec::new();
@@ -410,7 +463,7 @@ pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> Conti
             / va.assignment.len().max(1) as f64;
         lost.push((va.value, lost_frac));
         for (a, d) in va.attractors.iter().enumerate() {
-            let p0 = d.points.first().copied().unwrap_or([f64::NAN; 2]);
+            let p0 = d.points.first().map_or([f64::NAN; 2], |p| [p[0], p[1]]);
             points.push(BranchPoint {
                 value: va.value,
                 branch: branch[a],
@@ -435,7 +488,10 @@ pub fn link(param: &str, per_value: &[ValueAttractors], match_tol: f64) -> Conti
     }
 }
 
-fn intervals(per_value: &[ValueAttractors], points: &[BranchPoint]) -> Vec<Interval> {
+fn intervals<const N: usize>(
+    per_value: &[ValueAttractors<N>],
+    points: &[BranchPoint],
+) -> Vec<Interval> {
     let mut out: Vec<Interval> = Vec::new();
     let mut last_key: Option<Vec<(usize, String)>> = None;
     for va in per_value {

@@ -8,8 +8,8 @@
 use crate::classify::{simulate_decided, Decide};
 use crate::driver::{run_periods, Discard, Observer};
 use crate::engine::Engine;
-use crate::simulate::{SimError, SimOptions, Summary};
 use crate::period::minimal_period;
+use crate::simulate::{SimError, SimOptions, Summary};
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError};
 use rayon::prelude::*;
 

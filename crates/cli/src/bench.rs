@@ -426,6 +426,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 n: 200,
             },
             identify: ident,
+            slice: Default::default(),
         };
         let t = Instant::now();
         let r = basins(&model, &opts, &Default::default(), |_, _| {});

@@ -309,7 +309,7 @@ pub struct BasinsJob<'a, S> {
     pub opts: &'a BasinOptions,
 }
 
-impl<S: Recordable + Sync> Job for BasinsJob<'_, S> {
+impl<S: Recordable<2> + Sync> Job for BasinsJob<'_, S> {
     type Record = (usize, Outcome);
     type Id = usize;
     type Output = BasinResult;

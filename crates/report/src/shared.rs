@@ -408,6 +408,7 @@ fn basin_options(
         x: axis(x),
         v: axis(v),
         identify,
+        slice: Default::default(),
     }
 }
 

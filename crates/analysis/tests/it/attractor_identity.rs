@@ -31,6 +31,7 @@ fn classic(omega: f64) -> MeshModel {
 fn run(model: &MeshModel, n: usize, transient: u64) -> BasinResult {
     let d = model.backlash_levels().1;
     let opts = BasinOptions {
+        slice: Default::default(),
         x: Axis {
             min: -2.0 * d,
             max: 2.0 * d,

@@ -14,6 +14,7 @@ fn symmetric_pair_of_attractors_has_equal_basins() {
     // symmetric under (x, v) -> (-x, -v); the grid is symmetric too
     let sys = double_well();
     let opts = BasinOptions {
+        slice: Default::default(),
         x: Axis {
             min: -2.0,
             max: 2.0,
@@ -68,6 +69,7 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
     let opts = |n: usize| BasinOptions {
+        slice: Default::default(),
         x: Axis {
             min: -3.0,
             max: 3.0,
@@ -179,6 +181,7 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
     identify.sim.transient_periods = 300;
     identify.sim.record_periods = 16;
     let opts = BasinOptions {
+        slice: Default::default(),
         x: axis(40, 2.0),
         v: axis(40, 1.5),
         identify,
@@ -218,6 +221,7 @@ fn an_orbit_still_approaching_a_lower_period_is_not_a_second_attractor() {
     spec.set("omega", 0.7).unwrap();
     let m = spec.resolve().unwrap().model().clone();
     let opts = BasinOptions {
+        slice: Default::default(),
         x: Axis {
             min: -2.0,
             max: 2.0,

@@ -16,6 +16,7 @@ fn an_out_of_range_attractor_id_is_recomputed_not_trusted() {
         n: 12,
     };
     let opts = BasinOptions {
+        slice: Default::default(),
         x: axis,
         v: axis,
         identify: IdentifyOptions {

@@ -366,6 +366,7 @@ fn basins_in_lanes_equal_the_scalar_basins() {
     identify.sim.transient_periods = 150;
     identify.sim.record_periods = 32;
     let opts = BasinOptions {
+        slice: Default::default(),
         x: Axis {
             min: -2.0,
             max: 2.0,

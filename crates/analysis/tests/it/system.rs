@@ -55,7 +55,10 @@ fn the_linear_limit_matches_the_closed_form_response() {
         ..Default::default()
     };
     let res = simulate(&sys, [x1_static, 0.0, x1_static - u1_static, 0.0], &opts).unwrap();
-    assert!(res.meshes.iter().all(|m| m.events.is_empty()), "stays in contact");
+    assert!(
+        res.meshes.iter().all(|m| m.events.is_empty()),
+        "stays in contact"
+    );
     assert_eq!(res.meshes.len(), 2);
     let amp = res.meshes[0].amplitudes();
     let x1 = closed_form_amplitude(&sys);
@@ -119,7 +122,9 @@ fn the_variational_exponent_agrees_with_two_trajectories_across_contact_changes(
     let events: usize = res.meshes.iter().map(|m| m.events.len()).sum();
     assert!(events > 0, "the motion changes contact");
     let (t, y) = res.final_state;
-    let (var, _) = sys.tle(&opts, t, y, 0.0, 300).expect("variational exponent");
+    let (var, _) = sys
+        .tle(&opts, t, y, 0.0, 300)
+        .expect("variational exponent");
     let lo = LyapunovOptions {
         period: sys.excitation_period(),
         transient_periods: 0,
@@ -149,7 +154,11 @@ fn each_mesh_has_its_own_label_and_the_system_joins_them() {
         }
     }
     // the aggregate is the extremes, totals and mean over the meshes
-    let max = s.meshes.iter().map(|m| m.max_force).fold(f64::MIN, f64::max);
+    let max = s
+        .meshes
+        .iter()
+        .map(|m| m.max_force)
+        .fold(f64::MIN, f64::max);
     assert_eq!(s.max_force, max);
     let pid = (s.meshes[0].p_id + s.meshes[1].p_id) / 2.0;
     assert!((s.p_id - pid).abs() < 1e-15);
@@ -224,4 +233,90 @@ fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
         let c: Vec<u32> = l.split('-').skip(1).map(|v| v.parse().unwrap()).collect();
         assert_eq!(c[..], m.counts[..2]);
     }
+}
+
+/// Identification of the toy with tolerances for a four-state system.
+fn identify_opts() -> geardyn_analysis::attractor::IdentifyOptions {
+    geardyn_analysis::attractor::IdentifyOptions {
+        sim: SimOptions {
+            transient_periods: 150,
+            record_periods: 32,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+#[test]
+fn basins_on_a_slice_of_the_linear_toy_are_one_basin() {
+    use geardyn_analysis::basins::{basins, Axis, BasinOptions, Slice};
+    // a linear system has one attractor, which attracts every initial state: the grid in the
+    // (x1, x2) plane (velocities zero) is one basin of a period-1, impact-free orbit
+    let sys = linear();
+    let opts = BasinOptions {
+        x: Axis {
+            min: 1.5,
+            max: 2.5,
+            n: 6,
+        },
+        v: Axis {
+            min: -0.5,
+            max: 0.5,
+            n: 5,
+        },
+        identify: identify_opts(),
+        slice: Slice {
+            axes: (0, 2),
+            base: [0.0; 4],
+        },
+    };
+    let r = basins(&sys, &opts, &Default::default(), |_, _| {});
+    assert_eq!(r.attractors.len(), 1, "{:?}", r.attractors);
+    let a = &r.attractors[0];
+    assert_eq!(a.fraction, 1.0);
+    assert_eq!(a.descriptor.period, 1);
+    assert_eq!(a.descriptor.label, "1-0-0 1-0-0");
+    assert_eq!(a.descriptor.points[0].len(), 4);
+    assert_eq!(r.boundary_fraction, 0.0);
+}
+
+#[test]
+fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
+    use geardyn_analysis::basins::Slice;
+    use geardyn_analysis::continuation::{continuation_of, ContinuationOptions};
+    struct Amplitude;
+    impl Family<4> for Amplitude {
+        type System = TwoMassClearance;
+        fn at(&self, a: f64) -> TwoMassClearance {
+            TwoMassClearance {
+                amplitude: a,
+                ..linear()
+            }
+        }
+        fn period(&self, _a: f64) -> f64 {
+            2.0 * std::f64::consts::PI / 0.7
+        }
+    }
+    let opts = ContinuationOptions {
+        param: "amplitude".into(),
+        values: vec![0.1, 0.2, 0.3],
+        ics: 4,
+        seed: 7,
+        x0_range: (1.8, 2.2),
+        v0_range: (-0.2, 0.2),
+        phase: 0.0,
+        identify: identify_opts(),
+    };
+    let r = continuation_of(&Amplitude, &opts, &Slice::default());
+    // one attractor per value, all on branch 0, no event between them
+    assert_eq!(r.points.len(), 3, "{:?}", r.points);
+    assert!(r.points.iter().all(|p| p.branch == 0 && p.period == 1));
+    assert!(r.events.is_empty(), "{:?}", r.events);
+    // the orbit's displacement grows with the forcing about the static deflection x1 = 2:
+    // the strobe point's offset from it scales linearly with the amplitude
+    let d: Vec<f64> = r.points.iter().map(|p| p.x - 2.0).collect();
+    assert!(
+        (d[1] / d[0] - 2.0).abs() < 1e-4 && (d[2] / d[0] - 3.0).abs() < 1e-4,
+        "{d:?}"
+    );
 }
