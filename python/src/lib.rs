@@ -12,7 +12,7 @@ use geardyn_analysis::bifurcation::{
     detect_jumps, range_values, SweepOptions, TaskResult, MAX_RANGE_VALUES,
 };
 use geardyn_analysis::continuation::ValueAttractors;
-use geardyn_analysis::lyapunov::{LyapunovRequest, TleMethod};
+use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::MapCell;
 use geardyn_io::config::{assigns, Face, SimOverrides};
 use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store, SweepJob};

@@ -13,7 +13,7 @@
 //! default the adaptive integrator at rtol 1e-9) and `x0=..`/`v0=..` for the initial state.
 
 use geardyn_analysis::bifurcation::linspace;
-use geardyn_analysis::classify::tle_of;
+use geardyn_analysis::pair_engine::tle_of;
 use geardyn_analysis::simulate::{simulate, Method, SimOptions};
 use geardyn_scenario::ScenarioSpec;
 use rayon::prelude::*;

@@ -771,9 +771,9 @@ fn merge_all<const N: usize>(known: &mut Vec<Descriptor<N>>, ids: &mut [i64], ma
 #[derive(Clone, Debug)]
 pub struct CellLabels {
     /// `x` axis of the grid.
-    pub x: crate::basins::Axis,
+    pub x: crate::grid::Axis,
     /// `v` axis of the grid.
-    pub v: crate::basins::Axis,
+    pub v: crate::grid::Axis,
     /// Spacing (in cells) of the labelled lattice: cells `(ix, iv)` with `ix % stride == 0` and
     /// `iv % stride == 0` are labelled.
     pub stride: usize,
@@ -791,7 +791,7 @@ impl CellLabels {
     /// The attractor of the uniform labelled square holding `y`, if there is one.
     pub fn lookup(&self, y: &[f64; 2]) -> Option<usize> {
         let s = self.stride.max(1) as f64;
-        let node = |a: &crate::basins::Axis, u: f64| -> Option<(usize, usize)> {
+        let node = |a: &crate::grid::Axis, u: f64| -> Option<(usize, usize)> {
             // fractional cell index (centres at integers), in lattice units
             let f = ((u - a.min) / (a.max - a.min) * a.n as f64 - 0.5) / s;
             if !f.is_finite() || f < 0.0 {

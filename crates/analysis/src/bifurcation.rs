@@ -703,12 +703,12 @@ fn sweep_tasks(
                 .filter(|t| !done.contains_key(t) && only.is_none_or(|o| o.contains(t)))
                 .collect();
             // the batched path pays off where the lanes integrate something: fixed-step RK4, or a
-            // decision's follow (crate::classify::follow_method); an adaptive sweep of any other
+            // decision's follow (crate::pair_engine::follow_method); an adaptive sweep of any other
             // model decides each run on its own thread (rounds would only add barriers)
             let batched = crate::lanes::lanes_apply(&opts.sim)
                 || models
                     .iter()
-                    .any(|m| crate::classify::follow_method(m, &opts.sim).is_some());
+                    .any(|m| crate::pair_engine::follow_method(m, &opts.sim).is_some());
             let fresh: Vec<TaskResult> = if !batched {
                 todo.par_iter()
                     .map(|&t| {
@@ -728,7 +728,7 @@ fn sweep_tasks(
                 // fixed-step RK4 in lockstep lanes, else one by one in parallel), then the
                 // decisions of the batch together in rounds (TLEs in parallel; transient
                 // extensions, persistence checks and records again in the lanes where they are
-                // RK4 — a decision's follow always is, crate::classify::follow_method — and the
+                // RK4 — a decision's follow always is, crate::pair_engine::follow_method — and the
                 // adaptive integrator's records in parallel: crate::lanes::decide_lanes). The
                 // batches are pipelined: a batch is classified while the next one runs (rayon
                 // balances the two), so the threads are not left waiting on the few long

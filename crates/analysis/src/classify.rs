@@ -36,17 +36,18 @@ use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
+pub use crate::verdict::{
+    DecidedBy, Motion, DECISION_BUDGET, DECISION_PERIODS, DIVERGED_SCALES, FOLLOW_STEPS,
+    FOLLOW_STEPS_RANGE, MAX_DECISION_BUDGET,
+};
 use geardyn_model::{GearSystem, MeshModel};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// Doublings of the transient tried before a non-periodic, non-chaotic run is called
 /// `unsettled`.
 pub const MAX_EXTENSIONS: u32 = 4;
 /// Smallest transient extension of a round (excitation periods).
 pub const MIN_EXTENSION: u64 = 100;
-/// A motion whose `|x|` exceeds this many length scales `max(D_s, 1)` has run away (teeth that
-/// never meet under a constant load, an unbounded resonance): it is reported as diverged.
-pub const DIVERGED_SCALES: f64 = 1e3;
 /// Excitation periods of the Lyapunov estimate that decides chaos (at least; the record length
 /// when longer).
 pub const TLE_PERIODS: u64 = 100;
@@ -88,248 +89,6 @@ fn largest_mesh_displacement<S: GearSystem<N>, const N: usize>(sys: &S, y: &[f64
 /// three standard errors.
 pub const TLE_POSITIVE: f64 = 1e-3;
 
-/// Default decision horizon ([`SimOptions::decision_periods`], excitation periods from the start
-/// of a run): a motion with a positive exponent is called chaotic only when it is still not
-/// periodic after this many periods. Measured chaotic transients (docs/analyses.md, rule 2;
-/// `crates/analysis/examples/transient_lifetimes.rs`) lasted up to 6 965 periods on case C1
-/// (`omega` = 1.4271, from rest) and 6 090 revolutions on the broken pair (`omega` = 1.2,
-/// `F` = 0.065); the horizon lies above both.
-pub const DECISION_PERIODS: u64 = 10_000;
-/// Default work budget of one run's decision ([`SimOptions::decision_budget`]): right-hand-side
-/// evaluations in all (the integrators' unit of work: 4 per RK4 step, 6 per DP5 step, plus event
-/// location), counted from the start of the run. Measured need: the broken pair at `omega` = 1.2
-/// follows 10 000 revolutions in ~170 M evaluations with DP5 and ~820 M with RK4 at 512 steps per
-/// cycle, C1 10 000 periods in ~21 M with DP5 and ~3 M with the follow ([`follow_method`]); the
-/// budget lies above them. Work per excitation period grows at low frequencies (the broken pair
-/// at `omega` = 0.1: ~233 000 per revolution, 14 times the cost at 1.2), where the budget ends the
-/// decision after ~4 300 revolutions (about a minute) instead of ten minutes per run: such a run is
-/// `unsettled` (decided by `budget`), never chaotic.
-pub const DECISION_BUDGET: u64 = 1_000_000_000;
-/// Largest [`SimOptions::decision_budget`] accepted: a thousand times the default (about a day of
-/// one core per run).
-pub const MAX_DECISION_BUDGET: u64 = 1000 * DECISION_BUDGET;
-
-/// Default [`SimOptions::follow_steps`]: fixed-step RK4 steps per natural period (`2 pi` of
-/// dimensionless time) of a decision's follow. At `h <= 2 pi / 64` an RK4 step errs by about
-/// `(h)^5 / 120 < 1e-7` of the state on the unit natural frequency; on W1 (C1, 200 values) the
-/// verdicts came out as with RK4 512 but for one value whose transient ended inside the horizon
-/// (docs/analyses.md, rule 2).
-pub const FOLLOW_STEPS: u32 = 64;
-/// [`SimOptions::follow_steps`] accepted besides 0: below 16 steps per natural period RK4 leaves
-/// its useful accuracy (and at about 2.2 its stability).
-pub const FOLLOW_STEPS_RANGE: std::ops::RangeInclusive<u32> = 16..=1_000_000;
-/// Fewest RK4 steps per mesh cycle of a follow (a mesh cycle much shorter than the natural
-/// period still has its stiffness variation resolved).
-pub const MIN_FOLLOW_STEPS_PER_CYCLE: u32 = 32;
-
-/// Whether the coarse follow has been shown faithful for `model`'s kind: a contact law the
-/// lockstep lanes step themselves (linear, without hysteresis), bilateral — C1, and the broken
-/// and internal pairs with impacts, friction and a time-varying backlash. The check
-/// (docs/analyses.md, rule 2): the quick reports of the three presets decided with and without the
-/// follow differ in no more runs than two runs of the requested integrator whose tolerances
-/// differ by 10 % (internal: 156 class changes of 2 048 with the follow, 169 and 176 with rtol
-/// 1.1e-9 and 0.9e-9; breakage: 5 of 102, against 3 and 4). Other laws follow with the
-/// requested integrator: the lanes do not step them, and the follow was not checked there.
-pub fn follow_validated(model: &MeshModel) -> bool {
-    crate::lanes::lanes_cover_contact(model) && !model.params().unilateral
-}
-
-/// The integrator of a decision's *follow*: the transient of a persistence block, the long part
-/// of the decision that records nothing and asks one question only — does the motion leave the
-/// chaotic set for a periodic orbit before the horizon? Every record, period test and exponent
-/// uses the requested integrator; the follow only carries the state from one block's record to
-/// the next, and any faithful pseudo-orbit answers that question as well as another (a chaotic
-/// transient's end is a statistical event: two integrations that round differently end it at
-/// different times anyway). So it runs as fixed-step RK4 at `opts.follow_steps` steps per
-/// natural period, rounded up to the ladder 32, 48, 64, 96, 128, ... steps per mesh cycle (at
-/// least [`MIN_FOLLOW_STEPS_PER_CYCLE`]; the runs of a sweep over `omega` share lanes within a
-/// rung), which the lockstep lanes advance together; never finer than a requested RK4. `None`: follow with the
-/// requested integrator (`follow_steps` = 0, a requested RK4 already as coarse, or a model of a
-/// kind the follow has not been shown faithful for: [`follow_validated`]).
-///
-/// ```
-/// use geardyn_analysis::classify::follow_method;
-/// use geardyn_analysis::simulate::{Method, SimOptions};
-/// let mut p = geardyn_model::presets::classic();
-/// p.omega = 1.2;
-/// let m = geardyn_model::MeshModel::new(&p).unwrap();
-/// // C1 at omega = 1.2: a mesh cycle of 5.24 holds 64 steps of at most 2 pi / 64
-/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 64 }));
-/// let off = SimOptions { follow_steps: 0, ..Default::default() };
-/// assert_eq!(follow_method(&m, &off), None);
-/// // at omega = 0.6 the mesh cycle is twice as long: 107 steps needed, 128 taken
-/// p.omega = 0.6;
-/// let m = geardyn_model::MeshModel::new(&p).unwrap();
-/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 128 }));
-/// // at omega = 0.8: 80 needed, 96 taken
-/// p.omega = 0.8;
-/// let m = geardyn_model::MeshModel::new(&p).unwrap();
-/// assert_eq!(follow_method(&m, &SimOptions::default()), Some(Method::Rk4 { steps_per_cycle: 96 }));
-/// ```
-pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
-    if opts.follow_steps == 0 || !follow_validated(model) {
-        return None;
-    }
-    let per_cycle = f64::from(opts.follow_steps) * model.mesh_cycle_time() / std::f64::consts::TAU;
-    let need =
-        (per_cycle.ceil().min(f64::from(u32::MAX / 2)) as u32).max(MIN_FOLLOW_STEPS_PER_CYCLE);
-    // the ladder 32, 48, 64, 96, 128, ...: at most a third more steps than needed
-    let two = need.next_power_of_two();
-    let steps = if two / 4 * 3 >= need {
-        two / 4 * 3
-    } else {
-        two
-    };
-    match opts.method {
-        Method::Rk4 { steps_per_cycle } if steps_per_cycle <= steps => None,
-        _ => Some(Method::Rk4 {
-            steps_per_cycle: steps,
-        }),
-    }
-}
-
-/// The evidence that decided a run's class (`decided_by` in `summary.json` and runs tables).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DecidedBy {
-    /// Periodic: the stroboscopic period test passed (on the first record or a later one).
-    PeriodTest,
-    /// Periodic: a significantly negative exponent, its period read at the loose tolerance.
-    AttractingExponent,
-    /// Chaotic: still not periodic at the decision horizon, and the exponent there significantly
-    /// positive.
-    PersistentChaos,
-    /// Chaotic on the exponents after the first record, with no persistence block: the
-    /// persistence check was turned off, or the first record already reached the horizon (a
-    /// transient of its own at least as long, or a horizon set below it).
-    FirstExponent,
-    /// Quasi-periodic: an exponent zero within its error after the extensions.
-    ZeroExponent,
-    /// Unsettled: the work budget ran out before the decision horizon.
-    Budget,
-    /// Unsettled: no period and no significant exponent (or no exponent at all).
-    #[default]
-    Undecided,
-    /// Diverged: `|x|` ran away.
-    Runaway,
-    /// The integration failed.
-    Error,
-}
-
-impl DecidedBy {
-    /// The name written in outputs (`period_test`, `persistent_chaos`, ...).
-    pub fn name(self) -> &'static str {
-        match self {
-            DecidedBy::PeriodTest => "period_test",
-            DecidedBy::AttractingExponent => "attracting_exponent",
-            DecidedBy::PersistentChaos => "persistent_chaos",
-            DecidedBy::FirstExponent => "first_exponent",
-            DecidedBy::ZeroExponent => "zero_exponent",
-            DecidedBy::Budget => "budget",
-            DecidedBy::Undecided => "undecided",
-            DecidedBy::Runaway => "runaway",
-            DecidedBy::Error => "error",
-        }
-    }
-}
-
-/// What a motion is, decided from the evidence.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "class", rename_all = "snake_case")]
-pub enum Motion {
-    /// The stroboscopic points repeat with this minimal period (excitation periods).
-    Periodic {
-        /// Period in excitation periods.
-        period: usize,
-    },
-    /// The top Lyapunov exponent is significantly positive.
-    Chaotic {
-        /// TLE per unit dimensionless time.
-        tle: f64,
-        /// Its standard error.
-        stderr: f64,
-    },
-    /// No period after the extended transient, and a TLE of zero within its error.
-    QuasiPeriodic {
-        /// TLE per unit dimensionless time.
-        tle: f64,
-        /// Its standard error.
-        stderr: f64,
-    },
-    /// Not decided: no period within the extended transient, TLE not significantly positive.
-    Unsettled {
-        /// TLE, when it was computed.
-        tle: Option<f64>,
-        /// Its standard error.
-        stderr: Option<f64>,
-    },
-    /// The motion ran away: `|x|` grew beyond [`DIVERGED_SCALES`] length scales.
-    Diverged {
-        /// Largest `|x|` reached.
-        x_max: f64,
-    },
-    /// The integration failed (the message says why).
-    Failed {
-        /// The error.
-        reason: String,
-    },
-}
-
-impl Default for Motion {
-    fn default() -> Self {
-        Motion::Unsettled {
-            tle: None,
-            stderr: None,
-        }
-    }
-}
-
-impl Motion {
-    /// One word: `periodic`, `chaotic`, `quasi-periodic`, `unsettled`, `failed`.
-    pub fn word(&self) -> &'static str {
-        match self {
-            Motion::Periodic { .. } => "periodic",
-            Motion::Chaotic { .. } => "chaotic",
-            Motion::QuasiPeriodic { .. } => "quasi-periodic",
-            Motion::Unsettled { .. } => "unsettled",
-            Motion::Diverged { .. } => "diverged",
-            Motion::Failed { .. } => "failed",
-        }
-    }
-
-    /// Periodic?
-    pub fn is_periodic(&self) -> bool {
-        matches!(self, Motion::Periodic { .. })
-    }
-
-    /// Chaotic?
-    pub fn is_chaotic(&self) -> bool {
-        matches!(self, Motion::Chaotic { .. })
-    }
-
-    /// A description for people: `period 2`, `chaotic (TLE 0.0512 ± 0.0011)`, ...
-    pub fn describe(&self) -> String {
-        match self {
-            Motion::Periodic { period } => format!("period {period}"),
-            Motion::Chaotic { tle, stderr } => format!("chaotic (TLE {tle:.4} ± {stderr:.4})"),
-            Motion::QuasiPeriodic { tle, stderr } => {
-                format!("quasi-periodic (TLE {tle:.4} ± {stderr:.4}, no period)")
-            }
-            Motion::Unsettled { tle, stderr } => match (tle, stderr) {
-                (Some(t), Some(s)) => format!(
-                    "unsettled: no period within the extended transient, TLE {t:.4} ± {s:.4} not significantly positive"
-                ),
-                _ => "unsettled: no period detected (not classified further)".into(),
-            },
-            Motion::Diverged { x_max } => format!(
-                "diverged: |x| reached {} (more than {DIVERGED_SCALES} length scales max(D_s, 1))",
-                geardyn_model::error::num(*x_max)
-            ),
-            Motion::Failed { reason } => format!("failed: {reason}"),
-        }
-    }
-}
-
 /// Classification effort.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Decide {
@@ -348,39 +107,9 @@ impl Default for Decide {
     }
 }
 
-/// TLE of the motion continuing from `(t, y)` and its standard error, or `None` if it cannot be
-/// computed: the exponent [`Need::Tle`] asks for.
-pub fn tle_of(
-    model: &MeshModel,
-    opts: &SimOptions,
-    t: f64,
-    y: [f64; 2],
-    memory: f64,
-) -> Option<(f64, f64)> {
-    tles_of(&[(model, t, y, memory)], opts, tle_periods(opts))
-        .pop()
-        .flatten()
-}
-
 /// Excitation periods of the exponent that decides chaos: the record, at least [`TLE_PERIODS`].
 pub fn tle_periods(opts: &SimOptions) -> u64 {
     opts.record_periods.max(TLE_PERIODS)
-}
-
-/// [`tle_of`] of every `(model, t, y)`, in input order ([`crate::lanes_tle::tle_many`]: with
-/// fixed-step RK4 in lockstep lanes, the same result for a run alone or among others).
-pub fn tles_of(
-    runs: &[crate::lanes_tle::TleStart<'_>],
-    opts: &SimOptions,
-    periods: u64,
-) -> Vec<Option<(f64, f64)>> {
-    crate::lanes_tle::tle_many(runs, opts, periods)
-        .into_iter()
-        .map(|r| {
-            r.filter(|r| r.tle.is_finite() && r.spread.is_finite())
-                .map(|r| (r.tle, r.spread))
-        })
-        .collect()
 }
 
 fn significantly_positive(tle: f64, se: f64) -> bool {

@@ -17,11 +17,11 @@
 
 use crate::lyapunov::{LyapunovOptions, TangentSpace};
 use crate::simulate::{simulate, Method, SimError, SimOptions, SimResult};
-use geardyn_model::{GearSystem, MeshModel};
+use geardyn_model::GearSystem;
 
 /// The integration engine of a [`GearSystem`] (see the module doc).
 pub trait Engine<const N: usize>: GearSystem<N> + TangentSpace<N> {
-    /// The integrator of a decision's *follow* ([`crate::classify::follow_method`]); `None`
+    /// The integrator of a decision's *follow* ([`crate::pair_engine::follow_method`]); `None`
     /// follows with the requested integrator. Default: `None` (a coarse follow is validated
     /// per kind of system, docs/analyses.md).
     fn follow_method(&self, _opts: &SimOptions) -> Option<Method> {
@@ -62,43 +62,6 @@ pub trait Engine<const N: usize>: GearSystem<N> + TangentSpace<N> {
             .ok()
             .filter(|r| r.tle.is_finite() && r.spread.is_finite())
             .map(|r| (r.tle, r.spread))
-    }
-}
-
-/// The single pair: follows on a one-lane engine with its phase tables (the integration of a
-/// sweep's lanes, so a run decides alike alone and in a sweep) and exponents in the lanes.
-impl Engine<2> for MeshModel {
-    fn follow_method(&self, opts: &SimOptions) -> Option<Method> {
-        crate::classify::follow_method(self, opts)
-    }
-
-    fn simulate_in_decision(
-        &self,
-        y0: [f64; 2],
-        o: &SimOptions,
-        requested: &SimOptions,
-    ) -> Result<SimResult, SimError> {
-        if o.method != requested.method
-            && crate::lanes::lanes_apply(o)
-            && crate::lanes::lanes_cover_contact(self)
-        {
-            crate::lanes::simulate_lane_grid(self, y0, o, requested.tau0)
-        } else {
-            simulate(self, y0, o)
-        }
-    }
-
-    fn tle(
-        &self,
-        opts: &SimOptions,
-        t: f64,
-        y: [f64; 2],
-        memory: f64,
-        periods: u64,
-    ) -> Option<(f64, f64)> {
-        crate::classify::tles_of(&[(self, t, y, memory)], opts, periods)
-            .pop()
-            .flatten()
     }
 }
 

@@ -24,8 +24,11 @@
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
 use crate::attractor::{Capture, CellLabels, Descriptor, IdentifyOptions, Outcome};
-use crate::classify::{tles_of, Decide, Decision, Need};
+use crate::classify::{Decide, Decision, Need};
 use crate::driver::Observer;
+use crate::lane_plan::{chunk_len, table_time};
+pub use crate::lane_plan::{lanes_apply, lanes_cover_contact, LANES};
+use crate::lanes_tle::tles_of;
 use crate::record::{crosses_level, extreme_middle, parabola_peak, Recorder};
 use crate::simulate::{summarize, Method, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -35,11 +38,6 @@ use geardyn_solvers::ensemble::{
 };
 use geardyn_solvers::{Step, Stop};
 use rayon::prelude::*;
-
-/// Lanes per engine: four AVX2 registers of `f64` per state component. More independent lanes
-/// hide the latency of the RK4 stage chain; on the C1 workload W1 (one thread) 16 lanes ran
-/// about 20% faster than 8 and 10% faster than 32.
-pub const LANES: usize = 16;
 
 /// The recorder of a pair's run (the lanes step the single pair only).
 pub(crate) type PairRecorder<'s> = Recorder<&'s MeshModel, 2>;
@@ -449,14 +447,6 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
     }
 }
 
-/// Whether [`simulate_lanes`] can run these settings: fixed-step RK4 without a trajectory and
-/// with at least one period to integrate.
-pub fn lanes_apply(opts: &SimOptions) -> bool {
-    matches!(opts.method, Method::Rk4 { .. })
-        && !opts.trajectory
-        && opts.transient_periods + opts.record_periods > 0
-}
-
 /// A work item: a run of `simulate` from `(t0, y0)` with `transient` periods of transient (and
 /// the options' record); `out` is its output index.
 #[derive(Clone, Copy)]
@@ -474,21 +464,6 @@ struct Item<'s> {
 
 /// Work items grouped by phase table.
 type Groups<'s> = Vec<(MeshLanes, Vec<Item<'s>>)>;
-
-/// Start time of the phase tables of a run starting at `t0` on a sweep whose runs start at
-/// `tau0`: `tau0` when `t0` is at the same phase of the excitation period to rounding (a
-/// stroboscopic instant of the sweep: the continuation of a run), so that such runs share the
-/// tables (and lanes) of the sweep; else `t0`.
-pub(crate) fn table_time(m: &MeshModel, t0: f64, tau0: f64) -> f64 {
-    let d = m.cycle_position(t0) - m.cycle_position(tau0);
-    let c = m.cycles_per_period() as f64;
-    let d = d - (d / c).round() * c;
-    if d.abs() < 1e-9 {
-        tau0
-    } else {
-        t0
-    }
-}
 
 /// Phase tables built at once by [`group`] (about 80 kB each at 512 steps per cycle).
 const TABLE_BATCH: usize = 64;
@@ -540,21 +515,6 @@ fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> Groups<'s> {
     groups
 }
 
-/// Chunk length: whole lane loads, at least eight chunks per thread (rayon balances them; within
-/// a chunk, retired lanes refill at once); a batch of fewer than eight lane loads per thread is
-/// split into equal chunks, a multiple of the thread count: 18 runs on two threads as 9 + 9, not
-/// 16 + 2 (a breakage follow costs about in proportion to its busy lanes, so the 16-lane chunk
-/// alone set the wall time while the other thread idled).
-pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
-    let threads = rayon::current_num_threads().max(1);
-    let loads = items.div_ceil(lanes);
-    if loads >= threads * 8 {
-        return lanes * loads.div_ceil(threads * 8);
-    }
-    let chunks = loads.div_ceil(threads) * threads;
-    items.div_ceil(chunks).clamp(1, lanes)
-}
-
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
 /// (fixed-step RK4; see [`lanes_apply`]), in lockstep lanes; results in input order.
 ///
@@ -599,14 +559,6 @@ pub fn simulate_lanes_dispatch(
     how: Dispatch,
 ) -> Vec<Result<SimResult, SimError>> {
     simulate_lanes_on::<LANES>(runs, opts, how)
-}
-
-/// Whether the lanes step `model`'s contact states themselves: the linear contact law without
-/// hysteresis. Otherwise every step in contact is handed to the scalar integrator, and a lone run
-/// is faster there than on [`simulate_lane`].
-pub fn lanes_cover_contact(model: &MeshModel) -> bool {
-    let law = model.contact_law();
-    law.exponent() == 1.0 && law.hysteresis_coefficient() == 0.0
 }
 
 /// One run as [`simulate`](crate::simulate::simulate) with `opts` would (see [`lanes_apply`]), on

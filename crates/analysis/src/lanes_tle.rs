@@ -18,7 +18,7 @@
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{chunk_len, lanes_cover_contact, table_time, LANES};
+use crate::lane_plan::{chunk_len, lanes_cover_contact, table_time, LANES};
 use crate::lyapunov::{
     tle_variational_with, Accumulator, LyapunovOptions, LyapunovResult, Tangent, TINY,
 };
@@ -446,4 +446,16 @@ pub fn tle_many(
         out[i] = r;
     }
     out
+}
+
+/// [`crate::pair_engine::tle_of`] of every `(model, t, y)`, in input order ([`tle_many`]: with
+/// fixed-step RK4 in lockstep lanes, the same result for a run alone or among others).
+pub fn tles_of(runs: &[TleStart<'_>], opts: &SimOptions, periods: u64) -> Vec<Option<(f64, f64)>> {
+    tle_many(runs, opts, periods)
+        .into_iter()
+        .map(|r| {
+            r.filter(|r| r.tle.is_finite() && r.spread.is_finite())
+                .map(|r| (r.tle, r.spread))
+        })
+        .collect()
 }

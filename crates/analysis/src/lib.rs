@@ -12,12 +12,16 @@ pub mod continuation;
 pub mod driver;
 pub mod engine;
 pub mod generic;
+pub mod grid;
 pub mod indicators;
+pub mod lane_plan;
 pub mod lanes;
 pub mod lanes_tle;
 pub mod lyapunov;
+pub mod lyapunov_request;
 pub mod map2d;
 pub mod orbits;
+pub mod pair_engine;
 pub mod period;
 pub mod record;
 pub mod signals;
@@ -25,6 +29,7 @@ pub mod simulate;
 pub mod spectrum;
 pub mod summary;
 pub mod tle_convergence;
+pub mod verdict;
 pub mod work;
 
 pub use classify::{

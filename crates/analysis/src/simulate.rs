@@ -114,28 +114,28 @@ pub struct SimOptions {
     pub start_memory: f64,
     /// Decision horizon (excitation periods, counted from the start of the run): a motion whose
     /// top Lyapunov exponent is positive is followed this long before it is called chaotic
-    /// ([`crate::classify`]; default [`crate::classify::DECISION_PERIODS`]).
+    /// ([`crate::classify`]; default [`crate::verdict::DECISION_PERIODS`]).
     pub decision_periods: u64,
     /// Work budget of one run's decision (right-hand-side evaluations in all, from the start of
     /// the run): a run whose motion is still not periodic when the budget is spent is `unsettled`,
-    /// never chaotic (default [`crate::classify::DECISION_BUDGET`]).
+    /// never chaotic (default [`crate::verdict::DECISION_BUDGET`]).
     pub decision_budget: u64,
     /// Resolution of a decision's *follow* (the transients of the persistence blocks, which
-    /// record nothing: [`crate::classify::follow_method`]): fixed-step RK4 steps per natural
+    /// record nothing: [`crate::pair_engine::follow_method`]): fixed-step RK4 steps per natural
     /// period (`2 pi` of dimensionless time); 0 follows with [`SimOptions::method`] itself.
-    /// Default [`crate::classify::FOLLOW_STEPS`].
+    /// Default [`crate::verdict::FOLLOW_STEPS`].
     #[serde(default = "default_follow_steps")]
     pub follow_steps: u32,
     /// Record the stroboscopic points only (no statistics, forces, events or mesh-cycle strobe;
     /// `x_range` from the points): the cheap record of a decision's persistence blocks, whose only
-    /// question is whether a period has appeared ([`crate::classify`]). Not an option of the
+    /// question is whether a period has appeared ([`crate::verdict`]). Not an option of the
     /// commands.
     #[serde(skip)]
     pub strobe_only: bool,
 }
 
 fn default_follow_steps() -> u32 {
-    crate::classify::FOLLOW_STEPS
+    crate::verdict::FOLLOW_STEPS
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -154,9 +154,9 @@ impl Default for SimOptions {
             tau0: 0.0,
             max_period: 32,
             start_memory: 0.0,
-            decision_periods: crate::classify::DECISION_PERIODS,
-            decision_budget: crate::classify::DECISION_BUDGET,
-            follow_steps: crate::classify::FOLLOW_STEPS,
+            decision_periods: crate::verdict::DECISION_PERIODS,
+            decision_budget: crate::verdict::DECISION_BUDGET,
+            follow_steps: crate::verdict::FOLLOW_STEPS,
             strobe_only: false,
         }
     }

@@ -3,10 +3,10 @@
 //! and the force extremes. [`summarize`] decides only "periodic"; the decision of the other
 //! classes is [`crate::classify`].
 
-use crate::classify::{DecidedBy, Motion};
 use crate::period::minimal_period_tol;
 use crate::record::{MeshRecord, SimResult};
 use crate::simulate::SimOptions;
+use crate::verdict::{DecidedBy, Motion};
 use geardyn_model::GearSystem;
 use serde::Serialize;
 

@@ -495,7 +495,7 @@ fn follow_figures(repeat: u32) -> Result<()> {
         .into_iter()
         .map(|f| base.with("F", f))
         .collect::<Result<_, _>>()?;
-    let method = geardyn_analysis::classify::follow_method(
+    let method = geardyn_analysis::pair_engine::follow_method(
         scen[0].model(),
         &SimOptions {
             follow_steps: geardyn_analysis::classify::FOLLOW_STEPS,

@@ -4,7 +4,8 @@ use crate::run_config::ConfigArgs;
 use crate::sweep::SimArgs;
 use anyhow::Result;
 use clap::Args;
-use geardyn_analysis::lyapunov::{LyapunovRequest, LyapunovResult, TleMethod};
+use geardyn_analysis::lyapunov::LyapunovResult;
+use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
 fn spread_text(spread: f64) -> String {

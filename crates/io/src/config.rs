@@ -41,7 +41,7 @@ pub struct SimulationConfig {
     /// is spent is `unsettled`.
     pub decision_budget: u64,
     /// Resolution of a decision's follow (the transients of its persistence blocks, on models
-    /// whose contact law the lanes step: `geardyn_analysis::classify::follow_validated`): fixed-step RK4 steps per
+    /// whose contact law the lanes step: `geardyn_analysis::pair_engine::follow_validated`): fixed-step RK4 steps per
     /// natural period; 0 follows with the requested integrator.
     pub follow_steps: u32,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the

@@ -3,34 +3,7 @@
 use geardyn_analysis::simulate::{SimResult, Summary};
 use std::path::Path;
 
-/// Output failure.
-#[derive(Debug, thiserror::Error)]
-pub enum OutputError {
-    /// File system error.
-    #[error("cannot write {path}")]
-    Io {
-        /// Path.
-        path: String,
-        /// Cause.
-        source: std::io::Error,
-    },
-    /// A destination geardyn will not write (a symbolic link, a non-regular file).
-    #[error("refusing to write {path}: {reason}")]
-    Refused {
-        /// Path.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-    /// CSV error.
-    #[error("cannot write {path}")]
-    Csv {
-        /// Path.
-        path: String,
-        /// Cause.
-        source: csv::Error,
-    },
-}
+pub use crate::safe_write::OutputError;
 
 /// Writes a CSV file with the given header and rows (numbers in shortest round-trip form).
 pub fn write_csv<R, I>(path: &Path, header: &[&str], rows: I) -> Result<(), OutputError>

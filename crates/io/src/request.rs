@@ -515,7 +515,7 @@ impl BifurcationRequest {
 /// name the same constants.
 pub fn face_defaults() -> serde_json::Value {
     use geardyn_analysis::attractor::IdentifyRequest;
-    use geardyn_analysis::lyapunov::LyapunovRequest;
+    use geardyn_analysis::lyapunov_request::LyapunovRequest;
     use geardyn_analysis::orbits::OrbitsRequest;
     use geardyn_analysis::signals::SignalsRequest;
     let sweep = SweepSpec::default();

@@ -7,9 +7,37 @@
 //! temporary name must keep the destination's extension: the PNG encoder picks the format from
 //! it.
 
-use crate::output::OutputError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// Output failure.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// File system error.
+    #[error("cannot write {path}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// A destination geardyn will not write (a symbolic link, a non-regular file).
+    #[error("refusing to write {path}: {reason}")]
+    Refused {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// CSV error.
+    #[error("cannot write {path}")]
+    Csv {
+        /// Path.
+        path: String,
+        /// Cause.
+        source: csv::Error,
+    },
+}
 
 /// Refuses a destination that exists and is not a regular file (a symbolic link is refused
 /// even when it points to one: writing through it would change a file outside the folder).

@@ -323,7 +323,7 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
 
 #[test]
 fn the_follow_is_coarse_only_where_the_lanes_step_the_contact_law() {
-    use geardyn_analysis::classify::follow_method;
+    use geardyn_analysis::pair_engine::follow_method;
     // C1, and the broken pair (impacts with restitution, friction): the linear contact law
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
     let sc = sc.with_all(&[("omega", 1.18), ("F", 0.05)]).unwrap();
