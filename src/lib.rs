@@ -46,6 +46,7 @@ pub mod prelude {
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
     pub use geardyn_analysis::orbits::OrbitsRequest;
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
+    pub use geardyn_analysis::simulation::{Run, Simulation};
     pub use geardyn_io::config::{Face, SimOverrides};
     pub use geardyn_io::executor::{
         execute, BasinsJob, ContinuationJob, Job, MapJob, Observer, Progress, Store, SweepJob,

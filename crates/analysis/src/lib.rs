@@ -26,6 +26,7 @@ pub mod period;
 pub mod record;
 pub mod signals;
 pub mod simulate;
+pub mod simulation;
 pub mod spectrum;
 pub mod summary;
 pub mod tle_convergence;
