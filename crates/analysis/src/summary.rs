@@ -88,6 +88,9 @@ impl Summary {
     pub fn set_motion(&mut self, motion: Motion) {
         if !self.motion.is_periodic() && !motion.is_periodic() {
             self.label = motion.word().to_string();
+            for m in &mut self.meshes {
+                m.label = motion.word().to_string();
+            }
         }
         self.motion = motion;
     }

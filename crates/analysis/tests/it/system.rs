@@ -152,6 +152,11 @@ fn each_mesh_has_its_own_label_and_the_system_joins_them() {
         for m in &s.meshes {
             assert!(m.label.starts_with(&format!("{}-", s.period)));
         }
+    } else {
+        // the class word of the decided motion, on the system and on every mesh
+        for m in &s.meshes {
+            assert_eq!(m.label, s.motion.word(), "{s:?}");
+        }
     }
     // the aggregate is the extremes, totals and mean over the meshes
     let max = s
