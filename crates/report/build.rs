@@ -24,7 +24,7 @@ fn main() {
     let crates = here.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut files = Vec::new();
     for name in [
-        "report", "analysis", "model", "physics", "scenario", "solvers", "io",
+        "report", "analysis", "model", "physics", "scenario", "solvers", "files", "plots", "io",
     ] {
         let src = crates.join(name).join("src");
         println!("cargo:rerun-if-changed={}", src.display());

@@ -1,25 +1,25 @@
-//! Files of geardyn: configuration (TOML), data output (CSV/JSON) and plots (PNG/SVG).
-//! Everything that touches the file system lives here, not in the physics or analysis crates.
+//! Files of geardyn: configuration (TOML), data output (CSV/JSON/NPY), run records, checkpoints
+//! and shard stores, and the executor that runs resumable analyses over them. Everything that
+//! touches the file system lives here or below (figures: `geardyn-plots`; atomic writes:
+//! `geardyn-files`, re-exported under their old paths), not in the physics or analysis crates.
 #![warn(missing_docs)]
 
 pub mod checkpoint;
 pub mod config;
 pub mod describe;
 pub mod executor;
-pub mod figure;
 pub mod npy;
 pub mod output;
-pub mod pair_plots;
 #[cfg(feature = "parquet")]
 pub mod parquet_table;
 pub mod request;
 pub mod sweep_output;
 
 pub mod run_record;
-pub mod safe_write;
 pub mod schema;
 pub mod shard;
-pub mod signal_plots;
 pub mod simulate_folder;
 pub mod zarr;
 pub use config::{Config, ConfigError};
+pub use geardyn_files::safe_write;
+pub use geardyn_plots::{figure, pair_plots, signal_plots};

@@ -744,11 +744,11 @@ pub fn write_figure(stem: &Path, fig: &Figure) -> Result<(), FigureError> {
         path: p.display().to_string(),
         msg,
     };
-    crate::safe_write::draw_to(&png, |tmp| {
+    geardyn_files::safe_write::draw_to(&png, |tmp| {
         draw_figure(BitMapBackend::new(tmp, (w, h)).into_drawing_area(), fig)
     })
     .map_err(|m| err(&png, m))?;
-    crate::safe_write::draw_to(&svg, |tmp| {
+    geardyn_files::safe_write::draw_to(&svg, |tmp| {
         draw_figure(SVGBackend::new(tmp, (w, h)).into_drawing_area(), fig)
     })
     .map_err(|m| err(&svg, m))?;
@@ -924,11 +924,11 @@ pub fn write_raster(stem: &Path, fig: &RasterFigure) -> Result<(), FigureError> 
         msg,
     };
     let size = (1050, 760);
-    crate::safe_write::draw_to(&png, |tmp| {
+    geardyn_files::safe_write::draw_to(&png, |tmp| {
         draw_raster(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
     })
     .map_err(|m| err(&png, m))?;
-    crate::safe_write::draw_to(&svg, |tmp| {
+    geardyn_files::safe_write::draw_to(&svg, |tmp| {
         draw_raster(SVGBackend::new(tmp, size).into_drawing_area(), fig)
     })
     .map_err(|m| err(&svg, m))?;
