@@ -8,14 +8,13 @@
 //! phase, in a square of the labelled lattice whose corners and neighbours all belong to one
 //! attractor, in two consecutive periods: [`CellLabels`]), and new attractors are merged in cell
 //! order afterwards, then consolidated (new non-periodic records decided, records of one motion
-//! merged: [`crate::attractor::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
+//! merged: [`crate::identify::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
 //! period, then position of the first point), so they do not depend on the order of discovery
 //! and stay the same under grid refinement. Divergent (`-1`) and failed (`-2`) cells are counted
 //! explicitly; fractions, with them, sum to one.
 
-use crate::attractor::{
-    assign, consolidate, identify_in, CellLabels, Descriptor, IdentifyOptions, Outcome, Recordable,
-};
+use crate::attractor::{Descriptor, IdentifyOptions, Outcome, Recordable};
+use crate::identify::{assign, consolidate, identify_in, CellLabels};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -109,7 +108,7 @@ fn canonical_order<const N: usize>(known: &[Descriptor<N>]) -> Vec<usize> {
 /// on the passes before it, so a resumed run reproduces the uninterrupted one exactly.
 ///
 /// With fixed-step RK4 on the gear model the cells of a pass run in lockstep lanes
-/// ([`crate::lanes::identify_lanes`]: the same outcomes as [`identify`](crate::attractor::identify)).
+/// ([`crate::lanes_identify::identify_lanes`]: the same outcomes as [`identify`](crate::identify::identify)).
 pub fn basins<S, F, const N: usize>(
     model: &S,
     opts: &BasinOptions<N>,
@@ -185,7 +184,7 @@ where
         prev_stride = stride;
         let mesh = model
             .as_mesh()
-            .filter(|_| lanes && crate::lanes::identify_lanes_apply(&opts.identify))
+            .filter(|_| lanes && crate::lanes_identify::identify_lanes_apply(&opts.identify))
             .filter(|_| opts.slice == Slice::default());
         let fresh: Vec<(usize, Outcome<N>)> = if let Some(mesh) = mesh {
             // fixed-step RK4 on the gear model: the cells of the pass in lockstep lanes (the
@@ -206,7 +205,7 @@ where
             // (the pair's lanes speak its own dimension: N = 2 here)
             let pair_snapshot: Vec<Descriptor> =
                 snapshot.iter().map(|d| d.clone().resized()).collect();
-            let computed = crate::lanes::identify_lanes_in(
+            let computed = crate::lanes_identify::identify_lanes_in(
                 mesh,
                 &y0s,
                 &pair_snapshot,

@@ -9,7 +9,7 @@
 //! listed as done are skipped, which makes long sweeps resumable.
 
 use crate::classify::{simulate_decided, Decide, Motion, TLE_PERIODS};
-use crate::lanes::Decided;
+use crate::lanes_decide::Decided;
 use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
@@ -729,7 +729,7 @@ fn sweep_tasks(
                 // decisions of the batch together in rounds (TLEs in parallel; transient
                 // extensions, persistence checks and records again in the lanes where they are
                 // RK4 — a decision's follow always is, crate::pair_engine::follow_method — and the
-                // adaptive integrator's records in parallel: crate::lanes::decide_lanes). The
+                // adaptive integrator's records in parallel: crate::lanes_decide::decide_lanes). The
                 // batches are pipelined: a batch is classified while the next one runs (rayon
                 // balances the two), so the threads are not left waiting on the few long
                 // classifications of a batch.
@@ -765,7 +765,8 @@ fn sweep_tasks(
                     // integrations in the lanes), the others one by one
                     let runs: Vec<(&MeshModel, [f64; 2])> =
                         items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
-                    let decided = crate::lanes::decide_lane_runs(&runs, lane_results, &opts.sim);
+                    let decided =
+                        crate::lanes_decide::decide_lane_runs(&runs, lane_results, &opts.sim);
                     let with: Vec<(&MeshModel, &Decided)> =
                         runs.iter().zip(&decided).map(|(r, d)| (r.0, d)).collect();
                     let tles = record_tles(opts, &with);

@@ -16,8 +16,8 @@
 //!   omega = 1.2, F = 0.065: 6 090 revolutions) is then periodic, one that lands near a slowly
 //!   attracting orbit is decided on as an undecided run, and one whose horizon the budget cuts
 //!   short stays `unsettled`. The transients of those blocks (the *follow*, most of the work)
-//!   run, on models whose contact law the lanes step ([`follow_validated`]), as fixed-step RK4 at
-//!   [`FOLLOW_STEPS`] steps per natural period ([`follow_method`]), in
+//!   run, on models whose contact law the lanes step ([`follow_validated`](crate::pair_engine::follow_validated)), as fixed-step RK4 at
+//!   [`FOLLOW_STEPS`] steps per natural period ([`follow_method`](crate::pair_engine::follow_method)), in
 //!   the lockstep lanes where a sweep decides its runs together; the records that decide a
 //!   period and the exponents keep the requested integrator;
 //! * a record too short to show every period up to `max_period` (`3 max_period` periods) is
@@ -192,7 +192,7 @@ pub enum Need<const N: usize = 2> {
         /// Options of the run (`tau0` is its start time).
         opts: SimOptions,
     },
-    /// The TLE of the motion continuing from `(t, y)` ([`tle_of`]); hand it to
+    /// The TLE of the motion continuing from `(t, y)` ([`Engine::tle`]); hand it to
     /// [`Decision::tle`].
     Tle {
         /// Start time.
@@ -249,7 +249,7 @@ enum Wait {
 
 /// The decision of [`simulate_decided_with`] as a state machine: it states the integration it
 /// needs next ([`Decision::need`]) and takes its result, so that the integrations of many runs
-/// can be done together (the lockstep lanes of [`crate::lanes::decide_lanes`]). Driven by
+/// can be done together (the lockstep lanes of [`crate::lanes_decide::decide_lanes`]). Driven by
 /// [`simulate_decided_with`] it is that function: one decision code for both.
 pub struct Decision<'m, S = MeshModel, const N: usize = 2> {
     model: &'m S,
@@ -465,7 +465,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         }
     }
 
-    /// The TLE [`Need::Tle`] asked for ([`tle_of`]).
+    /// The TLE [`Need::Tle`] asked for ([`Engine::tle`]).
     pub fn tle(&mut self, tle: Option<(f64, f64)>) {
         self.tle = tle;
         match self.wait {

@@ -13,10 +13,9 @@
 // Branch matching indexes several parallel tables by attractor number.
 #![allow(clippy::needless_range_loop)]
 
-use crate::attractor::{
-    assign, consolidate, identify, Descriptor, IdentifyOptions, Outcome, Recordable,
-};
+use crate::attractor::{Descriptor, IdentifyOptions, Outcome, Recordable};
 use crate::basins::Slice;
+use crate::identify::{assign, consolidate, identify};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
@@ -180,15 +179,15 @@ pub fn attractors_of<S: Recordable<N>, const N: usize>(
     let mut assignment = vec![-2i64; k];
     for (lo, hi) in [(0, first), (first, k)] {
         let snapshot = known.clone();
-        let lanes = sys
-            .as_mesh()
-            .filter(|_| crate::lanes::identify_lanes_apply(&id) && *slice == Slice::default());
+        let lanes = sys.as_mesh().filter(|_| {
+            crate::lanes_identify::identify_lanes_apply(&id) && *slice == Slice::default()
+        });
         let outs: Vec<Outcome<N>> = if let Some(model) = lanes {
             // fixed-step RK4: the initial states in lockstep lanes (the same outcomes; the
             // pair's lanes speak its own dimension, N = 2 here)
             let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
             let pair: Vec<Descriptor> = snapshot.iter().map(|d| d.clone().resized()).collect();
-            crate::lanes::identify_lanes(model, &y0s, &pair, &id, |_, _| {})
+            crate::lanes_identify::identify_lanes(model, &y0s, &pair, &id, |_, _| {})
                 .into_iter()
                 .map(Outcome::resized)
                 .collect()

@@ -51,7 +51,7 @@ pub(crate) fn chunk_len(items: usize, lanes: usize) -> usize {
 
 /// Whether the lanes step `model`'s contact states themselves: the linear contact law without
 /// hysteresis. Otherwise every step in contact is handed to the scalar integrator, and a lone run
-/// is faster there than on [`simulate_lane`].
+/// is faster there than on [`crate::lanes::simulate_lane`].
 pub fn lanes_cover_contact(model: &MeshModel) -> bool {
     let law = model.contact_law();
     law.exponent() == 1.0 && law.hysteresis_coefficient() == 0.0

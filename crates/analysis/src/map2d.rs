@@ -2,7 +2,7 @@
 //! over a grid of two model parameters (docs/model.md §5), in parallel, deterministic and resumable.
 
 use crate::classify::{simulate_decided, Decide, DecidedBy, Motion};
-use crate::lanes::Decided;
+use crate::lanes_decide::Decided;
 use crate::simulate::SimOptions;
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
@@ -289,7 +289,7 @@ fn map_cells(
     let value = |index: usize| (o.x_values[index % nx], o.y_values[index / nx]);
     if crate::lanes::lanes_apply(&o.sim) {
         // fixed-step RK4: the cells' runs in lockstep lanes and their decisions batched
-        // (crate::lanes::simulate_decided_lanes), in batches so that an interruption loses at
+        // (crate::lanes_decide::simulate_decided_lanes), in batches so that an interruption loses at
         // most one batch
         let batch = BATCH_PER_THREAD * rayon::current_num_threads().max(1);
         let mut out = Vec::with_capacity(todo.len());
@@ -305,7 +305,8 @@ fn map_cells(
                 .iter()
                 .filter_map(|m| m.as_ref().ok().map(|m| (m, o.y0)))
                 .collect();
-            let mut decided = crate::lanes::simulate_decided_lanes(&runs, &o.sim).into_iter();
+            let mut decided =
+                crate::lanes_decide::simulate_decided_lanes(&runs, &o.sim).into_iter();
             let pairs: Vec<(usize, Result<&MeshModel, &ScenarioError>, Option<Decided>)> = chunk
                 .iter()
                 .zip(&models)

@@ -77,7 +77,7 @@ pub fn follow_method(model: &MeshModel, opts: &SimOptions) -> Option<Method> {
 }
 
 /// TLE of the motion continuing from `(t, y)` and its standard error, or `None` if it cannot be
-/// computed: the exponent [`Need::Tle`] asks for.
+/// computed: the exponent [`crate::classify::Need::Tle`] asks for.
 pub fn tle_of(
     model: &MeshModel,
     opts: &SimOptions,

@@ -107,7 +107,7 @@ pub struct SimOptions {
     pub tau0: f64,
     /// Largest period searched by period detection.
     pub max_period: usize,
-    /// Memory of the start mode ([`HybridSystem::memory`]: the hysteresis factor of a
+    /// Memory of the start mode ([`geardyn_solvers::HybridSystem::memory`]: the hysteresis factor of a
     /// dissipative contact law's impact in progress): that of the run this one continues
     /// ([`SimResult::final_memory`]), 0 for a fresh start (a start in contact is no impact).
     #[serde(skip_serializing_if = "is_zero", default)]

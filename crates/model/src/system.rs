@@ -24,7 +24,7 @@
 //! and the examples to show that an analysis is generic.
 
 use crate::{ContactState, EventKind};
-use geardyn_solvers::Variational;
+use geardyn_solvers::{HybridSystem, Variational};
 
 /// A gear system of state dimension `N` (see the module doc).
 ///

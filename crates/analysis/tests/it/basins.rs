@@ -130,7 +130,7 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
 
 #[test]
 fn cell_labels_capture_only_inside_a_uniform_square() {
-    use geardyn_analysis::attractor::CellLabels;
+    use geardyn_analysis::identify::CellLabels;
     // 9 x 9 grid on [0, 9]^2 (centres at i + 0.5), lattice of every 2nd cell: nodes 0, 2, .., 8
     let axis = Axis {
         min: 0.0,

@@ -6,7 +6,7 @@
 use crate::common;
 
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
-use geardyn_analysis::lanes::simulate_decided_lanes;
+use geardyn_analysis::lanes_decide::simulate_decided_lanes;
 use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;

@@ -560,7 +560,8 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
 #[test]
 fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
     use geardyn_analysis::classify::{simulate_decided_with, Decide, Motion};
-    use geardyn_analysis::lanes::{decide_lanes, simulate_lane_grid};
+    use geardyn_analysis::lanes::simulate_lane_grid;
+    use geardyn_analysis::lanes_decide::decide_lanes;
     let key = |r: &SimResult| serde_json::to_string(r).unwrap();
     let models = c1_at(&[1.40452261307, 1.3, 0.8]);
     let opts = SimOptions {
@@ -601,7 +602,8 @@ fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
 #[test]
 fn decisions_in_lanes_equal_the_decision_of_each_run() {
     use geardyn_analysis::classify::{simulate_decided_with, Decide};
-    use geardyn_analysis::lanes::{decide_lanes, simulate_lane_grid};
+    use geardyn_analysis::lanes::simulate_lane_grid;
+    use geardyn_analysis::lanes_decide::decide_lanes;
     let key = |r: &SimResult| serde_json::to_string(r).unwrap();
     let mut kinds = [0usize; 3];
     for (preset, omegas, tau0) in [
@@ -781,7 +783,7 @@ fn continuation_in_lanes_agrees_with_the_scalar_identification() {
 /// thread count. Also balanced chunks: on three threads the ten share no chunk at all.
 #[test]
 fn a_decision_is_the_same_in_the_rounds_and_alone() {
-    use geardyn_analysis::lanes::simulate_decided_lanes;
+    use geardyn_analysis::lanes_decide::simulate_decided_lanes;
     let models = c1_at(&[1.3, 1.40452261307]);
     let mut runs: Vec<(&MeshModel, [f64; 2])> = (0..10)
         .map(|k| (&models[0], [0.1 * k as f64, -0.05 * k as f64]))
