@@ -2,7 +2,7 @@
 //! any number of degrees of freedom whose nonlinearities are gear meshes (or mesh-like contacts
 //! with a clearance), each with its own contact state.
 //!
-//! A [`GearSystem`] is a [`HybridSystem`] (modes, guards, resets, time breakpoints) that can be
+//! A [`GearSystem`] is a [`HybridSystem`](geardyn_solvers::HybridSystem) (modes, guards, resets, time breakpoints) that can be
 //! linearised ([`Variational`]: saltation at events, for Lyapunov exponents and periodic orbits)
 //! and that says what the analyses report of it:
 //!
@@ -24,7 +24,7 @@
 //! and the examples to show that an analysis is generic.
 
 use crate::{ContactState, EventKind};
-use geardyn_solvers::{HybridSystem, Variational};
+use geardyn_solvers::Variational;
 
 /// A gear system of state dimension `N` (see the module doc).
 ///
