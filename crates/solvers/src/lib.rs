@@ -19,6 +19,7 @@ pub mod ensemble;
 pub mod hybrid;
 pub mod integrator;
 pub mod root;
+pub mod scheme;
 pub mod variational;
 
 pub use dense::Step;
