@@ -298,10 +298,10 @@ impl HybridSystem<4> for TwoMassClearance {
     }
     fn guards(&self, _t: f64, y: &[f64; 4], m: &TwoContacts, g: &mut Guards) {
         use crate::ContactState as C;
-        for k in 0..2 {
+        for (k, state) in m.iter().enumerate() {
             let (u, _) = Self::rel(y, k);
             let d = self.d[k];
-            match m[k] {
+            match state {
                 C::Drive => g.push(u - d, Direction::Falling),
                 C::Back | C::Stuck => g.push(u + d, Direction::Rising),
                 C::Separated => {
