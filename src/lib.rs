@@ -40,11 +40,11 @@ pub mod prelude {
     pub use geardyn_analysis::continuation::{
         continuation, ContinuationOptions, ContinuationResult,
     };
+    pub use geardyn_analysis::engine::Engine;
+    pub use geardyn_analysis::generic::{decided_sweep, Family};
     pub use geardyn_analysis::lyapunov::{LyapunovReport, LyapunovRequest, TleMethod};
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
     pub use geardyn_analysis::orbits::OrbitsRequest;
-    pub use geardyn_analysis::engine::Engine;
-    pub use geardyn_analysis::generic::{decided_sweep, Family};
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
     pub use geardyn_io::config::{Face, SimOverrides};
     pub use geardyn_io::executor::{
