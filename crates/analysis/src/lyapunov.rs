@@ -231,6 +231,59 @@ pub trait TangentSpace<const N: usize>: Variational<N> + Clone {
         opts: &LyapunovOptions,
         use_saltation: bool,
     ) -> Result<LyapunovResult, SolverError>;
+
+    /// One column of the monodromy: `periods` intervals of length `period` of the flow from
+    /// `(t0, y0)` in a mode of memory `memory` ([`HybridSystem::memory`]; 0 for a fresh start)
+    /// integrated with the tangent `d` ([`Tangent`] with saltation; the memory's own
+    /// perturbation starts at 0). Returns the state, the tangent and the mode's memory at the
+    /// end. `on_change(before, after)` sees every step after which the mode changed (a contact
+    /// event, a time breakpoint), in order. The periodic orbits ([`crate::orbits`]) build the
+    /// Jacobian of the stroboscopic map from `N` such runs.
+    #[allow(clippy::too_many_arguments)]
+    fn tangent_flow(
+        &self,
+        scheme: Scheme,
+        t0: f64,
+        y0: [f64; N],
+        memory: f64,
+        d: [f64; N],
+        period: f64,
+        periods: u64,
+        on_change: &mut dyn FnMut(&Self::Mode, &Self::Mode),
+    ) -> Result<TangentFlow<N>, SolverError>;
+}
+
+/// The end of a [`TangentSpace::tangent_flow`] run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentFlow<const N: usize> {
+    /// State.
+    pub y: [f64; N],
+    /// Tangent.
+    pub d: [f64; N],
+    /// Memory parameter of the mode ([`HybridSystem::memory`]).
+    pub memory: f64,
+}
+
+/// Hands every change of mode of a run to a callback.
+struct ModeChanges<'f, M>(&'f mut dyn FnMut(&M, &M));
+
+impl<S: HybridSystem<N>, const N: usize> crate::driver::Observer<S, N>
+    for ModeChanges<'_, S::Mode>
+{
+    #[inline(always)]
+    fn on_step(
+        &mut self,
+        _sys: &S,
+        _step: &geardyn_solvers::Step<N>,
+        before: &S::Mode,
+        _stop: Stop,
+        after: &S::Mode,
+        _y_after: &[f64; N],
+    ) {
+        if before != after {
+            (self.0)(before, after);
+        }
+    }
 }
 
 macro_rules! tangent_space_impl {
@@ -254,6 +307,36 @@ macro_rules! tangent_space_impl {
                     opts,
                     use_saltation,
                 )
+            }
+
+            fn tangent_flow(
+                &self,
+                scheme: Scheme,
+                t0: f64,
+                y0: [f64; $n],
+                memory: f64,
+                d: [f64; $n],
+                period: f64,
+                periods: u64,
+                on_change: &mut dyn FnMut(&S::Mode, &S::Mode),
+            ) -> Result<TangentFlow<$n>, SolverError> {
+                let mut z = [0.0; $m];
+                z[..$n].copy_from_slice(&y0);
+                z[$n..2 * $n].copy_from_slice(&d);
+                let tan = Tangent {
+                    sys: self,
+                    saltation: true,
+                };
+                let mut it = Integrator::new(tan, scheme, t0, z)?.with_memory(memory);
+                run_periods(&mut it, period, periods, &mut ModeChanges(on_change))?;
+                let z = *it.y();
+                let mut d = [0.0; $n];
+                d.copy_from_slice(&z[$n..2 * $n]);
+                Ok(TangentFlow {
+                    y: head::<$n, $m>(&z),
+                    d,
+                    memory: self.memory(it.mode()),
+                })
             }
         }
     };

@@ -2,14 +2,25 @@
 //! multipliers, pseudo-arclength continuation in any parameter, and the bifurcations along a
 //! branch (period doubling, fold, torus, grazing). docs/analyses.md, "Periodic orbits".
 //!
+//! **Which systems.** A single orbit — the map [`stroboscopic_map`], shooting [`find_orbit`],
+//! [`minimal`], the [`Orbit`] with its multipliers, [`describe_orbit`] — is computed for any
+//! [`GearSystem`] of state dimension `N` (1 to 24: [`TangentSpace`] integrates its tangent
+//! dynamics), e.g. the two-mass toy [`geardyn_model::reference::TwoMassClearance`]. The branch
+//! continuation ([`continue_orbits`], [`run_orbits`]: pseudo-arclength, bifurcation detection and
+//! location, branch switching) is for the single pair ([`geardyn_model::MeshModel`], `N = 2`,
+//! parameters of a [`Scenario`]) only. For the pair every result is bit-identical to the former
+//! pair-only code: the 2 x 2 closed forms ([`eigenvalues`], the 2 x 2 solve) are kept for `N = 2`.
+//!
 //! * **The map.** `P_n(y)`: the state after `n` excitation periods from `y` at the stroboscopic
 //!   phase `tau0`, integrated by the adaptive Dormand–Prince integrator with exact event location.
 //!   Its Jacobian (the monodromy matrix `M` at a fixed point) comes from the variational equation
 //!   integrated with the flow, mapped by the saltation matrix at every contact event and impact
-//!   reset ([`Tangent`], the same code as the Lyapunov exponents): one run per column.
+//!   reset ([`crate::lyapunov::Tangent`], the same code as the Lyapunov exponents): one run per
+//!   column ([`TangentSpace::tangent_flow`]), `N` runs.
 //! * **Shooting.** Newton's method on `P_n(y) - y = 0` with the Jacobian `M - I`; the orbit's
-//!   Floquet multipliers are the eigenvalues of `M` (2 x 2: closed form, complex pairs kept).
-//! * **Continuation.** Pseudo-arclength in `(x, x', p)`: the tangent of the branch is the null
+//!   Floquet multipliers are the eigenvalues of `M` ([`floquet_multipliers`]; 2 x 2: closed form;
+//!   larger: the real Schur form; complex pairs kept).
+//! * **Continuation** (the pair). Pseudo-arclength in `(x, x', p)`: the tangent of the branch is the null
 //!   vector of `[M - I | dP/dp]` (`dP/dp` by central differences), the corrector Newton's method
 //!   on the fixed-point equation plus the arclength condition, so folds are passed and unstable
 //!   orbits followed like stable ones.
@@ -25,19 +36,18 @@
 //!
 //! Limits: near grazing the saltation matrix is unbounded (multipliers jump there, and Newton may
 //! need a smaller step); a contact law with memory (hysteresis of an impact in progress at the
-//! stroboscopic instant) adds a dimension the 2 x 2 map leaves out; a tooth resting on the back
+//! stroboscopic instant) adds a dimension the `N x N` map leaves out; a tooth resting on the back
 //! stop has a multiplier 0 (a perturbation annihilated).
 //!
 //! Units: dimensionless time `tau`, displacement in units of the length scale, the parameter in
 //! its own unit.
 
-use crate::driver::{run_periods, Observer};
-use crate::lyapunov::Tangent;
+use crate::driver::run_periods;
+use crate::lyapunov::TangentSpace;
 use crate::simulate::{simulate, Method, SimOptions};
-use geardyn_model::{MeshMode, MeshModel};
+use geardyn_model::GearSystem;
 use geardyn_scenario::{Scenario, ScenarioError};
-use geardyn_solvers::dense::Step;
-use geardyn_solvers::{Integrator, Scheme, SolverError, Stop};
+use geardyn_solvers::{Integrator, Scheme, SolverError};
 use serde::Serialize;
 
 /// Settings of shooting and continuation.
@@ -95,9 +105,10 @@ pub enum OrbitError {
     NoConvergence {
         /// Period sought.
         period: u32,
-        /// Last iterate.
+        /// Last iterate: the first mesh's relative displacement ([`GearSystem::mesh_state`];
+        /// the pair's `x`).
         x: f64,
-        /// Last iterate.
+        /// Last iterate: the first mesh's relative velocity (the pair's `x'`).
         v: f64,
         /// Iterations taken.
         iterations: u32,
@@ -169,145 +180,253 @@ pub fn eigenvalues(m: &[[f64; 2]; 2]) -> [Multiplier; 2] {
     }
 }
 
+/// The eigenvalues of an `N x N` matrix (the Floquet multipliers of a monodromy matrix), largest
+/// modulus first, a complex pair kept together (positive imaginary part first).
+///
+/// `N = 2`: [`eigenvalues`] (closed form). Otherwise the real Schur form (`nalgebra`), each 2 x 2
+/// diagonal block by the closed form; NaN for a matrix with a non-finite entry (or whose Schur
+/// iteration does not converge).
+///
+/// ```
+/// use geardyn_analysis::orbits::floquet_multipliers;
+/// // a rotation by 90 degrees scaled by 0.5, and a real multiplier 2 beside it
+/// let m = [[0.0, -0.5, 0.0], [0.5, 0.0, 0.0], [0.0, 0.0, 2.0]];
+/// let mu = floquet_multipliers(&m);
+/// assert_eq!((mu[0].re, mu[0].im), (2.0, 0.0));
+/// assert!((mu[1].im - 0.5).abs() < 1e-15 && (mu[2].im + 0.5).abs() < 1e-15);
+/// assert!(mu[1].re.abs() < 1e-15 && mu[2].re == mu[1].re);
+/// ```
+pub fn floquet_multipliers<const N: usize>(m: &[[f64; N]; N]) -> [Multiplier; N] {
+    if N == 2 {
+        let mu = eigenvalues(&[[m[0][0], m[0][1]], [m[1][0], m[1][1]]]);
+        return std::array::from_fn(|i| mu[i]);
+    }
+    let nan = Multiplier {
+        re: f64::NAN,
+        im: f64::NAN,
+    };
+    if !m.iter().flatten().all(|v| v.is_finite()) {
+        return [nan; N];
+    }
+    let a = nalgebra::DMatrix::from_fn(N, N, |i, j| m[i][j]);
+    let Some(schur) = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, 1000 * N.max(1)) else {
+        return [nan; N];
+    };
+    let (_, t) = schur.unpack();
+    // the diagonal blocks: 1 x 1 (a real multiplier) or 2 x 2 (a pair)
+    let mut blocks: Vec<Vec<Multiplier>> = Vec::with_capacity(N);
+    let mut i = 0;
+    while i < N {
+        if i + 1 < N && t[(i + 1, i)] != 0.0 {
+            let b = [
+                [t[(i, i)], t[(i, i + 1)]],
+                [t[(i + 1, i)], t[(i + 1, i + 1)]],
+            ];
+            blocks.push(eigenvalues(&b).to_vec());
+            i += 2;
+        } else {
+            blocks.push(vec![Multiplier {
+                re: t[(i, i)],
+                im: 0.0,
+            }]);
+            i += 1;
+        }
+    }
+    // a block of two real multipliers is two blocks
+    let mut blocks: Vec<Vec<Multiplier>> = blocks
+        .into_iter()
+        .flat_map(|b| {
+            if b.len() == 2 && b[0].im == 0.0 {
+                vec![vec![b[0]], vec![b[1]]]
+            } else {
+                vec![b]
+            }
+        })
+        .collect();
+    blocks.sort_by(|a, b| {
+        b[0].abs()
+            .total_cmp(&a[0].abs())
+            .then(b[0].re.total_cmp(&a[0].re))
+    });
+    let flat: Vec<Multiplier> = blocks.into_iter().flatten().collect();
+    std::array::from_fn(|i| flat[i])
+}
+
 /// The map `P_n` at one point: the image, its Jacobian and the orbit's contact events.
 #[derive(Clone, Debug)]
-struct MapEval {
-    y: [f64; 2],
-    jac: [[f64; 2]; 2],
+struct MapEval<const N: usize> {
+    y: [f64; N],
+    jac: [[f64; N]; N],
     /// Contact state entered at each event, in order from the stroboscopic instant.
     events: Vec<i8>,
-    /// Segment of the excitation period ([`geardyn_model::mesh_model::Segment`]) in which
-    /// each event happened.
+    /// Mesh of each event.
+    meshes: Vec<usize>,
+    /// Segment of the excitation period ([`GearSystem::segment`]) in which each event happened.
     segments: Vec<u32>,
     /// Memory parameter of the mode at the end ([`geardyn_solvers::HybridSystem::memory`]).
     memory: f64,
 }
 
-/// Collects the contact state entered at each event, and the segment it happened in.
-struct Events(Vec<i8>, Vec<u32>);
+/// The contact events of a run: the contact state each mesh entered, the mesh, and the segment
+/// of the excitation period it happened in.
+#[derive(Default)]
+struct Events {
+    codes: Vec<i8>,
+    meshes: Vec<usize>,
+    segments: Vec<u32>,
+}
 
-impl<'m> Observer<Tangent<&'m MeshModel>, 5> for Events {
-    fn on_step(
+impl Events {
+    /// A step after which the mode changed from `before` to `after`: one event per mesh whose
+    /// contact state changed, in mesh order.
+    fn record<S: GearSystem<N>, const N: usize>(
         &mut self,
-        _sys: &Tangent<&'m MeshModel>,
-        _step: &Step<5>,
-        before: &MeshMode,
-        _stop: Stop,
-        after: &MeshMode,
-        _y_after: &[f64; 5],
+        sys: &S,
+        before: &S::Mode,
+        after: &S::Mode,
     ) {
-        if before.contact != after.contact {
-            self.0.push(after.contact.code());
-            self.1.push(after.seg);
+        for k in 0..sys.mesh_count() {
+            let c = sys.contact(after, k);
+            if sys.contact(before, k) != c {
+                self.codes.push(c.code());
+                self.meshes.push(k);
+                self.segments.push(sys.segment(after));
+            }
         }
     }
 }
 
-/// `n` periods of the flow and of the tangent `d` from `(t0, y)`.
-fn flow(
-    model: &MeshModel,
-    y: [f64; 2],
-    memory: f64,
-    d: [f64; 2],
-    o: &OrbitOptions,
-    events: &mut Events,
-) -> Result<([f64; 5], f64), OrbitError> {
-    let scheme = Scheme::DormandPrince {
+/// The integrator of the maps.
+fn scheme(o: &OrbitOptions) -> Scheme {
+    Scheme::DormandPrince {
         rtol: o.rtol,
         atol: o.atol,
-    };
-    let tan = Tangent {
-        sys: model,
-        saltation: true,
-    };
-    let mut it =
-        Integrator::new(tan, scheme, o.tau0, [y[0], y[1], d[0], d[1], 0.0])?.with_memory(memory);
-    run_periods(
-        &mut it,
-        model.excitation_period(),
-        u64::from(o.period),
-        events,
-    )?;
-    use geardyn_solvers::HybridSystem;
-    Ok((*it.y(), model.memory(it.mode())))
+    }
 }
 
-/// `P_n(y)` with its Jacobian.
-fn map_eval(
-    model: &MeshModel,
-    y: [f64; 2],
+/// `P_n(y)` with its Jacobian: one run of the flow and its tangent per column (the events and
+/// the image from the first).
+fn map_eval<S, const N: usize>(
+    sys: &S,
+    y: [f64; N],
     memory: f64,
     o: &OrbitOptions,
-) -> Result<MapEval, OrbitError> {
-    let mut ev = Events(Vec::new(), Vec::new());
-    let (a, memory_out) = flow(model, y, memory, [1.0, 0.0], o, &mut ev)?;
-    let (b, _) = flow(
-        model,
-        y,
-        memory,
-        [0.0, 1.0],
-        o,
-        &mut Events(Vec::new(), Vec::new()),
-    )?;
+) -> Result<MapEval<N>, OrbitError>
+where
+    S: GearSystem<N> + TangentSpace<N>,
+{
+    let mut ev = Events::default();
+    let mut image = y;
+    let mut memory_out = memory;
+    let mut jac = [[0.0; N]; N];
+    let (period, n) = (sys.excitation_period(), u64::from(o.period));
+    for k in 0..N {
+        let mut d = [0.0; N];
+        d[k] = 1.0;
+        let f = if k == 0 {
+            let mut on = |b: &S::Mode, a: &S::Mode| ev.record(sys, b, a);
+            let f = sys.tangent_flow(scheme(o), o.tau0, y, memory, d, period, n, &mut on)?;
+            image = f.y;
+            memory_out = f.memory;
+            f
+        } else {
+            sys.tangent_flow(scheme(o), o.tau0, y, memory, d, period, n, &mut |_, _| {})?
+        };
+        for (row, v) in jac.iter_mut().zip(f.d) {
+            row[k] = v;
+        }
+    }
     Ok(MapEval {
-        y: [a[0], a[1]],
-        jac: [[a[2], b[2]], [a[3], b[3]]],
-        events: ev.0,
-        segments: ev.1,
+        y: image,
+        jac,
+        events: ev.codes,
+        meshes: ev.meshes,
+        segments: ev.segments,
         memory: memory_out,
     })
 }
 
-/// The stroboscopic map `P_n(y)` of `model` (`n = opts.period` excitation periods from `y` at
+/// The stroboscopic map `P_n(y)` of `sys` (`n = opts.period` excitation periods from `y` at
 /// `opts.tau0`) and its Jacobian by the variational equation with saltation matrices.
-pub fn stroboscopic_map(
-    model: &MeshModel,
-    y: [f64; 2],
+///
+/// ```
+/// use geardyn_analysis::orbits::{stroboscopic_map, OrbitOptions};
+/// use geardyn_model::reference::TwoMassClearance;
+/// // the toy in drive contact throughout: a linear map, its Jacobian exp(A T) of det exp(tr A T)
+/// let sys = TwoMassClearance { load: [2.0, 1.0], ..Default::default() };
+/// let (_, m) = stroboscopic_map(&sys, [2.9, 0.0, 0.9, 0.0], &OrbitOptions::default()).unwrap();
+/// let det = nalgebra::Matrix4::from_fn(|i, j| m[i][j]).determinant();
+/// // tr A = -(c0 + 2 c1) = -0.3 (unit masses)
+/// let t = 2.0 * std::f64::consts::PI / sys.omega;
+/// assert!((det - (-0.3 * t).exp()).abs() < 1e-8);
+/// ```
+pub fn stroboscopic_map<S, const N: usize>(
+    sys: &S,
+    y: [f64; N],
     opts: &OrbitOptions,
-) -> Result<([f64; 2], [[f64; 2]; 2]), OrbitError> {
+) -> Result<([f64; N], [[f64; N]; N]), OrbitError>
+where
+    S: GearSystem<N> + TangentSpace<N>,
+{
     check(opts)?;
-    let e = map_eval(model, y, 0.0, opts)?;
+    let e = map_eval(sys, y, 0.0, opts)?;
     Ok((e.y, e.jac))
 }
 
 /// `P_n(y)` alone (no tangent).
-fn map_only(
-    model: &MeshModel,
-    y: [f64; 2],
+fn map_only<S: GearSystem<N>, const N: usize>(
+    sys: &S,
+    y: [f64; N],
     memory: f64,
     o: &OrbitOptions,
-) -> Result<[f64; 2], OrbitError> {
-    let scheme = Scheme::DormandPrince {
-        rtol: o.rtol,
-        atol: o.atol,
-    };
-    let mut it = Integrator::new(model, scheme, o.tau0, y)?.with_memory(memory);
+) -> Result<[f64; N], OrbitError> {
+    let mut it = Integrator::new(sys, scheme(o), o.tau0, y)?.with_memory(memory);
     run_periods(
         &mut it,
-        model.excitation_period(),
+        sys.excitation_period(),
         u64::from(o.period),
         &mut crate::driver::Discard,
     )?;
     Ok(*it.y())
 }
 
-/// A periodic orbit: its point on the stroboscopic section and its stability.
+/// Largest modulus of the components of `v` (the max norm; NaN-ignoring as `f64::max`, NaN when
+/// all are).
+fn max_abs<const N: usize>(v: &[f64; N]) -> f64 {
+    v[1..].iter().fold(v[0].abs(), |m, x| m.max(x.abs()))
+}
+
+/// `max_abs(a - b)`.
+fn max_abs_diff<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    max_abs::<N>(&std::array::from_fn(|i| a[i] - b[i]))
+}
+
+/// A periodic orbit of a system of state dimension `N` (default: the pair's 2): its point on the
+/// stroboscopic section and its stability.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Orbit {
-    /// Point `(x, x')` at the stroboscopic phase.
-    pub y: [f64; 2],
+#[serde(bound(
+    serialize = "[f64; N]: Serialize, [[f64; N]; N]: Serialize, [Multiplier; N]: Serialize"
+))]
+pub struct Orbit<const N: usize = 2> {
+    /// Point on the section at the stroboscopic phase (the pair: `(x, x')`).
+    pub y: [f64; N],
     /// Excitation periods.
     pub period: u32,
     /// Monodromy matrix (the Jacobian of `P_n` at `y`).
-    pub monodromy: [[f64; 2]; 2],
-    /// Floquet multipliers, largest modulus first.
-    pub multipliers: [Multiplier; 2],
+    pub monodromy: [[f64; N]; N],
+    /// Floquet multipliers, largest modulus first ([`floquet_multipliers`]).
+    pub multipliers: [Multiplier; N],
     /// Every multiplier inside the unit circle.
     pub stable: bool,
     /// Contact state entered at each event over the orbit, from the stroboscopic instant.
     pub events: Vec<i8>,
-    /// Segment of the excitation period (zone piece, [`geardyn_model::mesh_model::Segment`])
-    /// in which each of `events` happened.
+    /// Mesh of each of `events` (all 0 for one mesh). Serialized only when an event is on
+    /// another mesh than the first (a single mesh's files, the pair's `orbits.json`, are as
+    /// before the orbits were generic).
+    #[serde(skip_serializing_if = "first_mesh_only")]
+    pub event_meshes: Vec<usize>,
+    /// Segment of the excitation period ([`GearSystem::segment`]; for the pair the zone piece,
+    /// [`geardyn_model::mesh_model::Segment`]) in which each of `events` happened.
     pub segments: Vec<u32>,
     /// `|P_n(y) - y|` (max norm) at `y`.
     pub residual: f64,
@@ -319,10 +438,15 @@ pub struct Orbit {
     pub memory: f64,
 }
 
-impl Orbit {
-    fn from_eval(y: [f64; 2], e: MapEval, period: u32, iterations: u32) -> Orbit {
-        let multipliers = eigenvalues(&e.jac);
-        let residual = (e.y[0] - y[0]).abs().max((e.y[1] - y[1]).abs());
+/// Whether every event is on the first mesh.
+fn first_mesh_only(meshes: &[usize]) -> bool {
+    meshes.iter().all(|&k| k == 0)
+}
+
+impl<const N: usize> Orbit<N> {
+    fn from_eval(y: [f64; N], e: MapEval<N>, period: u32, iterations: u32) -> Orbit<N> {
+        let multipliers = floquet_multipliers(&e.jac);
+        let residual = max_abs_diff(&e.y, &y);
         Orbit {
             y,
             period,
@@ -331,29 +455,37 @@ impl Orbit {
             multipliers,
             memory: e.memory,
             events: e.events,
+            event_meshes: e.meshes,
             segments: e.segments,
             residual,
             iterations,
         }
     }
 
-    /// The event sequence as a cyclic word, rotated to its least rotation (an event moving
-    /// across the stroboscopic instant is no change of the orbit).
-    pub fn event_word(&self) -> Vec<i8> {
-        least_rotation(&self.events)
-    }
-
-    /// The events with the segment each happens in, as a cyclic word (least rotation): the
-    /// orbit's itinerary through the contact boundaries and the mesh-stiffness breakpoints
-    /// (zone borders, the broken tooth's edges, the pitch point). It changes, with the
-    /// contact word unchanged, when an event crosses a breakpoint: there the map is
-    /// continuous but its Jacobian jumps (a corner collision).
-    pub fn itinerary(&self) -> Vec<(i8, u32)> {
-        let w: Vec<(i8, u32)> = self
-            .events
+    /// The event sequence `(mesh, contact state entered)` as a cyclic word, rotated to its least
+    /// rotation (an event moving across the stroboscopic instant is no change of the orbit).
+    pub fn event_word(&self) -> Vec<(usize, i8)> {
+        let w: Vec<(usize, i8)> = self
+            .event_meshes
             .iter()
             .copied()
-            .zip(self.segments.iter().copied())
+            .zip(self.events.iter().copied())
+            .collect();
+        least_rotation(&w)
+    }
+
+    /// The events `(mesh, contact state entered, segment)` as a cyclic word (least rotation):
+    /// the orbit's itinerary through the contact boundaries and the time breakpoints (for the
+    /// pair: zone borders, the broken tooth's edges, the pitch point). It changes, with the
+    /// contact word unchanged, when an event crosses a breakpoint: there the map is continuous
+    /// but its Jacobian jumps (a corner collision).
+    pub fn itinerary(&self) -> Vec<(usize, i8, u32)> {
+        let w: Vec<(usize, i8, u32)> = self
+            .event_meshes
+            .iter()
+            .zip(&self.events)
+            .zip(&self.segments)
+            .map(|((&k, &c), &s)| (k, c, s))
             .collect();
         least_rotation(&w)
     }
@@ -413,6 +545,42 @@ fn solve2(a: &[[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
     ])
 }
 
+/// Solves the `N x N` system `a z = b`: [`solve2`] for `N = 2`, else Gaussian elimination with
+/// partial pivoting; `None` when (numerically) singular.
+#[allow(clippy::needless_range_loop)]
+fn solve_n<const N: usize>(a: &[[f64; N]; N], b: [f64; N]) -> Option<[f64; N]> {
+    if N == 2 {
+        let z = solve2(&[[a[0][0], a[0][1]], [a[1][0], a[1][1]]], [b[0], b[1]])?;
+        return Some(std::array::from_fn(|i| z[i]));
+    }
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let (mut a, mut b) = (*a, b);
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].is_nan() || a[p][c].abs() <= 1e-14 * scale {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..N {
+            let f = a[r][c] / a[c][c];
+            for k in c..N {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut z = [0.0; N];
+    for r in (0..N).rev() {
+        let mut s = b[r];
+        for k in r + 1..N {
+            s -= a[r][k] * z[k];
+        }
+        z[r] = s / a[r][r];
+    }
+    z.iter().all(|v| v.is_finite()).then_some(z)
+}
+
 /// Solves the 3 x 3 system `a z = b` by Gaussian elimination with partial pivoting.
 #[allow(clippy::needless_range_loop)]
 fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
@@ -442,8 +610,8 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
     z.iter().all(|v| v.is_finite()).then_some(z)
 }
 
-/// A periodic orbit of `n = opts.period` excitation periods near `y0` by Newton's method on the
-/// stroboscopic map (see the module doc).
+/// A periodic orbit of `n = opts.period` excitation periods of `sys` near `y0` by Newton's
+/// method on the stroboscopic map (see the module doc), at its least period ([`minimal`]).
 ///
 /// Newton's method converges from a state near the orbit: a state on the attractor (after a
 /// transient), or a point of a neighbouring orbit.
@@ -463,29 +631,61 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
 /// let orbit = find_orbit(&m, near, &OrbitOptions::default()).unwrap();
 /// assert!(orbit.stable && orbit.residual < 1e-8 && orbit.events.len() == 2);
 /// ```
-pub fn find_orbit(
-    model: &MeshModel,
-    y0: [f64; 2],
+///
+/// Any [`GearSystem`] (of dimension 1 to 24, [`TangentSpace`]): the two-mass toy, its four
+/// multipliers.
+///
+/// ```
+/// use geardyn_analysis::orbits::{find_orbit, OrbitOptions};
+/// use geardyn_model::reference::TwoMassClearance;
+/// let sys = TwoMassClearance { load: [2.0, 1.0], ..Default::default() };
+/// let o = find_orbit(&sys, [2.0, 0.0, 1.0, 0.0], &OrbitOptions::default()).unwrap();
+/// assert!(o.stable && o.events.is_empty() && o.multipliers.len() == 4);
+/// ```
+pub fn find_orbit<S, const N: usize>(
+    sys: &S,
+    y0: [f64; N],
     opts: &OrbitOptions,
-) -> Result<Orbit, OrbitError> {
+) -> Result<Orbit<N>, OrbitError>
+where
+    S: GearSystem<N> + TangentSpace<N>,
+{
     check(opts)?;
-    let o = newton(model, y0, 0.0, opts)?;
-    minimal(model, o, opts)
+    let o = newton(sys, y0, 0.0, opts)?;
+    minimal(sys, o, opts)
 }
 
 /// The orbit at its least period: an orbit of `n` periods that is a fixed point of `P_d` for a
 /// divisor `d` of `n` is the orbit of period `d` (its multipliers are those of `P_d`, not their
-/// `n/d`-th powers).
-fn minimal(model: &MeshModel, o: Orbit, opts: &OrbitOptions) -> Result<Orbit, OrbitError> {
+/// `n/d`-th powers). [`find_orbit`] returns its orbit through it.
+///
+/// ```
+/// use geardyn_analysis::orbits::{find_orbit, minimal, OrbitOptions};
+/// use geardyn_model::reference::TwoMassClearance;
+/// // the period-1 orbit of the linear toy sought as an orbit of 3 periods
+/// let sys = TwoMassClearance { load: [2.0, 1.0], ..Default::default() };
+/// let opts = OrbitOptions { period: 3, ..Default::default() };
+/// let o = find_orbit(&sys, [2.0, 0.0, 1.0, 0.0], &opts).unwrap();
+/// assert_eq!(o.period, 1);
+/// assert_eq!(minimal(&sys, o.clone(), &opts).unwrap().period, 1);
+/// ```
+pub fn minimal<S, const N: usize>(
+    sys: &S,
+    o: Orbit<N>,
+    opts: &OrbitOptions,
+) -> Result<Orbit<N>, OrbitError>
+where
+    S: GearSystem<N> + TangentSpace<N>,
+{
     let n = o.period;
     for d in (1..n).filter(|d| n.is_multiple_of(*d)) {
         let od = OrbitOptions { period: d, ..*opts };
-        let Ok(img) = map_only(model, o.y, o.memory, &od) else {
+        let Ok(img) = map_only(sys, o.y, o.memory, &od) else {
             continue;
         };
-        let r = (img[0] - o.y[0]).abs().max((img[1] - o.y[1]).abs());
-        if r <= 100.0 * NOISE_FLOOR * (1.0 + o.y[0].abs().max(o.y[1].abs())) {
-            if let Ok(od_orbit) = newton(model, o.y, o.memory, &od) {
+        let r = max_abs_diff(&img, &o.y);
+        if r <= 100.0 * NOISE_FLOOR * (1.0 + max_abs(&o.y)) {
+            if let Ok(od_orbit) = newton(sys, o.y, o.memory, &od) {
                 return Ok(od_orbit);
             }
         }
@@ -493,27 +693,30 @@ fn minimal(model: &MeshModel, o: Orbit, opts: &OrbitOptions) -> Result<Orbit, Or
     Ok(o)
 }
 
-fn newton(
-    model: &MeshModel,
-    y0: [f64; 2],
+fn newton<S, const N: usize>(
+    sys: &S,
+    y0: [f64; N],
     memory0: f64,
     o: &OrbitOptions,
-) -> Result<Orbit, OrbitError> {
+) -> Result<Orbit<N>, OrbitError>
+where
+    S: GearSystem<N> + TangentSpace<N>,
+{
     let mut y = y0;
     // the memory at the start is the orbit's own at the end (a fixed point in it too: carried
     // from one iterate to the next)
     let mut memory = memory0;
     let mut residual = f64::INFINITY;
     for it in 0..=o.max_iter {
-        let e = map_eval(model, y, memory, o)?;
-        let r = [e.y[0] - y[0], e.y[1] - y[1]];
+        let e = map_eval(sys, y, memory, o)?;
+        let r: [f64; N] = std::array::from_fn(|i| e.y[i] - y[i]);
         let before = residual;
-        residual = r[0].abs().max(r[1].abs());
+        residual = max_abs(&r);
         if !residual.is_finite() {
             break;
         }
         let settled = (e.memory - memory).abs() <= o.tol * (1.0 + memory.abs());
-        let scale = 1.0 + y[0].abs().max(y[1].abs());
+        let scale = 1.0 + max_abs(&y);
         // converged, or at the integration's noise floor: a small residual that Newton's steps
         // no longer halve (a map of many mesh cycles carries an error above `tol`)
         let floor = residual <= NOISE_FLOOR * scale && residual > 0.5 * before;
@@ -524,26 +727,28 @@ fn newton(
         if it == o.max_iter {
             break;
         }
-        let a = [
-            [e.jac[0][0] - 1.0, e.jac[0][1]],
-            [e.jac[1][0], e.jac[1][1] - 1.0],
-        ];
-        let Some(mut dy) = solve2(&a, [-r[0], -r[1]]) else {
+        // M - I
+        let a: [[f64; N]; N] = std::array::from_fn(|i| {
+            let mut row = e.jac[i];
+            row[i] -= 1.0;
+            row
+        });
+        let Some(mut dy) = solve_n(&a, r.map(|v| -v)) else {
             break;
         };
         // a damped step far from the orbit (the map is only piecewise smooth)
-        let scale = 1.0 + y[0].abs().max(y[1].abs());
-        let len = dy[0].abs().max(dy[1].abs());
+        let len = max_abs(&dy);
         if len > 0.5 * scale {
             let f = 0.5 * scale / len;
-            dy = [dy[0] * f, dy[1] * f];
+            dy = dy.map(|v| v * f);
         }
-        y = [y[0] + dy[0], y[1] + dy[1]];
+        y = std::array::from_fn(|i| y[i] + dy[i]);
     }
+    let [x, v] = sys.mesh_state(&y, 0);
     Err(OrbitError::NoConvergence {
         period: o.period,
-        x: y[0],
-        v: y[1],
+        x,
+        v,
         iterations: o.max_iter,
         residual,
     })
@@ -695,7 +900,7 @@ impl Continuation {
 
 /// `P_n - y` and its derivatives in `(y, p)`: `[M - I | dP/dp]`.
 struct Extended {
-    orbit_eval: MapEval,
+    orbit_eval: MapEval<2>,
     r: [f64; 2],
     jac: [[f64; 3]; 2],
 }
@@ -1379,9 +1584,9 @@ fn switch(
 /// from the orbit's point (DP5 at the project's default tolerance), read as that orbit
 /// ([`crate::simulate::summarize_orbit`]): an unstable orbit leaves its point only by the
 /// rounding of one orbit period, amplified by its multipliers.
-pub fn describe_orbit(
-    model: &MeshModel,
-    o: &Orbit,
+pub fn describe_orbit<S: GearSystem<N>, const N: usize>(
+    sys: &S,
+    o: &Orbit<N>,
     tau0: f64,
 ) -> Result<crate::simulate::Summary, crate::simulate::SimError> {
     let opts = SimOptions {
@@ -1392,9 +1597,9 @@ pub fn describe_orbit(
         start_memory: o.memory,
         ..Default::default()
     };
-    let res = simulate(model, o.y, &opts)?;
+    let res = simulate(sys, o.y, &opts)?;
     Ok(crate::simulate::summarize_orbit(
-        model,
+        sys,
         &res,
         &opts,
         o.period as usize,

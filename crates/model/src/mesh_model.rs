@@ -1312,4 +1312,9 @@ impl crate::system::GearSystem<2> for MeshModel {
     fn impact_peak_force(&self, _k: usize, v: f64) -> f64 {
         MeshModel::impact_peak_force(self, v)
     }
+    /// The segment of the excitation period ([`MeshMode::seg`]).
+    #[inline(always)]
+    fn segment(&self, mode: &MeshMode) -> u32 {
+        mode.seg
+    }
 }

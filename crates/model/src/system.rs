@@ -152,6 +152,15 @@ pub trait GearSystem<const N: usize>: Variational<N> + Clone + Sync {
     fn impact_peak_force(&self, _k: usize, _v: f64) -> f64 {
         0.0
     }
+
+    /// The piece of the excitation period `mode` is in, between the system's time breakpoints
+    /// ([`geardyn_solvers::HybridSystem::next_breakpoint`]: for the pair its mesh-stiffness
+    /// zones, a broken tooth's edges, the pitch point). A periodic orbit's itinerary records it
+    /// with each contact event (an event crossing a breakpoint changes the map's Jacobian).
+    /// Default 0: no breakpoints.
+    fn segment(&self, _mode: &Self::Mode) -> u32 {
+        0
+    }
 }
 
 impl<S: GearSystem<N>, const N: usize> GearSystem<N> for &S {
@@ -196,5 +205,9 @@ impl<S: GearSystem<N>, const N: usize> GearSystem<N> for &S {
     }
     fn impact_peak_force(&self, k: usize, v: f64) -> f64 {
         (**self).impact_peak_force(k, v)
+    }
+    #[inline(always)]
+    fn segment(&self, mode: &S::Mode) -> u32 {
+        (**self).segment(mode)
     }
 }

@@ -20,6 +20,7 @@ mod lyapunov;
 mod lyapunov_memory;
 mod mesh_model;
 mod orbits;
+mod orbits_system;
 mod shards;
 mod strobe_only;
 mod system;
