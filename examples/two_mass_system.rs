@@ -1,7 +1,7 @@
 //! A gear system other than the single pair through the same analyses: the two-mass,
 //! two-clearance toy (`TwoMassClearance`: four states, two meshes with backlash) simulated,
-//! decided, swept over its forcing, its top Lyapunov exponent, its basins on a plane of the state
-//! and its attractors continued. Replace `TwoMassClearance` by a system of your own that
+//! decided, swept over its forcing, its top Lyapunov exponent, its basins on a plane of the state,
+//! its attractors continued and a periodic orbit with its Floquet multipliers. Replace `TwoMassClearance` by a system of your own that
 //! implements `HybridSystem`, `Variational` and `GearSystem` (see the doc of
 //! `geardyn::model::system`), plus `impl Engine<N> for MySystem {}` and, for basins and
 //! continuation, `Recordable<N>` through `describe_gear` / `decide_gear`.
@@ -11,6 +11,7 @@
 use geardyn::analysis::attractor::IdentifyOptions;
 use geardyn::analysis::basins::{basins, Axis, BasinOptions, Slice};
 use geardyn::analysis::continuation::{continuation_of, ContinuationOptions};
+use geardyn::analysis::orbits::{find_orbit, OrbitOptions};
 use geardyn::model::reference::TwoMassClearance;
 use geardyn::prelude::*;
 
@@ -134,4 +135,30 @@ fn main() {
         c.points.len(),
         c.events.len()
     );
+
+    // the period-2 orbit at A = 0.6 by shooting, from a point of the decided motion, and its four
+    // Floquet multipliers (saltation at every contact change)
+    let at = Forcing.at(0.6);
+    let (res, s, _) = simulate_decided(&at, [0.0; 4], &sweep, Decide::default()).unwrap();
+    let start = res.strobe.last().unwrap().y;
+    let o = OrbitOptions {
+        period: s.period as u32,
+        ..Default::default()
+    };
+    match find_orbit(&at, start, &o) {
+        Ok(orbit) => {
+            let m: Vec<String> = orbit
+                .multipliers
+                .iter()
+                .map(|m| format!("{:.4}{:+.4}i", m.re, m.im))
+                .collect();
+            println!(
+                "orbit of period {} at A = 0.6 ({}): multipliers {}",
+                orbit.period,
+                if orbit.stable { "stable" } else { "unstable" },
+                m.join(", ")
+            );
+        }
+        Err(e) => println!("no orbit: {e}"),
+    }
 }
