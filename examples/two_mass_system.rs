@@ -101,10 +101,7 @@ fn main() {
             n: 12,
         },
         identify,
-        slice: Slice {
-            axes: (0, 2),
-            base: [0.0; 4],
-        },
+        slice: Slice::new((0, 2), [0.0; 4]).unwrap(),
     };
     let b = basins(&sys, &grid, &Default::default(), |_, _| {});
     for a in &b.attractors {

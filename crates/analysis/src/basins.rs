@@ -18,7 +18,7 @@ use crate::identify::{assign, consolidate, identify_in, CellLabels};
 use rayon::prelude::*;
 use serde::Serialize;
 
-pub use crate::grid::{Axis, Slice};
+pub use crate::grid::{Axis, Slice, SliceError};
 use std::collections::HashMap;
 
 /// Settings of a basin computation.

@@ -270,10 +270,7 @@ fn basins_on_a_slice_of_the_linear_toy_are_one_basin() {
             n: 5,
         },
         identify: identify_opts(),
-        slice: Slice {
-            axes: (0, 2),
-            base: [0.0; 4],
-        },
+        slice: Slice::new((0, 2), [0.0; 4]).unwrap(),
     };
     let r = basins(&sys, &opts, &Default::default(), |_, _| {});
     assert_eq!(r.attractors.len(), 1, "{:?}", r.attractors);
