@@ -44,7 +44,7 @@ pub mod prelude {
     pub use geardyn_analysis::generic::{decided_sweep, Family};
     pub use geardyn_analysis::lyapunov_request::{LyapunovReport, LyapunovRequest, TleMethod};
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
-    pub use geardyn_analysis::orbits::OrbitsRequest;
+    pub use geardyn_analysis::orbits_request::OrbitsRequest;
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
     pub use geardyn_analysis::simulation::{Run, Simulation};
     pub use geardyn_io::config::{Face, SimOverrides};

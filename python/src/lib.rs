@@ -919,7 +919,8 @@ fn orbits<'py>(
     rtol: f64,
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use geardyn_analysis::orbits::{run_orbits, OrbitsRequest, MAX_ORBIT_PERIOD};
+    use geardyn_analysis::orbits::MAX_ORBIT_PERIOD;
+    use geardyn_analysis::orbits_request::{run_orbits, OrbitsRequest};
     use geardyn_io::schema::{bifurcations_table, orbit_branch_table, orbit_rows};
     let (cfg, table, bifs, ends) = util::run(py, "orbits", progress, None, move |_ctl: &Ctl| {
         let cfg = src.config()?;

@@ -6,7 +6,7 @@ use crate::sweep::parse_numbers;
 use anyhow::{bail, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
-use geardyn_analysis::orbits::{run_orbits, strobe_diagram, OrbitsRequest};
+use geardyn_analysis::orbits_request::{run_orbits, strobe_diagram, OrbitsRequest};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
 use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};

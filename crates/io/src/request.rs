@@ -516,7 +516,7 @@ impl BifurcationRequest {
 pub fn face_defaults() -> serde_json::Value {
     use geardyn_analysis::attractor::IdentifyRequest;
     use geardyn_analysis::lyapunov_request::LyapunovRequest;
-    use geardyn_analysis::orbits::OrbitsRequest;
+    use geardyn_analysis::orbits_request::OrbitsRequest;
     use geardyn_analysis::signals::SignalsRequest;
     let sweep = SweepSpec::default();
     let lyap = LyapunovRequest::default();

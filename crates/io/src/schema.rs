@@ -469,7 +469,7 @@ pub fn model_stiffness_table(model: &geardyn_model::MeshModel) -> Table {
 #[derive(Clone, Debug)]
 pub struct OrbitRow<'a> {
     /// The branch point (parameter, orbit, multipliers).
-    pub point: &'a geardyn_analysis::orbits::BranchPoint,
+    pub point: &'a geardyn_analysis::orbit_branches::BranchPoint,
     /// Label of the orbit's record (n-p-q-r-s).
     pub label: String,
     /// Largest mesh force over the orbit.
@@ -479,15 +479,15 @@ pub struct OrbitRow<'a> {
 }
 
 /// The rows of the orbits of a branch: each point with its record
-/// ([`geardyn_analysis::orbits::orbit_records`]: label, forces and P_ID at its parameter value;
+/// ([`geardyn_analysis::orbits_request::orbit_records`]: label, forces and P_ID at its parameter value;
 /// `param` the continued parameter, `None` for one orbit at `sc`).
 pub fn orbit_rows<'a>(
     sc: &geardyn_scenario::Scenario,
     param: Option<&str>,
-    points: &'a [geardyn_analysis::orbits::BranchPoint],
+    points: &'a [geardyn_analysis::orbit_branches::BranchPoint],
     tau0: f64,
 ) -> Vec<OrbitRow<'a>> {
-    let records = geardyn_analysis::orbits::orbit_records(sc, param, points, tau0);
+    let records = geardyn_analysis::orbits_request::orbit_records(sc, param, points, tau0);
     points
         .iter()
         .zip(records)
@@ -560,9 +560,12 @@ pub fn orbit_branch_table(param: Option<&str>, rows: &[OrbitRow<'_>]) -> Table {
 }
 
 /// The bifurcations of `geardyn orbits` (`bifurcations.csv`): `kind` (one of
-/// [`geardyn_analysis::orbits::BifurcationKind::ALL`]), `<param>, branch, x, v, period, mu1_re,
+/// [`geardyn_analysis::orbit_branches::BifurcationKind::ALL`]), `<param>, branch, x, v, period, mu1_re,
 /// mu1_im, mu2_re, mu2_im`.
-pub fn bifurcations_table(param: &str, b: &[geardyn_analysis::orbits::Bifurcation]) -> Table {
+pub fn bifurcations_table(
+    param: &str,
+    b: &[geardyn_analysis::orbit_branches::Bifurcation],
+) -> Table {
     let mut t = Table::default();
     t.push(
         "kind",

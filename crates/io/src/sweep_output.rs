@@ -9,7 +9,7 @@ use crate::figure::{
 use crate::output::{write_csv, OutputError};
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
-use geardyn_analysis::orbits::BifurcationKind;
+use geardyn_analysis::orbit_branches::BifurcationKind;
 use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -612,10 +612,10 @@ pub fn plot_orbits(
     stem: &Path,
     title: &str,
     param: &str,
-    c: &geardyn_analysis::orbits::Continuation,
+    c: &geardyn_analysis::orbit_branches::Continuation,
     diagram: &[(f64, f64)],
 ) -> Result<(), FigureError> {
-    use geardyn_analysis::orbits::BranchPoint;
+    use geardyn_analysis::orbit_branches::BranchPoint;
     let mut layers = Vec::new();
     let mut legend = Vec::new();
     if !diagram.is_empty() {

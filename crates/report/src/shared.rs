@@ -1088,9 +1088,10 @@ pub fn branch_both_ways(
     param: &str,
     at: f64,
     (lo, hi): (f64, f64),
-    req: &geardyn_analysis::orbits::OrbitsRequest,
-) -> Result<geardyn_analysis::orbits::Continuation> {
-    use geardyn_analysis::orbits::{run_orbits, Continuation, OrbitsRequest};
+    req: &geardyn_analysis::orbits_request::OrbitsRequest,
+) -> Result<geardyn_analysis::orbit_branches::Continuation> {
+    use geardyn_analysis::orbit_branches::Continuation;
+    use geardyn_analysis::orbits_request::{run_orbits, OrbitsRequest};
     let mut c = Continuation::default();
     for stop in [lo, hi] {
         let one = OrbitsRequest {
@@ -1115,11 +1116,12 @@ pub fn orbit_figure(
     (lo, hi): (f64, f64),
     y0: [f64; 2],
     diagram: usize,
-    c: &geardyn_analysis::orbits::Continuation,
+    c: &geardyn_analysis::orbit_branches::Continuation,
     title: &str,
     caption: &str,
 ) -> Result<(Figure, Vec<String>)> {
-    use geardyn_analysis::orbits::{strobe_diagram, BifurcationKind};
+    use geardyn_analysis::orbit_branches::BifurcationKind;
+    use geardyn_analysis::orbits_request::strobe_diagram;
     use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
     let rows = orbit_rows(base, Some(param), &c.points, 0.0);
     let branch_csv = dir.join("branch.csv");

@@ -2,10 +2,8 @@
 //! forms and a finite-difference Jacobian of the same map, and the bifurcations of a branch
 //! against the linear response and the brute-force diagram of case C1.
 
-use geardyn_analysis::orbits::{
-    continue_orbits, eigenvalues, find_orbit, stroboscopic_map, BifurcationKind,
-    ContinuationOptions, OrbitOptions,
-};
+use geardyn_analysis::orbit_branches::{continue_orbits, BifurcationKind, ContinuationOptions};
+use geardyn_analysis::orbits::{eigenvalues, find_orbit, stroboscopic_map, OrbitOptions};
 use geardyn_analysis::simulate::{simulate, SimOptions};
 use geardyn_model::{presets, MeshModel, ModelParams};
 use geardyn_scenario::Scenario;

@@ -9,7 +9,8 @@ use crate::readings::f;
 use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::orbits::{BifurcationKind, Continuation, OrbitsRequest};
+use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
+use geardyn_analysis::orbits_request::OrbitsRequest;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
