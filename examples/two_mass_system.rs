@@ -123,7 +123,7 @@ fn main() {
         phase: 0.0,
         identify,
     };
-    let c = continuation_of(&Forcing, &cont, &Slice::default());
+    let c = continuation_of(&Forcing, &cont, &Slice::default()).expect("checked options");
     for e in &c.events {
         println!("{}", e.text);
     }

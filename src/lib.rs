@@ -32,20 +32,27 @@ pub use geardyn_solvers as solvers;
 /// analyses with their options, and their results.
 pub mod prelude {
     pub use geardyn_analysis::attractor::IdentifyRequest;
+    pub use geardyn_analysis::attractor::{
+        decide_gear, describe_gear, Descriptor, IdentifyOptions, Recordable,
+    };
     pub use geardyn_analysis::basins::{basins, Axis, BasinOptions, BasinResult, BasinsRequest};
     pub use geardyn_analysis::bifurcation::{
         linspace, run_sweep, Section, SweepMode, SweepOptions, TaskResult,
     };
     pub use geardyn_analysis::classify::{simulate_decided, Decide, Motion};
+    pub use geardyn_analysis::continuation::continuation_of;
     pub use geardyn_analysis::continuation::{
         continuation, ContinuationOptions, ContinuationResult,
     };
     pub use geardyn_analysis::engine::Engine;
     pub use geardyn_analysis::generic::{decided_sweep, Family};
+    pub use geardyn_analysis::grid::Slice;
     pub use geardyn_analysis::lyapunov_request::{LyapunovReport, LyapunovRequest, TleMethod};
     pub use geardyn_analysis::map2d::{map2d, MapCell, MapOptions};
+    pub use geardyn_analysis::orbits::{describe_orbit, find_orbit, OrbitOptions};
     pub use geardyn_analysis::orbits_request::OrbitsRequest;
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
+    pub use geardyn_analysis::simulate::{summarize, SimError};
     pub use geardyn_analysis::simulation::{Run, Simulation};
     pub use geardyn_io::config::{Face, SimOverrides};
     pub use geardyn_io::executor::{
@@ -53,8 +60,11 @@ pub mod prelude {
     };
     pub use geardyn_io::request::{BifurcationRequest, ContinuationRequest, MapRequest, SweepSpec};
     pub use geardyn_io::Config;
-    pub use geardyn_model::{presets, GearSystem, MeshModel};
+    pub use geardyn_model::{presets, ContactState, EventKind, GearSystem, MeshModel};
     pub use geardyn_scenario::Scenario;
+    pub use geardyn_solvers::{
+        Direction, EventAction, Guards, HybridSystem, Scheme, SolverError, Variational,
+    };
 }
 
 // The Rust example of README.md is compiled and run as a doctest of this crate.

@@ -36,9 +36,9 @@ use crate::classify::{simulate_decided, Decide, Motion};
 use crate::driver::{run_periods, Observer};
 use crate::engine::Engine;
 use crate::period::minimal_period;
-use crate::simulate::{simulate, summarize, SimOptions};
+use crate::simulate::{simulate, summarize, SimError, SimOptions};
 use geardyn_model::MeshModel;
-use geardyn_solvers::{HybridSystem, Integrator, Scheme, SolverError};
+use geardyn_solvers::{HybridSystem, Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// A system whose attractors can be identified: an `N`-dimensional [`HybridSystem`] with a
@@ -51,12 +51,7 @@ pub trait Recordable<const N: usize>: HybridSystem<N> + Sync {
     /// Integration scheme for these settings.
     fn scheme(&self, sim: &SimOptions) -> Scheme;
     /// Records `sim.record_periods` periods from `(t0, y0)` and describes the steady state.
-    fn describe(
-        &self,
-        t0: f64,
-        y0: [f64; N],
-        sim: &SimOptions,
-    ) -> Result<Descriptor<N>, SolverError>;
+    fn describe(&self, t0: f64, y0: [f64; N], sim: &SimOptions) -> Result<Descriptor<N>, SimError>;
     /// The gear model, when the system is one (its cells can then run in lockstep lanes,
     /// [`crate::lanes`]). Default: none.
     fn as_mesh(&self) -> Option<&MeshModel> {
@@ -107,15 +102,13 @@ pub fn describe_gear<S: Engine<N>, const N: usize>(
     t0: f64,
     y0: [f64; N],
     sim: &SimOptions,
-) -> Result<Descriptor<N>, SolverError> {
+) -> Result<Descriptor<N>, SimError> {
     let rec_opts = SimOptions {
         transient_periods: 0,
         tau0: t0,
         ..*sim
     };
-    let res = simulate(sys, y0, &rec_opts).map_err(|e| match e {
-        crate::simulate::SimError::Solver(s) => s,
-    })?;
+    let res = simulate(sys, y0, &rec_opts)?;
     let s = summarize(sys, &res, &rec_opts);
     let pts = res.strobe_states();
     let mut d = Descriptor::new(s.period, s.label, s.healthy, &pts, s.max_force, s.p_id);
@@ -135,12 +128,7 @@ impl Recordable<4> for geardyn_model::reference::TwoMassClearance {
     fn decide(&self, d: &Descriptor<4>, sim: &SimOptions) -> Descriptor<4> {
         decide_gear(self, d, sim)
     }
-    fn describe(
-        &self,
-        t0: f64,
-        y0: [f64; 4],
-        sim: &SimOptions,
-    ) -> Result<Descriptor<4>, SolverError> {
+    fn describe(&self, t0: f64, y0: [f64; 4], sim: &SimOptions) -> Result<Descriptor<4>, SimError> {
         describe_gear(self, t0, y0, sim)
     }
 }
@@ -158,7 +146,7 @@ impl Recordable<2> for MeshModel {
     fn decide(&self, d: &Descriptor, sim: &SimOptions) -> Descriptor {
         decide_gear(self, d, sim)
     }
-    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SolverError> {
+    fn describe(&self, t0: f64, y0: [f64; 2], sim: &SimOptions) -> Result<Descriptor, SimError> {
         describe_gear(self, t0, y0, sim)
     }
 }
@@ -226,12 +214,7 @@ impl<S: HybridSystem<N> + Sync, const N: usize> Recordable<N> for StrobeOnly<S> 
     fn scheme(&self, _sim: &SimOptions) -> Scheme {
         self.scheme
     }
-    fn describe(
-        &self,
-        t0: f64,
-        y0: [f64; N],
-        sim: &SimOptions,
-    ) -> Result<Descriptor<N>, SolverError> {
+    fn describe(&self, t0: f64, y0: [f64; N], sim: &SimOptions) -> Result<Descriptor<N>, SimError> {
         let mut it = Integrator::new(self, self.scheme, t0, y0)?;
         let mut c = Collect(Vec::new());
         run_periods(&mut it, self.period, sim.record_periods, &mut c)?;

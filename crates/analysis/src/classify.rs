@@ -133,6 +133,14 @@ pub fn simulate_decided<S: Engine<N>, const N: usize>(
     opts: &SimOptions,
     how: Decide,
 ) -> Result<(SimResult<N>, Summary, SimOptions), SimError> {
+    if opts.record_periods == 0 {
+        // (an empty record holds no evidence: no period, no range, no exponent)
+        return Err(SimError::Setting {
+            field: "record_periods",
+            value: "0".into(),
+            allowed: "at least 1 excitation period: a decision reads the record",
+        });
+    }
     let res = simulate(model, y0, opts)?;
     let s = summarize(model, &res, opts);
     simulate_decided_from(model, (res, s), opts, how)
@@ -761,6 +769,12 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         // NaN counts as runaway too
         if x_max.is_nan() || x_max > DIVERGED_SCALES * scale {
             self.s.set_motion(Motion::Diverged { x_max });
+            // (a record frozen far away may pass the period test: the label says what it is)
+            let word = self.s.motion.word().to_string();
+            self.s.label.clone_from(&word);
+            for m in &mut self.s.meshes {
+                m.label.clone_from(&word);
+            }
             self.ask(Wait::Done, Need::Done);
             true
         } else {

@@ -219,16 +219,49 @@ pub fn continuation_of<F, const N: usize>(
     fam: &F,
     opts: &ContinuationOptions,
     slice: &Slice<N>,
-) -> ContinuationResult
+) -> Result<ContinuationResult, crate::simulate::SimError>
 where
     F: crate::generic::Family<N>,
     F::System: Recordable<N>,
 {
+    check_options(opts)?;
     let per_value: Vec<ValueAttractors<N>> = (0..opts.values.len())
         .into_par_iter()
         .map(|i| attractors_of(&fam.at(opts.values[i]), i, opts.values[i], opts, slice))
         .collect();
-    link(&opts.param, &per_value, opts.identify.match_tol)
+    Ok(link(&opts.param, &per_value, opts.identify.match_tol))
+}
+
+/// Checks the options a caller built by hand: initial-state ranges finite and ordered, a phase
+/// in `[0, 1)`, at least one initial state (the CLI and Python check theirs in their requests).
+fn check_options(opts: &ContinuationOptions) -> Result<(), crate::simulate::SimError> {
+    let bad = |field: &'static str, value: String, allowed: &'static str| {
+        Err(crate::simulate::SimError::Setting {
+            field,
+            value,
+            allowed,
+        })
+    };
+    for (field, (lo, hi)) in [("x0_range", opts.x0_range), ("v0_range", opts.v0_range)] {
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return bad(
+                field,
+                format!("({lo}, {hi})"),
+                "finite bounds, the first not above the second",
+            );
+        }
+    }
+    if !(0.0..1.0).contains(&opts.phase) {
+        return bad(
+            "phase",
+            opts.phase.to_string(),
+            "[0, 1) (fraction of the excitation period)",
+        );
+    }
+    if opts.ics == 0 {
+        return bad("ics", "0".into(), "at least 1 initial state");
+    }
+    Ok(())
 }
 
 /// Runs the continuation. `done` holds values finished by an interrupted run; `on_done` receives

@@ -1,6 +1,9 @@
 //! How the analyses integrate a system: the [`Engine`] a [`GearSystem`] runs on.
 //!
-//! Every analysis is generic over `S: Engine<N>`. The defaults integrate one trajectory at a
+//! The decisions (and what builds on them: decided sweeps, the description of an attractor of a
+//! gear system) take `S: Engine<N>`; identification, basins and continuation take the
+//! [`crate::attractor::Recordable`] systems, a single periodic orbit any `GearSystem<N>` with a
+//! tangent space ([`crate::lyapunov::TangentSpace`]). The defaults integrate one trajectory at a
 //! time with the requested integrator and compute exponents by the variational equation with
 //! saltation ([`crate::lyapunov`]): correct for any system. A system with a faster engine
 //! overrides them: the single pair runs its follows and exponents in the lockstep lanes

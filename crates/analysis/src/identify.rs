@@ -8,7 +8,7 @@
 use crate::attractor::{dist, Descriptor, IdentifyOptions, Outcome, Recordable};
 use crate::driver::{run_periods, Discard, Observer};
 use crate::simulate::SimOptions;
-use geardyn_solvers::{HybridSystem, Integrator, SolverError};
+use geardyn_solvers::{HybridSystem, Integrator};
 
 /// Makes one attractor of one motion (see module doc): decides the descriptors from
 /// `first_new` on ([`Recordable::decide`]), merges matching
@@ -307,7 +307,7 @@ pub fn identify_in<S: Recordable<N>, const N: usize>(
     cells: Option<&CellLabels>,
     opts: &IdentifyOptions,
 ) -> Outcome<N> {
-    let run = || -> Result<Outcome<N>, SolverError> {
+    let run = || -> Result<Outcome<N>, crate::simulate::SimError> {
         let mut it = Integrator::new(sys, sys.scheme(&opts.sim), opts.sim.tau0, y0)?;
         let period = sys.strobe_period();
         let mut cap = Capture::new(known, cells, opts);

@@ -220,6 +220,10 @@ tangent_impl!(24, 49);
 /// dimension 1 to 24 (the augmented state has `2N + 1` components, a size the stable compiler
 /// cannot compute from a generic `N`, so each dimension is implemented once here). Analyses
 /// generic over the dimension call the variational exponent through it.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` has no tangent space of dimension {N}: geardyn integrates the tangent dynamics of systems of 1 to 24 states",
+    note = "the system must implement `Variational<{N}> + Clone`, and its state dimension must lie in 1..=24"
+)]
 pub trait TangentSpace<const N: usize>: Variational<N> + Clone {
     /// [`tle_variational_with`] of this system.
     fn tle_variational_with(

@@ -229,7 +229,7 @@ fn tests(o: &Orbit) -> (f64, f64) {
 /// `opts.param` up to `opts.stop` (see the module doc).
 ///
 /// ```
-/// use geardyn_analysis::orbits::{continue_orbits, BifurcationKind, ContinuationOptions};
+/// use geardyn_analysis::orbit_branches::{continue_orbits, BifurcationKind, ContinuationOptions};
 /// use geardyn_analysis::simulate::{simulate, SimOptions};
 /// use geardyn_scenario::ScenarioSpec;
 /// // case C1, the period-1 branch from omega = 0.8 to 0.95: it doubles near 0.88

@@ -651,6 +651,13 @@ where
     S: GearSystem<N> + TangentSpace<N>,
 {
     check(opts)?;
+    if sys.mesh_count() == 0 {
+        return Err(OrbitError::Setting {
+            field: "mesh_count",
+            value: "0".into(),
+            allowed: "at least one mesh (GearSystem::mesh_count)".into(),
+        });
+    }
     let o = newton(sys, y0, 0.0, opts)?;
     minimal(sys, o, opts)
 }

@@ -135,7 +135,18 @@ pub fn run_orbits(
         Some((p, lo, _)) => sc.with(p, *lo)?,
         None => sc.clone(),
     };
-    let solver = |crate::simulate::SimError::Solver(e)| OrbitError::Solver(e);
+    let solver = |e: crate::simulate::SimError| match e {
+        crate::simulate::SimError::Solver(e) => OrbitError::Solver(e),
+        crate::simulate::SimError::Setting {
+            field,
+            value,
+            allowed,
+        } => OrbitError::Setting {
+            field,
+            value,
+            allowed: allowed.into(),
+        },
+    };
     let (near, period) = match req.period {
         Some(n) => {
             let near = if req.transient > 0 {

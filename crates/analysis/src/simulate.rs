@@ -168,6 +168,28 @@ pub enum SimError {
     /// The integrator failed.
     #[error(transparent)]
     Solver(#[from] SolverError),
+    /// A setting or a system the run cannot take (named, with what is allowed).
+    #[error("bad {field} {value}: allowed {allowed}")]
+    Setting {
+        /// The setting.
+        field: &'static str,
+        /// Its value.
+        value: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
+
+/// Checks what every run needs of its system: at least one mesh.
+pub(crate) fn check_system<S: GearSystem<N>, const N: usize>(sys: &S) -> Result<(), SimError> {
+    if sys.mesh_count() == 0 {
+        return Err(SimError::Setting {
+            field: "mesh_count",
+            value: "0".into(),
+            allowed: "at least one mesh (GearSystem::mesh_count)",
+        });
+    }
+    Ok(())
 }
 
 /// Integrates `sys` from `y0` at `opts.tau0`: `transient_periods` excitation periods discarded,
@@ -185,6 +207,7 @@ pub fn simulate<S: GearSystem<N>, const N: usize>(
     y0: [f64; N],
     opts: &SimOptions,
 ) -> Result<SimResult<N>, SimError> {
+    check_system(sys)?;
     let mut integ = Integrator::new(sys, opts.method.scheme(sys), opts.tau0, y0)?
         .with_memory(opts.start_memory);
     let period = sys.excitation_period();

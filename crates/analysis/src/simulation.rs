@@ -1,12 +1,12 @@
 //! One run of a gear system stated in one expression:
-//! `Simulation::new(&sys, y0).solver(..).record(..).decide(..).run()`.
+//! `Simulation::new(&sys, y0).solver(..).record(..).decide(..).decided()`.
 //!
 //! The builder groups what [`SimOptions`] holds by role — the **solver** (integrator, start time
 //! and memory), the **record** (transient, recorded periods, trajectory) and the **decision**
 //! (whether and how long a motion is followed before it is called chaotic, the work budget, the
-//! follow's resolution) — and ends in one of three questions: the record and its summary
-//! ([`Simulation::run`]), the decided motion ([`Simulation::decided`]) or the top Lyapunov
-//! exponent ([`Simulation::tle`]). It is the same code as [`simulate`],
+//! follow's resolution) — and ends in one of three questions: the record and its summary by the
+//! period test alone ([`Simulation::run`]: the decision settings are not used), the decided
+//! motion ([`Simulation::decided`]) or the top Lyapunov exponent ([`Simulation::tle`]). It is the same code as [`simulate`],
 //! [`simulate_decided`] and [`Engine::tle`] with the same settings.
 //!
 //! ```

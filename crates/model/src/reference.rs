@@ -278,10 +278,28 @@ impl HybridSystem<4> for TwoMassClearance {
     type Mode = TwoContacts;
     type TimeTerms = f64;
 
-    fn initial_mode(&self, _t: f64, y: &mut [f64; 4]) -> TwoContacts {
+    fn initial_mode(&self, t: f64, y: &mut [f64; 4]) -> TwoContacts {
         let (u0, v0) = Self::rel(y, 0);
         let (u1, v1) = Self::rel(y, 1);
-        [self.state_of(0, u0, v0), self.state_of(1, u1, v1)]
+        let mut m = [self.state_of(0, u0, v0), self.state_of(1, u1, v1)];
+        // a mesh at rest exactly on a contact surface is in contact when the free motion presses
+        // it in (no crossing follows that an event could see)
+        for k in 0..2 {
+            let (u, du) = Self::rel(y, k);
+            let d = self.d[k];
+            if m[k] != crate::ContactState::Separated || du != 0.0 || (u != d && u != -d) {
+                continue;
+            }
+            let mut dy = [0.0; 4];
+            self.rhs(t, &self.time_terms(t), y, &m, &mut dy);
+            let a = if k == 0 { dy[1] } else { dy[1] - dy[3] };
+            if u == d && a > 0.0 {
+                m[k] = crate::ContactState::Drive;
+            } else if u == -d && a < 0.0 {
+                m[k] = crate::ContactState::Back;
+            }
+        }
+        m
     }
     fn time_terms(&self, t: f64) -> f64 {
         (self.omega * t).cos()

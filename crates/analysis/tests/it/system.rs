@@ -309,7 +309,13 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
         phase: 0.0,
         identify: identify_opts(),
     };
-    let r = continuation_of(&Amplitude, &opts, &Slice::default());
+    let r = continuation_of(&Amplitude, &opts, &Slice::default()).unwrap();
+    let bad = ContinuationOptions {
+        x0_range: (f64::NAN, 2.0),
+        ..opts.clone()
+    };
+    let e = continuation_of(&Amplitude, &bad, &Slice::default()).unwrap_err();
+    assert!(e.to_string().contains("x0_range"), "{e}");
     // one attractor per value, all on branch 0, no event between them
     assert_eq!(r.points.len(), 3, "{:?}", r.points);
     assert!(r.points.iter().all(|p| p.branch == 0 && p.period == 1));
@@ -321,4 +327,90 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
         (d[1] / d[0] - 2.0).abs() < 1e-4 && (d[2] / d[0] - 3.0).abs() < 1e-4,
         "{d:?}"
     );
+}
+
+#[test]
+fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
+    use geardyn_model::{EventKind, GearSystem};
+    use geardyn_solvers::{HybridSystem, Variational};
+    // an empty record is refused (it would read as a motion at infinity)
+    let opts = SimOptions {
+        record_periods: 0,
+        ..Default::default()
+    };
+    let e =
+        simulate_decided(&linear(), [2.0, 0.0, 0.0, 0.0], &opts, Decide::default()).unwrap_err();
+    assert!(e.to_string().contains("record_periods"), "{e}");
+    /// `x' = -x` that claims no mesh.
+    #[derive(Clone)]
+    struct NoMesh;
+    impl HybridSystem<1> for NoMesh {
+        type Mode = ();
+        type TimeTerms = ();
+        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
+        fn time_terms(&self, _t: f64) {}
+        fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
+            dy[0] = -y[0];
+        }
+    }
+    impl Variational<1> for NoMesh {
+        fn jacobian(&self, _t: f64, _tt: &(), _y: &[f64; 1], _m: &(), j: &mut [[f64; 1]; 1]) {
+            j[0][0] = -1.0;
+        }
+        fn guard_gradient(&self, _t: f64, _y: &[f64; 1], _m: &(), _i: usize) -> ([f64; 1], f64) {
+            ([0.0], 0.0)
+        }
+    }
+    impl GearSystem<1> for NoMesh {
+        fn mesh_count(&self) -> usize {
+            0
+        }
+        fn excitation_period(&self) -> f64 {
+            1.0
+        }
+        fn natural_period(&self) -> f64 {
+            f64::INFINITY
+        }
+        fn mesh_state(&self, y: &[f64; 1], _k: usize) -> [f64; 2] {
+            [y[0], 0.0]
+        }
+        fn mesh_force(&self, _t: f64, _y: &[f64; 1], _m: &(), _k: usize) -> f64 {
+            0.0
+        }
+        fn contact(&self, _m: &(), _k: usize) -> ContactState {
+            ContactState::Separated
+        }
+        fn backlash_levels(&self, _k: usize) -> (f64, f64) {
+            (1.0, 1.0)
+        }
+        fn event(&self, _b: &(), _a: &(), _i: usize) -> (usize, EventKind) {
+            (0, EventKind::DriveEnter)
+        }
+    }
+    let e = simulate(&NoMesh, [1.0], &SimOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("mesh_count"), "{e}");
+    let o = geardyn_analysis::orbits::OrbitOptions::default();
+    let e = geardyn_analysis::orbits::find_orbit(&NoMesh, [0.0], &o).unwrap_err();
+    assert!(e.to_string().contains("mesh_count"), "{e}");
+}
+
+#[test]
+fn a_start_at_rest_on_both_contact_surfaces_enters_contact() {
+    // x1 = D0 and x1 - x2 = D1 at rest, the loads pressing both meshes in: contact at once (a
+    // start "separated" there saw no crossing and flew off under the load)
+    let sys = TwoMassClearance {
+        amplitude: 0.05,
+        ..Default::default()
+    };
+    let opts = SimOptions {
+        transient_periods: 200,
+        record_periods: 20,
+        ..Default::default()
+    };
+    let (res, s, _) =
+        simulate_decided(&sys, [1.0, 0.0, 0.0, 0.0], &opts, Decide::default()).unwrap();
+    assert!(s.motion.is_periodic(), "{s:?}");
+    // about the static deflection x1 = D0 + (F0 - F1) / k0 = 1.1
+    let a = res.meshes[0].amplitudes();
+    assert!((a.mean_x - 1.1).abs() < 0.05, "mean x1 {}", a.mean_x);
 }
