@@ -5,7 +5,8 @@
 //! stiffness, breakage, friction), [`scenario`] (a preset or configuration with overrides → the
 //! model that is integrated), [`model`] (dimensionless mesh model, contact laws, presets,
 //! reference systems), [`analysis`] (simulation, decided classification, sections, labels,
-//! Lyapunov exponents, sweeps, basins, continuation, maps) and [`io`] (configuration,
+//! Lyapunov exponents, sweeps, basins, continuation, maps), [`exec`] (every analysis a job: the
+//! executor, requests, stores, shards) and [`io`] (configuration,
 //! CSV/JSON/NPY, figures) — and gathers what a Rust caller needs in [`prelude`].
 //!
 //! ```
@@ -21,6 +22,7 @@
 //! assert_eq!(summary.period, 1);
 //! ```
 pub use geardyn_analysis as analysis;
+pub use geardyn_exec as exec;
 pub use geardyn_io as io;
 pub use geardyn_model as model;
 pub use geardyn_physics as physics;
@@ -54,11 +56,14 @@ pub mod prelude {
     pub use geardyn_analysis::simulate::{simulate, Method, SimOptions, SimResult, Summary};
     pub use geardyn_analysis::simulate::{summarize, SimError};
     pub use geardyn_analysis::simulation::{Run, Simulation};
-    pub use geardyn_io::config::{Face, SimOverrides};
-    pub use geardyn_io::executor::{
-        execute, BasinsJob, ContinuationJob, Job, MapJob, Observer, Progress, Store, SweepJob,
+    pub use geardyn_exec::request::{
+        BifurcationRequest, ContinuationRequest, MapRequest, SweepSpec,
     };
-    pub use geardyn_io::request::{BifurcationRequest, ContinuationRequest, MapRequest, SweepSpec};
+    pub use geardyn_exec::{
+        execute, BasinsJob, Checkpointed, ContinuationJob, Job, MapJob, Observer, Progress, Store,
+        SweepJob,
+    };
+    pub use geardyn_io::config::{Face, SimOverrides};
     pub use geardyn_io::Config;
     pub use geardyn_model::{presets, ContactState, EventKind, GearSystem, MeshModel};
     pub use geardyn_scenario::Scenario;

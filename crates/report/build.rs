@@ -25,6 +25,7 @@ fn main() {
     let mut files = Vec::new();
     for name in [
         "report", "analysis", "model", "physics", "scenario", "solvers", "files", "plots", "io",
+        "exec",
     ] {
         let src = crates.join(name).join("src");
         println!("cargo:rerun-if-changed={}", src.display());

@@ -14,10 +14,11 @@ use geardyn_analysis::bifurcation::{
 use geardyn_analysis::continuation::ValueAttractors;
 use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
 use geardyn_analysis::map2d::MapCell;
+use geardyn_exec::request::{BifurcationRequest, ContinuationRequest, SweepSpec};
+use geardyn_exec::shard;
+use geardyn_exec::{execute, BasinsJob, Checkpointed, ContinuationJob, MapJob, SweepJob};
 use geardyn_io::config::{assigns, Face, SimOverrides};
-use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store, SweepJob};
-use geardyn_io::request::{BifurcationRequest, ContinuationRequest, SweepSpec};
-use geardyn_io::{shard, Config};
+use geardyn_io::Config;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use util::{arr1, arr2, json_to_py, ser_to_py, to_pyerr, Columns, Ctl};
@@ -271,12 +272,14 @@ fn simulate<'py>(
             steps_per_cycle: None,
         }
         .apply(&mut cfg, &src.sets)?;
-        let run = geardyn_io::simulate_folder::simulate(
-            cfg,
-            src.source(),
+        let source = src.source();
+        let job = geardyn_exec::SimulateJob {
+            config: &cfg,
+            source: &source,
             trajectory_periods,
-            out.as_deref(),
-        )?;
+            out: out.as_deref(),
+        };
+        let run = execute(&job, None, &())?;
         // summary.json of the CLI
         let mut v = serde_json::to_value(&run.summary)?;
         if let (Some(obj), serde_json::Value::Object(more)) = (
@@ -438,7 +441,13 @@ fn lyapunov<'py>(
             "omega": p.omega, "F": p.load, "xi": p.xi, "c": p.c, "D_d": p.d_double, "D_s": p.d_single,
         });
         let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-        let r = req.run(scenario.model(), &so, y0, |_| {})?;
+        let job = geardyn_exec::LyapunovJob {
+            model: scenario.model(),
+            sim: &so,
+            y0,
+            request: &req,
+        };
+        let r = execute(&job, None, &())?;
         let c = r.convergence.as_ref();
         Ok(serde_json::json!({
             "method": method.name(), "integrated": integrated,
@@ -543,9 +552,9 @@ fn bifurcation<'py>(
         // the CLI's folder: the same request, store and writer as `geardyn bifurcation --out`
         // (so either face resumes the other's folder)
         let req = BifurcationRequest::new(cfg, src.source(), &scenario, &spec)?;
-        let store = Store::folder(&out, &req.config, false)?;
+        let mut store = Checkpointed::folder(&out, &req.config, false)?;
         let job = SweepJob::new("bifurcation", &scenario, &req.options);
-        let results = execute(&job, Some(store), ctl)?;
+        let results = execute(&job, Some(&mut store), ctl)?;
         req.write_folder(&out, &scenario, &results, started)?;
         Ok((results, req.config, req.options))
     })?;
@@ -776,7 +785,7 @@ fn map2d<'py>(
             let mut cfg = src.config()?;
             sim.apply(&mut cfg, &src.sets)?;
             let scenario = cfg.resolve()?;
-            let req = geardyn_io::request::MapRequest::new(
+            let req = geardyn_exec::request::MapRequest::new(
                 cfg,
                 src.source(),
                 &scenario,
@@ -790,11 +799,15 @@ fn map2d<'py>(
             };
             // with `out`: the store and writer of `geardyn map2d --out` (either face resumes the
             // other's folder)
-            let store = out
+            let mut store = out
                 .as_deref()
-                .map(|o| Store::folder(o, &req.config, false))
+                .map(|o| Checkpointed::folder(o, &req.config, false))
                 .transpose()?;
-            let cells = execute(&job, store, ctl)?;
+            let cells = execute(
+                &job,
+                store.as_mut().map(|s| s as &mut dyn geardyn_exec::Store<_>),
+                ctl,
+            )?;
             if let Some(o) = &out {
                 req.write_folder(o, &scenario, &cells, started)?;
             }
@@ -827,7 +840,7 @@ fn map2d<'py>(
 }
 
 /// `geardyn run-shard STORE --shard I` (`shard` None: SLURM_ARRAY_TASK_ID): computes one shard
-/// of a sharded plan (geardyn_io::shard) and returns `(shard, points, already_done)`.
+/// of a sharded plan (geardyn_exec::shard) and returns `(shard, points, already_done)`.
 #[pyfunction]
 #[pyo3(signature = (store, shard))]
 fn run_shard(
@@ -920,7 +933,7 @@ fn orbits<'py>(
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use geardyn_analysis::orbits::MAX_ORBIT_PERIOD;
-    use geardyn_analysis::orbits_request::{run_orbits, OrbitsRequest};
+    use geardyn_analysis::orbits_request::OrbitsRequest;
     use geardyn_io::schema::{bifurcations_table, orbit_branch_table, orbit_rows};
     let (cfg, table, bifs, ends) = util::run(py, "orbits", progress, None, move |_ctl: &Ctl| {
         let cfg = src.config()?;
@@ -952,7 +965,11 @@ fn orbits<'py>(
             switch_up_to,
             rtol,
         };
-        let c = run_orbits(&scenario, &req, &|_| {})?;
+        let job = geardyn_exec::OrbitsJob {
+            scenario: &scenario,
+            request: &req,
+        };
+        let c = execute(&job, None, &())?;
         let name = range.as_ref().map(|r| r.0.as_str());
         let rows = orbit_rows(&scenario, name, &c.points, tau0);
         let table = orbit_branch_table(name, &rows);
@@ -989,7 +1006,7 @@ fn signals<'py>(
     progress: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use geardyn_analysis::indicators::ResidualKind;
-    use geardyn_analysis::signals::{run_signals, Na4Reference, SignalsRequest, SAMPLES_PER_CYCLE};
+    use geardyn_analysis::signals::{Na4Reference, SignalsRequest, SAMPLES_PER_CYCLE};
     use geardyn_io::schema::{
         indicators_table, lines_table, signals_table, spectrum_table, tsa_table,
     };
@@ -1028,7 +1045,11 @@ fn signals<'py>(
             tau0: cfg.simulation.tau0,
             method: sim.method,
         };
-        let r = run_signals(&scenario, &req)?;
+        let job = geardyn_exec::SignalsJob {
+            scenario: &scenario,
+            request: &req,
+        };
+        let r = execute(&job, None, &())?;
         let tables = [
             signals_table(&r),
             spectrum_table(&r),
@@ -1134,7 +1155,7 @@ fn report(
 /// same ones).
 #[pyfunction]
 fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
-    json_to_py(py, &geardyn_io::request::face_defaults())
+    json_to_py(py, &geardyn_exec::request::face_defaults())
 }
 
 #[pymodule]

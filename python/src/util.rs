@@ -22,15 +22,18 @@ pub fn to_pyerr(e: anyhow::Error) -> PyErr {
     let mut all: Vec<&(dyn std::error::Error + 'static)> = Vec::new();
     for c in e.chain() {
         all.push(c);
-        use geardyn_io::executor::ExecError;
-        use geardyn_io::simulate_folder::{FolderWriteError, SimulateError};
+        use geardyn_exec::ExecError;
         match c.downcast_ref::<ExecError>() {
             Some(ExecError::Folder(f)) => all.push(f),
             Some(ExecError::Output(o)) => all.push(o),
             Some(ExecError::Analysis(a)) => all.push(a.as_ref()),
-            None => {}
+            Some(ExecError::Store(_)) | None => {}
         }
-        match c.downcast_ref::<SimulateError>() {
+    }
+    // (a simulation run as a job: its error inside the executor's)
+    for k in 0..all.len() {
+        use geardyn_io::simulate_folder::{FolderWriteError, SimulateError};
+        match all[k].downcast_ref::<SimulateError>() {
             Some(SimulateError::Folder(f)) => all.push(f),
             Some(SimulateError::Write(FolderWriteError::Output(o))) => all.push(o),
             _ => {}
@@ -180,7 +183,7 @@ impl Ctl {
 }
 
 /// The executor's observer: the total, and every finished item counted and kept.
-impl<R: Any + Send + Clone> geardyn_io::executor::Observer<R> for Ctl {
+impl<R: Any + Send + Clone> geardyn_exec::Observer<R> for Ctl {
     fn start(&self, _kind: &str, total: u64, done: u64) {
         self.set_total(total, done);
     }

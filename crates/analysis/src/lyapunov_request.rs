@@ -61,7 +61,7 @@ impl TleMethod {
 /// let bad = LyapunovRequest { d0: 0.5, ..Default::default() };
 /// assert!(bad.check().unwrap_err().to_string().contains("--d0 0.5"));
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct LyapunovRequest {
     /// Estimates computed.
     pub method: TleMethod,

@@ -5,7 +5,7 @@ use crate::sweep::{parse_pair, parse_range, run_checkpointed, ForceArg, SimArgs}
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::bifurcation::detect_jumps;
-use geardyn_io::request::{BifurcationRequest, SweepSpec};
+use geardyn_exec::request::{BifurcationRequest, SweepSpec};
 use geardyn_io::{output, run_record, sweep_output};
 use geardyn_scenario::Scenario;
 use std::path::{Path, PathBuf};

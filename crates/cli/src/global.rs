@@ -7,10 +7,10 @@ use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
 use geardyn_analysis::basins::BasinsRequest;
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
-use geardyn_io::executor::{execute, BasinsJob, ContinuationJob, MapJob, Store};
+use geardyn_exec::request::{ContinuationRequest, MapRequest, SweepSpec};
+use geardyn_exec::{execute, BasinsJob, Checkpointed, ContinuationJob, MapJob};
 use geardyn_io::figure::LabelColors;
 use geardyn_io::output::{write_csv, write_json, write_text};
-use geardyn_io::request::{ContinuationRequest, MapRequest, SweepSpec};
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -122,7 +122,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     let t = std::time::Instant::now();
     let r = execute(
         &BasinsJob { model, opts: &opts },
-        Some(Store::folder(&a.out, &cfg, a.force.force)?),
+        Some(&mut Checkpointed::folder(&a.out, &cfg, a.force.force)?),
         &progress(&a.out),
     )?;
     let elapsed = t.elapsed().as_secs_f64();
@@ -253,7 +253,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
             scenario: &scenario,
             opts: &opts,
         },
-        Some(Store::folder(&a.out, &cfg, a.force.force)?),
+        Some(&mut Checkpointed::folder(&a.out, &cfg, a.force.force)?),
         &progress(&a.out),
     )?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
@@ -397,7 +397,11 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
             scenario: &scenario,
             opts,
         },
-        Some(Store::folder(&a.out, &req.config, a.force.force)?),
+        Some(&mut Checkpointed::folder(
+            &a.out,
+            &req.config,
+            a.force.force,
+        )?),
         &progress(&a.out),
     )?;
     let (lo, hi) = req.write_folder(&a.out, &scenario, &cells, started)?;

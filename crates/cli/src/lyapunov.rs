@@ -6,6 +6,8 @@ use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::lyapunov::LyapunovResult;
 use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
+use geardyn_analysis::tle_convergence::Round;
+use geardyn_exec::{execute, Each, LyapunovJob};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
 fn spread_text(spread: f64) -> String {
@@ -82,12 +84,22 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         ),
     }
     let y0 = [cfg.simulation.x0, cfg.simulation.v0];
-    let r = req.run(model, &sim, y0, |r| {
-        println!(
-            "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-            r.periods, r.tle, r.half, r.stderr
-        );
-    })?;
+    let job = LyapunovJob {
+        model,
+        sim: &sim,
+        y0,
+        request: &req,
+    };
+    let r = execute(
+        &job,
+        None,
+        &Each(|r: &Round| {
+            println!(
+                "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
+                r.periods, r.tle, r.half, r.stderr
+            );
+        }),
+    )?;
     if let Some(c) = &r.convergence {
         if c.converged {
             println!(

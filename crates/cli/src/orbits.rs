@@ -6,7 +6,9 @@ use crate::sweep::parse_numbers;
 use anyhow::{bail, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
-use geardyn_analysis::orbits_request::{run_orbits, strobe_diagram, OrbitsRequest};
+use geardyn_analysis::orbit_branches::BranchPoint;
+use geardyn_analysis::orbits_request::{strobe_diagram, OrbitsRequest};
+use geardyn_exec::{execute, Each, OrbitsJob};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
 use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
@@ -84,17 +86,25 @@ pub fn run(a: OrbitArgs) -> Result<()> {
     req.check(&scenario)?;
     let lock = run_record::prepare_folder(&a.out, "orbits", None, false)?;
     let shown = std::sync::atomic::AtomicUsize::new(0);
-    let result = run_orbits(&scenario, &req, &|pt| {
-        let k = shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        if k > 0 && k.is_multiple_of(100) {
-            eprintln!(
-                "  {k} orbits; branch {} at {} = {:.6}",
-                pt.branch,
-                a.param.as_deref().unwrap_or("-"),
-                pt.param
-            );
-        }
-    })?;
+    let job = OrbitsJob {
+        scenario: &scenario,
+        request: &req,
+    };
+    let result = execute(
+        &job,
+        None,
+        &Each(|pt: &BranchPoint| {
+            let k = shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            if k > 0 && k.is_multiple_of(100) {
+                eprintln!(
+                    "  {k} orbits; branch {} at {} = {:.6}",
+                    pt.branch,
+                    a.param.as_deref().unwrap_or("-"),
+                    pt.param
+                );
+            }
+        }),
+    )?;
     let param = range.as_ref().map(|r| r.0.as_str());
     let table = orbit_rows(&scenario, param, &result.points, tau0);
     // a rerun in the folder replaces what an earlier run wrote and this one does not

@@ -1,13 +1,13 @@
 //! `geardyn plan`, `geardyn run-shard`, `geardyn status`, `geardyn merge`: a grid-shaped command
-//! split into shards over a Zarr store (`geardyn_io::shard`; docs/distributed.md). The plan takes
+//! split into shards over a Zarr store (`geardyn_exec::shard`; docs/distributed.md). The plan takes
 //! the command's own arguments, turned into its request by the command's own code.
 
 use crate::bifurcation::BifurcationArgs;
 use crate::global::MapArgs;
 use anyhow::Result;
 use clap::{Args, Subcommand};
-use geardyn_io::request::Request;
-use geardyn_io::shard;
+use geardyn_exec::request::Request;
+use geardyn_exec::shard;
 use std::path::PathBuf;
 
 /// Arguments of `geardyn plan`.

@@ -7,7 +7,8 @@ use crate::run_config::ConfigArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_analysis::indicators::ResidualKind;
-use geardyn_analysis::signals::{run_signals, Na4Reference, SignalsRequest, SIGNAL_NAMES};
+use geardyn_analysis::signals::{Na4Reference, SignalsRequest, SIGNAL_NAMES};
+use geardyn_exec::{execute, SignalsJob};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
 use geardyn_io::schema::{
@@ -77,7 +78,11 @@ pub fn run(mut a: SignalsArgs) -> Result<()> {
     req.check(&scenario)?;
     let lock = run_record::prepare_folder(&a.out, "signals", None, false)?;
     let t = std::time::Instant::now();
-    let r = run_signals(&scenario, &req).context("signals failed")?;
+    let job = SignalsJob {
+        scenario: &scenario,
+        request: &req,
+    };
+    let r = execute(&job, None, &()).context("signals failed")?;
     let out = &a.out;
     signals_table(&r).write_csv(&out.join("signals.csv"), full)?;
     spectrum_table(&r).write_csv(&out.join("spectrum.csv"), full)?;

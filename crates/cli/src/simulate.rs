@@ -4,6 +4,7 @@ use crate::run_config::ConfigArgs;
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::simulate::Method;
+use geardyn_exec::{execute, SimulateJob};
 use geardyn_io::simulate_folder;
 use std::path::PathBuf;
 
@@ -28,12 +29,14 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let mut cfg = args.cfg.config()?;
     args.sim.apply(&mut cfg, &args.cfg.sets)?;
     let out = &args.out;
-    let run = simulate_folder::simulate(
-        cfg,
-        args.cfg.source(),
-        Some(args.trajectory_periods),
-        Some(out),
-    )?;
+    let source = args.cfg.source();
+    let job = SimulateJob {
+        config: &cfg,
+        source: &source,
+        trajectory_periods: Some(args.trajectory_periods),
+        out: Some(out),
+    };
+    let run = execute(&job, None, &())?;
     let (summary, used, opts, res) = (&run.summary, &run.used, &run.requested, &run.res);
     let (model, elapsed) = (run.scenario.model(), run.elapsed_s);
     if let geardyn_analysis::Motion::Diverged { .. } = summary.motion {

@@ -4,8 +4,8 @@
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{range_values, SweepOptions, TaskResult, MAX_RANGE_VALUES};
+use geardyn_exec::{execute, Checkpointed, Progress, SweepJob};
 use geardyn_io::config::{Face, SimOverrides};
-use geardyn_io::executor::{execute, Progress, Store, SweepJob};
 use geardyn_io::Config;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -146,7 +146,7 @@ pub fn parse_pair(s: &str, what: &str) -> Result<(f64, f64)> {
     Ok((a, b))
 }
 
-/// Runs a sweep, checked by the library ([`geardyn_io::request::SweepSpec::options`]), with a
+/// Runs a sweep, checked by the library ([`geardyn_exec::request::SweepSpec::options`]), with a
 /// checkpoint in `out` and a progress bar on stderr.
 pub fn run_checkpointed(
     cfg: &Config,
@@ -158,7 +158,7 @@ pub fn run_checkpointed(
 ) -> Result<Vec<TaskResult>> {
     Ok(execute(
         &SweepJob::new(kind, scenario, opts),
-        Some(Store::folder(out, cfg, force)?),
+        Some(&mut Checkpointed::folder(out, cfg, force)?),
         &progress(out),
     )?)
 }

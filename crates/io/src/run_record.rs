@@ -192,73 +192,94 @@ fn is_ours(out: &Path, names: &[String]) -> bool {
     record || checkpoint
 }
 
-/// The lock of an output folder, held while a run writes into it (dropping it removes the lock
-/// file). A lock whose process is gone (same host, no such pid) is stale and taken over.
+/// The lock of an output folder, held while a run writes into it: the file `.geardyn.lock`
+/// under an advisory lock of the operating system (`flock`, through the `fs4` crate), which the
+/// system releases when the process ends however it ends, so a lock is never stale. The file
+/// holds `pid P on H since T` for the message of a run that finds it taken; dropping the lock
+/// removes the file (a killed run leaves it, unlocked: the next run takes it over and says so).
 #[derive(Debug)]
 pub struct FolderLock {
     path: std::path::PathBuf,
+    /// The open lock file: the lock lives as long as it does.
+    _file: std::fs::File,
+}
+
+/// Whether the open `file` is still the file named `path` (a holder that let go removed the
+/// name, and a third run may have made a new file under it: a lock of the old one guards
+/// nothing).
+fn is_named(file: &std::fs::File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), std::fs::symlink_metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (file, path);
+        true
+    }
 }
 
 impl FolderLock {
     /// Locks `out` (which must exist) for this process.
     pub fn take(out: &Path) -> Result<FolderLock, FolderError> {
+        use std::io::{Read, Seek, Write};
         let path = out.join(LOCK);
-        let me = format!(
-            "pid {} on {} since {:.0}",
-            std::process::id(),
-            host(),
-            now_unix_s()
-        );
-        // the lock appears whole or not at all: written under a temporary name, then linked to
-        // its name (a link fails when the name exists); an empty lock read as stale let a second
-        // run take over a live one
-        let tmp = crate::safe_write::temp_sibling(&path);
-        let _ = std::fs::remove_file(&tmp);
-        std::fs::write(&tmp, me.as_bytes()).map_err(|e| io(&tmp, e))?;
-        let result = (|| {
-            for _ in 0..3 {
-                match std::fs::hard_link(&tmp, &path) {
-                    Ok(()) => return Ok(FolderLock { path: path.clone() }),
-                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                        if !std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
-                            return Err(FolderError::Output(OutputError::Refused {
-                                path: path.display().to_string(),
-                                reason: "it is not a lock file geardyn wrote (remove it)".into(),
-                            }));
-                        }
-                        let holder = crate::safe_write::read_bounded(&path, 4096)
-                            .map(|b| String::from_utf8_lossy(&b).into_owned())
-                            .unwrap_or_default();
-                        if !lock_is_stale(&holder) {
-                            return Err(FolderError::Busy {
-                                path: out.display().to_string(),
-                                holder,
-                            });
-                        }
-                        eprintln!(
-                            "note: {} held a stale lock ({}); taken over",
-                            out.display(),
-                            if holder.is_empty() {
-                                "empty"
-                            } else {
-                                holder.trim()
-                            }
-                        );
-                        let _ = std::fs::remove_file(&path);
-                    }
-                    Err(e) => return Err(io(&path, e)),
-                }
+        let busy = |holder: String| FolderError::Busy {
+            path: out.display().to_string(),
+            holder,
+        };
+        for _ in 0..3 {
+            if std::fs::symlink_metadata(&path).is_ok_and(|m| !m.is_file()) {
+                return Err(FolderError::Output(OutputError::Refused {
+                    path: path.display().to_string(),
+                    reason: "it is not a lock file geardyn wrote (remove it)".into(),
+                }));
             }
-            Err(FolderError::Busy {
-                path: out.display().to_string(),
-                holder: "another process took the lock first".into(),
-            })
-        })();
-        let _ = std::fs::remove_file(&tmp);
-        if let Ok(lock) = &result {
-            announce_held(&lock.path);
+            let mut file = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&path)
+                .map_err(|e| io(&path, e))?;
+            let mut holder = String::new();
+            match fs4::FileExt::try_lock(&file) {
+                Ok(()) => {}
+                Err(fs4::TryLockError::WouldBlock) => {
+                    let _ = file.take(4096).read_to_string(&mut holder);
+                    return Err(busy(holder.trim().to_string()));
+                }
+                Err(fs4::TryLockError::Error(e)) => return Err(io(&path, e)),
+            }
+            if !is_named(&file, &path) {
+                continue;
+            }
+            let _ = (&file).take(4096).read_to_string(&mut holder);
+            if !holder.trim().is_empty() {
+                eprintln!(
+                    "note: {} held a stale lock ({}); taken over",
+                    out.display(),
+                    holder.trim()
+                );
+            }
+            let me = format!(
+                "pid {} on {} since {:.0}",
+                std::process::id(),
+                host(),
+                now_unix_s()
+            );
+            file.set_len(0)
+                .and_then(|_| file.rewind())
+                .and_then(|_| file.write_all(me.as_bytes()))
+                .map_err(|e| io(&path, e))?;
+            announce_held(&path);
+            return Ok(FolderLock { path, _file: file });
         }
-        result
+        Err(busy("another process took the lock first".into()))
     }
 }
 
@@ -300,27 +321,6 @@ fn host() -> String {
         .or_else(|_| std::fs::read_to_string("/etc/hostname"))
         .map(|s| s.trim().to_string())
         .unwrap_or_else(|_| "unknown-host".into())
-}
-
-/// A lock `pid P on H since T` is stale when it is unreadable, or `H` is this host and no
-/// process `P` exists (checked in /proc where there is one). A lock of another host is held.
-fn lock_is_stale(holder: &str) -> bool {
-    let mut w = holder.split_whitespace();
-    let (Some("pid"), Some(pid), Some("on"), Some(h)) = (w.next(), w.next(), w.next(), w.next())
-    else {
-        return true;
-    };
-    let Ok(pid) = pid.parse::<u32>() else {
-        return true;
-    };
-    if h != host() {
-        return false;
-    }
-    if !Path::new("/proc/self").exists() {
-        // no way to tell on this system: a lock of this host is taken to be a leftover
-        return true;
-    }
-    !Path::new(&format!("/proc/{pid}")).exists()
 }
 
 /// Start time of a run, for [`RunRecord`].

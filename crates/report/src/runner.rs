@@ -9,10 +9,10 @@ use geardyn_analysis::classify::DECISION_BUDGET;
 use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_analysis::simulate::SimOptions;
-use geardyn_io::checkpoint::fnv1a;
-use geardyn_io::executor::{
-    execute, BasinsJob, ContinuationJob, Job, MapJob, Progress, Store, SweepJob,
+use geardyn_exec::{
+    execute, BasinsJob, Checkpointed, ContinuationJob, Job, MapJob, Progress, SweepJob,
 };
+use geardyn_io::checkpoint::fnv1a;
 use geardyn_io::Config;
 use geardyn_model::MeshModel;
 use geardyn_scenario::Scenario;
@@ -227,10 +227,13 @@ impl Ctx {
         name: &str,
         base: &serde_json::Value,
         job: &J,
-    ) -> Result<J::Output> {
+    ) -> Result<J::Output>
+    where
+        J::Record: serde::Serialize + serde::de::DeserializeOwned,
+    {
         let file = name.replace([' ', '/', '.'], "_");
-        let store = Store::file(&dir.join(format!("{file}.checkpoint.jsonl")), base)?;
-        Ok(execute(job, Some(store), &Progress::new(Some(name)))?)
+        let mut store = Checkpointed::file(&dir.join(format!("{file}.checkpoint.jsonl")), base)?;
+        Ok(execute(job, Some(&mut store), &Progress::new(Some(name)))?)
     }
 
     /// A checkpointed sweep.

@@ -1,9 +1,9 @@
 //! The executor's store: a job resumes from what it stored, and trusts only its own items.
 
 use geardyn_analysis::bifurcation::TaskResult;
+use geardyn_exec::request::SweepSpec;
+use geardyn_exec::{execute, Checkpointed, Observer, SweepJob};
 use geardyn_io::checkpoint::Checkpoint;
-use geardyn_io::executor::{execute, Observer, Store, SweepJob};
-use geardyn_io::request::SweepSpec;
 use geardyn_io::Config;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -63,10 +63,20 @@ fn a_finished_job_resumes_without_running_anything_and_gives_the_same_records() 
     let (cfg, scenario, opts) = sweep();
     let job = SweepJob::new("sweep", &scenario, &opts);
     let first = Count::default();
-    let a = execute(&job, Some(Store::file(&file, &cfg).unwrap()), &first).unwrap();
+    let a = execute(
+        &job,
+        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
+        &first,
+    )
+    .unwrap();
     assert_eq!(first.finished.load(Ordering::SeqCst), 3);
     let again = Count::default();
-    let b = execute(&job, Some(Store::file(&file, &cfg).unwrap()), &again).unwrap();
+    let b = execute(
+        &job,
+        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
+        &again,
+    )
+    .unwrap();
     assert_eq!(again.found.load(Ordering::SeqCst), 3);
     assert_eq!(again.finished.load(Ordering::SeqCst), 0);
     assert_eq!(
@@ -77,7 +87,12 @@ fn a_finished_job_resumes_without_running_anything_and_gives_the_same_records() 
     let mut other = cfg.clone();
     other.simulation.record_periods = 11;
     let third = Count::default();
-    execute(&job, Some(Store::file(&file, &other).unwrap()), &third).unwrap();
+    execute(
+        &job,
+        Some(&mut Checkpointed::file(&file, &other).unwrap()),
+        &third,
+    )
+    .unwrap();
     assert_eq!(third.found.load(Ordering::SeqCst), 0);
 }
 
@@ -87,7 +102,12 @@ fn a_stored_record_that_is_not_one_of_the_jobs_items_is_computed_again() {
     let file = dir.0.join("s.checkpoint.jsonl");
     let (cfg, scenario, opts) = sweep();
     let job = SweepJob::new("sweep", &scenario, &opts);
-    let clean = execute(&job, Some(Store::file(&file, &cfg).unwrap()), &()).unwrap();
+    let clean = execute(
+        &job,
+        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
+        &(),
+    )
+    .unwrap();
     // rewrite the store as value 0.7 recorded at another value, and a task out of range: both
     // well-formed lines under the job's own key, neither one of its items
     let text = std::fs::read_to_string(&file).unwrap();
@@ -103,7 +123,12 @@ fn a_stored_record_that_is_not_one_of_the_jobs_items_is_computed_again() {
     }
     drop(cp);
     let count = Count::default();
-    let again = execute(&job, Some(Store::file(&file, &cfg).unwrap()), &count).unwrap();
+    let again = execute(
+        &job,
+        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
+        &count,
+    )
+    .unwrap();
     assert_eq!(count.found.load(Ordering::SeqCst), 1);
     assert_eq!(count.finished.load(Ordering::SeqCst), 2);
     assert_eq!(

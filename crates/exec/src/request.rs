@@ -8,10 +8,6 @@
 //! and what the titles name. It serialises to JSON exactly (every float round-trips), which is
 //! how a plan carries it to the machines that compute its shards.
 
-use crate::figure::{colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED};
-use crate::output::{write_text, OutputError};
-use crate::ConfigError;
-use crate::{npy, run_record, schema, sweep_output, Config};
 use geardyn_analysis::attractor::{check_phase, IdentifyError, IdentifyRequest, PhaseError};
 use geardyn_analysis::bifurcation::InitialBox;
 use geardyn_analysis::bifurcation::{
@@ -19,6 +15,12 @@ use geardyn_analysis::bifurcation::{
 };
 use geardyn_analysis::continuation::ContinuationOptions;
 use geardyn_analysis::map2d::{MapCell, MapOptions};
+use geardyn_io::figure::{
+    colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
+};
+use geardyn_io::output::{write_text, OutputError};
+use geardyn_io::ConfigError;
+use geardyn_io::{npy, run_record, schema, sweep_output, Config};
 use geardyn_scenario::{Scenario, ScenarioError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -31,7 +33,7 @@ pub enum FolderWriteError {
     Output(#[from] OutputError),
     /// A figure.
     #[error(transparent)]
-    Figure(#[from] crate::figure::FigureError),
+    Figure(#[from] geardyn_io::figure::FigureError),
 }
 
 /// A two-parameter map (`geardyn map2d`).
@@ -524,7 +526,7 @@ pub fn face_defaults() -> serde_json::Value {
     let signals = SignalsRequest::default();
     let ident = IdentifyRequest::DEFAULT;
     serde_json::json!({
-        "simulate": { "trajectory_periods": crate::simulate_folder::DEFAULT_TRAJECTORY_PERIODS },
+        "simulate": { "trajectory_periods": geardyn_io::simulate_folder::DEFAULT_TRAJECTORY_PERIODS },
         "lyapunov": { "method": lyap.method.name(), "max_periods": lyap.max_periods, "d0": lyap.d0 },
         "bifurcation": { "param": sweep.param, "mode": sweep.mode, "ics": sweep.ics, "seed": sweep.seed },
         "continuation": { "ics": ContinuationRequest::DEFAULT_ICS, "seed": sweep.seed },
