@@ -87,22 +87,15 @@ enum Command {
     Merge(shard::MergeArgs),
 }
 
-/// Ctrl-C: say what is kept before leaving (a checkpointed command has its finished items on
-/// disk already, one line each), then exit with the conventional status 130.
-#[cfg(unix)]
-extern "C" fn on_interrupt(_: libc::c_int) {
-    const MSG: &[u8] = b"\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate and lyapunov start over\n";
-    // the folder's lock goes with the process (the next run then finds no stale lock)
-    let lock = geardyn_io::run_record::held_lock_path();
-    // SAFETY: write, unlink and _exit are async-signal-safe; the lock path is a valid C string
-    // that is never freed.
-    unsafe {
-        if !lock.is_null() {
-            libc::unlink(lock);
-        }
-        libc::write(2, MSG.as_ptr().cast(), MSG.len());
-        libc::_exit(130);
-    }
+/// Ctrl-C (through the `ctrlc` crate, on a thread of its own): stop every integration, say what
+/// is kept, remove the folder's lock file and leave with the conventional status 130 (a
+/// checkpointed command has its finished items on disk already, one line each).
+fn on_interrupt() {
+    const MSG: &str = "\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate and lyapunov start over";
+    geardyn_solvers::cancel::request();
+    geardyn_io::run_record::release_held_lock();
+    eprintln!("{MSG}");
+    std::process::exit(130);
 }
 
 fn main() {
@@ -113,15 +106,8 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    #[cfg(unix)]
-    // SAFETY: installed before any thread starts; the handler only calls async-signal-safe
-    // functions (write, _exit).
-    unsafe {
-        libc::signal(
-            libc::SIGINT,
-            on_interrupt as extern "C" fn(libc::c_int) as libc::sighandler_t,
-        );
-    }
+    // (a handler that cannot be installed leaves the default: Ctrl-C ends the process at once)
+    let _ = ctrlc::set_handler(on_interrupt);
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Report(args) => report::run(args),

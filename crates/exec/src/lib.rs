@@ -11,12 +11,14 @@
 //!   exponents, signals, one simulation);
 //! * [`request`]: the resolved requests of the grid-shaped commands, one home for the single
 //!   command and the merge of a sharded plan;
-//! * [`shard`]: a plan split into shards over a Zarr v3 store, run and merged.
+//! * [`shard`]: a plan split into shards over a Zarr v3 store, run and merged;
+//! * [`cancel`]: a run under its own stop request ([`cancel::run_under`]).
 //!
 //! In the spirit of argmin's executor: the problems (the gear systems) and the solvers know
 //! nothing of files, progress or resuming; all of that lives here.
 #![warn(missing_docs)]
 
+pub mod cancel;
 pub mod job;
 pub mod jobs;
 pub mod observer;

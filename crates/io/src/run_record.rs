@@ -283,34 +283,28 @@ impl FolderLock {
     }
 }
 
-/// The path of the lock this process holds, as a C string for a signal handler (null when none
-/// is held). The strings are leaked, never freed: a handler may read one while the lock is
-/// dropped.
-static HELD: std::sync::atomic::AtomicPtr<std::ffi::c_char> =
-    std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
+/// The lock file this process holds (a run holds one folder's lock at a time).
+static HELD: std::sync::Mutex<Option<std::path::PathBuf>> = std::sync::Mutex::new(None);
 
 fn announce_held(path: &Path) {
-    #[cfg(unix)]
-    {
-        use std::os::unix::ffi::OsStrExt;
-        if let Ok(c) = std::ffi::CString::new(path.as_os_str().as_bytes()) {
-            HELD.store(c.into_raw(), std::sync::atomic::Ordering::SeqCst);
-        }
-    }
-    #[cfg(not(unix))]
-    let _ = path;
+    *HELD.lock().unwrap_or_else(|e| e.into_inner()) = Some(path.to_path_buf());
 }
 
-/// The lock file this process holds (a C string), or null: a Ctrl-C handler that ends the
-/// process at once removes it (`unlink` is async-signal-safe), so that the interrupted folder
-/// is not left with a lock the next run must find stale.
-pub fn held_lock_path() -> *const std::ffi::c_char {
-    HELD.load(std::sync::atomic::Ordering::SeqCst)
+/// Removes the lock file this process holds, if any: a Ctrl-C handler that ends the process at
+/// once calls it, so that the interrupted folder is not left with a lock file (the lock itself
+/// goes with the process).
+pub fn release_held_lock() {
+    if let Some(p) = HELD.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        let _ = std::fs::remove_file(p);
+    }
 }
 
 impl Drop for FolderLock {
     fn drop(&mut self) {
-        HELD.store(std::ptr::null_mut(), std::sync::atomic::Ordering::SeqCst);
+        let mut held = HELD.lock().unwrap_or_else(|e| e.into_inner());
+        if held.as_deref() == Some(self.path.as_path()) {
+            *held = None;
+        }
         let _ = std::fs::remove_file(&self.path);
     }
 }
