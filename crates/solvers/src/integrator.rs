@@ -32,6 +32,7 @@
 use crate::dense::Step;
 use crate::hybrid::{Direction, EventAction, Guards, HybridSystem};
 use crate::scheme::RK4_RESOLUTION;
+use crate::ensemble::{combine, fractions, stage_point};
 pub use crate::scheme::{
     min_step, Options, Scheme, SolverError, Stats, Stop, BASE_STEP_BUDGET, DEFAULT_ATOL,
     DEFAULT_RTOL, MAX_GRAZING_SAMPLES,
@@ -466,24 +467,26 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                 let mut k2 = [0.0; N];
                 let mut k3 = [0.0; N];
                 let mut k4 = [0.0; N];
-                let th = sys.time_terms(t + 0.5 * h);
+                // the stage arithmetic of every RK4 step (the lanes' too)
+                let (h2, h6) = fractions(h);
+                let th = sys.time_terms(t + h2);
                 let t1 = t + h;
                 let tt1 = sys.time_terms(t1);
                 for i in 0..N {
-                    yt[i] = y[i] + 0.5 * h * f0[i];
+                    yt[i] = stage_point(y[i], h2, f0[i]);
                 }
-                sys.rhs(t + 0.5 * h, &th, &yt, mode, &mut k2);
+                sys.rhs(t + h2, &th, &yt, mode, &mut k2);
                 for i in 0..N {
-                    yt[i] = y[i] + 0.5 * h * k2[i];
+                    yt[i] = stage_point(y[i], h2, k2[i]);
                 }
-                sys.rhs(t + 0.5 * h, &th, &yt, mode, &mut k3);
+                sys.rhs(t + h2, &th, &yt, mode, &mut k3);
                 for i in 0..N {
-                    yt[i] = y[i] + h * k3[i];
+                    yt[i] = stage_point(y[i], h, k3[i]);
                 }
                 sys.rhs(t1, &tt1, &yt, mode, &mut k4);
                 let mut y1 = [0.0; N];
                 for i in 0..N {
-                    y1[i] = y[i] + h * (1.0 / 6.0) * (f0[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+                    y1[i] = combine(y[i], h6, f0[i], k2[i], k3[i], k4[i]);
                 }
                 let mut f1 = [0.0; N];
                 sys.rhs(t1, &tt1, &y1, mode, &mut f1);
