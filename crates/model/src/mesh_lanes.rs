@@ -48,15 +48,16 @@
 //! step and, near a surface, the scalar integrator's own midpoint test; a step that may hold an
 //! event is taken by the scalar integrator.
 //!
-//! Layout of the fused RK4-stage step ([`Lockstep::step`] here), written out by hand rather than composed
-//! from `rhs` because the composition left the lanes waiting on each other: the tables are one
-//! row per step (read once per step), the kernel is compiled once per contact clamp and
-//! stiffness form (no per-lane branches), and it runs stage by stage over chunks of up to
-//! `CHUNK` (16) lanes, so that the RK4 stage chains of the lanes' vector groups (~90 cycles of
-//! dependent operations per step) overlap instead of running one group after the other. Every
-//! lane still evaluates the expressions of [`MeshModel`] in the same order (no fused
-//! multiply-add), so the result of a lane does not depend on the layout nor on the CPU copy of
-//! the engine. Units: dimensionless time `tau`, phases in mesh cycles.
+//! The RK4-stage step ([`Lockstep::step`] here) is the pair's [`LaneKernel`]
+//! ([`Stages`]: its field over lanes from the tables' row of the step, read once per step)
+//! driven by the generic lane step [`geardyn_solvers::ensemble::rk4_lanes`], which holds the
+//! RK4 stage arithmetic of every lane model and runs the stages over chunks of lanes so that
+//! their dependent chains overlap. Every lane evaluates the expressions of [`MeshModel`] in the
+//! same order (no fused multiply-add), so the result of a lane does not depend on the layout nor
+//! on the CPU copy of the engine. Units: dimensionless time `tau`, phases in mesh cycles.
+//!
+//! Files: the tables and the [`Lockstep`] implementation here; the stage kernel and the verdict
+//! on a step in `stages`; the affine map in `affine`.
 
 // lane loops over several arrays read clearer (and vectorise as intended) with an index
 #![allow(clippy::needless_range_loop)]
@@ -66,6 +67,8 @@ use crate::mesh_model::{ContactState, MeshMode, MeshModel};
 use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
 use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
+#[cfg(doc)]
+use geardyn_solvers::ensemble::LaneKernel;
 use std::f64::consts::PI;
 
 mod affine;
