@@ -66,16 +66,16 @@ use crate::mesh_kernel::{self as kernel, Contact, Linear};
 use crate::mesh_model::{ContactState, MeshMode, MeshModel};
 use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
-use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
 #[cfg(doc)]
 use geardyn_solvers::ensemble::LaneKernel;
+use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
 use std::f64::consts::PI;
 
 mod affine;
 mod stages;
 
-use affine::AFFINE_MAX_STEPS;
 pub use affine::AffineTables;
+use affine::AFFINE_MAX_STEPS;
 pub use stages::{Stages, StepCoef};
 
 /// Round to nearest by the `1.5 * 2^52` trick (vectorises on any target; `|x| < 2^51`).
@@ -314,7 +314,6 @@ impl MeshLanes {
     pub fn is_affine(&self) -> bool {
         self.affine
     }
-
 
     /// Steps per mesh cycle.
     pub fn steps_per_cycle(&self) -> u32 {
@@ -610,4 +609,3 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         mask
     }
 }
-

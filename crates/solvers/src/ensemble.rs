@@ -159,7 +159,6 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
     ) -> u32;
 }
 
-
 /// Where each lane evaluates a field: its time (as the scalar integrator computes it: the step
 /// start `t`, `t + h/2`, `t + h` with `h = t1 - t`) and its position on its grid in steps from the
 /// grid origin (`k`, `k + 1/2`, `k + 1`: exact).

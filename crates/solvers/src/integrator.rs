@@ -32,9 +32,9 @@
 mod events;
 
 use crate::dense::Step;
+use crate::ensemble::{combine, fractions, stage_point};
 use crate::hybrid::{Guards, HybridSystem};
 use crate::scheme::RK4_RESOLUTION;
-use crate::ensemble::{combine, fractions, stage_point};
 pub use crate::scheme::{
     min_step, Options, Scheme, SolverError, Stats, Stop, BASE_STEP_BUDGET, DEFAULT_ATOL,
     DEFAULT_RTOL, MAX_GRAZING_SAMPLES,

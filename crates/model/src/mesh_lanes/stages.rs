@@ -40,8 +40,10 @@ impl<const UNI: bool, const HARM: bool, const L: usize> LaneKernel<2, L> for Sta
         let t = self.0;
         // the row of step j, read once: middle (k2, k3) and end (k4, f1) coefficients
         let r = &t.rows[j];
-        let (cm, dcm, kkm, dkm, hdm, hbm) = (r.cos[1], r.dcos[1], r.k[1], r.dk[1], r.hd[1], r.hb[1]);
-        let (ce, dce, kke, dke, hde, hbe) = (r.cos[2], r.dcos[2], r.k[2], r.dk[2], r.hd[2], r.hb[2]);
+        let (cm, dcm, kkm, dkm, hdm, hbm) =
+            (r.cos[1], r.dcos[1], r.k[1], r.dk[1], r.hd[1], r.hb[1]);
+        let (ce, dce, kke, dke, hde, hbe) =
+            (r.cos[2], r.dcos[2], r.k[2], r.dk[2], r.hd[2], r.hb[2]);
         let d = r.d;
         let mut co = StepCoef {
             off: [0.0; L],
@@ -240,7 +242,18 @@ impl MeshLanes {
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u64 {
-        rk4_lanes(&Stages::<UNI, HARM>(self), j, t0, t1, grid, ln, y0, f0, y1, f1);
+        rk4_lanes(
+            &Stages::<UNI, HARM>(self),
+            j,
+            t0,
+            t1,
+            grid,
+            ln,
+            y0,
+            f0,
+            y1,
+            f1,
+        );
         let d = self.rows[j].d;
         let mut bits = [0u64; L];
         for l in 0..L {
