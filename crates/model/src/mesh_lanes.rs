@@ -67,7 +67,7 @@ use crate::mesh_model::{ContactState, MeshMode, MeshModel};
 use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
 #[cfg(doc)]
-use geardyn_solvers::ensemble::LaneKernel;
+use geardyn_solvers::ensemble::{rk4_lanes, LaneKernel};
 use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
 use std::f64::consts::PI;
 
@@ -554,11 +554,10 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
     }
 
     /// The RK4 step of every lane: the tabulated affine map where the table takes it
-    /// (`MeshLanes::affine_kernel`), else the RK4 stages fused into one pass per lane (the whole
-    /// step of a lane lives in registers; the loop over lanes vectorises) with the scalar
-    /// model's operations in its order, so its results. Dispatches once per step to a copy of
-    /// the stage kernel specialised for the table's contact clamp and stiffness form
-    /// (`MeshLanes::kernel`).
+    /// (`MeshLanes::affine_kernel`), else the RK4 stages of [`rk4_lanes`] over the pair's
+    /// [`LaneKernel`] with the scalar model's operations in its order, so its results.
+    /// Dispatches once per step to a copy of the stage kernel specialised for the table's contact
+    /// clamp and stiffness form (`MeshLanes::stage_bits`).
     #[inline(always)]
     fn step(
         &self,

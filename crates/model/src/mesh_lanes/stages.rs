@@ -223,14 +223,15 @@ impl MeshLanes {
         true
     }
 
-    /// The RK4 stage step of every lane ([`rk4_lanes`] over [`Stages`]) and its verdicts:
-    /// bit `l` set when lane `l`'s step is finite and clears both guards by the interior bound,
-    /// and bit `32 + l` when it is finite. `max`/`min` are plain comparisons: the `max` chain
-    /// equals `f64::max`'s for any operand, the `min` only differs on a NaN state, whose lane is
-    /// not finite and therefore not cleared either way.
+    /// The RK4 stage step of every lane ([`rk4_lanes`] over the [`Stages`] of the table's clamp
+    /// and stiffness form) and its verdicts: bit `l` set when lane `l`'s step is finite and
+    /// clears both guards by the interior bound, and bit `32 + l` when it is finite.
+    /// `max`/`min` are plain comparisons: the `max` chain equals `f64::max`'s for any operand,
+    /// the `min` only differs on a NaN state, whose lane is not finite and therefore not cleared
+    /// either way.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn kernel<const UNI: bool, const HARM: bool, const L: usize>(
+    pub(super) fn stage_bits<const L: usize>(
         &self,
         j: usize,
         t0: &[f64; L],
@@ -242,18 +243,29 @@ impl MeshLanes {
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u64 {
-        rk4_lanes(
-            &Stages::<UNI, HARM>(self),
-            j,
-            t0,
-            t1,
-            grid,
-            ln,
-            y0,
-            f0,
-            y1,
-            f1,
-        );
+        // one copy of the stages per clamp and stiffness form
+        macro_rules! stages {
+            ($uni:literal, $harm:literal) => {
+                rk4_lanes(
+                    &Stages::<$uni, $harm>(self),
+                    j,
+                    t0,
+                    t1,
+                    grid,
+                    ln,
+                    y0,
+                    f0,
+                    y1,
+                    f1,
+                )
+            };
+        }
+        match (self.unilateral, self.harmonic) {
+            (false, false) => stages!(false, false),
+            (false, true) => stages!(false, true),
+            (true, false) => stages!(true, false),
+            (true, true) => stages!(true, true),
+        }
         let d = self.rows[j].d;
         let mut bits = [0u64; L];
         for l in 0..L {
@@ -270,30 +282,6 @@ impl MeshLanes {
             bits[l] = ((ok as u64) << l) | ((finite as u64) << (32 + l));
         }
         bits.iter().fold(0, |m, b| m | b)
-    }
-
-    /// The RK4 stage kernel for the table's clamp and stiffness form (its bits as
-    /// [`MeshLanes::kernel`] returns them).
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    pub(super) fn stage_bits<const L: usize>(
-        &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
-        ln: &MeshLaneBlock<L>,
-        y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
-        y1: &mut Soa<2, L>,
-        f1: &mut Soa<2, L>,
-    ) -> u64 {
-        match (self.unilateral, self.harmonic) {
-            (false, false) => self.kernel::<false, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (false, true) => self.kernel::<false, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (true, false) => self.kernel::<true, false, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-            (true, true) => self.kernel::<true, true, L>(j, t0, t1, grid, ln, y0, f0, y1, f1),
-        }
     }
 
     /// The lanes that take a kernel's step (`bits`: clear, and finite in the upper half): the
