@@ -11,6 +11,7 @@ use super::{lane_contact, MeshLaneBlock, MeshLanes};
 use crate::mesh_kernel as kernel;
 use geardyn_solvers::dense::{hermite, nested_at};
 use geardyn_solvers::ensemble::{rk4_lanes, At, LaneKernel, Soa, Stage};
+use geardyn_solvers::Direction;
 use std::f64::consts::PI;
 
 /// The coefficients every stage of one step reads, per lane: the signed half backlash, the
@@ -178,45 +179,33 @@ impl MeshLanes {
         let [r0, r1, r2, r3] = hermite(y0[0][l], y1[0][l], f0[0][l], f1[0][l], h);
         let xm = nested_at([r0, r1, r2, r3, 0.0], 0.5);
         let x1 = y1[0][l];
-        // armed guards: (value at start, middle, end, rising?)
-        let mut guards = [(0.0, 0.0, 0.0, false); 2];
+        // armed guards: (value at start, middle, end, direction)
+        let mut guards = [(0.0, 0.0, 0.0, Direction::Rising); 2];
+        let rising = |r: bool| {
+            if r {
+                Direction::Rising
+            } else {
+                Direction::Falling
+            }
+        };
         let mut n = 0;
         if sb == 0.0 {
             // x - D: rising when separated, falling in drive contact
-            guards[n] = (r0 - d, xm - d, x1 - d, sd == 0.0);
+            guards[n] = (r0 - d, xm - d, x1 - d, rising(sd == 0.0));
             n += 1;
         }
         if sd == 0.0 {
             // x + D: falling when separated, rising in back contact
-            guards[n] = (r0 + d, xm + d, x1 + d, sb != 0.0);
+            guards[n] = (r0 + d, xm + d, x1 + d, rising(sb != 0.0));
             n += 1;
         }
-        let crossed = |rising: bool, a: f64, b: f64| {
-            if rising {
-                a <= 0.0 && b > 0.0
-            } else {
-                a >= 0.0 && b < 0.0
-            }
-        };
-        for &(p, _, b, rising) in &guards[..n] {
-            if crossed(rising, p, b) {
+        for &(p, _, b, dir) in &guards[..n] {
+            if dir.crossed(p, b) {
                 return false;
             }
         }
-        for &(p, a, b, rising) in &guards[..n] {
-            let curv = p - 2.0 * a + b;
-            let near = if crossed(rising, p, a) || crossed(rising, a, b) {
-                true
-            } else if curv != 0.0 {
-                let th = 0.5 + 0.25 * (p - b) / curv;
-                let vertex = a - (b - p) * (b - p) / (8.0 * curv);
-                th > 0.0
-                    && th < 1.0
-                    && (vertex.signum() != p.signum() || vertex.abs() < 0.5 * p.abs().min(b.abs()))
-            } else {
-                false
-            };
-            if near {
+        for &(p, a, b, dir) in &guards[..n] {
+            if dir.near_crossing(p, a, b) {
                 return false;
             }
         }

@@ -64,20 +64,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
             for i in 0..n {
                 let (p, a, b) = (g0.value[i], gm.value[i], g1.value[i]);
                 let d = g0.direction[i];
-                // parabola through the three samples: vertex position and value
-                let curv = p - 2.0 * a + b;
-                let near = if d.crossed(p, a) || d.crossed(a, b) {
-                    true
-                } else if curv != 0.0 {
-                    let th = 0.5 + 0.25 * (p - b) / curv;
-                    let vertex = a - (b - p) * (b - p) / (8.0 * curv);
-                    th > 0.0
-                        && th < 1.0
-                        && (vertex.signum() != p.signum()
-                            || vertex.abs() < 0.5 * p.abs().min(b.abs()))
-                } else {
-                    false
-                };
+                let near = d.near_crossing(p, a, b);
                 if near {
                     if let Some(br) = self.graze_search(trial, i, d, t0, p, t1) {
                         if best.is_none_or(|x| br.3 < x.3) {
