@@ -12,6 +12,13 @@
 //!   With a fixed number of steps per period every periodic coefficient takes the same values at
 //!   the same phase in every period, so a model tabulates them once (phase tables); lanes only add
 //!   their own constants (amplitudes, damping, step length).
+//! * The RK4 stages of a lockstep step are written once, in [`rk4_lanes`]: a model supplies its
+//!   field over lanes as a [`LaneKernel`] (per-step coefficients, then the field at the middle
+//!   and the end of the step), any fixed dimension `N`; the default [`Lockstep::step`]
+//!   ([`compose_step`]) runs it over [`Lockstep::rhs`], a model with a faster field (the gear
+//!   pair's phase-table kernel) over its own kernel. Files: the engine (per-lane bookkeeping,
+//!   scalar hand-over, strobe instants) in `engine`, the stages in `kernel`, the CPU dispatch in
+//!   `dispatch`.
 //! * All lanes sit at the same phase index `j`. A lane whose step may hold an event — a guard
 //!   changes sign between the ends, or the rigorous interior bound (the one of
 //!   [`HybridSystem::guard_lipschitz`]: the Hermite interpolant deviates from its chord by at most
