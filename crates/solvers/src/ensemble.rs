@@ -24,7 +24,7 @@
 //!   [`HybridSystem::guard_lipschitz`]: the Hermite interpolant deviates from its chord by at most
 //!   `0.25 (|r2| + |r3|)`) does not clear every surface — or whose mode the batched field does not
 //!   cover, and every lane at a phase that holds a time breakpoint, is *finished by the scalar
-//!   [`Integrator`]*: it resumes at the grid point ([`Integrator::resume`]), takes its own steps
+//!   [`Integrator`](crate::Integrator)*: it resumes at the grid point ([`Integrator::resume`](crate::Integrator::resume)), takes its own steps
 //!   (locating events, applying resets, landing on breakpoints, handling Zeno accumulations) up to
 //!   the next grid point, and the lane rejoins the grid there. Modes, impacts, sticking and
 //!   breakpoints therefore behave exactly as in the scalar integrator.

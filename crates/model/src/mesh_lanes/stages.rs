@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 
 /// The coefficients every stage of one step reads, per lane: the signed half backlash, the
 /// stiffness, excitation and friction factor at the middle and the end of the step (from the
-/// phase tables, with the rounded-time correction of [`MeshLanes::cos_k`]).
+/// phase tables, with the rounded-time correction of `MeshLanes::cos_k`).
 pub struct StepCoef<const L: usize> {
     off: [f64; L],
     km: [f64; L],
@@ -309,7 +309,7 @@ impl MeshLanes {
 
     /// The RK4 step of every lane by the stages (the scalar integrator's arithmetic, so its
     /// results) on any table, affine or not; returns the lanes that take it, as
-    /// [`Lockstep::step`]. For callers that need the state's scalar trajectory bit for bit (the
+    /// [`Lockstep::step`](geardyn_solvers::ensemble::Lockstep::step). For callers that need the state's scalar trajectory bit for bit (the
     /// Lyapunov lanes: the decisions that continue from their end state).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
