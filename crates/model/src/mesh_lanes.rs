@@ -557,7 +557,7 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
     /// (`MeshLanes::affine_kernel`), else the RK4 stages of [`rk4_lanes`] over the pair's
     /// [`LaneKernel`] with the scalar model's operations in its order, so its results.
     /// Dispatches once per step to a copy of the stage kernel specialised for the table's contact
-    /// clamp and stiffness form (`MeshLanes::stage_bits`).
+    /// clamp and stiffness form ([`MeshLanes::step_stages`]).
     #[inline(always)]
     fn step(
         &self,
@@ -572,12 +572,12 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
-        let bits = if self.affine {
-            self.affine_kernel::<L>(j, t0, t1, ln, work, y0, y1, f1)
+        if self.affine {
+            let bits = self.affine_kernel::<L>(j, t0, t1, ln, work, y0, y1, f1);
+            self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
         } else {
-            self.stage_bits(j, t0, t1, grid, ln, y0, f0, y1, f1)
-        };
-        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
+            self.step_stages(j, t0, t1, grid, ln, y0, f0, y1, f1)
+        }
     }
 
     #[inline(always)]

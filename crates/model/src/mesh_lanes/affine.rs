@@ -96,7 +96,7 @@ impl MeshLanes {
         w.key[l] = [ln.w, ln.c, ln.load, ln.xiw2, h];
     }
 
-    /// The affine step of every lane (its bits as `MeshLanes::stage_bits` returns them): in
+    /// The affine step of every lane (bit `l`: lane `l`'s step is finite and clears both guards by the interior bound; bit `32 + l`: it is finite): in
     /// contact `y1 = P y0 + q_e + s q_o` from the lane's column of `w`, when separated the RK4
     /// step of `x'' = F + xi omega^2 cos` in closed form (`x0 + h v0 + h^2 (e0 + 2 em) / 6`,
     /// `v0 + h (e0 + 4 em + ee) / 6`, from the lane's constants and the row's cosine sums); then

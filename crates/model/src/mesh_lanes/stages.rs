@@ -212,15 +212,19 @@ impl MeshLanes {
         true
     }
 
-    /// The RK4 stage step of every lane ([`rk4_lanes`] over the [`Stages`] of the table's clamp
-    /// and stiffness form) and its verdicts: bit `l` set when lane `l`'s step is finite and
-    /// clears both guards by the interior bound, and bit `32 + l` when it is finite.
-    /// `max`/`min` are plain comparisons: the `max` chain equals `f64::max`'s for any operand,
-    /// the `min` only differs on a NaN state, whose lane is not finite and therefore not cleared
-    /// either way.
+    /// The RK4 step of every lane by the stages ([`rk4_lanes`] over the [`Stages`] of the
+    /// table's clamp and stiffness form: the scalar integrator's arithmetic, so its results) on
+    /// any table, affine or not; returns the lanes that take it, as
+    /// [`Lockstep::step`](geardyn_solvers::ensemble::Lockstep::step): those whose step is finite
+    /// and clears both guards by the interior bound, and those the midpoint test lets through
+    /// (`MeshLanes::settle`). `max`/`min` are plain comparisons: the `max` chain equals
+    /// `f64::max`'s for any operand, the `min` only differs on a NaN state, whose lane is not
+    /// finite and therefore not cleared either way. Public for callers that need the state's
+    /// scalar trajectory bit for bit (the Lyapunov lanes: the decisions that continue from their
+    /// end state).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(super) fn stage_bits<const L: usize>(
+    pub fn step_stages<const L: usize>(
         &self,
         j: usize,
         t0: &[f64; L],
@@ -231,7 +235,7 @@ impl MeshLanes {
         f0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
-    ) -> u64 {
+    ) -> u32 {
         // one copy of the stages per clamp and stiffness form
         macro_rules! stages {
             ($uni:literal, $harm:literal) => {
@@ -270,7 +274,8 @@ impl MeshLanes {
             );
             bits[l] = ((ok as u64) << l) | ((finite as u64) << (32 + l));
         }
-        bits.iter().fold(0, |m, b| m | b)
+        let bits = bits.iter().fold(0, |m, b| m | b);
+        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
     }
 
     /// The lanes that take a kernel's step (`bits`: clear, and finite in the upper half): the
@@ -305,28 +310,6 @@ impl MeshLanes {
             }
         }
         mask
-    }
-
-    /// The RK4 step of every lane by the stages (the scalar integrator's arithmetic, so its
-    /// results) on any table, affine or not; returns the lanes that take it, as
-    /// [`Lockstep::step`](geardyn_solvers::ensemble::Lockstep::step). For callers that need the state's scalar trajectory bit for bit (the
-    /// Lyapunov lanes: the decisions that continue from their end state).
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    pub fn step_stages<const L: usize>(
-        &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
-        ln: &MeshLaneBlock<L>,
-        y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
-        y1: &mut Soa<2, L>,
-        f1: &mut Soa<2, L>,
-    ) -> u32 {
-        let bits = self.stage_bits(j, t0, t1, grid, ln, y0, f0, y1, f1);
-        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
     }
 }
 

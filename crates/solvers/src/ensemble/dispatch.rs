@@ -4,37 +4,35 @@
 use super::engine::drive;
 use super::{LaneDriver, Lockstep};
 
-#[cfg(all(target_arch = "x86_64", geardyn_avx512))]
-#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma")]
-fn drive_avx512<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
-where
-    B: Lockstep<N, L>,
-    B::Sys: 's,
-    D: LaneDriver<'s, B, N, L>,
-{
-    drive(batch, drv)
+/// A copy of the engine loop [`drive`] under the given attributes (target features).
+macro_rules! engine_copy {
+    ($(#[$attr:meta])* $name:ident) => {
+        $(#[$attr])*
+        fn $name<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
+        where
+            B: Lockstep<N, L>,
+            B::Sys: 's,
+            D: LaneDriver<'s, B, N, L>,
+        {
+            drive(batch, drv)
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn drive_avx2<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
-where
-    B: Lockstep<N, L>,
-    B::Sys: 's,
-    D: LaneDriver<'s, B, N, L>,
-{
-    drive(batch, drv)
-}
-
-#[inline(never)]
-fn drive_base<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
-where
-    B: Lockstep<N, L>,
-    B::Sys: 's,
-    D: LaneDriver<'s, B, N, L>,
-{
-    drive(batch, drv)
-}
+engine_copy!(
+    #[cfg(all(target_arch = "x86_64", geardyn_avx512))]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma")]
+    drive_avx512
+);
+engine_copy!(
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    drive_avx2
+);
+engine_copy!(
+    #[inline(never)]
+    drive_base
+);
 
 /// The copies of the engine [`run_lanes_on`] can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
