@@ -327,18 +327,7 @@ mod tests {
         let h = 1e-4;
         let f = |d: f64, v: f64| -law.elastic(d) * (1.0 + chi * v);
         loop {
-            let k1 = (v, f(d, v));
-            let k2 = (
-                v + 0.5 * h * k1.1,
-                f(d + 0.5 * h * k1.0, v + 0.5 * h * k1.1),
-            );
-            let k3 = (
-                v + 0.5 * h * k2.1,
-                f(d + 0.5 * h * k2.0, v + 0.5 * h * k2.1),
-            );
-            let k4 = (v + h * k3.1, f(d + h * k3.0, v + h * k3.1));
-            let dn = d + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
-            let vn = v + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            let (dn, vn) = crate::impact::rk4_second_order(&f, d, v, h);
             if dn < 0.0 {
                 // linear interpolation of the exit speed
                 return -(v + (vn - v) * d / (d - dn)) / v0;

@@ -57,18 +57,7 @@ impl ImpactLaw {
         let mut peak: f64 = 0.0;
         // the compression ends before s = 2 (elastic: u_max = 1 at s ~ 1.47)
         for _ in 0..20_000 {
-            let k1 = (w, f(u, w));
-            let k2 = (
-                w + 0.5 * h * k1.1,
-                f(u + 0.5 * h * k1.0, w + 0.5 * h * k1.1),
-            );
-            let k3 = (
-                w + 0.5 * h * k2.1,
-                f(u + 0.5 * h * k2.0, w + 0.5 * h * k2.1),
-            );
-            let k4 = (w + h * k3.1, f(u + h * k3.0, w + h * k3.1));
-            u += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
-            w += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            (u, w) = rk4_second_order(&f, u, w, h);
             let fnow = force(u, w);
             if fnow < peak && w < 0.0 {
                 break;
@@ -91,6 +80,25 @@ impl ImpactLaw {
         }
         Ok(())
     }
+}
+
+/// One classical RK4 step of `x' = v`, `v' = f(x, v)` of length `h` (the one-impact integrations
+/// of the contact and impact laws: a peak factor, a restitution).
+pub(crate) fn rk4_second_order(f: &impl Fn(f64, f64) -> f64, x: f64, v: f64, h: f64) -> (f64, f64) {
+    let k1 = (v, f(x, v));
+    let k2 = (
+        v + 0.5 * h * k1.1,
+        f(x + 0.5 * h * k1.0, v + 0.5 * h * k1.1),
+    );
+    let k3 = (
+        v + 0.5 * h * k2.1,
+        f(x + 0.5 * h * k2.0, v + 0.5 * h * k2.1),
+    );
+    let k4 = (v + h * k3.1, f(x + h * k3.0, v + h * k3.1));
+    (
+        x + h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0),
+        v + h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1),
+    )
 }
 
 #[cfg(test)]

@@ -127,6 +127,26 @@ pub struct PairGeometry {
     pub x2: f64,
 }
 
+/// Undercut of gear `n` (`which`: pinion or gear) of `z` teeth and profile shift `x` in rack
+/// generation: `z sin^2(alpha) / 2 >= ha* - x` is needed.
+fn undercut(
+    which: &str,
+    n: u32,
+    z: u32,
+    x: f64,
+    addendum: f64,
+    al: f64,
+) -> Result<(), PhysicsError> {
+    let x_min = addendum - z as f64 * al.sin().powi(2) / 2.0;
+    if x < x_min - 1e-9 {
+        return Err(PhysicsError::Geometry(format!(
+            "{which} undercut: z{n} = {z} with x{n} = {x} needs x{n} >= {x_min:.4} (short by {:.4})",
+            x_min - x
+        )));
+    }
+    Ok(())
+}
+
 fn bad(field: &str, value: f64, allowed: &str) -> PhysicsError {
     PhysicsError::Invalid {
         field: field.to_string(),
@@ -179,33 +199,14 @@ impl PairGeometry {
         let ra1 = r1 + m * (i.addendum + i.x1);
         let rf1 = r1 - m * (i.addendum + i.clearance - i.x1);
         let half1 = PI / (2.0 * z1) + inv(al) + 2.0 * i.x1 * al.tan() / z1;
-        // undercut of the pinion (rack generation): z sin^2(alpha)/2 >= ha* - x
-        let x_min = i.addendum - z1 * al.sin().powi(2) / 2.0;
-        if i.x1 < x_min - 1e-9 {
-            return Err(PhysicsError::Geometry(format!(
-                "pinion undercut: z1 = {} with x1 = {} needs x1 >= {:.4} (short by {:.4})",
-                i.z1,
-                i.x1,
-                x_min,
-                x_min - i.x1
-            )));
-        }
+        undercut("pinion", 1, i.z1, i.x1, i.addendum, al)?;
         let (ra2, rf2, alpha_w, a_w, half2, n1n2, s_a, s_d);
         match i.kind {
             PairKind::External => {
                 if i.z2 < 6 {
                     return Err(bad("z2", z2, "an integer >= 6"));
                 }
-                let x2_min = i.addendum - z2 * al.sin().powi(2) / 2.0;
-                if i.x2 < x2_min - 1e-9 {
-                    return Err(PhysicsError::Geometry(format!(
-                        "gear undercut: z2 = {} with x2 = {} needs x2 >= {:.4} (short by {:.4})",
-                        i.z2,
-                        i.x2,
-                        x2_min,
-                        x2_min - i.x2
-                    )));
-                }
+                undercut("gear", 2, i.z2, i.x2, i.addendum, al)?;
                 ra2 = r2 + m * (i.addendum + i.x2);
                 rf2 = r2 - m * (i.addendum + i.clearance - i.x2);
                 alpha_w = inv_inverse(inv(al) + 2.0 * al.tan() * (i.x1 + i.x2) / (z1 + z2));

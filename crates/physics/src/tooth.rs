@@ -289,11 +289,11 @@ mod tests {
         (kb, ks, ka)
     }
 
-    #[test]
-    fn involute_part_reproduces_tian_closed_forms() {
-        // 20 teeth, m = 3 mm, alpha = 20 deg, root circle above the base circle avoided by
-        // putting it at the base circle (Tian's model has no part below the base circle)
-        let (z, m, al) = (20.0f64, 3e-3f64, 20f64.to_radians());
+    /// A steel tooth of an external gear of `z` teeth, m = 3 mm, 20 degrees, 20 mm wide: its
+    /// material, its shape with the root radius `rf(rb, r)` (`r` the pitch radius) and the bore
+    /// `r_int`, and its half base angle.
+    fn external(z: f64, rf: impl Fn(f64, f64) -> f64, r_int: f64) -> (Material, ToothShape, f64) {
+        let (m, al) = (3e-3f64, 20f64.to_radians());
         let rb = m * z / 2.0 * al.cos();
         let half = std::f64::consts::PI / (2.0 * z) + inv(al);
         let mat = Material {
@@ -304,9 +304,17 @@ mod tests {
         let shape = ToothShape::External {
             half_base: half,
             rb,
-            rf: rb,
-            r_int: 0.01,
+            rf: rf(rb, m * z / 2.0),
+            r_int,
         };
+        (mat, shape, half)
+    }
+
+    #[test]
+    fn involute_part_reproduces_tian_closed_forms() {
+        // 20 teeth, m = 3 mm, alpha = 20 deg, root circle above the base circle avoided by
+        // putting it at the base circle (Tian's model has no part below the base circle)
+        let (mat, shape, half) = external(20.0, |rb, _| rb, 0.01);
         for u_k in [0.2, 0.35, 0.5] {
             let c = tooth_compliance(&shape, &mat, u_k);
             let alpha1 = u_k - half;
@@ -351,21 +359,7 @@ mod tests {
 
     #[test]
     fn compliance_grows_towards_the_tip() {
-        let (z, m, al) = (40.0f64, 3e-3f64, 20f64.to_radians());
-        let rb = m * z / 2.0 * al.cos();
-        let rf = m * z / 2.0 - 1.25 * m;
-        let half = std::f64::consts::PI / (2.0 * z) + inv(al);
-        let mat = Material {
-            e: 2e11,
-            nu: 0.3,
-            b: 0.02,
-        };
-        let shape = ToothShape::External {
-            half_base: half,
-            rb,
-            rf,
-            r_int: 0.02,
-        };
+        let (mat, shape, _) = external(40.0, |_, r| r - 1.25 * 3e-3, 0.02);
         let mut last = 0.0;
         for u in [0.15, 0.25, 0.35, 0.45] {
             let c = tooth_compliance(&shape, &mat, u);

@@ -13,22 +13,32 @@ fn spec_40_40() -> PairSpec {
     s
 }
 
+/// A pair of module 3 mm, 20 degrees, standard addendum and clearance.
+fn geometry(
+    kind: PairKind,
+    z1: u32,
+    z2: u32,
+    x1: f64,
+    x2: f64,
+) -> Result<PairGeometry, geardyn_physics::PhysicsError> {
+    PairGeometry::new(&PairGeometryInput {
+        kind,
+        z1,
+        z2,
+        module: 3e-3,
+        pressure_angle: 20f64.to_radians(),
+        addendum: 1.0,
+        clearance: 0.25,
+        x1,
+        x2,
+    })
+}
+
 #[test]
 fn contact_ratios_match_the_closed_forms() {
     let a = 20f64.to_radians();
     // external 40/40, m = 3: eps = (2 sqrt(ra^2 - rb^2) - 2 r sin a) / (pi m cos a)
-    let g = PairGeometry::new(&PairGeometryInput {
-        kind: PairKind::External,
-        z1: 40,
-        z2: 40,
-        module: 3e-3,
-        pressure_angle: a,
-        addendum: 1.0,
-        clearance: 0.25,
-        x1: 0.0,
-        x2: 0.0,
-    })
-    .unwrap();
+    let g = geometry(PairKind::External, 40, 40, 0.0, 0.0).unwrap();
     let (r, ra) = (60e-3f64, 63e-3f64);
     let rb = r * a.cos();
     let eps = (2.0 * (ra * ra - rb * rb).sqrt() - 2.0 * r * a.sin()) / (PI * 3e-3 * a.cos());
@@ -36,18 +46,7 @@ fn contact_ratios_match_the_closed_forms() {
     assert!((eps - 1.7145).abs() < 1e-3);
     // internal 30/70, m = 3: eps = (sqrt(ra1^2 - rb1^2) - sqrt(ra2^2 - rb2^2) + a sin(alpha)) / p_b
     // with ra2 = r2 - m (ring tip inside), a = r2 - r1 (e.g. Maitra, Handbook of Gear Design, 1994)
-    let gi = PairGeometry::new(&PairGeometryInput {
-        kind: PairKind::Internal,
-        z1: 30,
-        z2: 70,
-        module: 3e-3,
-        pressure_angle: a,
-        addendum: 1.0,
-        clearance: 0.25,
-        x1: 0.0,
-        x2: 0.0,
-    })
-    .unwrap();
+    let gi = geometry(PairKind::Internal, 30, 70, 0.0, 0.0).unwrap();
     let (r1, r2) = (45e-3f64, 105e-3f64);
     let (rb1, rb2) = (r1 * a.cos(), r2 * a.cos());
     let (ra1, ra2) = (48e-3f64, 102e-3f64);
@@ -56,18 +55,7 @@ fn contact_ratios_match_the_closed_forms() {
     assert!((gi.eps - eps_i).abs() < 1e-12, "{} vs {eps_i}", gi.eps);
     assert!(gi.eps > 1.9 && gi.eps < 2.0);
     // a profile-shifted pair: the operating pressure angle solves the involute equation
-    let gs = PairGeometry::new(&PairGeometryInput {
-        kind: PairKind::External,
-        z1: 20,
-        z2: 40,
-        module: 3e-3,
-        pressure_angle: a,
-        addendum: 1.0,
-        clearance: 0.25,
-        x1: 0.3,
-        x2: 0.1,
-    })
-    .unwrap();
+    let gs = geometry(PairKind::External, 20, 40, 0.3, 0.1).unwrap();
     let lhs = gs.alpha_w.tan() - gs.alpha_w;
     let rhs = a.tan() - a + 2.0 * a.tan() * 0.4 / 60.0;
     assert!((lhs - rhs).abs() < 1e-14);
@@ -76,20 +64,7 @@ fn contact_ratios_match_the_closed_forms() {
 
 #[test]
 fn impossible_geometry_is_rejected_with_the_reason() {
-    let a = 20f64.to_radians();
-    let mk = |z1, z2, x1, kind| {
-        PairGeometry::new(&PairGeometryInput {
-            kind,
-            z1,
-            z2,
-            module: 3e-3,
-            pressure_angle: a,
-            addendum: 1.0,
-            clearance: 0.25,
-            x1,
-            x2: 0.0,
-        })
-    };
+    let mk = |z1, z2, x1, kind| geometry(kind, z1, z2, x1, 0.0);
     let e = mk(12, 40, 0.0, PairKind::External).unwrap_err().to_string();
     assert!(e.contains("undercut") && e.contains("short by"), "{e}");
     assert!(mk(12, 40, 0.4, PairKind::External).is_ok());

@@ -45,6 +45,27 @@ impl Direction {
         }
     }
 
+    /// The integrator's midpoint test of a step on a guard sampled at its start `p`, middle `a`
+    /// and end `b`: `true` when it may hold a crossing in this direction (between two samples),
+    /// or a graze (the parabola through the samples has its vertex inside the step, across zero
+    /// or within half the smaller end value of it), which a finer search must then settle.
+    #[inline]
+    pub fn near_crossing(self, p: f64, a: f64, b: f64) -> bool {
+        let curv = p - 2.0 * a + b;
+        if self.crossed(p, a) || self.crossed(a, b) {
+            true
+        } else if curv != 0.0 {
+            // parabola through the three samples: vertex position and value
+            let th = 0.5 + 0.25 * (p - b) / curv;
+            let vertex = a - (b - p) * (b - p) / (8.0 * curv);
+            th > 0.0
+                && th < 1.0
+                && (vertex.signum() != p.signum() || vertex.abs() < 0.5 * p.abs().min(b.abs()))
+        } else {
+            false
+        }
+    }
+
     /// Whether `g` lies on the side this guard leads *into*.
     #[inline]
     pub fn on_new_side(self, g_before: f64, g: f64) -> bool {

@@ -52,7 +52,7 @@ impl Scheme {
     }
 }
 
-/// Why [`Integrator::step`] returned.
+/// Why [`Integrator::step`](crate::Integrator::step) returned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stop {
     /// An ordinary step was taken.
@@ -123,7 +123,7 @@ pub enum SolverError {
     },
     /// An accumulation of events (Zeno behaviour) the system does not resolve: more than
     /// [`Options::max_events_without_progress`] consecutive events, each close to the previous,
-    /// and [`HybridSystem::zeno_fallback`] declined (or did not end the accumulation).
+    /// and [`HybridSystem::zeno_fallback`](crate::HybridSystem::zeno_fallback) declined (or did not end the accumulation).
     #[error(
         "Zeno behaviour at t = {t}: {count} events within {span:e} time units accumulate, and the \
          system offers no sticking mode to end them (HybridSystem::zeno_fallback)"
@@ -167,20 +167,20 @@ pub struct Options {
     pub grazing_samples: Option<usize>,
     /// Most consecutive accumulating events (each within [`Options::zeno_interval`] of the
     /// previous, or at the same instant) before the accumulation is ended by
-    /// [`HybridSystem::zeno_fallback`] or [`SolverError::Zeno`].
+    /// [`HybridSystem::zeno_fallback`](crate::HybridSystem::zeno_fallback) or [`SolverError::Zeno`].
     pub max_events_without_progress: usize,
     /// An event that follows the previous one within this fraction of the step-size scale (the
-    /// step the error control would take next, at most [`HybridSystem::max_step`], for
+    /// step the error control would take next, at most [`HybridSystem::max_step`](crate::HybridSystem::max_step), for
     /// Dormand–Prince; the grid step for RK4) counts as accumulating. Relative to the dynamics'
     /// own time scale, not to the absolute time. Default `1e-3`: a sequence of such events cannot
     /// be resolved motion (the error control would have shortened the steps).
     pub zeno_interval: f64,
     /// Most trial steps (rejected and event steps included) spent approaching one `tstop`
-    /// (consecutive [`Integrator::step`] calls with the same `tstop`; checked at the start of
+    /// (consecutive [`Integrator::step`](crate::Integrator::step) calls with the same `tstop`; checked at the start of
     /// each call, so the rejections of one call may exceed it slightly) before
     /// [`SolverError::StepBudget`]. `None`: derived from the request,
     /// [`BASE_STEP_BUDGET`]` + 64 * (tstop - t) / h_char` with `h_char` the RK4 step or the
-    /// system's [`HybridSystem::max_step`] (no second term when that is unlimited).
+    /// system's [`HybridSystem::max_step`](crate::HybridSystem::max_step) (no second term when that is unlimited).
     pub max_steps: Option<u64>,
 }
 
