@@ -176,6 +176,7 @@ pub fn response<'py>(
         values,
         range,
     } = a;
+    let name = param.clone();
     let partial: util::Partial = Box::new(move |py, ctl| kept_sweep(py, &name, ctl));
     let (results, cfg, opts) = util::run(py, "response", progress, Some(partial), move |ctl| {
         let mut cfg = src.config()?;
