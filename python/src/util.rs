@@ -283,13 +283,6 @@ impl ProgressShow {
     }
 }
 
-/// Workers of [`run`] still running (the last one to end withdraws a stop request).
-static WORKERS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
-/// How long a new call waits for the worker of an interrupted one to end (it ends within a step
-/// or a period; after that the request is withdrawn anyway).
-const STALE_STOP_WAIT: Duration = Duration::from_secs(5);
-
 /// The `KeyboardInterrupt` of an interrupted call, with `partial` made of its finished items
 /// (when its worker has stopped: `stopped`).
 fn interrupted(
@@ -316,9 +309,10 @@ fn interrupted(
 /// the parallel work), polling for Ctrl-C (KeyboardInterrupt) and, with `progress`, printing a
 /// progress line on `sys.stderr`.
 ///
-/// Ctrl-C asks every integration to stop ([`geardyn_solvers::cancel`]): the integrators end at
-/// their next step and the lanes at their next period, so the worker returns within about a
-/// second; the call then raises `KeyboardInterrupt` whose attribute `partial` holds what
+/// Each call runs under a cancel token of its own ([`geardyn_exec::cancel::run_under`]): Ctrl-C
+/// cancels it, so the integrations of this call (and of no other: two Python threads calling
+/// geardyn stop independently) end at their next step and the lanes at their next period, and
+/// the worker returns within about a second; the call then raises `KeyboardInterrupt` whose attribute `partial` holds what
 /// `partial` makes of the finished items (or `None`). A second Ctrl-C stops waiting.
 pub fn run<T, F>(
     py: Python<'_>,
@@ -340,33 +334,19 @@ where
             .unwrap_or_else(|e| e.into_inner())
             .recv_timeout(Duration::from_millis(50))
     };
-    // a stop requested for an earlier call whose worker is still winding down (its caller
-    // stopped waiting at a second Ctrl-C): let it end first, so that this call is not cut
-    let waited = Instant::now();
-    while geardyn_solvers::cancel::requested() && waited.elapsed() < STALE_STOP_WAIT {
-        py.detach(|| std::thread::sleep(Duration::from_millis(10)));
-        py.check_signals()?;
-    }
-    if geardyn_solvers::cancel::requested() {
-        geardyn_solvers::cancel::clear();
-    }
+    let token = geardyn_exec::cancel::Token::new();
     let worker_ctl = ctl.clone();
-    WORKERS.fetch_add(1, Ordering::SeqCst);
+    let worker_token = token.clone();
     let spawned = std::thread::Builder::new()
         .name(format!("geardyn-{what}"))
         .spawn(move || {
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&worker_ctl)));
-            // whether a stop was requested while this call ran (by its own Ctrl-C or another
-            // call's: the request is process-wide and stays up until every worker has ended, so
-            // a run cut by it always sees it here)
-            let cut = geardyn_solvers::cancel::requested();
-            let _ = tx.send((r, cut));
-            if WORKERS.fetch_sub(1, Ordering::SeqCst) == 1 {
-                geardyn_solvers::cancel::clear();
-            }
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                geardyn_exec::cancel::run_under(&worker_token, || f(&worker_ctl))
+            }));
+            // whether this call was cancelled while it ran (a run cut by it always sees it here)
+            let _ = tx.send((r, worker_token.is_cancelled()));
         });
     if let Err(e) = spawned {
-        WORKERS.fetch_sub(1, Ordering::SeqCst);
         return Err(PyRuntimeError::new_err(format!(
             "cannot start a worker thread: {e}"
         )));
@@ -378,8 +358,7 @@ where
         let r = py.detach(|| recv(&rx));
         match r {
             Ok((Ok(_), true)) => {
-                // another call's Ctrl-C cut some of this call's runs: interrupted too, with
-                // what it finished before
+                // cancelled as it ended: interrupted, with what it finished before
                 if progress {
                     shown.show(py, what, &ctl, started, true);
                 }
@@ -404,7 +383,7 @@ where
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 if py.check_signals().is_err() {
-                    geardyn_solvers::cancel::request();
+                    token.cancel();
                     // wait for the worker to stop (runs in flight end at their next step or
                     // period); a second Ctrl-C stops waiting and leaves it to end by itself
                     let mut stopped = false;
@@ -421,7 +400,6 @@ where
                             }
                         }
                     }
-                    // (the request is withdrawn by the last worker to end)
                     if progress {
                         shown.show(py, what, &ctl, started, true);
                     }
