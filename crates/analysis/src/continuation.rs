@@ -523,10 +523,10 @@ impl<'a, const N: usize> Step<'a, N> {
 
     /// Old attractors without a successor: merged into a chaotic attractor, or disappeared.
     fn losses(&self, branch: &[usize], taken_old: &[bool], events: &mut Vec<ContinuationEvent>) {
-        let (pv, va, prev_branch, overlap) =
-            (self.pv, self.va, self.prev_branch, &self.overlap);
+        let (pv, va, prev_branch, overlap) = (self.pv, self.va, self.prev_branch, &self.overlap);
         for b in 0..pv.attractors.len() {
-            let merged_into: Vec<usize> = (0..branch.len()).filter(|&a| overlap[a][b] > 0).collect();
+            let merged_into: Vec<usize> =
+                (0..branch.len()).filter(|&a| overlap[a][b] > 0).collect();
             if !taken_old[b] {
                 // merged into another attractor, or disappeared
                 let target = merged_into.iter().max_by_key(|&&a| overlap[a][b]).copied();
