@@ -1,6 +1,7 @@
 //! Basins of attraction: symmetry, sums, refinement, determinism, early termination.
 
 use crate::common::double_well;
+use crate::common::identify_periods;
 use crate::common::on_threads;
 use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
@@ -25,14 +26,7 @@ fn symmetric_pair_of_attractors_has_equal_basins() {
             max: 2.0,
             n: 40,
         },
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 60,
-                record_periods: 8,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(60, 8),
     };
     let r = basins(&sys, &opts, &HashMap::new(), |_, _| {});
     assert_eq!(r.attractors.len(), 2, "{:?}", r.attractors);
@@ -80,14 +74,7 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
             max: 2.0,
             n,
         },
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 200,
-                record_periods: 32,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(200, 32),
     };
     let coarse = on_threads(1, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
     let coarse2 = on_threads(2, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));

@@ -3,9 +3,25 @@
 use geardyn_analysis::lyapunov::{
     tle_two_trajectory, tle_variational, tle_variational_with, LyapunovOptions,
 };
+use geardyn_analysis::lyapunov::{LyapunovResult, Tangent};
 use geardyn_model::reference::{ImpactOscillator, Lorenz};
 use geardyn_model::{presets, MeshModel};
-use geardyn_solvers::Scheme;
+use geardyn_solvers::{HybridSystem, Scheme, Variational};
+
+/// The exponent of `sys` from rest (DP5): variational with saltation, two trajectories, and
+/// variational without saltation.
+fn three_exponents<S>(sys: S, opts: &LyapunovOptions) -> [LyapunovResult; 3]
+where
+    S: Variational<2> + Clone,
+    Tangent<S>: HybridSystem<5>,
+{
+    let (d, y0) = (Scheme::dopri_default(), [0.0, 0.0]);
+    [
+        tle_variational::<_, 2, 5>(sys.clone(), d, 0.0, y0, opts).unwrap(),
+        tle_two_trajectory(sys.clone(), d, 0.0, y0, opts).unwrap(),
+        tle_variational_with::<_, 2, 5>(sys, d, 0.0, y0, 0.0, opts, false).unwrap(),
+    ]
+}
 
 #[test]
 fn lorenz_matches_the_published_exponent() {
@@ -119,21 +135,7 @@ fn saltation_is_needed_for_the_gear_impact_model() {
     });
     let m = MeshModel::new(&p).unwrap();
     let opts = c1_opts(&m, 400);
-    let var =
-        tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
-            .unwrap();
-    let two =
-        tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare = tle_variational_with::<_, 2, 5>(
-        m,
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        0.0,
-        &opts,
-        false,
-    )
-    .unwrap();
+    let [var, two, bare] = three_exponents(m, &opts);
     assert!(
         (var.tle - two.tle).abs() < 1e-3,
         "{} vs {}",
@@ -167,19 +169,7 @@ fn impact_oscillator_exponent_from_saltation_matches_two_trajectories() {
         periods: 300,
         d0: 1e-9,
     };
-    let var =
-        tle_variational::<_, 2, 5>(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let two = tle_two_trajectory(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare = tle_variational_with::<_, 2, 5>(
-        sys,
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        0.0,
-        &opts,
-        false,
-    )
-    .unwrap();
+    let [var, two, bare] = three_exponents(sys, &opts);
     assert!(
         (var.tle - two.tle).abs() < 0.01,
         "{} vs {}",
