@@ -147,6 +147,11 @@ pub fn tick(v: f64) -> String {
         return format!("{v:.2e}");
     }
     let decimals = (3 - a.log10().floor() as i32).clamp(0, 8) as usize;
+    fixed(v, decimals)
+}
+
+/// `v` with `decimals` decimals, trailing zeros (and a trailing point) dropped, never `-0`.
+fn fixed(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -172,17 +177,7 @@ pub fn axis_tick(v: f64, step: f64) -> String {
         return tick(v);
     }
     let decimals = (-step.log10()).ceil().clamp(0.0, 8.0) as usize;
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
+    fixed(v, decimals)
 }
 
 /// A finite range covering `lo..hi` with 4 % padding; a degenerate range (constant data) is
@@ -443,7 +438,18 @@ fn reduced_polyline(
 pub(crate) type Err = String;
 
 /// Font size of a title: 20, smaller for a long title so that it fits the width (not below 13).
-pub(crate) fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) -> u32 {
+/// `root` filled white with `title` on top: the area below the title.
+pub(crate) fn titled_area<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>, Err> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    root.titled(title, ("sans-serif", title_size(title, &root)))
+        .map_err(e)
+}
+
+fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) -> u32 {
     let (w, _) = area.dim_in_pixel();
     let chars = title.chars().count().max(1) as f64;
     // DejaVu Sans: about 0.55 em per character
@@ -516,10 +522,7 @@ pub(crate) fn draw_legend<DB: DrawingBackend>(
 
 fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -> Result<(), Err> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
-    let root = root
-        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
-        .map_err(e)?;
+    let root = titled_area(root, &fig.title)?;
     let (w, _) = root.dim_in_pixel();
     let lw = legend_width(&fig.legend, &fig.legend_title);
     let (main, side) = root.split_horizontally(w.saturating_sub(lw));

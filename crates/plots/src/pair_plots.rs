@@ -98,6 +98,18 @@ struct PairFigures<'a> {
 }
 
 impl PairFigures<'_> {
+    /// Writes `fig` as `name` in the folder; its stem and caption.
+    fn written(
+        &self,
+        name: &str,
+        fig: Figure,
+        caption: String,
+    ) -> Result<(PathBuf, String), FigureError> {
+        let stem = self.dir.join(name);
+        write_figure(&stem, &fig)?;
+        Ok((stem, caption))
+    }
+
     /// A title, ended by the context when there is one.
     fn titled(&self, t: &str) -> String {
         if self.context.is_empty() {
@@ -127,7 +139,6 @@ impl PairFigures<'_> {
 
     /// Mesh stiffness over the revolution (healthy and broken) or the mesh cycle.
     fn mesh_stiffness(&self) -> Result<(PathBuf, String), FigureError> {
-        let stem = self.dir.join("mesh_stiffness");
         let mut layers = vec![line(self.hk.clone(), 0)];
         let mut legend = vec![LegendEntry::line(
             if self.broken { "healthy pair" } else { "mesh" },
@@ -137,9 +148,9 @@ impl PairFigures<'_> {
             layers.push(line(self.bk.clone(), 1));
             legend.push(LegendEntry::line("broken pair", palette(1)));
         }
-        write_figure(
-            &stem,
-            &Figure {
+        self.written(
+            "mesh_stiffness",
+            Figure {
                 title: self.titled(if self.broken {
                     "Mesh stiffness over one pinion revolution, healthy and broken pair"
                 } else {
@@ -155,9 +166,6 @@ impl PairFigures<'_> {
                 legend,
                 ..Default::default()
             },
-        )?;
-        Ok((
-            stem,
             if self.broken {
                 format!(
                     "Mesh stiffness k_m (N/µm) over the {} mesh cycles of a pinion revolution, healthy and broken pair; the chipped tooth's cycle is cycle {}.",
@@ -167,7 +175,7 @@ impl PairFigures<'_> {
             } else {
                 "Mesh stiffness k_m (N/µm) over one mesh cycle: double-tooth zone, then single-tooth zone.".into()
             },
-        ))
+        )
     }
 
     /// The revolution shows the chipped tooth's cycle one in 40: the same curves around it.
@@ -178,10 +186,9 @@ impl PairFigures<'_> {
                 .filter(|p| p.0 >= self.lo && p.0 <= self.hi)
                 .collect()
         };
-        let stem = self.dir.join("mesh_stiffness_broken_cycle");
-        write_figure(
-            &stem,
-            &Figure {
+        self.written(
+            "mesh_stiffness_broken_cycle",
+            Figure {
                 title: self.titled("Mesh stiffness around the chipped tooth's cycle"),
                 x_label: "position (mesh cycles)".into(),
                 x_range: Some((self.lo, self.hi)),
@@ -199,9 +206,6 @@ impl PairFigures<'_> {
                 ],
                 ..Default::default()
             },
-        )?;
-        Ok((
-            stem,
             format!(
                 "Mesh stiffness k_m (N/µm) over cycles {}–{} of the revolution, healthy and broken pair: the chipped tooth (cycle {}) leaves mesh early, so the double-tooth zone of its cycle ends {:.3} cycles after the cycle starts instead of {:.3} (eps_b - 1 against eps - 1) and the single-tooth stiffness takes over sooner.",
                 self.lo,
@@ -210,7 +214,7 @@ impl PairFigures<'_> {
                 self.pm.eps_b.unwrap_or(self.pm.geom.eps) - 1.0,
                 self.pm.geom.eps - 1.0
             ),
-        ))
+        )
     }
 
     /// Pair stiffness, load sharing, friction factors and half backlash over the window.
@@ -254,10 +258,9 @@ impl PairFigures<'_> {
                 LegendEntry::line("mesh (healthy pair)", palette(HEALTHY_PAIR)),
             );
         }
-        let stem = self.dir.join("pairs_sharing_friction");
-        write_figure(
-            &stem,
-            &Figure {
+        self.written(
+            "pairs_sharing_friction",
+            Figure {
                 title: self
                     .titled("Pair stiffness, load sharing, friction factors and half backlash"),
                 x_label: "position (mesh cycles)".into(),
@@ -295,9 +298,6 @@ impl PairFigures<'_> {
                 legend,
                 ..Default::default()
             },
-        )?;
-        Ok((
-            stem,
             if self.broken {
                 format!(
                     "Mesh cycles {}–{} around the broken cycle {}: stiffness of each pair and of the mesh (healthy and broken), load shares, friction factors h (drive and back side) and the dimensionless half backlash.",
@@ -306,7 +306,7 @@ impl PairFigures<'_> {
             } else {
                 "Two mesh cycles: stiffness of each pair and of the mesh, load shares, friction factors h (drive and back side) and the dimensionless half backlash D_d (double-tooth zone) / D_s (single-tooth zone).".into()
             },
-        ))
+        )
     }
 
     /// Multi-state lubrication: friction coefficients and the film parameter.
@@ -314,10 +314,9 @@ impl PairFigures<'_> {
         let mu1 = self.two(&|r| Some(r.mu1));
         let mu2 = self.two(&|r| (r.k_pair2 > 0.0).then_some(r.mu2));
         let lam = self.two(&|r| Some(r.lambda1));
-        let stem_l = self.dir.join("lubrication");
-        write_figure(
-            &stem_l,
-            &Figure {
+        self.written(
+            "lubrication",
+            Figure {
                 title: self.titled(
                     "Lubrication along the cycle, friction coefficients and film parameter",
                 ),
@@ -343,10 +342,7 @@ impl PairFigures<'_> {
                 ],
                 ..Default::default()
             },
-        )?;
-        Ok((
-            stem_l,
             "Multi-state lubrication: friction coefficient of each pair (EHL for Lambda > 3, mixed for 1–3, boundary below 1; grey lines) and the film parameter Lambda = h_min/sigma of the entering pair.".into(),
-        ))
+        )
     }
 }

@@ -3,8 +3,8 @@
 
 use crate::colors::colormap;
 use crate::figure::{
-    axis_range, axis_tick, draw_legend, legend_width, padded, title_size, write_png_svg, Draw, Err,
-    FigureError, LegendEntry,
+    axis_range, axis_tick, draw_legend, legend_width, padded, titled_area, write_png_svg, Draw,
+    Err, FigureError, LegendEntry,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -40,10 +40,7 @@ fn draw_raster<DB: DrawingBackend>(
     fig: &RasterFigure,
 ) -> Result<(), Err> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
-    let root = root
-        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
-        .map_err(e)?;
+    let root = titled_area(root, &fig.title)?;
     let (w, _) = root.dim_in_pixel();
     let lw = legend_width(&fig.legend, &fig.legend_title).max(if fig.colorbar.is_some() {
         150
