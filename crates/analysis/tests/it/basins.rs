@@ -156,17 +156,11 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
     // C1 at omega = 1.8, RK4 lanes: most cells of the later passes are captured by the labelled
     // cells; the result is the same for 1 and 2 threads and on the scalar path
     use geardyn_analysis::basins::basins_scalar;
-    use geardyn_analysis::simulate::Method;
     let mut p = presets::classic();
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
     let axis = |n, r: f64| Axis { min: -r, max: r, n };
-    let mut identify = IdentifyOptions::default();
-    identify.sim.method = Method::Rk4 {
-        steps_per_cycle: 128,
-    };
-    identify.sim.transient_periods = 300;
-    identify.sim.record_periods = 16;
+    let identify = crate::common::identify_rk4(128, 300, 16);
     let opts = BasinOptions {
         slice: Default::default(),
         x: axis(40, 2.0),

@@ -65,3 +65,17 @@ pub fn rk4(
         ..Default::default()
     }
 }
+
+/// The default identification with fixed-step RK4 of `steps_per_cycle` steps per mesh cycle,
+/// `transient` then `record` periods.
+pub fn identify_rk4(
+    steps_per_cycle: u32,
+    transient: u64,
+    record: u64,
+) -> geardyn_analysis::attractor::IdentifyOptions {
+    let mut identify = geardyn_analysis::attractor::IdentifyOptions::default();
+    identify.sim.method = geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle };
+    identify.sim.transient_periods = transient;
+    identify.sim.record_periods = record;
+    identify
+}

@@ -323,18 +323,13 @@ fn output_is_the_same_for_any_thread_count() {
 /// description of new attractors) and every cell gets the outcome of the scalar path.
 #[test]
 fn basins_in_lanes_equal_the_scalar_basins() {
-    use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+    use geardyn_analysis::attractor::Outcome;
     use geardyn_analysis::basins::{basins, basins_scalar, Axis, BasinOptions};
     use std::collections::HashMap;
     let mut p = presets::classic();
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
-    let mut identify = IdentifyOptions::default();
-    identify.sim.method = Method::Rk4 {
-        steps_per_cycle: 256,
-    };
-    identify.sim.transient_periods = 150;
-    identify.sim.record_periods = 32;
+    let identify = crate::common::identify_rk4(256, 150, 32);
     let opts = BasinOptions {
         slice: Default::default(),
         x: Axis {
