@@ -15,6 +15,7 @@
 
 use crate::attractor::{Descriptor, IdentifyOptions, Outcome, Recordable};
 use crate::identify::{assign, consolidate, identify_in, CellLabels};
+use geardyn_model::MeshModel;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -182,63 +183,20 @@ where
                     labels: assigned.clone(),
                 });
         prev_stride = stride;
+        let pass = Pass {
+            opts,
+            done,
+            cells: &cells,
+            snapshot: &snapshot,
+            labels: labels.as_ref(),
+        };
         let mesh = model
             .as_mesh()
             .filter(|_| lanes && crate::lanes_identify::identify_lanes_apply(&opts.identify))
             .filter(|_| opts.slice == Slice::default());
-        let fresh: Vec<(usize, Outcome<N>)> = if let Some(mesh) = mesh {
-            // fixed-step RK4 on the gear model: the cells of the pass in lockstep lanes (the
-            // same reuse rule for saved outcomes as below)
-            let reuse = |c: usize| match done.get(&c) {
-                Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => None,
-                Some(o) => Some(o.clone()),
-                None => None,
-            };
-            let saved: Vec<Option<Outcome<N>>> = cells.iter().map(|&c| reuse(c)).collect();
-            let todo: Vec<(usize, [f64; 2])> = cells
-                .iter()
-                .zip(&saved)
-                .filter(|(_, s)| s.is_none())
-                .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
-                .collect();
-            let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
-            // (the pair's lanes speak its own dimension: N = 2 here)
-            let pair_snapshot: Vec<Descriptor> =
-                snapshot.iter().map(|d| d.clone().resized()).collect();
-            let computed = crate::lanes_identify::identify_lanes_in(
-                mesh,
-                &y0s,
-                &pair_snapshot,
-                labels.as_ref(),
-                &opts.identify,
-                |i, o| on_cell(todo[i].0, &o.clone().resized()),
-            );
-            let mut computed = computed.into_iter().map(Outcome::resized);
-            cells
-                .iter()
-                .zip(saved)
-                .map(|(&c, s)| match s {
-                    Some(o) => (c, o),
-                    None => (c, computed.next().expect("one outcome per cell")),
-                })
-                .collect()
-        } else {
-            cells
-                .par_iter()
-                .map(|&c| {
-                    // a saved outcome is reused only if it can belong to this pass (a capture by an
-                    // attractor this pass knows); anything else is recomputed
-                    match done.get(&c) {
-                        Some(Outcome::Captured { id, .. }) if *id >= snapshot.len() => {}
-                        Some(o) => return (c, o.clone()),
-                        None => {}
-                    }
-                    let y0 = opts.slice.state(opts.x.value(c % nx), opts.v.value(c / nx));
-                    let o = identify_in(model, y0, &snapshot, labels.as_ref(), &opts.identify);
-                    on_cell(c, &o);
-                    (c, o)
-                })
-                .collect()
+        let fresh = match mesh {
+            Some(mesh) => pass.run_lanes(mesh, &on_cell),
+            None => pass.run_scalar(model, &on_cell),
         };
         let outs: Vec<Outcome<N>> = fresh.iter().map(|(_, o)| o.clone()).collect();
         let first_new = known.len();
@@ -249,8 +207,100 @@ where
         }
         consolidate(model, &mut known, first_new, &mut assigned, &opts.identify);
     }
+    tally(opts, &known, &assigned, &outcomes)
+}
+
+/// One pass over a sub-grid: its cells, the attractors and labelled cells it captures by.
+struct Pass<'a, const N: usize> {
+    opts: &'a BasinOptions<N>,
+    done: &'a HashMap<usize, Outcome<N>>,
+    cells: &'a [usize],
+    snapshot: &'a [Descriptor<N>],
+    labels: Option<&'a CellLabels>,
+}
+
+impl<const N: usize> Pass<'_, N> {
+    /// A saved outcome is reused only if it can belong to this pass (a capture by an attractor
+    /// this pass knows); anything else is recomputed.
+    fn saved(&self, c: usize) -> Option<Outcome<N>> {
+        match self.done.get(&c) {
+            Some(Outcome::Captured { id, .. }) if *id >= self.snapshot.len() => None,
+            Some(o) => Some(o.clone()),
+            None => None,
+        }
+    }
+
+    /// Fixed-step RK4 on the gear model: the cells of the pass in lockstep lanes.
+    fn run_lanes(
+        &self,
+        mesh: &MeshModel,
+        on_cell: &(dyn Fn(usize, &Outcome<N>) + Sync),
+    ) -> Vec<(usize, Outcome<N>)> {
+        let (opts, nx) = (self.opts, self.opts.x.n);
+        let saved: Vec<Option<Outcome<N>>> = self.cells.iter().map(|&c| self.saved(c)).collect();
+        let todo: Vec<(usize, [f64; 2])> = self
+            .cells
+            .iter()
+            .zip(&saved)
+            .filter(|(_, s)| s.is_none())
+            .map(|(&c, _)| (c, [opts.x.value(c % nx), opts.v.value(c / nx)]))
+            .collect();
+        let y0s: Vec<[f64; 2]> = todo.iter().map(|t| t.1).collect();
+        // (the pair's lanes speak its own dimension: N = 2 here)
+        let pair_snapshot: Vec<Descriptor> =
+            self.snapshot.iter().map(|d| d.clone().resized()).collect();
+        let computed = crate::lanes_identify::identify_lanes_in(
+            mesh,
+            &y0s,
+            &pair_snapshot,
+            self.labels,
+            &opts.identify,
+            |i, o| on_cell(todo[i].0, &o.clone().resized()),
+        );
+        let mut computed = computed.into_iter().map(Outcome::resized);
+        self.cells
+            .iter()
+            .zip(saved)
+            .map(|(&c, s)| match s {
+                Some(o) => (c, o),
+                None => (c, computed.next().expect("one outcome per cell")),
+            })
+            .collect()
+    }
+
+    /// Any model: every cell of the pass by the scalar integrator, in parallel.
+    fn run_scalar<S: Recordable<N>>(
+        &self,
+        model: &S,
+        on_cell: &(dyn Fn(usize, &Outcome<N>) + Sync),
+    ) -> Vec<(usize, Outcome<N>)> {
+        let (opts, nx) = (self.opts, self.opts.x.n);
+        self.cells
+            .par_iter()
+            .map(|&c| {
+                if let Some(o) = self.saved(c) {
+                    return (c, o);
+                }
+                let y0 = opts.slice.state(opts.x.value(c % nx), opts.v.value(c / nx));
+                let o = identify_in(model, y0, self.snapshot, self.labels, &opts.identify);
+                on_cell(c, &o);
+                (c, o)
+            })
+            .collect()
+    }
+}
+
+/// The result of the passes: canonical ids, basin sizes, boundary and effort.
+fn tally<const N: usize>(
+    opts: &BasinOptions<N>,
+    known: &[Descriptor<N>],
+    assigned: &[i64],
+    outcomes: &[Option<Outcome<N>>],
+) -> BasinResult<N> {
+    let (nx, nv) = (opts.x.n, opts.v.n);
+    let total = nx * nv;
     // canonical ids
-    let order = canonical_order(&known);
+    let order = canonical_order(known);
     let mut remap = vec![0i64; known.len()];
     for (new, &old) in order.iter().enumerate() {
         remap[old] = new as i64;
@@ -278,19 +328,7 @@ where
             fraction: counts[new] as f64 / total as f64,
         })
         .collect();
-    let mut boundary = 0usize;
-    for iv in 0..nv {
-        for ix in 0..nx {
-            let c = cells[iv * nx + ix];
-            let differs = (ix + 1 < nx && cells[iv * nx + ix + 1] != c)
-                || (ix > 0 && cells[iv * nx + ix - 1] != c)
-                || (iv + 1 < nv && cells[(iv + 1) * nx + ix] != c)
-                || (iv > 0 && cells[(iv - 1) * nx + ix] != c);
-            if differs {
-                boundary += 1;
-            }
-        }
-    }
+    let boundary = boundary_cells(&cells, nx, nv);
     let mut captured_early = 0;
     let mut periods = 0u64;
     for o in outcomes.iter().flatten() {
@@ -316,6 +354,24 @@ where
         captured_early,
         periods,
     }
+}
+
+/// Cells with a neighbour (left, right, above, below) in another basin.
+fn boundary_cells(cells: &[i64], nx: usize, nv: usize) -> usize {
+    let mut boundary = 0usize;
+    for iv in 0..nv {
+        for ix in 0..nx {
+            let c = cells[iv * nx + ix];
+            let differs = (ix + 1 < nx && cells[iv * nx + ix + 1] != c)
+                || (ix > 0 && cells[iv * nx + ix - 1] != c)
+                || (iv + 1 < nv && cells[(iv + 1) * nx + ix] != c)
+                || (iv > 0 && cells[(iv - 1) * nx + ix] != c);
+            if differs {
+                boundary += 1;
+            }
+        }
+    }
+    boundary
 }
 
 /// A basin grid as a caller states it (`geardyn basins --grid x:MIN:MAX:N --grid v:... --phase`,

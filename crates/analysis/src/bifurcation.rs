@@ -11,11 +11,11 @@
 use crate::classify::{simulate_decided, Decide, Motion, TLE_PERIODS};
 use crate::lanes_decide::Decided;
 use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
+use crate::sweep_runs::{continuation_branches, TaskRuns};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
@@ -467,7 +467,10 @@ pub fn run_once(model: &MeshModel, y0: [f64; 2], ic: usize, opts: &SweepOptions)
 /// noise of either sign) from the end of each decided record, all together
 /// ([`crate::lanes_tle::tle_many`]: in the lanes with fixed-step RK4); `None` for a failed run
 /// or without `--lyapunov`.
-fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Option<f64>> {
+pub(crate) fn record_tles(
+    opts: &SweepOptions,
+    runs: &[(&MeshModel, &Decided)],
+) -> Vec<Option<f64>> {
     let mut out = vec![None; runs.len()];
     if !opts.lyapunov {
         return out;
@@ -491,7 +494,7 @@ fn record_tles(opts: &SweepOptions, runs: &[(&MeshModel, &Decided)]) -> Vec<Opti
 }
 
 /// What a sweep records of a decided run.
-fn run_of(
+pub(crate) fn run_of(
     y0: [f64; 2],
     ic: usize,
     opts: &SweepOptions,
@@ -574,9 +577,6 @@ fn run_of(
         }
     }
 }
-
-/// Runs per thread in a batch of the lanes path of [`run_sweep`].
-const BATCH_PER_THREAD: usize = 64;
 
 /// Runs the sweep. `done` holds results of a previous, interrupted run (they are not recomputed);
 /// `on_done` receives each newly finished task (from any thread). Returns all results in
@@ -664,34 +664,8 @@ fn sweep_tasks(
         r
     };
     let mut results: HashMap<Task, TaskResult> = done.clone();
-    match &opts.mode {
-        SweepMode::Sweep => {
-            let n = opts.values.len();
-            let chain = |branch: u8| -> Vec<TaskResult> {
-                let order: Vec<usize> = if branch == 1 {
-                    (0..n).collect()
-                } else {
-                    (0..n).rev().collect()
-                };
-                let mut y = opts.y0;
-                let mut out = Vec::new();
-                for i in order {
-                    let t = Task { index: i, branch };
-                    if let Some(r) = done.get(&t) {
-                        y = r.runs[0].final_state;
-                        continue;
-                    }
-                    let run = run_once(&models[i], y, 0, opts);
-                    y = run.final_state;
-                    out.push(finish(t, vec![run]));
-                }
-                out
-            };
-            let (up, down) = rayon::join(|| chain(1), || chain(2));
-            for r in up.into_iter().chain(down) {
-                results.insert(r.task, r);
-            }
-        }
+    let fresh = match &opts.mode {
+        SweepMode::Sweep => continuation_branches(opts, &models, done, &finish),
         mode => {
             let k = match mode {
                 SweepMode::Multi { ics, .. } => (*ics).max(1),
@@ -709,100 +683,21 @@ fn sweep_tasks(
                 || models
                     .iter()
                     .any(|m| crate::pair_engine::follow_method(m, &opts.sim).is_some());
-            let fresh: Vec<TaskResult> = if !batched {
-                todo.par_iter()
-                    .map(|&t| {
-                        let runs: Vec<Run> = (0..k)
-                            .into_par_iter()
-                            .map(|ic| {
-                                let y0 = initial_state(mode, opts.y0, t.index, ic);
-                                run_once(&models[t.index], y0, ic, opts)
-                            })
-                            .collect();
-                        finish(t, runs)
-                    })
-                    .collect()
-            } else {
-                // in batches of tasks (each batch's results are handed on, so an interruption
-                // loses at most the two batches in progress): the first runs of a batch (with
-                // fixed-step RK4 in lockstep lanes, else one by one in parallel), then the
-                // decisions of the batch together in rounds (TLEs in parallel; transient
-                // extensions, persistence checks and records again in the lanes where they are
-                // RK4 — a decision's follow always is, crate::pair_engine::follow_method — and the
-                // adaptive integrator's records in parallel: crate::lanes_decide::decide_lanes). The
-                // batches are pipelined: a batch is classified while the next one runs (rayon
-                // balances the two), so the threads are not left waiting on the few long
-                // classifications of a batch.
-                let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
-                    .div_ceil(k)
-                    .max(1);
-                let simulated = |tasks: &[Task]| {
-                    let items: Vec<(usize, usize, [f64; 2])> = tasks
-                        .iter()
-                        .flat_map(|t| {
-                            (0..k).map(move |ic| {
-                                (t.index, ic, initial_state(mode, opts.y0, t.index, ic))
-                            })
-                        })
-                        .collect();
-                    let runs: Vec<(&MeshModel, [f64; 2])> =
-                        items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
-                    let firsts = if crate::lanes::lanes_apply(&opts.sim) {
-                        crate::lanes::simulate_lanes(&runs, &opts.sim)
-                    } else {
-                        runs.par_iter()
-                            .map(|&(m, y0)| crate::simulate::simulate(m, y0, &opts.sim))
-                            .collect()
-                    };
-                    (items, firsts)
-                };
-                type Simulated = (
-                    Vec<(usize, usize, [f64; 2])>,
-                    Vec<Result<SimResult, SimError>>,
-                );
-                let decide = |(items, lane_results): Simulated| -> Vec<Run> {
-                    // runs whose model the lanes cover are decided together (their
-                    // integrations in the lanes), the others one by one
-                    let runs: Vec<(&MeshModel, [f64; 2])> =
-                        items.iter().map(|&(i, _, y0)| (&models[i], y0)).collect();
-                    let decided =
-                        crate::lanes_decide::decide_lane_runs(&runs, lane_results, &opts.sim);
-                    let with: Vec<(&MeshModel, &Decided)> =
-                        runs.iter().zip(&decided).map(|(r, d)| (r.0, d)).collect();
-                    let tles = record_tles(opts, &with);
-                    items
-                        .par_iter()
-                        .zip(decided.into_par_iter().zip(tles))
-                        .map(|(&(_, ic, y0), (d, tle))| run_of(y0, ic, opts, d, tle))
-                        .collect()
-                };
-                let mut out = Vec::with_capacity(todo.len());
-                let mut pending: Option<(&[Task], Simulated)> = None;
-                let mut batches = todo.chunks(batch);
-                loop {
-                    let next = batches.next();
-                    let (decided, simulated) = rayon::join(
-                        || pending.take().map(|(tasks, sim)| (tasks, decide(sim))),
-                        || next.map(|tasks| (tasks, simulated(tasks))),
-                    );
-                    if let Some((tasks, decided)) = decided {
-                        let mut decided = decided.into_iter();
-                        for &t in tasks {
-                            let runs: Vec<Run> = decided.by_ref().take(k).collect();
-                            out.push(finish(t, runs));
-                        }
-                    }
-                    pending = simulated;
-                    if pending.is_none() {
-                        break;
-                    }
-                }
-                out
+            let runs = TaskRuns {
+                opts,
+                models: &models,
+                k,
+                finish: &finish,
             };
-            for r in fresh {
-                results.insert(r.task, r);
+            if batched {
+                runs.in_batches(&todo)
+            } else {
+                runs.one_by_one(&todo)
             }
         }
+    };
+    for r in fresh {
+        results.insert(r.task, r);
     }
     Ok(all.into_iter().filter_map(|t| results.remove(&t)).collect())
 }

@@ -319,178 +319,18 @@ pub fn link<const N: usize>(
     let mut next_branch = 0usize;
     let mut prev_branch: Vec<usize> = Vec::new();
     for (j, va) in per_value.iter().enumerate() {
-        let n = va.attractors.len();
-        let mut branch = vec![usize::MAX; n];
-        if j == 0 {
-            for b in branch.iter_mut() {
-                *b = next_branch;
-                next_branch += 1;
-            }
+        let branch = if j == 0 {
+            let first: Vec<usize> = (next_branch..next_branch + va.attractors.len()).collect();
+            next_branch += first.len();
+            first
         } else {
-            let pv = &per_value[j - 1];
-            // overlap[a][b]: initial states that went to old attractor b and now go to a
-            let mut overlap = vec![vec![0usize; pv.attractors.len()]; n];
-            for (now, before) in va.assignment.iter().zip(&pv.assignment) {
-                if *now >= 0 && *before >= 0 {
-                    overlap[*now as usize][*before as usize] += 1;
-                }
-            }
-            // a periodic orbit described at both values (the same label, every point near one
-            // of the other) continues its branch whatever the basin overlap: its initial states
-            // may all have moved to a neighbouring attractor
-            let mut taken_old = vec![false; pv.attractors.len()];
-            for a in 0..n {
-                let d = &va.attractors[a];
-                if d.period == 0 {
-                    continue;
-                }
-                if let Some(b) = (0..pv.attractors.len()).find(|&b| {
-                    let o = &pv.attractors[b];
-                    !taken_old[b] && o.label == d.label && o.matches(d, 10.0 * match_tol)
-                }) {
-                    branch[a] = prev_branch[b];
-                    taken_old[b] = true;
-                }
-            }
-            // then greedy by basin overlap, pairs of the same periodic label first (an orbit
-            // that kept its label and some of its initial states has not turned into another);
-            // a branch continues at most once
-            let mut pairs: Vec<(bool, usize, usize, usize)> = Vec::new();
-            for (a, row) in overlap.iter().enumerate() {
-                for (b, &o) in row.iter().enumerate() {
-                    if o > 0 {
-                        let (d, e) = (&va.attractors[a], &pv.attractors[b]);
-                        let same = d.period > 0 && d.label == e.label;
-                        pairs.push((same, o, a, b));
-                    }
-                }
-            }
-            pairs.sort_by(|x, y| {
-                y.0.cmp(&x.0)
-                    .then(y.1.cmp(&x.1))
-                    .then(x.2.cmp(&y.2))
-                    .then(x.3.cmp(&y.3))
-            });
-            for &(_, _, a, b) in &pairs {
-                if branch[a] == usize::MAX && !taken_old[b] {
-                    branch[a] = prev_branch[b];
-                    taken_old[b] = true;
-                }
-            }
-            // no shared initial state: fall back to descriptor distance
-            for a in 0..n {
-                if branch[a] == usize::MAX {
-                    if let Some(b) = (0..pv.attractors.len()).find(|&b| {
-                        !taken_old[b]
-                            && pv.attractors[b].matches(&va.attractors[a], 10.0 * match_tol)
-                    }) {
-                        branch[a] = prev_branch[b];
-                        taken_old[b] = true;
-                    }
-                }
-            }
-            // last: a periodic attractor left without a branch whose label is that of exactly
-            // one old attractor left without a successor (and of no other new one) is that orbit,
-            // moved farther than the match tolerance over a coarse step (classic, omega 1.8 ->
-            // 2.0: one 3-1-1 orbit had been reported as one branch disappearing and another
-            // appearing)
-            for a in 0..n {
-                let d = &va.attractors[a];
-                if branch[a] != usize::MAX || d.period == 0 {
-                    continue;
-                }
-                let olds: Vec<usize> = (0..pv.attractors.len())
-                    .filter(|&b| !taken_old[b] && pv.attractors[b].label == d.label)
-                    .collect();
-                let news = (0..n)
-                    .filter(|&k| branch[k] == usize::MAX && va.attractors[k].label == d.label)
-                    .count();
-                if let ([b], 1) = (olds.as_slice(), news) {
-                    branch[a] = prev_branch[*b];
-                    taken_old[*b] = true;
-                }
-            }
-            let persisting = branch.iter().filter(|b| **b != usize::MAX).count();
-            for a in 0..n {
-                if branch[a] == usize::MAX {
-                    branch[a] = next_branch;
-                    next_branch += 1;
-                    let d = &va.attractors[a];
-                    let kind = if persisting > 0 {
-                        "incomplete_bifurcation"
-                    } else {
-                        "appearance"
-                    };
-                    events.push(ContinuationEvent {
-                        from: pv.value,
-                        to: va.value,
-                        kind: kind.into(),
-                        branches: vec![branch[a]],
-                        text: format!(
-                            "{} attractor {} (branch {}) appears{}",
-                            crate::simulate::health_text(d.healthy, d.period > 0),
-                            d.label,
-                            branch[a],
-                            if persisting > 0 {
-                                " while others persist"
-                            } else {
-                                ""
-                            }
-                        ),
-                    });
-                }
-            }
-            for b in 0..pv.attractors.len() {
-                let merged_into: Vec<usize> = (0..n).filter(|&a| overlap[a][b] > 0).collect();
-                if !taken_old[b] {
-                    // merged into another attractor, or disappeared
-                    let target = merged_into.iter().max_by_key(|&&a| overlap[a][b]).copied();
-                    match target {
-                        Some(a) if va.attractors[a].period == 0 => events.push(ContinuationEvent {
-                            from: pv.value,
-                            to: va.value,
-                            kind: "merger_into_chaos".into(),
-                            branches: vec![prev_branch[b], branch[a]],
-                            text: format!(
-                                "branch {} ({}) merges into the chaotic attractor of branch {}",
-                                prev_branch[b], pv.attractors[b].label, branch[a]
-                            ),
-                        }),
-                        _ => events.push(ContinuationEvent {
-                            from: pv.value,
-                            to: va.value,
-                            kind: "disappearance".into(),
-                            branches: vec![prev_branch[b]],
-                            text: format!(
-                                "branch {} ({}) disappears",
-                                prev_branch[b], pv.attractors[b].label
-                            ),
-                        }),
-                    }
-                }
-            }
-            for a in 0..n {
-                if let Some(b) = prev_branch.iter().position(|&x| x == branch[a]) {
-                    let (old, new) = (&pv.attractors[b], &va.attractors[a]);
-                    let kind = match (old.period, new.period) {
-                        (p, q) if p > 0 && q == 2 * p => Some("period_doubling"),
-                        (p, 0) if p > 0 => Some("transition_to_chaos"),
-                        (0, q) if q > 0 => Some("exit_from_chaos"),
-                        (p, q) if p != q => Some("period_change"),
-                        _ => None,
-                    };
-                    if let Some(kind) = kind {
-                        events.push(ContinuationEvent {
-                            from: pv.value,
-                            to: va.value,
-                            kind: kind.into(),
-                            branches: vec![branch[a]],
-                            text: format!("branch {}: {} -> {}", branch[a], old.label, new.label),
-                        });
-                    }
-                }
-            }
-        }
+            let step = Step::new(&per_value[j - 1], va, &prev_branch);
+            let (mut branch, taken_old) = step.continued(match_tol);
+            step.appearances(&mut branch, &mut next_branch, &mut events);
+            step.losses(&branch, &taken_old, &mut events);
+            step.changes(&branch, &mut events);
+            branch
+        };
         let lost_frac = va.assignment.iter().filter(|&&x| x < 0).count() as f64
             / va.assignment.len().max(1) as f64;
         lost.push((va.value, lost_frac));
@@ -517,6 +357,222 @@ pub fn link<const N: usize>(
         events,
         intervals,
         lost,
+    }
+}
+
+/// One step of [`link`]: the attractors `va` of a value against those `pv` of the value before,
+/// whose branches are `prev_branch`. A new attractor without a branch has `usize::MAX`.
+struct Step<'a, const N: usize> {
+    pv: &'a ValueAttractors<N>,
+    va: &'a ValueAttractors<N>,
+    prev_branch: &'a [usize],
+    /// `overlap[a][b]`: initial states that went to old attractor b and now go to a.
+    overlap: Vec<Vec<usize>>,
+}
+
+impl<'a, const N: usize> Step<'a, N> {
+    fn new(
+        pv: &'a ValueAttractors<N>,
+        va: &'a ValueAttractors<N>,
+        prev_branch: &'a [usize],
+    ) -> Self {
+        let mut overlap = vec![vec![0usize; pv.attractors.len()]; va.attractors.len()];
+        for (now, before) in va.assignment.iter().zip(&pv.assignment) {
+            if *now >= 0 && *before >= 0 {
+                overlap[*now as usize][*before as usize] += 1;
+            }
+        }
+        Step {
+            pv,
+            va,
+            prev_branch,
+            overlap,
+        }
+    }
+
+    /// An event between the two values.
+    fn event(&self, kind: &str, branches: Vec<usize>, text: String) -> ContinuationEvent {
+        ContinuationEvent {
+            from: self.pv.value,
+            to: self.va.value,
+            kind: kind.into(),
+            branches,
+            text,
+        }
+    }
+
+    /// The branch each new attractor continues (`usize::MAX`: none yet) and which old
+    /// attractors have a successor; a branch continues at most once.
+    fn continued(&self, match_tol: f64) -> (Vec<usize>, Vec<bool>) {
+        let (pv, va, prev_branch) = (self.pv, self.va, self.prev_branch);
+        let n = va.attractors.len();
+        let mut branch = vec![usize::MAX; n];
+        // a periodic orbit described at both values (the same label, every point near one
+        // of the other) continues its branch whatever the basin overlap: its initial states
+        // may all have moved to a neighbouring attractor
+        let mut taken_old = vec![false; pv.attractors.len()];
+        for a in 0..n {
+            let d = &va.attractors[a];
+            if d.period == 0 {
+                continue;
+            }
+            if let Some(b) = (0..pv.attractors.len()).find(|&b| {
+                let o = &pv.attractors[b];
+                !taken_old[b] && o.label == d.label && o.matches(d, 10.0 * match_tol)
+            }) {
+                branch[a] = prev_branch[b];
+                taken_old[b] = true;
+            }
+        }
+        // then greedy by basin overlap, pairs of the same periodic label first (an orbit
+        // that kept its label and some of its initial states has not turned into another)
+        let mut pairs: Vec<(bool, usize, usize, usize)> = Vec::new();
+        for (a, row) in self.overlap.iter().enumerate() {
+            for (b, &o) in row.iter().enumerate() {
+                if o > 0 {
+                    let (d, e) = (&va.attractors[a], &pv.attractors[b]);
+                    let same = d.period > 0 && d.label == e.label;
+                    pairs.push((same, o, a, b));
+                }
+            }
+        }
+        pairs.sort_by(|x, y| {
+            y.0.cmp(&x.0)
+                .then(y.1.cmp(&x.1))
+                .then(x.2.cmp(&y.2))
+                .then(x.3.cmp(&y.3))
+        });
+        for &(_, _, a, b) in &pairs {
+            if branch[a] == usize::MAX && !taken_old[b] {
+                branch[a] = prev_branch[b];
+                taken_old[b] = true;
+            }
+        }
+        // no shared initial state: fall back to descriptor distance
+        for a in 0..n {
+            if branch[a] == usize::MAX {
+                if let Some(b) = (0..pv.attractors.len()).find(|&b| {
+                    !taken_old[b] && pv.attractors[b].matches(&va.attractors[a], 10.0 * match_tol)
+                }) {
+                    branch[a] = prev_branch[b];
+                    taken_old[b] = true;
+                }
+            }
+        }
+        // last: a periodic attractor left without a branch whose label is that of exactly
+        // one old attractor left without a successor (and of no other new one) is that orbit,
+        // moved farther than the match tolerance over a coarse step (classic, omega 1.8 ->
+        // 2.0: one 3-1-1 orbit had been reported as one branch disappearing and another
+        // appearing)
+        for a in 0..n {
+            let d = &va.attractors[a];
+            if branch[a] != usize::MAX || d.period == 0 {
+                continue;
+            }
+            let olds: Vec<usize> = (0..pv.attractors.len())
+                .filter(|&b| !taken_old[b] && pv.attractors[b].label == d.label)
+                .collect();
+            let news = (0..n)
+                .filter(|&k| branch[k] == usize::MAX && va.attractors[k].label == d.label)
+                .count();
+            if let ([b], 1) = (olds.as_slice(), news) {
+                branch[a] = prev_branch[*b];
+                taken_old[*b] = true;
+            }
+        }
+        (branch, taken_old)
+    }
+
+    /// New branches for the attractors left without one, each an appearance (an incomplete
+    /// bifurcation while others persist).
+    fn appearances(
+        &self,
+        branch: &mut [usize],
+        next_branch: &mut usize,
+        events: &mut Vec<ContinuationEvent>,
+    ) {
+        let persisting = branch.iter().filter(|b| **b != usize::MAX).count();
+        for a in 0..branch.len() {
+            if branch[a] == usize::MAX {
+                branch[a] = *next_branch;
+                *next_branch += 1;
+                let d = &self.va.attractors[a];
+                let kind = if persisting > 0 {
+                    "incomplete_bifurcation"
+                } else {
+                    "appearance"
+                };
+                events.push(self.event(
+                    kind,
+                    vec![branch[a]],
+                    format!(
+                        "{} attractor {} (branch {}) appears{}",
+                        crate::simulate::health_text(d.healthy, d.period > 0),
+                        d.label,
+                        branch[a],
+                        if persisting > 0 {
+                            " while others persist"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
+        }
+    }
+
+    /// Old attractors without a successor: merged into a chaotic attractor, or disappeared.
+    fn losses(&self, branch: &[usize], taken_old: &[bool], events: &mut Vec<ContinuationEvent>) {
+        let (pv, va, prev_branch, overlap) = (self.pv, self.va, self.prev_branch, &self.overlap);
+        for b in 0..pv.attractors.len() {
+            let merged_into: Vec<usize> =
+                (0..branch.len()).filter(|&a| overlap[a][b] > 0).collect();
+            if !taken_old[b] {
+                // merged into another attractor, or disappeared
+                let target = merged_into.iter().max_by_key(|&&a| overlap[a][b]).copied();
+                match target {
+                    Some(a) if va.attractors[a].period == 0 => events.push(self.event(
+                        "merger_into_chaos",
+                        vec![prev_branch[b], branch[a]],
+                        format!(
+                            "branch {} ({}) merges into the chaotic attractor of branch {}",
+                            prev_branch[b], pv.attractors[b].label, branch[a]
+                        ),
+                    )),
+                    _ => events.push(self.event(
+                        "disappearance",
+                        vec![prev_branch[b]],
+                        format!(
+                            "branch {} ({}) disappears",
+                            prev_branch[b], pv.attractors[b].label
+                        ),
+                    )),
+                }
+            }
+        }
+    }
+
+    /// Continued branches whose period changed (doubling, to or from chaos, other).
+    fn changes(&self, branch: &[usize], events: &mut Vec<ContinuationEvent>) {
+        for (a, &br) in branch.iter().enumerate() {
+            if let Some(b) = self.prev_branch.iter().position(|&x| x == br) {
+                let (old, new) = (&self.pv.attractors[b], &self.va.attractors[a]);
+                let kind = match (old.period, new.period) {
+                    (p, q) if p > 0 && q == 2 * p => Some("period_doubling"),
+                    (p, 0) if p > 0 => Some("transition_to_chaos"),
+                    (0, q) if q > 0 => Some("exit_from_chaos"),
+                    (p, q) if p != q => Some("period_change"),
+                    _ => None,
+                };
+                if let Some(kind) = kind {
+                    events.push(self.event(
+                        kind,
+                        vec![br],
+                        format!("branch {}: {} -> {}", br, old.label, new.label),
+                    ));
+                }
+            }
+        }
     }
 }
 

@@ -164,21 +164,7 @@ impl<const L: usize> Acc<L> {
         let mut f0 = [0.0; L];
         let mut fm = [0.0; L];
         let mut f1 = [0.0; L];
-        // the recorder's sample times t0 + theta*dt
-        let mut a0 = At {
-            t: [0.0; L],
-            grid: [0.0; L],
-        };
-        let mut am = a0;
-        let mut a1 = a0;
-        for l in 0..L {
-            a0.t[l] = t0[l] + 0.0 * dt[l];
-            am.t[l] = t0[l] + 0.5 * dt[l];
-            a1.t[l] = t0[l] + 1.0 * dt[l];
-            a0.grid[l] = st.grid[l];
-            am.grid[l] = st.grid[l] + 0.5;
-            a1.grid[l] = st.grid[l] + 1.0;
-        }
+        let [a0, am, a1] = sample_times(t0, &dt, st.grid);
         batch.force(st.j, Stage::Start, &a0, st.lanes, &x0, &v0, &mut f0);
         batch.force(st.j, Stage::Mid, &am, st.lanes, &xm, &vm, &mut fm);
         batch.force(st.j, Stage::End, &a1, st.lanes, &x1, &v1, &mut f1);
@@ -254,6 +240,27 @@ impl<const L: usize> Acc<L> {
         );
         rare_mask
     }
+}
+
+/// The recorder's sample times `t0 + theta*dt` and grid positions at theta = 0, 1/2 and 1 of
+/// each lane's step.
+#[inline(always)]
+fn sample_times<const L: usize>(t0: &[f64; L], dt: &[f64; L], grid: &[f64; L]) -> [At<L>; 3] {
+    let mut a0 = At {
+        t: [0.0; L],
+        grid: [0.0; L],
+    };
+    let mut am = a0;
+    let mut a1 = a0;
+    for l in 0..L {
+        a0.t[l] = t0[l] + 0.0 * dt[l];
+        am.t[l] = t0[l] + 0.5 * dt[l];
+        a1.t[l] = t0[l] + 1.0 * dt[l];
+        a0.grid[l] = grid[l];
+        am.grid[l] = grid[l] + 0.5;
+        a1.grid[l] = grid[l] + 1.0;
+    }
+    [a0, am, a1]
 }
 
 /// Widens `[lo, hi]` of the lanes in `mask` by the extreme value of the parabola through their

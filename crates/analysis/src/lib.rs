@@ -34,6 +34,7 @@ pub mod simulate;
 pub mod simulation;
 pub mod spectrum;
 pub mod summary;
+mod sweep_runs;
 pub mod tle_convergence;
 pub mod verdict;
 pub mod work;

@@ -246,6 +246,31 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let mut p = presets::classic();
     p.omega = a.omega;
     let model = MeshModel::new(&p)?;
+    scalar_figures(&a, &model)?;
+    ensemble_figure(&a, &model)?;
+    if a.follow || a.all {
+        follow_figures(a.repeat)?;
+    }
+    let w1_ens = if bif {
+        Some(w1_figures(&a, &mut numba, num)?)
+    } else {
+        None
+    };
+    if bas {
+        basin_figures(&a, &mut numba, num)?;
+    }
+    if let (Some(el), Some(nb)) = (w1_ens, numba.mean()) {
+        println!(
+            "summary: W1 ensemble {el:.3} s, numba {nb:.3} s (mean of {} runs), ratio {:.1}x",
+            numba.times.len(),
+            nb / el
+        );
+    }
+    Ok(())
+}
+
+/// ns per step of the scalar integrators (RK4 and DP5) on C1, best of `--repeat`.
+fn scalar_figures(a: &BenchArgs, model: &MeshModel) -> Result<()> {
     let ts = model.excitation_period();
     for (name, scheme) in [
         (
@@ -283,200 +308,195 @@ pub fn run(a: BenchArgs) -> Result<()> {
             best * 1e9 / stats.steps as f64
         );
     }
-    // ensemble: one thread, one table, LANES * 2 trajectories of the same model from different
-    // initial states (all steps recorded as in a sweep's run: transient 3/4, record 1/4)
-    {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-        let ics: Vec<[f64; 2]> = (0..2 * LANES)
-            .map(|i| [-1.0 + 0.1 * i as f64, 0.0])
-            .collect();
-        let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&model, y)).collect();
-        let opts = SimOptions {
-            method: Method::Rk4 {
-                steps_per_cycle: a.steps_per_cycle,
-            },
-            transient_periods: a.periods - a.periods / 4,
-            record_periods: a.periods / 4,
-            ..Default::default()
-        };
-        let mut best = f64::INFINITY;
-        let mut steps = 0;
-        for _ in 0..a.repeat {
-            let t = Instant::now();
-            let r = pool.install(|| simulate_lanes(&runs, &opts));
-            let el = t.elapsed().as_secs_f64();
-            if el < best {
-                best = el;
-                steps = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
-            }
+    Ok(())
+}
+
+/// ns per lane-step of the ensemble: one thread, one table, LANES * 2 trajectories of the same
+/// model from different initial states (all steps recorded as in a sweep's run: transient 3/4,
+/// record 1/4).
+fn ensemble_figure(a: &BenchArgs, model: &MeshModel) -> Result<()> {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let ics: Vec<[f64; 2]> = (0..2 * LANES)
+        .map(|i| [-1.0 + 0.1 * i as f64, 0.0])
+        .collect();
+    let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (model, y)).collect();
+    let opts = SimOptions {
+        method: Method::Rk4 {
+            steps_per_cycle: a.steps_per_cycle,
+        },
+        transient_periods: a.periods - a.periods / 4,
+        record_periods: a.periods / 4,
+        ..Default::default()
+    };
+    let mut best = f64::INFINITY;
+    let mut steps = 0;
+    for _ in 0..a.repeat {
+        let t = Instant::now();
+        let r = pool.install(|| simulate_lanes(&runs, &opts));
+        let el = t.elapsed().as_secs_f64();
+        if el < best {
+            best = el;
+            steps = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
         }
-        println!(
-            "C1 omega={} {} periods, ensemble rk4 x{} on 1 thread: {:>9} steps, total {:.4} s, {:.2} ns/step",
-            a.omega,
-            a.periods,
-            runs.len(),
-            steps,
-            best,
-            best * 1e9 / steps as f64
-        );
     }
-    if a.follow || a.all {
-        follow_figures(a.repeat)?;
-    }
+    println!(
+        "C1 omega={} {} periods, ensemble rk4 x{} on 1 thread: {:>9} steps, total {:.4} s, {:.2} ns/step",
+        a.omega,
+        a.periods,
+        runs.len(),
+        steps,
+        best,
+        best * 1e9 / steps as f64
+    );
+    Ok(())
+}
+
+/// W1, the C1 bifurcation diagram: the ensemble sweep, its integration alone (with and without
+/// recording), scalar RK4 and DP5; with the yardstick, the speed-ups. Returns the ensemble
+/// sweep's seconds.
+fn w1_figures(a: &BenchArgs, numba: &mut Numba, num: bool) -> Result<f64> {
     let scenario = geardyn_scenario::Scenario::dimensionless(presets::classic())?;
     let rk4 = Method::Rk4 {
         steps_per_cycle: a.steps_per_cycle,
     };
-    let mut w1_ens = None;
-    if bif {
-        // ensemble: the whole sweep (lanes; non-periodic values classified from their lanes result)
-        let opts = w1_options(rk4);
-        let t = Instant::now();
-        let r = run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
-        let el = t.elapsed().as_secs_f64();
-        let periodic = r.iter().filter(|x| x.runs[0].period > 0).count();
+    // ensemble: the whole sweep (lanes; non-periodic values classified from their lanes result)
+    let opts = w1_options(rk4);
+    let t = Instant::now();
+    let r = run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
+    let el = t.elapsed().as_secs_f64();
+    let periodic = r.iter().filter(|x| x.runs[0].period > 0).count();
+    println!(
+        "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (sweep, classified): {el:.3} s ({periodic} periodic values)"
+    );
+    // ensemble: integration and recording only (the yardstick's work plus event location)
+    let models: Vec<MeshModel> = opts
+        .values
+        .iter()
+        .map(|&w| {
+            let mut p = presets::classic();
+            p.omega = w;
+            MeshModel::new(&p)
+        })
+        .collect::<Result<_, _>>()?;
+    let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
+    let t = Instant::now();
+    let r = simulate_lanes(&runs, &opts.sim);
+    let el_sim = t.elapsed().as_secs_f64();
+    let steps: u64 = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
+    println!(
+        "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration + record): {el_sim:.3} s ({steps} steps)"
+    );
+    // the same runs with nothing recorded: what the lanes cost with exact events alone
+    let bare = SimOptions {
+        transient_periods: opts.sim.transient_periods + opts.sim.record_periods,
+        record_periods: 0,
+        ..opts.sim
+    };
+    let t = Instant::now();
+    let r = simulate_lanes(&runs, &bare);
+    let el_bare = t.elapsed().as_secs_f64();
+    let events: u64 = r
+        .iter()
+        .map(|x| {
+            x.as_ref()
+                .map_or(0, |s| s.rhs_evals.saturating_sub(4 * s.steps))
+        })
+        .sum();
+    println!(
+        "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration, nothing recorded): {el_bare:.3} s ({events} right-hand sides beyond 4 per step: event location)"
+    );
+    // scalar RK4: the sweep's runs one by one (run_once), in parallel over values
+    let t = Instant::now();
+    let _: Vec<_> = models
+        .par_iter()
+        .map(|m| run_once(m, [0.0, 0.0], 0, &opts))
+        .collect();
+    let el_scalar = t.elapsed().as_secs_f64();
+    println!(
+        "W1 C1 bifurcation, 200 values x 400 periods, rk4 scalar (sweep, classified): {el_scalar:.3} s"
+    );
+    let opts = w1_options(Method::default());
+    let t = Instant::now();
+    run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
+    let el_dp = t.elapsed().as_secs_f64();
+    println!(
+        "W1 C1 bifurcation, 200 values x 400 periods, dopri (sweep, classified): {el_dp:.3} s"
+    );
+    if num {
+        numba.run("after W1")?;
+        let nb = numba.mean().unwrap_or(f64::NAN);
         println!(
-            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (sweep, classified): {el:.3} s ({periodic} periodic values)"
+            "W1 speed-up over numba ({nb:.3} s): ensemble sweep {:.1}x, ensemble integration {:.1}x (nothing recorded {:.1}x), scalar rk4 {:.2}x, dopri {:.2}x",
+            nb / el,
+            nb / el_sim,
+            nb / el_bare,
+            nb / el_scalar,
+            nb / el_dp
         );
-        w1_ens = Some(el);
-        // ensemble: integration and recording only (the yardstick's work plus event location)
-        let models: Vec<MeshModel> = opts
-            .values
-            .iter()
-            .map(|&w| {
-                let mut p = presets::classic();
-                p.omega = w;
-                MeshModel::new(&p)
-            })
-            .collect::<Result<_, _>>()?;
-        let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
-        let t = Instant::now();
-        let r = simulate_lanes(&runs, &opts.sim);
-        let el_sim = t.elapsed().as_secs_f64();
-        let steps: u64 = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
-        println!(
-            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration + record): {el_sim:.3} s ({steps} steps)"
-        );
-        // the same runs with nothing recorded: what the lanes cost with exact events alone
-        let bare = SimOptions {
-            transient_periods: opts.sim.transient_periods + opts.sim.record_periods,
-            record_periods: 0,
-            ..opts.sim
-        };
-        let t = Instant::now();
-        let r = simulate_lanes(&runs, &bare);
-        let el_bare = t.elapsed().as_secs_f64();
-        let events: u64 = r
-            .iter()
-            .map(|x| {
-                x.as_ref()
-                    .map_or(0, |s| s.rhs_evals.saturating_sub(4 * s.steps))
-            })
-            .sum();
-        println!(
-            "W1 C1 bifurcation, 200 values x 400 periods, rk4 ensemble (integration, nothing recorded): {el_bare:.3} s ({events} right-hand sides beyond 4 per step: event location)"
-        );
-        // scalar RK4: the sweep's runs one by one (run_once), in parallel over values
-        let t = Instant::now();
-        let _: Vec<_> = models
-            .par_iter()
-            .map(|m| run_once(m, [0.0, 0.0], 0, &opts))
-            .collect();
-        let el_scalar = t.elapsed().as_secs_f64();
-        println!(
-            "W1 C1 bifurcation, 200 values x 400 periods, rk4 scalar (sweep, classified): {el_scalar:.3} s"
-        );
-        let opts = w1_options(Method::default());
-        let t = Instant::now();
-        run_sweep(&scenario, &opts, &Default::default(), |_| {})?;
-        let el_dp = t.elapsed().as_secs_f64();
-        println!(
-            "W1 C1 bifurcation, 200 values x 400 periods, dopri (sweep, classified): {el_dp:.3} s"
-        );
-        if num {
-            numba.run("after W1")?;
-            let nb = numba.mean().unwrap_or(f64::NAN);
-            println!(
-                "W1 speed-up over numba ({nb:.3} s): ensemble sweep {:.1}x, ensemble integration {:.1}x (nothing recorded {:.1}x), scalar rk4 {:.2}x, dopri {:.2}x",
-                nb / el,
-                nb / el_sim,
-                nb / el_bare,
-                nb / el_scalar,
-                nb / el_dp
-            );
-        }
     }
-    if bas {
-        let mut p = presets::classic();
-        p.omega = 1.8;
-        let model = MeshModel::new(&p)?;
-        let mut ident = geardyn_analysis::attractor::IdentifyOptions::default();
-        ident.sim.method = Method::Rk4 {
-            steps_per_cycle: a.basin_steps,
-        };
-        let opts = BasinOptions {
-            x: Axis {
-                min: -2.0,
-                max: 2.0,
-                n: 200,
-            },
-            v: Axis {
-                min: -1.5,
-                max: 1.5,
-                n: 200,
-            },
-            identify: ident,
-            slice: Default::default(),
+    Ok(el)
+}
+
+/// The 200 x 200 basin of C1 at omega = 1.8: ensemble RK4, and on request DP5 and scalar RK4.
+fn basin_figures(a: &BenchArgs, numba: &mut Numba, num: bool) -> Result<()> {
+    let mut p = presets::classic();
+    p.omega = 1.8;
+    let model = MeshModel::new(&p)?;
+    let mut ident = geardyn_analysis::attractor::IdentifyOptions::default();
+    ident.sim.method = Method::Rk4 {
+        steps_per_cycle: a.basin_steps,
+    };
+    let opts = BasinOptions {
+        x: Axis {
+            min: -2.0,
+            max: 2.0,
+            n: 200,
+        },
+        v: Axis {
+            min: -1.5,
+            max: 1.5,
+            n: 200,
+        },
+        identify: ident,
+        slice: Default::default(),
+    };
+    let t = Instant::now();
+    let r = basins(&model, &opts, &Default::default(), |_, _| {});
+    let el = t.elapsed().as_secs_f64();
+    println!(
+        "basin 200x200 C1 omega=1.8, rk4 ensemble ({} steps/cycle): {el:.3} s ({} attractors, {} captured early, {} periods)",
+        a.basin_steps,
+        r.attractors.len(),
+        r.captured_early,
+        r.periods
+    );
+    if a.dopri_basins {
+        let mut o = opts;
+        o.identify.sim.method = Method::Dopri {
+            rtol: 1e-7,
+            atol: 1e-10,
         };
         let t = Instant::now();
-        let r = basins(&model, &opts, &Default::default(), |_, _| {});
-        let el = t.elapsed().as_secs_f64();
+        let r = basins(&model, &o, &Default::default(), |_, _| {});
         println!(
-            "basin 200x200 C1 omega=1.8, rk4 ensemble ({} steps/cycle): {el:.3} s ({} attractors, {} captured early, {} periods)",
-            a.basin_steps,
-            r.attractors.len(),
-            r.captured_early,
-            r.periods
+            "basin 200x200 C1 omega=1.8, dopri rtol 1e-7 (scalar): {:.3} s ({} attractors)",
+            t.elapsed().as_secs_f64(),
+            r.attractors.len()
         );
-        if a.dopri_basins {
-            let mut o = opts;
-            o.identify.sim.method = Method::Dopri {
-                rtol: 1e-7,
-                atol: 1e-10,
-            };
-            let t = Instant::now();
-            let r = basins(&model, &o, &Default::default(), |_, _| {});
-            println!(
-                "basin 200x200 C1 omega=1.8, dopri rtol 1e-7 (scalar): {:.3} s ({} attractors)",
-                t.elapsed().as_secs_f64(),
-                r.attractors.len()
-            );
-        }
-        if a.scalar_basins {
-            let t = Instant::now();
-            let _ = geardyn_analysis::basins::basins_scalar(
-                &model,
-                &opts,
-                &Default::default(),
-                |_, _| {},
-            );
-            println!(
-                "basin 200x200 C1 omega=1.8, rk4 scalar: {:.3} s",
-                t.elapsed().as_secs_f64()
-            );
-        }
-        if num {
-            numba.run("after basin")?;
-            let nb = numba.mean().unwrap_or(f64::NAN);
-            println!("basin time / numba W1 time ({nb:.3} s): {:.2}", el / nb);
-        }
     }
-    if let (Some(el), Some(nb)) = (w1_ens, numba.mean()) {
+    if a.scalar_basins {
+        let t = Instant::now();
+        let _ =
+            geardyn_analysis::basins::basins_scalar(&model, &opts, &Default::default(), |_, _| {});
         println!(
-            "summary: W1 ensemble {el:.3} s, numba {nb:.3} s (mean of {} runs), ratio {:.1}x",
-            numba.times.len(),
-            nb / el
+            "basin 200x200 C1 omega=1.8, rk4 scalar: {:.3} s",
+            t.elapsed().as_secs_f64()
         );
+    }
+    if num {
+        numba.run("after basin")?;
+        let nb = numba.mean().unwrap_or(f64::NAN);
+        println!("basin time / numba W1 time ({nb:.3} s): {:.2}", el / nb);
     }
     Ok(())
 }

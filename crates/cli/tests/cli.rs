@@ -1,23 +1,11 @@
 //! The `geardyn` binary as a user sees it: outputs written, bad input rejected in one line.
 
-use std::process::Command;
+mod common;
+use common::geardyn;
 
-fn geardyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
+/// A fresh path for this file's test `name`.
 fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::tmp("cli", name)
 }
 
 #[test]
@@ -192,16 +180,11 @@ fn presets_and_show() {
 }
 
 fn geardyn_env(args: &[&str], threads: &str) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+    let out = common::bin()
         .args(args)
         .env("RAYON_NUM_THREADS", threads)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+        .output();
+    common::outcome(out.unwrap())
 }
 
 #[test]

@@ -1,22 +1,23 @@
 //! kill -9 at any moment of a sweep or a basin computation, including right at resume, loses no
 //! finished record and the finished result equals an uninterrupted run byte for byte.
 
-use std::process::{Command, Stdio};
+mod common;
+
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("crash", name)
+}
+
+use std::process::Stdio;
 use std::time::Duration;
 
 fn geardyn(args: &[String]) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_geardyn"))
+    common::bin()
         .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
         .unwrap()
-}
-
-fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-crash-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
 }
 
 fn killed_and_resumed_equals_clean(cmd: &[&str], result: &str, name: &str) {
@@ -36,10 +37,7 @@ fn killed_and_resumed_equals_clean(cmd: &[&str], result: &str, name: &str) {
         let _ = c.wait();
     }
     // (the resume's messages are kept: a failure here says why)
-    let resumed = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args(&hurt))
-        .output()
-        .unwrap();
+    let resumed = common::bin().args(args(&hurt)).output().unwrap();
     let listing: Vec<String> = std::fs::read_dir(&hurt)
         .map(|rd| {
             rd.filter_map(|e| e.ok())

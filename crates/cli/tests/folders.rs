@@ -1,49 +1,43 @@
 //! Output folders as a hostile user meets them: links and foreign files in the way, two writers,
 //! FIFOs and endless files given as inputs, damaged caches. Each test fails without its rule.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::s;
+
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("folders", name)
+}
+
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// Exit code and stderr of `geardyn args` (no input).
 fn geardyn(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = common::bin().args(args).stdin(Stdio::null()).output();
+    let (code, _, err) = common::outcome(out.unwrap());
+    (code, err)
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-folders-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+/// A short run of classic into `out`: exit code and stderr.
+fn simulate_classic(out: &Path) -> (i32, String) {
+    geardyn(&[
+        "simulate",
+        "--preset",
+        "classic",
+        "--periods",
+        "3",
+        "--out",
+        s(out),
+    ])
 }
 
 #[test]
 fn a_link_in_the_output_folder_is_refused_and_its_target_untouched() {
     let d = tmp("link");
     let out = d.join("out");
-    assert_eq!(
-        geardyn(&[
-            "simulate",
-            "--preset",
-            "classic",
-            "--periods",
-            "3",
-            "--out",
-            s(&out)
-        ])
-        .0,
-        0
-    );
+    assert_eq!(simulate_classic(&out).0, 0);
     let outside = d.join("precious.txt");
     std::fs::write(&outside, "precious").unwrap();
     for name in [
@@ -56,15 +50,7 @@ fn a_link_in_the_output_folder_is_refused_and_its_target_untouched() {
         let link = out.join(name);
         std::fs::remove_file(&link).unwrap();
         std::os::unix::fs::symlink(&outside, &link).unwrap();
-        let (code, err) = geardyn(&[
-            "simulate",
-            "--preset",
-            "classic",
-            "--periods",
-            "3",
-            "--out",
-            s(&out),
-        ]);
+        let (code, err) = simulate_classic(&out);
         assert_ne!(code, 0, "{name}");
         assert!(err.contains("symbolic link"), "{name}: {err}");
         assert_eq!(
@@ -98,7 +84,7 @@ fn a_folder_geardyn_did_not_make_is_refused() {
 #[test]
 fn one_writer_per_folder_and_a_stale_lock_is_taken_over() {
     let d = tmp("lock");
-    let mut first = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+    let mut first = common::bin()
         .args([
             "simulate",
             "--preset",
@@ -123,15 +109,7 @@ fn one_writer_per_folder_and_a_stale_lock_is_taken_over() {
     assert!(err.contains("in use by another geardyn run"), "{err}");
     // the killed run left its lock: stale (no such process), taken over
     assert!(d.join(".geardyn.lock").exists());
-    let (code, err) = geardyn(&[
-        "simulate",
-        "--preset",
-        "classic",
-        "--periods",
-        "3",
-        "--out",
-        s(&d),
-    ]);
+    let (code, err) = simulate_classic(&d);
     assert_eq!(code, 0, "{err}");
     assert!(!d.join(".geardyn.lock").exists());
     std::fs::remove_dir_all(d).ok();
@@ -241,7 +219,7 @@ fn work_above_the_cap_is_refused_at_once_and_the_decision_keeps_its_budget() {
     // exponent stay within the decision's budget (they took minutes beyond it)
     let d = tmp("slow");
     let t = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+    let out = common::bin()
         .args([
             "simulate",
             "--preset",
@@ -272,19 +250,7 @@ fn a_refusal_comes_before_any_write_and_names_alone_do_not_make_a_folder_ours() 
     // writes anything: a refusal halfway left config.toml of one run beside results of another
     let d = tmp("early");
     let out = d.join("out");
-    assert_eq!(
-        geardyn(&[
-            "simulate",
-            "--preset",
-            "classic",
-            "--periods",
-            "3",
-            "--out",
-            s(&out)
-        ])
-        .0,
-        0
-    );
+    assert_eq!(simulate_classic(&out).0, 0);
     let before = std::fs::read_to_string(out.join("config.toml")).unwrap();
     let outside = d.join("elsewhere");
     std::fs::create_dir_all(&outside).unwrap();
@@ -337,19 +303,7 @@ fn a_folder_named_like_a_result_file_is_refused_before_the_run() {
     // it was refused only at its write, after the whole computation
     let d = tmp("dirnamed");
     let out = d.join("out");
-    assert_eq!(
-        geardyn(&[
-            "simulate",
-            "--preset",
-            "classic",
-            "--periods",
-            "3",
-            "--out",
-            s(&out)
-        ])
-        .0,
-        0
-    );
+    assert_eq!(simulate_classic(&out).0, 0);
     std::fs::remove_file(out.join("summary.json")).unwrap();
     std::fs::create_dir_all(out.join("summary.json")).unwrap();
     let t = Instant::now();

@@ -1,25 +1,12 @@
 //! `geardyn orbits` as a user meets it: one orbit on every preset, a branch with its
 //! bifurcations and figure, and clear refusals of bad settings.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::geardyn;
 
-fn geardyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-orb-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("orb", name)
 }
 
 #[test]

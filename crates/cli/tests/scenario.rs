@@ -1,26 +1,15 @@
 //! "What I set is what ran": every command resolves its model through the one builder, records
 //! the integrated parameters in `run.json`, and output folders never mix.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+use common::geardyn;
 
-fn geardyn(args: &[String]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("scn", name)
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-scn-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use std::path::Path;
 
 fn strs(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()

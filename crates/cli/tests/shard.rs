@@ -3,8 +3,16 @@
 //! partial chunks and no done marker) and run again writes the same bytes; a store of another
 //! request or version is refused; bad input is named.
 
+mod common;
+use common::{bin, s};
+
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("shard", name)
+}
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 use std::time::Duration;
 
 const MAP: &[&str] = &[
@@ -22,10 +30,6 @@ const MAP: &[&str] = &[
     "--decision-periods",
     "300",
 ];
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_geardyn"))
-}
 
 fn run(args: &[&str]) -> Output {
     bin().args(args).output().unwrap()
@@ -47,16 +51,6 @@ fn refused(args: &[&str]) -> String {
     let e = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(!e.contains("panicked"), "{e}");
     e
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-shard-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 fn with(base: &[&str], more: &[&str]) -> Vec<String> {

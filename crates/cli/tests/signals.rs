@@ -3,27 +3,16 @@
 //! from signals.csv as written, the healthy mesh force's line at the mesh order, and clear
 //! refusals.
 
+mod common;
+use common::geardyn;
+
+/// A fresh path for this file's test `name`.
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("sig", name)
+}
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn geardyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geardyn-sig-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use std::path::Path;
 
 /// Header and rows of a CSV file without quoted fields.
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {

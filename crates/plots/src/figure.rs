@@ -20,9 +20,14 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 pub use plotters::style::RGBColor;
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Once;
+
+pub use crate::colors::{
+    categorical, categorical_keyed, class_color, colormap, palette, Group, LabelColors,
+    BROKEN_PAIR, CHAOTIC, DISTINCT_COLORS, HEALTHY_PAIR, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
+};
+pub use crate::raster::{write_raster, RasterFigure};
 
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
@@ -41,63 +46,6 @@ pub fn register_font() {
 pub struct FigureError {
     path: String,
     msg: String,
-}
-
-/// Colour of chaotic motions.
-pub const CHAOTIC: RGBColor = RGBColor(0, 0, 0);
-/// Colour of quasi-periodic motions.
-pub const QUASI: RGBColor = RGBColor(90, 90, 90);
-/// Colour of undecided (unsettled) motions.
-pub const UNSETTLED: RGBColor = RGBColor(175, 175, 175);
-/// Colour of failed runs and of a remainder group ("N other labels"): a light brown, apart
-/// from the greys of [`QUASI`] and [`UNSETTLED`] and from the [`palette`].
-pub const OTHER: RGBColor = RGBColor(166, 118, 60);
-
-/// Most entries of a categorical legend: beyond it the rarest labels are drawn as one group
-/// "N other labels" in [`OTHER`].
-pub const LEGEND_MAX: usize = 10;
-
-const DISTINCT: [RGBColor; 24] = [
-    // Okabe–Ito (without black)
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-    RGBColor(240, 228, 66),
-    // then colours chosen to differ from those and from each other (after Kelly's list)
-    RGBColor(135, 86, 146),
-    RGBColor(190, 0, 50),
-    RGBColor(128, 128, 0),
-    RGBColor(194, 178, 128),
-    RGBColor(0, 0, 128),
-    RGBColor(0, 200, 200),
-    RGBColor(249, 147, 121),
-    RGBColor(150, 220, 100),
-    RGBColor(255, 0, 255),
-    RGBColor(179, 68, 108),
-    RGBColor(70, 70, 200),
-    RGBColor(136, 45, 23),
-    RGBColor(141, 182, 0),
-    RGBColor(200, 160, 255),
-    RGBColor(0, 90, 50),
-    RGBColor(255, 200, 150),
-    RGBColor(160, 0, 200),
-];
-
-/// Number of distinct colours of [`palette`] before it repeats.
-pub const DISTINCT_COLORS: usize = DISTINCT.len();
-
-/// Palette index of the healthy pair in every figure that shows a pair and its broken twin.
-pub const HEALTHY_PAIR: usize = 0;
-/// Palette index of the broken pair in those figures.
-pub const BROKEN_PAIR: usize = 1;
-
-/// The `k`-th of [`DISTINCT_COLORS`] distinct colours (repeats after that; callers group the
-/// rest as "other").
-pub fn palette(k: usize) -> RGBColor {
-    DISTINCT[k % DISTINCT.len()]
 }
 
 /// How a layer is drawn.
@@ -199,6 +147,11 @@ pub fn tick(v: f64) -> String {
         return format!("{v:.2e}");
     }
     let decimals = (3 - a.log10().floor() as i32).clamp(0, 8) as usize;
+    fixed(v, decimals)
+}
+
+/// `v` with `decimals` decimals, trailing zeros (and a trailing point) dropped, never `-0`.
+fn fixed(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -224,17 +177,7 @@ pub fn axis_tick(v: f64, step: f64) -> String {
         return tick(v);
     }
     let decimals = (-step.log10()).ceil().clamp(0.0, 8.0) as usize;
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
+    fixed(v, decimals)
 }
 
 /// A finite range covering `lo..hi` with 4 % padding; a degenerate range (constant data) is
@@ -407,7 +350,7 @@ fn data_range(points: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     (r.0 <= r.1).then_some(r)
 }
 
-fn legend_width(fig_legend: &[LegendEntry], title: &str) -> u32 {
+pub(crate) fn legend_width(fig_legend: &[LegendEntry], title: &str) -> u32 {
     if fig_legend.is_empty() {
         return 0;
     }
@@ -492,9 +435,20 @@ fn reduced_polyline(
     out
 }
 
-type Err = String;
+pub(crate) type Err = String;
 
 /// Font size of a title: 20, smaller for a long title so that it fits the width (not below 13).
+/// `root` filled white with `title` on top: the area below the title.
+pub(crate) fn titled_area<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>, Err> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    root.titled(title, ("sans-serif", title_size(title, &root)))
+        .map_err(e)
+}
+
 fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) -> u32 {
     let (w, _) = area.dim_in_pixel();
     let chars = title.chars().count().max(1) as f64;
@@ -504,7 +458,7 @@ fn title_size<DB: DrawingBackend>(title: &str, area: &DrawingArea<DB, Shift>) ->
         .clamp(13.0, 20.0) as u32
 }
 
-fn draw_legend<DB: DrawingBackend>(
+pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     entries: &[LegendEntry],
@@ -568,10 +522,7 @@ fn draw_legend<DB: DrawingBackend>(
 
 fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -> Result<(), Err> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
-    let root = root
-        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
-        .map_err(e)?;
+    let root = titled_area(root, &fig.title)?;
     let (w, _) = root.dim_in_pixel();
     let lw = legend_width(&fig.legend, &fig.legend_title);
     let (main, side) = root.split_horizontally(w.saturating_sub(lw));
@@ -735,187 +686,28 @@ fn figure_height(fig: &Figure) -> u32 {
 
 /// Writes `stem.png` and `stem.svg`.
 pub fn write_figure(stem: &Path, fig: &Figure) -> Result<(), FigureError> {
-    register_font();
     let w = if fig.width > 0 { fig.width } else { 1100 };
-    let h = figure_height(fig);
-    let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
-    let err = |p: &Path, msg: String| FigureError {
-        path: p.display().to_string(),
-        msg,
-    };
-    geardyn_files::safe_write::draw_to(&png, |tmp| {
-        draw_figure(BitMapBackend::new(tmp, (w, h)).into_drawing_area(), fig)
-    })
-    .map_err(|m| err(&png, m))?;
-    geardyn_files::safe_write::draw_to(&svg, |tmp| {
-        draw_figure(SVGBackend::new(tmp, (w, h)).into_drawing_area(), fig)
-    })
-    .map_err(|m| err(&svg, m))?;
-    Ok(())
+    write_png_svg(stem, (w, figure_height(fig)), fig)
 }
 
-/// A raster figure (basins, two-parameter maps).
-#[derive(Clone, Debug, Default)]
-pub struct RasterFigure {
-    /// Title.
-    pub title: String,
-    /// X-axis label.
-    pub x_label: String,
-    /// Y-axis label.
-    pub y_label: String,
-    /// X extent of the cells `(min edge, max edge, cells)`.
-    pub x: (f64, f64, usize),
-    /// Y extent of the cells.
-    pub y: (f64, f64, usize),
-    /// Cell colours, row-major from the lowest y.
-    pub colors: Vec<RGBColor>,
-    /// Legend entries (right column).
-    pub legend: Vec<LegendEntry>,
-    /// Legend heading.
-    pub legend_title: String,
-    /// Colour bar of [`colormap`] `(min, max, label)`, drawn above the legend.
-    pub colorbar: Option<(f64, f64, String)>,
-    /// Points marked with a white-edged black cross (e.g. attractor points).
-    pub marks: Vec<(f64, f64)>,
+/// A figure drawn by the same code on any backend (PNG and SVG).
+pub(crate) trait Draw {
+    /// Draws the whole figure on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), Err>;
 }
 
-fn draw_raster<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    fig: &RasterFigure,
-) -> Result<(), Err> {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    root.fill(&WHITE).map_err(e)?;
-    let root = root
-        .titled(&fig.title, ("sans-serif", title_size(&fig.title, &root)))
-        .map_err(e)?;
-    let (w, _) = root.dim_in_pixel();
-    let lw = legend_width(&fig.legend, &fig.legend_title).max(if fig.colorbar.is_some() {
-        150
-    } else {
-        0
-    });
-    let (main, side) = root.split_horizontally(w.saturating_sub(lw));
-    let (nx, ny) = (fig.x.2.max(1), fig.y.2.max(1));
-    let (xr, yr) = (axis_range(fig.x.0, fig.x.1), axis_range(fig.y.0, fig.y.1));
-    let mut ctx = ChartBuilder::on(&main)
-        .margin(10)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-        .map_err(|x| x.to_string())?;
-    let (xs, ys) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / 10.0);
-    let fmt = |v: &f64| axis_tick(*v, xs);
-    let fmt_y = |v: &f64| axis_tick(*v, ys);
-    ctx.configure_mesh()
-        .disable_mesh()
-        .x_labels(10)
-        .y_labels(10)
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt_y)
-        .x_desc(fig.x_label.as_str())
-        .y_desc(fig.y_label.as_str())
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 15))
-        .draw()
-        .map_err(|x| x.to_string())?;
-    let plot = ctx.plotting_area();
-    let (px, py) = plot.get_pixel_range();
-    let pixel = plot.strip_coord_spec();
-    let map = |x: f64, y: f64| {
-        let (a, b) = ctx.backend_coord(&(x, y));
-        (a - px.start, b - py.start)
-    };
-    let (dx, dy) = ((xr.1 - xr.0) / nx as f64, (yr.1 - yr.0) / ny as f64);
-    for iy in 0..ny {
-        let mut ix = 0;
-        while ix < nx {
-            let c = iy * nx + ix;
-            let Some(&col) = fig.colors.get(c) else {
-                break;
-            };
-            let mut end = ix + 1;
-            while end < nx && fig.colors.get(iy * nx + end) == Some(&col) {
-                end += 1;
-            }
-            let a = map(xr.0 + ix as f64 * dx, yr.0 + (iy + 1) as f64 * dy);
-            let b = map(xr.0 + end as f64 * dx, yr.0 + iy as f64 * dy);
-            pixel
-                .draw(&Rectangle::new([a, b], col.filled()))
-                .map_err(e)?;
-            ix = end;
-        }
+impl Draw for Figure {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), Err> {
+        draw_figure(root, self)
     }
-    let inside = |x: f64, y: f64| x >= xr.0 && x <= xr.1 && y >= yr.0 && y <= yr.1;
-    for &(x, y) in fig.marks.iter().filter(|p| inside(p.0, p.1)) {
-        let p = map(x, y);
-        for (style, s) in [(WHITE.stroke_width(4), 6), (BLACK.stroke_width(2), 5)] {
-            pixel
-                .draw(&PathElement::new(
-                    vec![(p.0 - s, p.1), (p.0 + s, p.1)],
-                    style,
-                ))
-                .map_err(e)?;
-            pixel
-                .draw(&PathElement::new(
-                    vec![(p.0, p.1 - s), (p.0, p.1 + s)],
-                    style,
-                ))
-                .map_err(e)?;
-        }
-    }
-    let side = if let Some((lo, hi, label)) = &fig.colorbar {
-        let (_, sh) = side.dim_in_pixel();
-        let (bar, rest) = side.split_vertically(if fig.legend.is_empty() {
-            sh
-        } else {
-            sh * 11 / 20
-        });
-        let (lo, hi) = if hi > lo {
-            axis_range(*lo, *hi)
-        } else {
-            padded(*lo, *hi)
-        };
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_top(16)
-            .margin_bottom(16)
-            .margin_right(8)
-            .caption(label.as_str(), ("sans-serif", 13))
-            .y_label_area_size(64)
-            .build_cartesian_2d(0.0..1.0, lo..hi)
-            .map_err(|x| x.to_string())?;
-        cb.configure_mesh()
-            .disable_x_axis()
-            .disable_mesh()
-            .y_labels(8)
-            .y_label_formatter(&|v: &f64| axis_tick(*v, (hi - lo) / 8.0))
-            .label_style(("sans-serif", 12))
-            .draw()
-            .map_err(|x| x.to_string())?;
-        let n = 64;
-        cb.draw_series((0..n).map(|i| {
-            let (a, b) = (
-                lo + (hi - lo) * i as f64 / n as f64,
-                lo + (hi - lo) * (i + 1) as f64 / n as f64,
-            );
-            Rectangle::new(
-                [(0.0, a), (1.0, b)],
-                colormap((i as f64 + 0.5) / n as f64).filled(),
-            )
-        }))
-        .map_err(|x| x.to_string())?;
-        rest
-    } else {
-        side
-    };
-    if !fig.legend.is_empty() {
-        draw_legend(&side, &fig.legend_title, &fig.legend)?;
-    }
-    root.present().map_err(e)
 }
 
-/// Writes a raster as `stem.png` and `stem.svg` (equal-colour runs merged).
-pub fn write_raster(stem: &Path, fig: &RasterFigure) -> Result<(), FigureError> {
+/// Writes `fig` as `stem.png` and `stem.svg` of `size` pixels (each file atomically).
+pub(crate) fn write_png_svg(
+    stem: &Path,
+    size: (u32, u32),
+    fig: &impl Draw,
+) -> Result<(), FigureError> {
     register_font();
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
@@ -923,140 +715,19 @@ pub fn write_raster(stem: &Path, fig: &RasterFigure) -> Result<(), FigureError> 
         path: p.display().to_string(),
         msg,
     };
-    let size = (1050, 760);
     geardyn_files::safe_write::draw_to(&png, |tmp| {
-        draw_raster(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
+        fig.draw(BitMapBackend::new(tmp, size).into_drawing_area())
     })
     .map_err(|m| err(&png, m))?;
     geardyn_files::safe_write::draw_to(&svg, |tmp| {
-        draw_raster(SVGBackend::new(tmp, size).into_drawing_area(), fig)
+        fig.draw(SVGBackend::new(tmp, size).into_drawing_area())
     })
     .map_err(|m| err(&svg, m))?;
     Ok(())
 }
-
-/// A named, coloured group of points.
-pub type Group = (String, RGBColor, Vec<(f64, f64)>);
 
 /// Points of one name, or none.
 pub type PointsOf<'a> = &'a dyn Fn(&str) -> Option<Vec<(f64, f64)>>;
-
-/// Colours keyed by label: a label gets a colour of [`palette`] the first time it is asked
-/// for and keeps it, so that the figures of one command colour a label alike. Classes of
-/// motion have their fixed colours ([`class_color`]).
-#[derive(Clone, Debug, Default)]
-pub struct LabelColors {
-    assigned: BTreeMap<String, RGBColor>,
-}
-
-impl LabelColors {
-    /// The colour of `label`, assigned now if it has none.
-    pub fn color(&mut self, label: &str) -> RGBColor {
-        if let Some(c) = class_color(label) {
-            return c;
-        }
-        let next = self.assigned.len();
-        *self
-            .assigned
-            .entry(label.to_string())
-            .or_insert_with(|| palette(next))
-    }
-
-    /// The colour of `label` if it has one.
-    pub fn get(&self, label: &str) -> Option<RGBColor> {
-        class_color(label).or_else(|| self.assigned.get(label).copied())
-    }
-}
-
-/// Fixed colours of the classes of motion that carry no label: chaotic black, quasi-periodic
-/// dark grey, unsettled and "not periodic" grey, failed and diverged [`OTHER`].
-pub fn class_color(name: &str) -> Option<RGBColor> {
-    match name {
-        "chaotic" => Some(CHAOTIC),
-        "quasi-periodic" => Some(QUASI),
-        "unsettled" | "not periodic" => Some(UNSETTLED),
-        "failed" | "diverged" => Some(OTHER),
-        _ => None,
-    }
-}
-
-/// Groups of a categorical layer: `(name, points)` in the given order (names not in `order`
-/// after, alphabetically), with their colours (`fixed`, else from `colors`). At most
-/// [`LEGEND_MAX`] groups: beyond that, the fixed ones and the first others are kept and the rest
-/// merged into one group "N other labels" in [`OTHER`].
-pub fn categorical_keyed(
-    groups: BTreeMap<String, Vec<(f64, f64)>>,
-    order: &[String],
-    fixed: &dyn Fn(&str) -> Option<RGBColor>,
-    colors: &mut LabelColors,
-) -> Vec<Group> {
-    let mut named: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    let mut groups = groups;
-    for name in order {
-        if let Some(p) = groups.remove(name) {
-            named.push((name.clone(), p));
-        }
-    }
-    named.extend(groups);
-    let n_fixed = named.iter().filter(|(n, _)| fixed(n).is_some()).count();
-    let free = if named.len() <= LEGEND_MAX {
-        named.len()
-    } else {
-        (LEGEND_MAX - 1).saturating_sub(n_fixed)
-    };
-    let mut out = Vec::new();
-    let mut other: Vec<(f64, f64)> = Vec::new();
-    let mut others = 0;
-    let mut k = 0;
-    for (name, pts) in named {
-        if let Some(c) = fixed(&name) {
-            out.push((name, c, pts));
-        } else if k < free {
-            let c = colors.color(&name);
-            out.push((name, c, pts));
-            k += 1;
-        } else {
-            others += 1;
-            other.extend(pts);
-        }
-    }
-    if others > 0 {
-        out.push((format!("{others} other labels"), OTHER, other));
-    }
-    out
-}
-
-/// [`categorical_keyed`] with colours of its own.
-pub fn categorical(
-    groups: BTreeMap<String, Vec<(f64, f64)>>,
-    order: &[String],
-    fixed: &dyn Fn(&str) -> Option<RGBColor>,
-) -> Vec<Group> {
-    categorical_keyed(groups, order, fixed, &mut LabelColors::default())
-}
-
-/// A perceptually ordered colour map (viridis, five stops, linear in between) for `t` in `[0, 1]`
-/// (non-finite `t`: the low end).
-pub fn colormap(t: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let x = t * 4.0;
-    let i = (x as usize).min(3);
-    let f = x - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let l = |p: f64, q: f64| (p + (q - p) * f).round() as u8;
-    RGBColor(l(a.0, b.0), l(a.1, b.1), l(a.2, b.2))
-}
 
 /// Keeps at most `max` points of a polyline, preserving each bucket's min and max in `y`
 /// (so peaks of a long time history survive decimation).
@@ -1105,22 +776,6 @@ mod tests {
     }
 
     #[test]
-    fn palette_is_distinct() {
-        let d = |a: RGBColor, b: RGBColor| {
-            let s = |x: u8, y: u8| (x as f64 - y as f64).powi(2);
-            (s(a.0, b.0) + s(a.1, b.1) + s(a.2, b.2)).sqrt()
-        };
-        for i in 0..DISTINCT_COLORS {
-            for j in 0..i {
-                assert!(d(palette(i), palette(j)) > 50.0, "{i} {j}");
-            }
-            for fixed in [CHAOTIC, QUASI, UNSETTLED, OTHER] {
-                assert!(d(palette(i), fixed) > 50.0, "{i}");
-            }
-        }
-    }
-
-    #[test]
     fn decimation_keeps_extremes() {
         let pts: Vec<(f64, f64)> = (0..10_000)
             .map(|i| {
@@ -1162,49 +817,6 @@ mod tests {
         assert_eq!(runs, vec![vec![(-1.0, 0.5), (2.0, 0.5)]]);
         // an overflowing difference is dropped, not drawn
         assert!(b.polyline(&[(-f64::MAX, 0.0), (f64::MAX, 0.0)]).is_empty());
-    }
-
-    #[test]
-    fn other_is_not_a_grey() {
-        // the remainder group must not be mistaken for unsettled runs
-        let d = |a: RGBColor, b: RGBColor| {
-            let s = |x: u8, y: u8| (x as f64 - y as f64).powi(2);
-            (s(a.0, b.0) + s(a.1, b.1) + s(a.2, b.2)).sqrt()
-        };
-        assert!(d(OTHER, UNSETTLED) > 100.0 && d(OTHER, QUASI) > 80.0);
-        let chroma = OTHER.0.max(OTHER.1).max(OTHER.2) - OTHER.0.min(OTHER.1).min(OTHER.2);
-        assert!(chroma > 80);
-    }
-
-    #[test]
-    fn labels_keep_their_colours_and_legends_stay_short() {
-        let mut colors = LabelColors::default();
-        let names: Vec<String> = (1..=15).map(|k| format!("P{k}")).collect();
-        let mut groups: BTreeMap<String, Vec<(f64, f64)>> = names
-            .iter()
-            .map(|n| (n.clone(), vec![(0.0, 0.0)]))
-            .collect();
-        groups.insert("chaotic".into(), vec![(1.0, 1.0)]);
-        let mut order = names.clone();
-        order.insert(3, "chaotic".into());
-        let g = categorical_keyed(groups, &order, &class_color, &mut colors);
-        assert_eq!(g.len(), LEGEND_MAX);
-        assert_eq!(g.last().unwrap().0, "7 other labels");
-        assert_eq!(g.last().unwrap().1, OTHER);
-        assert_eq!(g.last().unwrap().2.len(), 7);
-        assert!(g.iter().any(|x| x.0 == "chaotic" && x.1 == CHAOTIC));
-        // a second figure of the same command: the same colour for the same label
-        let c3 = colors.get("P3").unwrap();
-        let again: BTreeMap<String, Vec<(f64, f64)>> =
-            [("P3".to_string(), vec![]), ("P9".to_string(), vec![])].into();
-        let g2 = categorical_keyed(
-            again,
-            &["P9".into(), "P3".into()],
-            &class_color,
-            &mut colors,
-        );
-        assert_eq!(g2.iter().find(|x| x.0 == "P3").unwrap().1, c3);
-        assert_ne!(g2[0].1, c3);
     }
 
     #[test]

@@ -5,6 +5,8 @@
 //! maps and basins are drawn by `geardyn-io` through [`figure`].
 #![warn(missing_docs)]
 
+mod colors;
 pub mod figure;
 pub mod pair_plots;
+mod raster;
 pub mod signal_plots;

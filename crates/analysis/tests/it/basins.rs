@@ -1,6 +1,7 @@
 //! Basins of attraction: symmetry, sums, refinement, determinism, early termination.
 
 use crate::common::double_well;
+use crate::common::identify_periods;
 use crate::common::on_threads;
 use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
@@ -25,14 +26,7 @@ fn symmetric_pair_of_attractors_has_equal_basins() {
             max: 2.0,
             n: 40,
         },
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 60,
-                record_periods: 8,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(60, 8),
     };
     let r = basins(&sys, &opts, &HashMap::new(), |_, _| {});
     assert_eq!(r.attractors.len(), 2, "{:?}", r.attractors);
@@ -80,14 +74,7 @@ fn gear_basins_are_deterministic_and_stable_under_refinement() {
             max: 2.0,
             n,
         },
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 200,
-                record_periods: 32,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(200, 32),
     };
     let coarse = on_threads(1, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
     let coarse2 = on_threads(2, || basins(&m, &opts(16), &HashMap::new(), |_, _| {}));
@@ -169,17 +156,11 @@ fn cell_capture_is_deterministic_and_equals_the_scalar_path() {
     // C1 at omega = 1.8, RK4 lanes: most cells of the later passes are captured by the labelled
     // cells; the result is the same for 1 and 2 threads and on the scalar path
     use geardyn_analysis::basins::basins_scalar;
-    use geardyn_analysis::simulate::Method;
     let mut p = presets::classic();
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
     let axis = |n, r: f64| Axis { min: -r, max: r, n };
-    let mut identify = IdentifyOptions::default();
-    identify.sim.method = Method::Rk4 {
-        steps_per_cycle: 128,
-    };
-    identify.sim.transient_periods = 300;
-    identify.sim.record_periods = 16;
+    let identify = crate::common::identify_rk4(128, 300, 16);
     let opts = BasinOptions {
         slice: Default::default(),
         x: axis(40, 2.0),

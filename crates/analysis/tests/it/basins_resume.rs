@@ -2,9 +2,9 @@
 //! belong to the run (a capture by an attractor the pass does not know) are recomputed.
 
 use crate::common::double_well;
-use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+use crate::common::identify_periods;
+use geardyn_analysis::attractor::Outcome;
 use geardyn_analysis::basins::{basins, Axis, BasinOptions};
-use geardyn_analysis::simulate::SimOptions;
 use std::collections::HashMap;
 
 #[test]
@@ -19,14 +19,7 @@ fn an_out_of_range_attractor_id_is_recomputed_not_trusted() {
         slice: Default::default(),
         x: axis,
         v: axis,
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 60,
-                record_periods: 8,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(60, 8),
     };
     let clean = basins(&sys, &opts, &HashMap::new(), |_, _| {});
     let mut done = HashMap::new();

@@ -25,3 +25,57 @@ pub fn double_well() -> geardyn_analysis::attractor::StrobeOnly<geardyn_model::r
         scheme: geardyn_solvers::Scheme::dopri_default(),
     }
 }
+
+/// Identification with the default settings but `transient` and `record` periods.
+pub fn identify_periods(
+    transient: u64,
+    record: u64,
+) -> geardyn_analysis::attractor::IdentifyOptions {
+    geardyn_analysis::attractor::IdentifyOptions {
+        sim: geardyn_analysis::simulate::SimOptions {
+            transient_periods: transient,
+            record_periods: record,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Every model started from every initial state (model-major), as the lanes take runs.
+pub fn runs_from<'a>(
+    models: &'a [geardyn_model::MeshModel],
+    ics: &[[f64; 2]],
+) -> Vec<(&'a geardyn_model::MeshModel, [f64; 2])> {
+    models
+        .iter()
+        .flat_map(|m| ics.iter().map(move |&y| (m, y)))
+        .collect()
+}
+
+/// Fixed-step RK4 of `steps_per_cycle` steps per mesh cycle, `transient` then `record` periods.
+pub fn rk4(
+    steps_per_cycle: u32,
+    transient: u64,
+    record: u64,
+) -> geardyn_analysis::simulate::SimOptions {
+    geardyn_analysis::simulate::SimOptions {
+        method: geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle },
+        transient_periods: transient,
+        record_periods: record,
+        ..Default::default()
+    }
+}
+
+/// The default identification with fixed-step RK4 of `steps_per_cycle` steps per mesh cycle,
+/// `transient` then `record` periods.
+pub fn identify_rk4(
+    steps_per_cycle: u32,
+    transient: u64,
+    record: u64,
+) -> geardyn_analysis::attractor::IdentifyOptions {
+    let mut identify = geardyn_analysis::attractor::IdentifyOptions::default();
+    identify.sim.method = geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle };
+    identify.sim.transient_periods = transient;
+    identify.sim.record_periods = record;
+    identify
+}

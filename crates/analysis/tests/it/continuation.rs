@@ -1,9 +1,12 @@
 //! Attractor continuation and 2-parameter maps.
 
+use crate::common::identify_periods;
 use crate::common::on_threads;
-use geardyn_analysis::attractor::IdentifyOptions;
+use geardyn_analysis::attractor::Descriptor;
 use geardyn_analysis::bifurcation::{linspace, run_sweep, SweepMode, SweepOptions, Task};
-use geardyn_analysis::continuation::{continuation, ContinuationOptions};
+use geardyn_analysis::continuation::{
+    continuation, link, ContinuationOptions, ContinuationResult, ValueAttractors,
+};
 use geardyn_analysis::map2d::{map2d, MapOptions};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::presets;
@@ -18,14 +21,7 @@ fn copts(values: Vec<f64>) -> ContinuationOptions {
         x0_range: (-3.0, 3.0),
         v0_range: (-2.0, 2.0),
         phase: 0.0,
-        identify: IdentifyOptions {
-            sim: SimOptions {
-                transient_periods: 300,
-                record_periods: 40,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        identify: identify_periods(300, 40),
     }
 }
 
@@ -181,16 +177,31 @@ fn continuation_phase_moves_the_section() {
     assert!(geardyn_analysis::attractor::check_phase(1.0).is_err());
 }
 
+/// A healthy period-1 orbit `1-1-0` through `(x, -0.025)`.
+fn p1(x: f64) -> Descriptor {
+    Descriptor::new(1, "1-1-0".into(), true, &[[x, -0.025]], 0.3, 0.4)
+}
+
+/// A period-3 orbit `3-1-1` through `pts`.
+fn p3(pts: &[[f64; 2]]) -> Descriptor {
+    Descriptor::new(3, "3-1-1".into(), false, pts, 0.7, 0.6)
+}
+
+/// The branch of the point of `label` at `value`.
+fn branch_of(r: &ContinuationResult, value: f64, label: &str) -> usize {
+    r.points
+        .iter()
+        .find(|p| p.value == value && p.label == label)
+        .unwrap()
+        .branch
+}
+
 #[test]
 fn an_orbit_described_at_both_values_keeps_its_branch() {
-    use geardyn_analysis::attractor::Descriptor;
-    use geardyn_analysis::continuation::{link, ValueAttractors};
     // C1 near omega = 1.8 (the audit's case): the period-1 orbit moves by 0.003 between the
     // values while its initial states all go to the period-3 one and vice versa; by basin
     // overlap alone the branches swapped labels (3-1-1 -> 1-1-0 "period change", and an
     // "appearance" and a "disappearance")
-    let p1 = |x: f64| Descriptor::new(1, "1-1-0".into(), true, &[[x, -0.025]], 0.3, 0.4);
-    let p3 = |pts: &[[f64; 2]]| Descriptor::new(3, "3-1-1".into(), false, pts, 0.7, 0.6);
     let a = ValueAttractors {
         index: 0,
         value: 1.8,
@@ -209,27 +220,16 @@ fn an_orbit_described_at_both_values_keeps_its_branch() {
         assignment: vec![0, 0, 0, 1, 1],
     };
     let r = link("omega", &[a, b], 1e-3);
-    let branch_of = |value: f64, label: &str| {
-        r.points
-            .iter()
-            .find(|p| p.value == value && p.label == label)
-            .unwrap()
-            .branch
-    };
-    assert_eq!(branch_of(1.8, "1-1-0"), branch_of(1.9, "1-1-0"));
-    assert_eq!(branch_of(1.8, "3-1-1"), branch_of(1.9, "3-1-1"));
+    assert_eq!(branch_of(&r, 1.8, "1-1-0"), branch_of(&r, 1.9, "1-1-0"));
+    assert_eq!(branch_of(&r, 1.8, "3-1-1"), branch_of(&r, 1.9, "3-1-1"));
     assert!(r.events.is_empty(), "{:?}", r.events);
 }
 
 #[test]
 fn an_orbit_that_moved_far_over_a_coarse_step_keeps_its_branch() {
-    use geardyn_analysis::attractor::Descriptor;
-    use geardyn_analysis::continuation::{link, ValueAttractors};
     // C1, omega 1.8 -> 2.0 with 8 initial states (audit): the 3-1-1 orbit moves by ~0.3 between
     // the values, no initial state reaches it at both, and it had been reported as one branch
     // disappearing and another appearing; the 1-1-0 orbit keeps its basin
-    let p1 = |x: f64| Descriptor::new(1, "1-1-0".into(), true, &[[x, -0.025]], 0.3, 0.4);
-    let p3 = |pts: &[[f64; 2]]| Descriptor::new(3, "3-1-1".into(), false, pts, 0.7, 0.6);
     let a = ValueAttractors {
         index: 0,
         value: 1.8,
@@ -246,13 +246,6 @@ fn an_orbit_that_moved_far_over_a_coarse_step_keeps_its_branch() {
         assignment: vec![0, 1, 0, 0, 0, 0, 0, 0],
     };
     let r = link("omega", &[a.clone(), b.clone()], 1e-3);
-    let branch_of = |r: &geardyn_analysis::continuation::ContinuationResult, v: f64, l: &str| {
-        r.points
-            .iter()
-            .find(|p| p.value == v && p.label == l)
-            .unwrap()
-            .branch
-    };
     assert_eq!(branch_of(&r, 1.8, "3-1-1"), branch_of(&r, 2.0, "3-1-1"));
     assert!(r.events.is_empty(), "{:?}", r.events);
     // two new orbits of that label: which one continues is not decided by the label alone

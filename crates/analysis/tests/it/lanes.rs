@@ -212,19 +212,9 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
 fn c1_periodic_orbits_equal_the_scalar_rk4_path() {
     let omegas = [0.5, 0.6, 0.7, 0.8, 0.95, 1.7, 1.8, 1.9, 2.0];
     let models = c1_at(&omegas);
-    let opts = SimOptions {
-        method: Method::Rk4 {
-            steps_per_cycle: 512,
-        },
-        transient_periods: 300,
-        record_periods: 40,
-        ..Default::default()
-    };
+    let opts = crate::common::rk4(512, 300, 40);
     let ics = [[0.0, 0.0], [1.3, -0.4], [-1.2, 0.8]];
-    let runs: Vec<(&MeshModel, [f64; 2])> = models
-        .iter()
-        .flat_map(|m| ics.iter().map(move |&y| (m, y)))
-        .collect();
+    let runs = crate::common::runs_from(&models, &ics);
     let lanes = simulate_lanes(&runs, &opts);
     let mut worst = 0.0f64;
     for ((m, y0), r) in runs.iter().zip(&lanes) {
@@ -270,14 +260,7 @@ fn breakage_preset_equals_the_scalar_rk4_path() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = SimOptions {
-        method: Method::Rk4 {
-            steps_per_cycle: 64,
-        },
-        transient_periods: 40,
-        record_periods: 8,
-        ..Default::default()
-    };
+    let opts = crate::common::rk4(64, 40, 8);
     let runs: Vec<(&MeshModel, [f64; 2])> = models
         .iter()
         .flat_map(|m| [[0.0, 0.0], [0.9, -0.5]].map(move |y| (m, y)))
@@ -310,22 +293,9 @@ fn output_is_the_same_for_any_thread_count() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = SimOptions {
-        method: Method::Rk4 {
-            steps_per_cycle: 128,
-        },
-        transient_periods: 30,
-        record_periods: 10,
-        ..Default::default()
-    };
+    let opts = crate::common::rk4(128, 30, 10);
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| simulate_lanes(&runs, &opts))
-    };
+    let run = |threads: usize| crate::common::on_threads(threads, || simulate_lanes(&runs, &opts));
     let key = |r: &Vec<Result<SimResult, geardyn_analysis::simulate::SimError>>| {
         serde_json::to_string(
             &r.iter()
@@ -353,18 +323,13 @@ fn output_is_the_same_for_any_thread_count() {
 /// description of new attractors) and every cell gets the outcome of the scalar path.
 #[test]
 fn basins_in_lanes_equal_the_scalar_basins() {
-    use geardyn_analysis::attractor::{IdentifyOptions, Outcome};
+    use geardyn_analysis::attractor::Outcome;
     use geardyn_analysis::basins::{basins, basins_scalar, Axis, BasinOptions};
     use std::collections::HashMap;
     let mut p = presets::classic();
     p.omega = 1.8;
     let m = MeshModel::new(&p).unwrap();
-    let mut identify = IdentifyOptions::default();
-    identify.sim.method = Method::Rk4 {
-        steps_per_cycle: 256,
-    };
-    identify.sim.transient_periods = 150;
-    identify.sim.record_periods = 32;
+    let identify = crate::common::identify_rk4(256, 150, 32);
     let opts = BasinOptions {
         slice: Default::default(),
         x: Axis {
@@ -494,14 +459,7 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
             param: "omega".into(),
             values: vec![0.6, 0.8, 1.25, 1.9],
             mode: mode.clone(),
-            sim: SimOptions {
-                method: Method::Rk4 {
-                    steps_per_cycle: 128,
-                },
-                transient_periods: 100,
-                record_periods: 24,
-                ..Default::default()
-            },
+            sim: crate::common::rk4(128, 100, 24),
             y0: [0.0, 0.0],
             sections: vec![Section::Strobe, Section::DsUp],
             lyapunov: false,
@@ -633,10 +591,7 @@ fn decisions_in_lanes_equal_the_decision_of_each_run() {
             ..Default::default()
         };
         let ics = [[0.0, 0.0], [0.9, -0.5], [-1.1, 0.3]];
-        let runs: Vec<(&MeshModel, [f64; 2])> = models
-            .iter()
-            .flat_map(|m| ics.iter().map(move |&y| (m, y)))
-            .collect();
+        let runs = crate::common::runs_from(&models, &ics);
         let firsts = first_runs(&runs, &opts);
         let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
         let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, tau0);
@@ -676,25 +631,14 @@ fn map_in_lanes_equals_the_scalar_decisions() {
         x_values: vec![0.7, 1.0, 1.3, 1.8],
         y_param: "F".into(),
         y_values: vec![0.1, 0.15, 0.2],
-        sim: SimOptions {
-            method: Method::Rk4 {
-                steps_per_cycle: 128,
-            },
-            transient_periods: 150,
-            record_periods: 24,
-            ..Default::default()
-        },
+        sim: crate::common::rk4(128, 150, 24),
         y0: [0.0, 0.0],
         lyapunov: false,
     };
-    let pool = |n: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .unwrap()
+    let map = |n: usize| {
+        crate::common::on_threads(n, || map2d(&scenario, &o, &HashMap::new(), |_| {}).unwrap())
     };
-    let a = pool(2).install(|| map2d(&scenario, &o, &HashMap::new(), |_| {}).unwrap());
-    let b = pool(1).install(|| map2d(&scenario, &o, &HashMap::new(), |_| {}).unwrap());
+    let (a, b) = (map(2), map(1));
     assert_eq!(
         serde_json::to_string(&a).unwrap(),
         serde_json::to_string(&b).unwrap()

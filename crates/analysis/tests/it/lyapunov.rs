@@ -3,9 +3,25 @@
 use geardyn_analysis::lyapunov::{
     tle_two_trajectory, tle_variational, tle_variational_with, LyapunovOptions,
 };
+use geardyn_analysis::lyapunov::{LyapunovResult, Tangent};
 use geardyn_model::reference::{ImpactOscillator, Lorenz};
 use geardyn_model::{presets, MeshModel};
-use geardyn_solvers::Scheme;
+use geardyn_solvers::{HybridSystem, Scheme, Variational};
+
+/// The exponent of `sys` from rest (DP5): variational with saltation, two trajectories, and
+/// variational without saltation.
+fn three_exponents<S>(sys: S, opts: &LyapunovOptions) -> [LyapunovResult; 3]
+where
+    S: Variational<2> + Clone,
+    Tangent<S>: HybridSystem<5>,
+{
+    let (d, y0) = (Scheme::dopri_default(), [0.0, 0.0]);
+    [
+        tle_variational::<_, 2, 5>(sys.clone(), d, 0.0, y0, opts).unwrap(),
+        tle_two_trajectory(sys.clone(), d, 0.0, y0, opts).unwrap(),
+        tle_variational_with::<_, 2, 5>(sys, d, 0.0, y0, 0.0, opts, false).unwrap(),
+    ]
+}
 
 #[test]
 fn lorenz_matches_the_published_exponent() {
@@ -18,23 +34,10 @@ fn lorenz_matches_the_published_exponent() {
         periods: 3000,
         d0: 1e-6,
     };
-    let r = tle_variational::<_, 3, 7>(
-        Lorenz::default(),
-        Scheme::dopri_default(),
-        0.0,
-        [1.0, 1.0, 1.0],
-        &opts,
-    )
-    .unwrap();
+    let (d, y0) = (Scheme::dopri_default(), [1.0, 1.0, 1.0]);
+    let r = tle_variational::<_, 3, 7>(Lorenz::default(), d, 0.0, y0, &opts).unwrap();
     assert!((r.tle - 0.9056).abs() < 0.03, "{} +- {}", r.tle, r.spread);
-    let t = tle_two_trajectory(
-        Lorenz::default(),
-        Scheme::dopri_default(),
-        0.0,
-        [1.0, 1.0, 1.0],
-        &opts,
-    )
-    .unwrap();
+    let t = tle_two_trajectory(Lorenz::default(), d, 0.0, y0, &opts).unwrap();
     assert!((t.tle - 0.9056).abs() < 0.04, "two-trajectory {}", t.tle);
 }
 
@@ -53,27 +56,18 @@ fn c1_opts(m: &MeshModel, periods: u64) -> LyapunovOptions {
     }
 }
 
+/// The exponent of C1 at `omega` from rest over `periods` periods (variational, DP5).
+fn c1_variational(omega: f64, periods: u64) -> LyapunovResult {
+    let m = c1(omega);
+    let opts = c1_opts(&m, periods);
+    tle_variational::<_, 2, 5>(m, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap()
+}
+
 #[test]
 fn c1_is_stable_at_0_8_and_chaotic_at_1_3() {
-    let m = c1(0.8);
-    let r = tle_variational::<_, 2, 5>(
-        m.clone(),
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        &c1_opts(&m, 200),
-    )
-    .unwrap();
+    let r = c1_variational(0.8, 200);
     assert!(r.tle < -0.01, "period-1 orbit: {}", r.tle);
-    let m = c1(1.3);
-    let r = tle_variational::<_, 2, 5>(
-        m.clone(),
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        &c1_opts(&m, 600),
-    )
-    .unwrap();
+    let r = c1_variational(1.3, 600);
     assert!(
         r.tle > 0.01 && r.tle > 4.0 * r.spread,
         "chaos: {} +- {}",
@@ -119,21 +113,7 @@ fn saltation_is_needed_for_the_gear_impact_model() {
     });
     let m = MeshModel::new(&p).unwrap();
     let opts = c1_opts(&m, 400);
-    let var =
-        tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts)
-            .unwrap();
-    let two =
-        tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare = tle_variational_with::<_, 2, 5>(
-        m,
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        0.0,
-        &opts,
-        false,
-    )
-    .unwrap();
+    let [var, two, bare] = three_exponents(m, &opts);
     assert!(
         (var.tle - two.tle).abs() < 1e-3,
         "{} vs {}",
@@ -167,19 +147,7 @@ fn impact_oscillator_exponent_from_saltation_matches_two_trajectories() {
         periods: 300,
         d0: 1e-9,
     };
-    let var =
-        tle_variational::<_, 2, 5>(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let two = tle_two_trajectory(sys, Scheme::dopri_default(), 0.0, [0.0, 0.0], &opts).unwrap();
-    let bare = tle_variational_with::<_, 2, 5>(
-        sys,
-        Scheme::dopri_default(),
-        0.0,
-        [0.0, 0.0],
-        0.0,
-        &opts,
-        false,
-    )
-    .unwrap();
+    let [var, two, bare] = three_exponents(sys, &opts);
     assert!(
         (var.tle - two.tle).abs() < 0.01,
         "{} vs {}",

@@ -2,12 +2,19 @@
 //! forms and a finite-difference Jacobian of the same map, and the bifurcations of a branch
 //! against the linear response and the brute-force diagram of case C1.
 
-use geardyn_analysis::orbit_branches::{continue_orbits, BifurcationKind, ContinuationOptions};
+use geardyn_analysis::orbit_branches::{
+    continue_orbits, Bifurcation, BifurcationKind, Continuation, ContinuationOptions,
+};
 use geardyn_analysis::orbits::{eigenvalues, find_orbit, stroboscopic_map, OrbitOptions};
 use geardyn_analysis::simulate::{simulate, SimOptions};
 use geardyn_model::{presets, MeshModel, ModelParams};
 use geardyn_scenario::Scenario;
 use std::f64::consts::PI;
+
+/// The bifurcations of `kind` of a continuation, in order.
+fn of_kind(c: &Continuation, kind: BifurcationKind) -> Vec<&Bifurcation> {
+    c.bifurcations.iter().filter(|b| b.kind == kind).collect()
+}
 
 /// The state of `m` after 300 periods from rest (near its attractor).
 fn settled(m: &MeshModel) -> [f64; 2] {
@@ -137,11 +144,7 @@ fn a_branch_finds_the_grazing_of_the_linear_orbit_where_its_amplitude_equals_the
         ..Default::default()
     };
     let c = continue_orbits(&sc, y0, &opts, &|_| {}).unwrap();
-    let g: Vec<_> = c
-        .bifurcations
-        .iter()
-        .filter(|b| b.kind == BifurcationKind::Grazing)
-        .collect();
+    let g = of_kind(&c, BifurcationKind::Grazing);
     assert_eq!(g.len(), 1, "{:?}", c.bifurcations);
     assert!(
         (g[0].param - w_graze).abs() < 1e-6,
@@ -207,11 +210,7 @@ fn the_period_one_branch_of_c1_doubles_where_the_diagram_does_and_goes_on_unstab
         .unwrap(),
     );
     let c = continue_orbits(&sc, y0, &opts, &|_| {}).unwrap();
-    let pd: Vec<_> = c
-        .bifurcations
-        .iter()
-        .filter(|b| b.kind == BifurcationKind::PeriodDoubling)
-        .collect();
+    let pd = of_kind(&c, BifurcationKind::PeriodDoubling);
     assert_eq!(pd.len(), 1, "{:?}", c.bifurcations);
     let w = pd[0].param;
     assert!(w > 0.8769 && w < 0.8844, "{w}");

@@ -6,7 +6,7 @@ use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::generic::{decided_sweep, Family};
 use geardyn_analysis::lyapunov::{tle_two_trajectory, LyapunovOptions};
-use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions};
+use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
 use geardyn_model::reference::TwoMassClearance;
 use geardyn_model::{ContactState, GearSystem};
 use geardyn_solvers::Scheme;
@@ -210,14 +210,7 @@ impl Family<4> for Forcing {
 #[test]
 fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
     let values: Vec<f64> = (0..6).map(|i| 0.05 + 0.1 * i as f64).collect();
-    let opts = SimOptions {
-        method: Method::Rk4 {
-            steps_per_cycle: 256,
-        },
-        transient_periods: 100,
-        record_periods: 32,
-        ..Default::default()
-    };
+    let opts = crate::common::rk4(256, 100, 32);
     let run = |threads: usize| {
         crate::common::on_threads(threads, || {
             decided_sweep(&Forcing, &values, [0.0; 4], &opts, Decide::default(), false)
