@@ -9,7 +9,7 @@
 
 use crate::claims::{Claim, Verdict};
 use crate::readings::f;
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::{Context, Result};
@@ -110,9 +110,26 @@ pub(super) struct FaultSignaturesData {
     results: Vec<SignalsResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base)?)
+/// The study `fault_signatures`: [`compute`], then [`render`].
+pub(super) struct FaultSignatures<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+}
+
+impl Study for FaultSignatures<'_> {
+    type Data = FaultSignaturesData;
+
+    fn id(&self) -> &'static str {
+        "fault_signatures"
+    }
+
+    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<FaultSignaturesData> {
+        compute(ctx, self.base)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// Records the broken pair and its healthy twin over the speed-load map and the chip sizes.

@@ -6,7 +6,7 @@ use super::{sweep, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -129,6 +129,7 @@ fn at_loads(main: bool, others: &[(f64, bool)]) -> (Verdict, String) {
 }
 
 /// What the study computed: the broken pair's sweeps over omega.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct FrequencyData {
     /// Values of the main sweep.
     nw: usize,
@@ -146,9 +147,26 @@ pub(super) struct FrequencyData {
     others: Vec<(f64, Vec<TaskResult>)>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, dir)?)
+/// The study `frequency_sweep`: [`compute`], then [`render`].
+pub(super) struct FrequencySweep<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+}
+
+impl Study for FrequencySweep<'_> {
+    type Data = FrequencyData;
+
+    fn id(&self) -> &'static str {
+        "frequency_sweep"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<FrequencyData> {
+        compute(ctx, self.base, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The sweep over omega at the preset's load and, coarser, at two other loads.

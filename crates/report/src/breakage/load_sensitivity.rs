@@ -7,7 +7,7 @@ use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, range};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
@@ -52,6 +52,7 @@ fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
 }
 
 /// What the study computed: the broken pair's load sweeps under the other readings.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct LoadSensitivityData {
     /// The frequencies.
     omegas: Vec<f64>,
@@ -67,9 +68,26 @@ pub(super) struct LoadSensitivityData {
     by_chip: Vec<Vec<TaskResult>>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, dir)?)
+/// The study `load_sensitivity`: [`compute`], then [`render`].
+pub(super) struct LoadSensitivity<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+}
+
+impl Study for LoadSensitivity<'_> {
+    type Data = LoadSensitivityData;
+
+    fn id(&self) -> &'static str {
+        "load_sensitivity"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<LoadSensitivityData> {
+        compute(ctx, self.base, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The broken pair's load sweep at neighbouring frequencies and for the other chip sizes.

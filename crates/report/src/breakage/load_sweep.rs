@@ -7,7 +7,7 @@ use super::{healthy_sim, sweep, A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -23,6 +23,7 @@ use std::path::Path;
 const FORCE_TIE: f64 = 1e-4;
 
 /// What the study computed: the load sweeps of both pairs.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct LoadSweepData {
     /// Values of F.
     nf: usize,
@@ -38,13 +39,34 @@ pub(super) struct LoadSweepData {
     healthy: Vec<TaskResult>,
 }
 
-/// The load sweep (broken and healthy) at omega = 1.2: [`compute`], then [`render`], cached as
-/// the study `load_sweep`.
-pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<Section> {
-    let nf = ctx.n(20, 97);
-    ctx.study("load_sweep", &(nf, OMEGA_LOAD), |dir| {
-        render(ctx, dir, &compute(ctx, dir, base, healthy, nf)?)
-    })
+/// The study `load_sweep`: [`compute`], then [`render`].
+pub(super) struct LoadSweep<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+    /// healthy.
+    pub(super) healthy: &'a Scenario,
+    /// nf.
+    pub(super) nf: usize,
+}
+
+impl Study for LoadSweep<'_> {
+    type Data = LoadSweepData;
+
+    fn id(&self) -> &'static str {
+        "load_sweep"
+    }
+
+    fn request(&self) -> serde_json::Value {
+        serde_json::json!([self.nf, OMEGA_LOAD])
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<LoadSweepData> {
+        compute(ctx, dir, self.base, self.healthy, self.nf)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The sweeps over F of the broken pair and of its healthy twin at [`OMEGA_LOAD`].

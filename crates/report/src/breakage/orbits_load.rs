@@ -6,7 +6,7 @@
 //! whatever attracts instead.
 
 use crate::readings::f;
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
@@ -40,9 +40,32 @@ pub(super) struct OrbitsLoadData {
     branch: Continuation,
 }
 
-/// Periodic orbits over F at the load sweep's speed `omega`: [`compute`], then [`render`].
-pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, omega)?)
+/// The study `orbits_load`: [`compute`], then [`render`].
+pub(super) struct OrbitsLoad<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+    /// omega.
+    pub(super) omega: f64,
+}
+
+impl Study for OrbitsLoad<'_> {
+    type Data = OrbitsLoadData;
+
+    fn id(&self) -> &'static str {
+        "orbits_load"
+    }
+
+    fn request(&self) -> serde_json::Value {
+        serde_json::json!(self.omega.to_bits())
+    }
+
+    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<OrbitsLoadData> {
+        compute(ctx, self.base, self.omega)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// Follows the orbit reached from rest at [`START`] down and up in F.

@@ -5,7 +5,7 @@
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class};
 use crate::readings::{f, interval_header, interval_rows, range};
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -27,6 +27,7 @@ const CHAOS_END: Range<f64> = 1.5..1.8;
 const WINDOW_VALUES: usize = 3;
 
 /// What the study computed: the sweep over omega.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct BifurcationData {
     /// Values of omega.
     n: usize,
@@ -38,15 +39,34 @@ pub(super) struct BifurcationData {
     runs: Vec<TaskResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    base: &Scenario,
-    n: usize,
-    sim: SimOptions,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, n, sim, dir)?)
+/// The study `bifurcation`: [`compute`], then [`render`].
+pub(super) struct Bifurcation<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+    /// n.
+    pub(super) n: usize,
+    /// sim.
+    pub(super) sim: SimOptions,
+}
+
+impl Study for Bifurcation<'_> {
+    type Data = BifurcationData;
+
+    fn id(&self) -> &'static str {
+        "bifurcation"
+    }
+
+    fn request(&self) -> serde_json::Value {
+        serde_json::json!([self.n])
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<BifurcationData> {
+        compute(ctx, self.base, self.n, self.sim, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &BifurcationData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The sweep over omega in [0.5, 2] from (0, 0) with the TLE.

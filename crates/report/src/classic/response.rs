@@ -3,7 +3,7 @@
 //! picture, docs/model.md §6).
 
 use crate::readings::f;
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, SweepMode, SweepOptions, TaskResult};
@@ -12,20 +12,40 @@ use geardyn_scenario::Scenario;
 use std::path::Path;
 
 /// What the study computed: the sweeps up and down.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct ResponseData {
     /// The runs of both directions.
     runs: Vec<TaskResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    base: &Scenario,
-    nr: usize,
-    sim: SimOptions,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, nr, sim, dir)?)
+/// The study `response`: [`compute`], then [`render`].
+pub(super) struct Response<'a> {
+    /// base.
+    pub(super) base: &'a Scenario,
+    /// nr.
+    pub(super) nr: usize,
+    /// sim.
+    pub(super) sim: SimOptions,
+}
+
+impl Study for Response<'_> {
+    type Data = ResponseData;
+
+    fn id(&self) -> &'static str {
+        "response"
+    }
+
+    fn request(&self) -> serde_json::Value {
+        serde_json::json!([self.nr])
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<ResponseData> {
+        compute(ctx, self.base, self.nr, self.sim, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &ResponseData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The continuation sweep over omega in [0.5, 2], upwards and downwards.

@@ -11,7 +11,7 @@ use super::{multi, B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -33,9 +33,26 @@ const UNHEALTHY_PARTLY: f64 = 0.3;
 /// counted before); partly when fewer by less.
 const FEWER_BY: f64 = 0.5;
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
+/// The study `attractors_F`: [`compute`], then [`render`].
+pub(super) struct AttractorsF<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+}
+
+impl Study for AttractorsF<'_> {
+    type Data = AttractorsData;
+
+    fn id(&self) -> &'static str {
+        "attractors_F"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<AttractorsData> {
+        compute(ctx, self.lin, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The multi-initial sweep, the continuation, the basins and the marker runs over F.

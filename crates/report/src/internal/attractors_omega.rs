@@ -11,7 +11,7 @@ use super::{multi, B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::f;
-use crate::runner::Ctx;
+use crate::runner::{Ctx, Study};
 use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -26,9 +26,26 @@ const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
 /// it lies within this distance of it (and nearer to it than to the other).
 const G1_TOLERANCE: f64 = 0.03;
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
+/// The study `attractors_omega`: [`compute`], then [`render`].
+pub(super) struct AttractorsOmega<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+}
+
+impl Study for AttractorsOmega<'_> {
+    type Data = AttractorsData;
+
+    fn id(&self) -> &'static str {
+        "attractors_omega"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<AttractorsData> {
+        compute(ctx, self.lin, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The multi-initial sweep, the continuation, the basins and the marker runs over omega.

@@ -10,7 +10,7 @@ use super::{
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, pct, sequence};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -27,6 +27,7 @@ const LARGE_D: f64 = 1.15;
 const SMALL_D: (f64, f64) = (0.3, 0.45);
 
 /// One sweep of the sensitivity table.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct SensitivityRun {
     /// Load F.
     load: f64,
@@ -39,6 +40,7 @@ struct SensitivityRun {
 }
 
 /// What the study computed: the sweeps over D.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct BacklashData {
     /// Values of the main sweep.
     n: usize,
@@ -54,14 +56,32 @@ pub(super) struct BacklashData {
     law: Vec<TaskResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    lin: &Scenario,
-    preset_law: &Scenario,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, preset_law, dir)?)
+/// The study `backlash_sweep`: [`compute`], then [`render`].
+pub(super) struct BacklashSweep<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+    /// preset_law.
+    pub(super) preset_law: &'a Scenario,
+}
+
+impl Study for BacklashSweep<'_> {
+    type Data = BacklashData;
+
+    fn id(&self) -> &'static str {
+        "backlash_sweep"
+    }
+
+    fn request(&self) -> serde_json::Value {
+        serde_json::json!([BACKLASH_STEP, F_BACKLASH])
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<BacklashData> {
+        compute(ctx, self.lin, self.preset_law, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &BacklashData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The sweeps over D: the main one, the multi-initial one, the sensitivity to the load and the

@@ -6,7 +6,7 @@
 use super::{B003, B004, DD_SEED, DS_SEED};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{class_map_figure, line_figure, map_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -32,6 +32,7 @@ const PEAK_CORNER: (f64, f64) = (0.2, 0.175);
 const SMALL_CORNER: (f64, f64) = (0.04, 0.05);
 
 /// What the study computed: the omega calibration and the map.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct MapData {
     /// The calibration's omegas.
     omegas: Vec<f64>,
@@ -51,9 +52,26 @@ pub(super) struct MapData {
     cells: Vec<MapCell>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
+/// The study `map_xi_F`: [`compute`], then [`render`].
+pub(super) struct MapXiF<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+}
+
+impl Study for MapXiF<'_> {
+    type Data = MapData;
+
+    fn id(&self) -> &'static str {
+        "map_xi_F"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<MapData> {
+        compute(ctx, self.lin, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The corner maximum over omega, then the (xi, F) map at the omega that matches the seed.

@@ -31,7 +31,7 @@ mod xi_sweep;
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{label_claims, Axis, Interpretation};
 use crate::readings::{interval_header, interval_rows, range};
-use crate::runner::{with_linear_law, Ctx, Study};
+use crate::runner::{cached, rendered, with_linear_law, Ctx, Plan};
 use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{attractor_region, Section as Sec, SweepMode, SweepOptions};
@@ -128,45 +128,25 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let lin = with_linear_law(&base)?;
     let pm = base.pair_model().cloned();
     let (base, lin) = (&base, &lin);
-    let mut jobs: Vec<Study<'_>> = Vec::new();
-    if let Some(pm) = pm {
-        jobs.push(Box::new(move || {
-            ctx.study("stiffness", &(), |dir| {
-                stiffness::study(ctx, &pm, base, dir)
-            })
-        }));
+    let mut plan: Plan<'_> = Vec::new();
+    if let Some(pm) = &pm {
+        plan.push(cached(stiffness::Stiffness { pm, base }));
     }
-    jobs.push(Box::new(move || {
-        ctx.study("mechanism", &(), |dir| mechanism::study(ctx, lin, dir))
+    plan.push(rendered(mechanism::Mechanism { lin }));
+    plan.push(cached(backlash_sweep::BacklashSweep {
+        lin,
+        preset_law: base,
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("backlash_sweep", &(BACKLASH_STEP, F_BACKLASH), |dir| {
-            backlash_sweep::study(ctx, lin, base, dir)
-        })
+    plan.push(cached(xi_sweep::XiSweep {
+        lin,
+        preset_law: base,
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("xi_sweep", &(), |dir| xi_sweep::study(ctx, lin, base, dir))
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("orbits_xi", &(), |dir| orbits_xi::study(ctx, lin, dir))
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("map_xi_F", &(), |dir| map_xi_f::study(ctx, lin, dir))
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("attractors_omega", &(), |dir| {
-            attractors_omega::study(ctx, lin, dir)
-        })
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("attractors_F", &(), |dir| {
-            attractors_f::study(ctx, lin, dir)
-        })
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("readings", &(), |dir| readings::study(ctx, lin, base, dir))
-    }));
-    let mut out = ctx.studies(jobs)?;
+    plan.push(rendered(orbits_xi::OrbitsXi { lin }));
+    plan.push(cached(map_xi_f::MapXiF { lin }));
+    plan.push(rendered(attractors_omega::AttractorsOmega { lin }));
+    plan.push(rendered(attractors_f::AttractorsF { lin }));
+    plan.push(cached(readings::Readings { lin, law: base }));
+    let mut out = ctx.studies(plan)?;
     // the reading of the text each section's claims use
     for sec in &mut out {
         let it = match sec.id.as_str() {

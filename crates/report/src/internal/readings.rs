@@ -9,7 +9,7 @@ use super::{chaos_ranges, fixed, multi, ranges_text, AXES, DD_SEED, DS_SEED};
 use crate::classes::{self, tolerant};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, sequence};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -67,6 +67,7 @@ fn interpretations() -> Vec<Interpretation> {
 }
 
 /// The runs under one reading of the text.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct ReadingRuns {
     /// The reading.
     reading: Interpretation,
@@ -81,6 +82,7 @@ struct ReadingRuns {
 }
 
 /// What the study computed: the load and xi sweeps under every reading.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct ReadingsData {
     /// Values of the load sweeps.
     n_load: usize,
@@ -92,9 +94,28 @@ pub(super) struct ReadingsData {
     readings: Vec<ReadingRuns>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, law, dir)?)
+/// The study `readings`: [`compute`], then [`render`].
+pub(super) struct Readings<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+    /// law.
+    pub(super) law: &'a Scenario,
+}
+
+impl Study for Readings<'_> {
+    type Data = ReadingsData;
+
+    fn id(&self) -> &'static str {
+        "readings"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<ReadingsData> {
+        compute(ctx, self.lin, self.law, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The load and xi sweeps under each reading the headline sections do not run.

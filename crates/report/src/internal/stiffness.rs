@@ -6,7 +6,7 @@
 use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -24,6 +24,7 @@ const JUMP_OVER_MEDIAN: f64 = 20.0;
 const PEAK_MARGIN: usize = 10;
 
 /// One stiffness model, without the prescribed mean k_av.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct Variant {
     /// Mean mesh stiffness over the cycle (N/m).
     mean: f64,
@@ -34,6 +35,7 @@ struct Variant {
 }
 
 /// What the study computed from the pair.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct StiffnessData {
     /// Half backlash of the scenario (D_d, D_s), the columns of `stiffness.csv`.
     backlash_scenario: (f64, f64),
@@ -57,9 +59,28 @@ pub(super) struct StiffnessData {
     mu: (f64, f64),
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, pm, &compute(pm, base)?)
+/// The study `stiffness`: [`compute`], then [`render`].
+pub(super) struct Stiffness<'a> {
+    /// pm.
+    pub(super) pm: &'a PairModel,
+    /// base.
+    pub(super) base: &'a Scenario,
+}
+
+impl Study for Stiffness<'_> {
+    type Data = StiffnessData;
+
+    fn id(&self) -> &'static str {
+        "stiffness"
+    }
+
+    fn compute(&self, _ctx: &Ctx, _dir: &Path) -> Result<StiffnessData> {
+        compute(self.pm, self.base)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &StiffnessData) -> Result<Section> {
+        render(ctx, dir, self.pm, data)
+    }
 }
 
 /// Builds the stiffness models and reads the pair's stiffness, backlash and friction.

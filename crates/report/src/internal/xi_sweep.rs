@@ -10,7 +10,7 @@ use super::{
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, sequence};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{hdr, Ctx, Study};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -24,9 +24,10 @@ use std::path::Path;
 const TLE_AGREE_TENTHS: usize = 9;
 
 /// One sweep of the sensitivity table.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct SensitivityRun {
     /// D_s - D_d in words.
-    label: &'static str,
+    label: String,
     /// (D_d, D_s) of the run.
     levels: (f64, f64),
     /// The runs over xi from (0, 0).
@@ -34,6 +35,7 @@ struct SensitivityRun {
 }
 
 /// What the study computed: the sweeps over xi.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct XiData {
     /// Values of the main sweep.
     n: usize,
@@ -51,14 +53,28 @@ pub(super) struct XiData {
     sensitivity: Vec<SensitivityRun>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    lin: &Scenario,
-    preset_law: &Scenario,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, preset_law, dir)?)
+/// The study `xi_sweep`: [`compute`], then [`render`].
+pub(super) struct XiSweep<'a> {
+    /// lin.
+    pub(super) lin: &'a Scenario,
+    /// preset_law.
+    pub(super) preset_law: &'a Scenario,
+}
+
+impl Study for XiSweep<'_> {
+    type Data = XiData;
+
+    fn id(&self) -> &'static str {
+        "xi_sweep"
+    }
+
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<XiData> {
+        compute(ctx, self.lin, self.preset_law, dir)
+    }
+
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &XiData) -> Result<Section> {
+        render(ctx, dir, data)
+    }
 }
 
 /// The sweeps over xi: the main one, the multi-initial one, the preset's contact law and other
@@ -136,7 +152,7 @@ pub(super) fn compute(
             ),
         )?;
         sensitivity.push(SensitivityRun {
-            label: txt,
+            label: txt.to_string(),
             levels: (s.params().d_double, s.params().d_single),
             runs,
         });
@@ -192,7 +208,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &XiData) -> Result<Section> {
         .map(|run| {
             let ps = classes::fixed_points(&run.runs);
             vec![
-                run.label.to_string(),
+                run.label.clone(),
                 f(run.levels.0),
                 f(run.levels.1),
                 sequence(&classes::intervals(&tolerant(&ps)), 2),
