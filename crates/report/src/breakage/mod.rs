@@ -7,10 +7,10 @@
 //! One module per study, named after its id. This module holds the plan, the settings the
 //! seed leaves open and the helpers several studies share.
 //!
-//! Each study computes its data (`compute`: the sweeps, continuations, basins and runs through
-//! the [`Ctx`] requests, returned as a plain struct) and renders it (`render`: CSV files,
-//! figures, readings and claims, the thresholds of the claims as named constants beside them);
-//! `study` is the one after the other.
+//! Each study is a [`crate::runner::Study`]: it computes its data (`compute`: the sweeps,
+//! continuations, basins and runs through the [`Ctx`] requests, returned as a plain struct) and
+//! renders it (`render`: CSV files, figures, readings and claims, the thresholds of the claims as
+//! named constants beside them).
 
 mod coexistence_load;
 mod fault_signatures;

@@ -12,10 +12,10 @@
 //! module holds the plan, the settings the seed leaves open and the helpers several studies
 //! share.
 //!
-//! Each study computes its data (`compute`: the sweeps, continuations, basins and runs through
-//! the [`Ctx`] requests, returned as a plain struct) and renders it (`render`: CSV files,
-//! figures, readings and claims, the thresholds of the claims as named constants beside them);
-//! `study` is the one after the other.
+//! Each study is a [`crate::runner::Study`]: it computes its data (`compute`: the sweeps,
+//! continuations, basins and runs through the [`Ctx`] requests, returned as a plain struct) and
+//! renders it (`render`: CSV files, figures, readings and claims, the thresholds of the claims as
+//! named constants beside them).
 
 mod attractor_tables;
 mod attractors_f;
@@ -24,6 +24,7 @@ mod backlash_sweep;
 mod map_xi_f;
 mod mechanism;
 mod orbits_xi;
+mod param_sweep;
 mod readings;
 mod stiffness;
 mod xi_sweep;
@@ -36,6 +37,7 @@ use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{attractor_region, Section as Sec, SweepMode, SweepOptions};
 use geardyn_analysis::simulate::SimOptions;
+use param_sweep::ParamSweep;
 use std::path::Path;
 
 const B003: &str = "seed B 003 (summary)";
@@ -133,13 +135,17 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         plan.push(cached(stiffness::Stiffness { pm, base }));
     }
     plan.push(rendered(mechanism::Mechanism { lin }));
-    plan.push(cached(backlash_sweep::BacklashSweep {
+    plan.push(cached(ParamSweep {
+        table: &backlash_sweep::TABLE,
         lin,
         preset_law: base,
+        request: serde_json::json!([BACKLASH_STEP, F_BACKLASH]),
     }));
-    plan.push(cached(xi_sweep::XiSweep {
+    plan.push(cached(ParamSweep {
+        table: &xi_sweep::TABLE,
         lin,
         preset_law: base,
+        request: serde_json::Value::Null,
     }));
     plan.push(rendered(orbits_xi::OrbitsXi { lin }));
     plan.push(cached(map_xi_f::MapXiF { lin }));
