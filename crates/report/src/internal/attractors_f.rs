@@ -3,22 +3,15 @@
 //! tree, basins at F = 0.16, 0.11 and 0.104, the load cascade and chaos without back-side
 //! meshing. Checks seed B 003 §4.3 (Table 6) and 004 §5.4 (Figs. 5.6, 5.8, Table 5.2).
 
-use super::attractor_tables::{
-    backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    marker_runs, table_row, AttractorsData, Spec,
-};
-use super::{multi, B003, B004};
+use super::attractor_tables::{basin_claim, extra_boxes, table_row, AttractorsData, Spec};
+use super::attractors::AttractorTable;
+use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
-use crate::runner::{Ctx, Study};
-use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
-use crate::Section;
-use anyhow::Result;
+use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
-use geardyn_scenario::Scenario;
-use std::path::Path;
+use geardyn_analysis::bifurcation::linspace;
 
 /// The seed's points where basins are drawn (Fig. 5.8g at 0.16, between G3 and G2 at 0.11, below
 /// G2 at 0.104).
@@ -33,108 +26,47 @@ const UNHEALTHY_PARTLY: f64 = 0.3;
 /// counted before); partly when fewer by less.
 const FEWER_BY: f64 = 0.5;
 
-/// The study `attractors_F`: [`compute`], then [`render`].
-pub(super) struct AttractorsF<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-}
+/// The study: F over [0.0001, 0.2] at omega = 1.4, xi = 0.09.
+pub(super) const TABLE: AttractorTable = AttractorTable {
+    id: "attractors_F",
+    param: "F",
+    set: &[("omega", 1.4), ("xi", 0.09)],
+    at: "omega = 1.4, xi = 0.09",
+    values: |ctx| {
+        let mut values = linspace(0.0001, 0.2, ctx.n(30, 134));
+        values.extend([0.001, 0.002, 0.04, 0.044, 0.1, 0.104, 0.11, 0.16]);
+        values
+    },
+    continuation: |ctx| linspace(0.0001, 0.2, ctx.n(20, 67)),
+    basins: &[
+        (BASIN_LOADS[0], true),
+        (BASIN_LOADS[1], true),
+        (BASIN_LOADS[2], true),
+    ],
+    markers: &[0.001, 0.02, 0.04, 0.044, 0.07, 0.1, 0.104, 0.11, 0.16, 0.19],
+    multi_caption: "Linear contact law: runs from random initial states per load, coloured by the attractor label; the second panel shows back-side crossings of -D_s.",
+    title: (
+        "Coexisting attractors over the load F (omega = 1.4, xi = 0.09): multi-initial diagram, safety tree and basins",
+        "003 §4.3 (Table 6); 004 §5.4 (Figs. 5.6, 5.8, Table 5.2)",
+    ),
+    words,
+    claims,
+};
 
-impl Study for AttractorsF<'_> {
-    type Data = AttractorsData;
-
-    fn id(&self) -> &'static str {
-        "attractors_F"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<AttractorsData> {
-        compute(ctx, self.lin, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
-
-/// The multi-initial sweep, the continuation, the basins and the marker runs over F.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
-    let set = [("omega", 1.4), ("xi", 0.09)];
-    let b = lin.with_all(&set)?;
-    let d = b.params().d_single;
-    let n = ctx.n(30, 134);
-    let mut values = linspace(0.0001, 0.2, n);
-    values.extend([0.001, 0.002, 0.04, 0.044, 0.1, 0.104, 0.11, 0.16]);
-    values.sort_by(f64::total_cmp);
-    values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let ics = ctx.n(6, 12);
-    let multi: Vec<TaskResult> = ctx.sweep(
-        dir,
-        "F multi-initial",
-        &b,
-        &multi("F", values.clone(), ctx.sim((150, 300), (30, 60)), ics, d),
-    )?;
-    let continuation = ctx.continuation(
-        dir,
-        "F continuation",
-        &b,
-        &continuation_opts("F", linspace(0.0001, 0.2, ctx.n(20, 67)), ctx.n(8, 24), d),
-    )?;
-    let nb = ctx.n(24, 80);
-    let mut basins = Vec::new();
-    for fv in BASIN_LOADS {
-        let m = b.with("F", fv)?.model().clone();
-        basins.push(basins_at(
-            ctx,
-            dir,
-            format!("basins_F_{fv}"),
-            &m,
-            (nb, d),
-            true,
-        )?);
-    }
-    let markers = marker_runs(
-        ctx,
-        dir,
-        &b,
-        "F",
-        &[0.001, 0.02, 0.04, 0.044, 0.07, 0.1, 0.104, 0.11, 0.16, 0.19],
-    )?;
-    Ok(AttractorsData {
-        d,
-        values,
-        ics,
-        nb,
-        multi,
-        continuation,
-        basins,
-        markers,
-    })
-}
-
-/// The figures, tables and the claims of the seed's table over F.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
+/// Parameters and method of the section.
+fn words(data: &AttractorsData) -> (String, String) {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
-    let (r, c) = (&data.multi, &data.continuation);
     let box_txt = &data.basins[0].boxes[0].0;
-    let fig = sweep_figure(
-        ctx, dir, "multi_F", "F", r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
-        "Multi-initial bifurcation over F (omega = 1.4, xi = 0.09)",
-        "Linear contact law: runs from random initial states per load, coloured by the attractor label; the second panel shows back-side crossings of -D_s.",
-    )?;
-    let pts = classes::points(r, 0);
-    let (fig_c, table_c) =
-        continuation_figure(ctx, dir, "tree_F", "F", c, "Bifurcation-safety tree over F")?;
-    let mut basin_figs = Vec::new();
-    let mut basin_tables = Vec::new();
-    for (fv, basins) in BASIN_LOADS.iter().zip(&data.basins) {
-        let (bf, bt) = basins_figure(
-            ctx,
-            dir,
-            basins,
-            &format!("Basins at F = {fv} (omega = 1.4, xi = 0.09)"),
-        )?;
-        basin_figs.push(bf);
-        basin_tables.push(bt);
-    }
+    (
+        format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("Multi-initial: {ics} random initial states per value, decided classification; continuation with basin overlap; basins at F = 0.16, 0.11, 0.104."),
+    )
+}
+
+/// The claims of the seed's table.
+fn claims(data: &AttractorsData) -> Vec<Claim> {
+    let (ics, c) = (data.ics, &data.continuation);
+    let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
     let t52 = format!("{B004} Table 5.2");
@@ -350,24 +282,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         },
         format!("Fewer = at least half a motion per value less (partly: fewer by less). The same file's Table 6 lists 2 attractors for F < 0.0021, 1 for 0.0022–0.089, 3 for 0.09–0.117 and 2 above 0.118: not fewer at the larger loads (its table rows are checked one by one above). Measured: {ics} initial states per value, distinct motions counted per value (1-1-0-1-0 and 2-1-0-1-0 coexist up to F = 0.2)."),
     ));
-    let mut figs = vec![fig, fig_c];
-    figs.extend(basin_figs);
-    let mut tables = vec![table_c];
-    tables.extend(basin_tables);
-    tables.push(backlash_sensitivity(ctx, dir, &data.markers)?);
-    Ok(Section {
-        id: "attractors_F".into(),
-        title: "Coexisting attractors over the load F (omega = 1.4, xi = 0.09): multi-initial diagram, safety tree and basins".into(),
-        seed_ref: "003 §4.3 (Table 6); 004 §5.4 (Figs. 5.6, 5.8, Table 5.2)".into(),
-        parameters: format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
-        method: format!("Multi-initial: {ics} random initial states per value, decided classification; continuation with basin overlap; basins at F = 0.16, 0.11, 0.104."),
-        figures: figs,
-        readings: vec![format!("Continuation: {} intervals, {} events (tree_F_branches.csv).", c.intervals.len(), c.events.len())],
-        tables,
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    claims
 }
 
 /// The low-load rows of seed B's attractor table over F (Table 5.2 / Table 6): the windows of

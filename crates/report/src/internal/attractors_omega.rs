@@ -4,21 +4,16 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    found_in, marker_runs, presence, table_row, AttractorsData, Spec, PRESENT,
+    basin_claim, extra_boxes, found_in, presence, table_row, AttractorsData, Spec, PRESENT,
 };
-use super::{multi, B003, B004};
+use super::attractors::AttractorTable;
+use super::{B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
-use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
-use crate::Section;
-use anyhow::Result;
+use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec};
-use geardyn_scenario::Scenario;
-use std::path::Path;
+use geardyn_analysis::bifurcation::linspace;
 
 /// The seed's points where basins are drawn (G1 at 0.364 and 0.42, G3 at 1.801).
 const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
@@ -26,128 +21,55 @@ const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
 /// it lies within this distance of it (and nearer to it than to the other).
 const G1_TOLERANCE: f64 = 0.03;
 
-/// The study `attractors_omega`: [`compute`], then [`render`].
-pub(super) struct AttractorsOmega<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-}
-
-impl Study for AttractorsOmega<'_> {
-    type Data = AttractorsData;
-
-    fn id(&self) -> &'static str {
-        "attractors_omega"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<AttractorsData> {
-        compute(ctx, self.lin, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
-
-/// The multi-initial sweep, the continuation, the basins and the marker runs over omega.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
-    let set = [("F", 0.07), ("xi", 0.23)];
-    let b = lin.with_all(&set)?;
-    let d = b.params().d_single;
-    let n = ctx.n(30, 146);
-    let mut values = ctx.n(vec![0.03], vec![0.01, 0.03, 0.06]);
-    values.extend(linspace(0.1, 3.0, n));
-    values.extend([0.364, 0.42, 0.56, 0.6, 1.801, 1.812]);
-    values.sort_by(f64::total_cmp);
-    values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let ics = ctx.n(6, 12);
-    let multi = ctx.sweep(
-        dir,
-        "omega multi-initial",
-        &b,
-        &multi(
-            "omega",
-            values.clone(),
-            ctx.sim((150, 300), (30, 60)),
-            ics,
-            d,
-        ),
-    )?;
-    let cvals: Vec<f64> = {
+/// The study: omega over [0.01, 3] at F = 0.07, xi = 0.23.
+pub(super) const TABLE: AttractorTable = AttractorTable {
+    id: "attractors_omega",
+    param: "omega",
+    set: &[("F", 0.07), ("xi", 0.23)],
+    at: "F = 0.07, xi = 0.23",
+    values: |ctx| {
+        let mut values = ctx.n(vec![0.03], vec![0.01, 0.03, 0.06]);
+        values.extend(linspace(0.1, 3.0, ctx.n(30, 146)));
+        values.extend([0.364, 0.42, 0.56, 0.6, 1.801, 1.812]);
+        values
+    },
+    continuation: |ctx| {
         let mut v = vec![0.03];
         v.extend(linspace(0.1, 3.0, ctx.n(20, 59)));
         v
-    };
-    let continuation = ctx.continuation(
-        dir,
-        "omega continuation",
-        &b,
-        &continuation_opts("omega", cvals, ctx.n(8, 24), d),
-    )?;
-    let nb = ctx.n(24, 80);
-    let mut basins = Vec::new();
-    for w in BASIN_OMEGAS {
-        let m = b.with("omega", w)?.model().clone();
-        basins.push(basins_at(
-            ctx,
-            dir,
-            format!("basins_omega_{w}"),
-            &m,
-            (nb, d),
-            w != 0.364,
-        )?);
-    }
-    let markers = marker_runs(
-        ctx,
-        dir,
-        &b,
-        "omega",
-        &[
-            0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
-        ],
-    )?;
-    Ok(AttractorsData {
-        d,
-        values,
-        ics,
-        nb,
-        multi,
-        continuation,
-        basins,
-        markers,
-    })
+    },
+    // (no extra boxes at 0.364)
+    basins: &[
+        (BASIN_OMEGAS[0], false),
+        (BASIN_OMEGAS[1], true),
+        (BASIN_OMEGAS[2], true),
+    ],
+    markers: &[
+        0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
+    ],
+    multi_caption: "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
+    title: (
+        "Coexisting attractors over omega (F = 0.07, xi = 0.23): multi-initial diagram, safety tree and basins",
+        "003 §4.3 (Table 5); 004 §5.3 (Figs. 5.3, 5.5, Table 5.1)",
+    ),
+    words,
+    claims,
+};
+
+/// Parameters and method of the section.
+fn words(data: &AttractorsData) -> (String, String) {
+    let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
+    let box_txt = &data.basins[0].boxes[0].0;
+    (
+        format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("Multi-initial: {ics} random initial states per value (x0 ∈ ±1.5 D_s, x0' ∈ ±1), decided classification; continuation: attractors identified on the stroboscopic section and matched by basin overlap; basins at the seed's points."),
+    )
 }
 
-/// The figures, tables and the claims of the seed's table over omega.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
-    let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
-    let (r, c) = (&data.multi, &data.continuation);
-    let box_txt = &data.basins[0].boxes[0].0;
-    let fig = sweep_figure(
-        ctx, dir, "multi_omega", "omega", r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
-        "Multi-initial bifurcation over omega (F = 0.07, xi = 0.23)",
-        "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
-    )?;
-    let pts = classes::points(r, 0);
-    let (fig_c, table_c) = continuation_figure(
-        ctx,
-        dir,
-        "tree_omega",
-        "omega",
-        c,
-        "Bifurcation-safety tree over omega",
-    )?;
-    let mut basin_figs = Vec::new();
-    let mut basin_tables = Vec::new();
-    for (w, basins) in BASIN_OMEGAS.iter().zip(&data.basins) {
-        let (bf, bt) = basins_figure(
-            ctx,
-            dir,
-            basins,
-            &format!("Basins at omega = {w} (F = 0.07, xi = 0.23)"),
-        )?;
-        basin_figs.push(bf);
-        basin_tables.push(bt);
-    }
+/// The claims of the seed's table.
+fn claims(data: &AttractorsData) -> Vec<Claim> {
+    let ics = data.ics;
+    let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
     let p1: fn(&Pt) -> bool = |p| p.name == "1-0-0-1-0";
@@ -410,27 +332,5 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             "omega in (1.802, 1.891): Q2 (healthy) and P3",
         ],
     );
-    let readings = vec![format!(
-        "Continuation: {} intervals, {} events (tree_omega_branches.csv).",
-        c.intervals.len(),
-        c.events.len()
-    )];
-    let mut figs = vec![fig, fig_c];
-    figs.extend(basin_figs);
-    let mut tables = vec![table_c];
-    tables.extend(basin_tables);
-    tables.push(backlash_sensitivity(ctx, dir, &data.markers)?);
-    Ok(Section {
-        id: "attractors_omega".into(),
-        title: "Coexisting attractors over omega (F = 0.07, xi = 0.23): multi-initial diagram, safety tree and basins".into(),
-        seed_ref: "003 §4.3 (Table 5); 004 §5.3 (Figs. 5.3, 5.5, Table 5.1)".into(),
-        parameters: format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
-        method: format!("Multi-initial: {ics} random initial states per value (x0 ∈ ±1.5 D_s, x0' ∈ ±1), decided classification; continuation: attractors identified on the stroboscopic section and matched by basin overlap; basins at the seed's points."),
-        figures: figs,
-        readings,
-        tables,
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    claims
 }

@@ -18,6 +18,7 @@
 //! named constants beside them).
 
 mod attractor_tables;
+mod attractors;
 mod attractors_f;
 mod attractors_omega;
 mod backlash_sweep;
@@ -35,6 +36,7 @@ use crate::readings::{interval_header, interval_rows, range};
 use crate::runner::{cached, rendered, with_linear_law, Ctx, Plan};
 use crate::{Section, Table};
 use anyhow::Result;
+use attractors::Attractors;
 use geardyn_analysis::bifurcation::{attractor_region, Section as Sec, SweepMode, SweepOptions};
 use geardyn_analysis::simulate::SimOptions;
 use param_sweep::ParamSweep;
@@ -149,8 +151,14 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     }));
     plan.push(rendered(orbits_xi::OrbitsXi { lin }));
     plan.push(cached(map_xi_f::MapXiF { lin }));
-    plan.push(rendered(attractors_omega::AttractorsOmega { lin }));
-    plan.push(rendered(attractors_f::AttractorsF { lin }));
+    plan.push(rendered(Attractors {
+        table: &attractors_omega::TABLE,
+        lin,
+    }));
+    plan.push(rendered(Attractors {
+        table: &attractors_f::TABLE,
+        lin,
+    }));
     plan.push(cached(readings::Readings { lin, law: base }));
     let mut out = ctx.studies(plan)?;
     // the reading of the text each section's claims use
