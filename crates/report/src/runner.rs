@@ -46,6 +46,46 @@ pub trait Study: Send + Sync {
     }
 }
 
+/// Declares a study of a module whose `compute` and `render` functions take its inputs: the
+/// struct (the inputs it borrows, filled in by the plan), its id, its data, the calls of
+/// `compute` and `render` (with the study `s`, the context `ctx`, the folder `dir` and the data)
+/// and, optionally, its request.
+macro_rules! study {
+    ($name:ident { $($field:ident: $ty:ty),* } $id:literal $data:ty,
+     |$s:ident, $ctx:ident, $dir:ident| $compute:expr, |$d:ident| $render:expr $(, $req:expr)?) => {
+        #[doc = concat!("The study `", $id, "`: [`compute`], then [`render`].")]
+        pub(super) struct $name<'a> {
+            $(#[doc = concat!("Its input `", stringify!($field), "`.")] pub(super) $field: $ty,)*
+        }
+
+        impl $crate::runner::Study for $name<'_> {
+            type Data = $data;
+
+            fn id(&self) -> &'static str {
+                $id
+            }
+
+            $(fn request(&self) -> serde_json::Value {
+                let $s = self;
+                $req
+            })?
+
+            #[allow(unused_variables)]
+            fn compute(&self, $ctx: &$crate::runner::Ctx, $dir: &std::path::Path) -> anyhow::Result<$data> {
+                let $s = self;
+                $compute
+            }
+
+            #[allow(unused_variables)]
+            fn render(&self, $ctx: &$crate::runner::Ctx, $dir: &std::path::Path, $d: &$data) -> anyhow::Result<$crate::Section> {
+                let $s = self;
+                $render
+            }
+        }
+    };
+}
+pub(crate) use study;
+
 /// A study of a plan as the runner drives it (object safe: a plan is a list of them).
 pub trait Planned: Send + Sync {
     /// Computes (or reads from the cache) and renders the study.

@@ -6,7 +6,7 @@ use super::{sweep, A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{basin_grid, basin_render, sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -47,27 +47,8 @@ pub(super) struct CoexistenceData {
     basins: BasinResult,
 }
 
-/// The study `coexistence_load`: [`compute`], then [`render`].
-pub(super) struct CoexistenceLoad<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for CoexistenceLoad<'_> {
-    type Data = CoexistenceData;
-
-    fn id(&self) -> &'static str {
-        "coexistence_load"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<CoexistenceData> {
-        compute(ctx, self.base, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(CoexistenceLoad { base: &'a Scenario } "coexistence_load" CoexistenceData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The multi-initial sweep over F, the scan over omega at F = 0.05 and the basins there.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<CoexistenceData> {

@@ -9,7 +9,7 @@
 
 use crate::claims::{Claim, Verdict};
 use crate::readings::f;
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::{Context, Result};
@@ -110,27 +110,8 @@ pub(super) struct FaultSignaturesData {
     results: Vec<SignalsResult>,
 }
 
-/// The study `fault_signatures`: [`compute`], then [`render`].
-pub(super) struct FaultSignatures<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for FaultSignatures<'_> {
-    type Data = FaultSignaturesData;
-
-    fn id(&self) -> &'static str {
-        "fault_signatures"
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<FaultSignaturesData> {
-        compute(ctx, self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(FaultSignatures { base: &'a Scenario } "fault_signatures" FaultSignaturesData,
+    |s, ctx, dir| compute(ctx, s.base), |data| render(ctx, dir, data));
 
 /// Records the broken pair and its healthy twin over the speed-load map and the chip sizes.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<FaultSignaturesData> {

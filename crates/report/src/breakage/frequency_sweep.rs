@@ -6,7 +6,7 @@ use super::{sweep, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -147,27 +147,8 @@ pub(super) struct FrequencyData {
     others: Vec<(f64, Vec<TaskResult>)>,
 }
 
-/// The study `frequency_sweep`: [`compute`], then [`render`].
-pub(super) struct FrequencySweep<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for FrequencySweep<'_> {
-    type Data = FrequencyData;
-
-    fn id(&self) -> &'static str {
-        "frequency_sweep"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<FrequencyData> {
-        compute(ctx, self.base, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(FrequencySweep { base: &'a Scenario } "frequency_sweep" FrequencyData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The sweep over omega at the preset's load and, coarser, at two other loads.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<FrequencyData> {

@@ -7,7 +7,7 @@ use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, range};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
@@ -68,27 +68,8 @@ pub(super) struct LoadSensitivityData {
     by_chip: Vec<Vec<TaskResult>>,
 }
 
-/// The study `load_sensitivity`: [`compute`], then [`render`].
-pub(super) struct LoadSensitivity<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for LoadSensitivity<'_> {
-    type Data = LoadSensitivityData;
-
-    fn id(&self) -> &'static str {
-        "load_sensitivity"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<LoadSensitivityData> {
-        compute(ctx, self.base, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(LoadSensitivity { base: &'a Scenario } "load_sensitivity" LoadSensitivityData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The broken pair's load sweep at neighbouring frequencies and for the other chip sizes.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSensitivityData> {

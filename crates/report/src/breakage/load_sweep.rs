@@ -7,7 +7,7 @@ use super::{healthy_sim, sweep, A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -39,35 +39,8 @@ pub(super) struct LoadSweepData {
     healthy: Vec<TaskResult>,
 }
 
-/// The study `load_sweep`: [`compute`], then [`render`].
-pub(super) struct LoadSweep<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// healthy.
-    pub(super) healthy: &'a Scenario,
-    /// nf.
-    pub(super) nf: usize,
-}
-
-impl Study for LoadSweep<'_> {
-    type Data = LoadSweepData;
-
-    fn id(&self) -> &'static str {
-        "load_sweep"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!([self.nf, OMEGA_LOAD])
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<LoadSweepData> {
-        compute(ctx, dir, self.base, self.healthy, self.nf)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(LoadSweep { base: &'a Scenario, healthy: &'a Scenario, nf: usize } "load_sweep" LoadSweepData,
+    |s, ctx, dir| compute(ctx, dir, s.base, s.healthy, s.nf), |data| render(ctx, dir, data), serde_json::json!([s.nf, OMEGA_LOAD]));
 
 /// The sweeps over F of the broken pair and of its healthy twin at [`OMEGA_LOAD`].
 pub(super) fn compute(

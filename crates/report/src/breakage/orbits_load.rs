@@ -6,7 +6,7 @@
 //! whatever attracts instead.
 
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
@@ -40,33 +40,8 @@ pub(super) struct OrbitsLoadData {
     branch: Continuation,
 }
 
-/// The study `orbits_load`: [`compute`], then [`render`].
-pub(super) struct OrbitsLoad<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// omega.
-    pub(super) omega: f64,
-}
-
-impl Study for OrbitsLoad<'_> {
-    type Data = OrbitsLoadData;
-
-    fn id(&self) -> &'static str {
-        "orbits_load"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!(self.omega.to_bits())
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<OrbitsLoadData> {
-        compute(ctx, self.base, self.omega)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(OrbitsLoad { base: &'a Scenario, omega: f64 } "orbits_load" OrbitsLoadData,
+    |s, ctx, dir| compute(ctx, s.base, s.omega), |data| render(ctx, dir, data), serde_json::json!(s.omega.to_bits()));
 
 /// Follows the orbit reached from rest at [`START`] down and up in F.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, omega: f64) -> Result<OrbitsLoadData> {

@@ -3,7 +3,7 @@
 
 use super::OMEGA_LOAD;
 use crate::readings::f;
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::portrait_figure;
 use crate::Section;
 use anyhow::Result;
@@ -32,27 +32,8 @@ pub(super) struct PortraitsData {
     portraits: Vec<Portrait>,
 }
 
-/// The study `portraits`: [`compute`], then [`render`].
-pub(super) struct Portraits<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for Portraits<'_> {
-    type Data = PortraitsData;
-
-    fn id(&self) -> &'static str {
-        "portraits"
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<PortraitsData> {
-        compute(ctx, self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &PortraitsData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Portraits { base: &'a Scenario } "portraits" PortraitsData,
+    |s, ctx, dir| compute(ctx, s.base), |data| render(ctx, dir, data));
 
 /// The broken pair from (0, 0) at two loads and two frequencies, each run decided.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<PortraitsData> {

@@ -5,7 +5,7 @@
 use super::{healthy_sim, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{line_figure_y, Line};
 use crate::Section;
 use anyhow::{Context, Result};
@@ -49,29 +49,8 @@ pub(super) struct RevolutionData {
     cycle_time: f64,
 }
 
-/// The study `revolution`: [`compute`], then [`render`].
-pub(super) struct Revolution<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// healthy.
-    pub(super) healthy: &'a Scenario,
-}
-
-impl Study for Revolution<'_> {
-    type Data = RevolutionData;
-
-    fn id(&self) -> &'static str {
-        "revolution"
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<RevolutionData> {
-        compute(ctx, self.base, self.healthy)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Revolution { base: &'a Scenario, healthy: &'a Scenario } "revolution" RevolutionData,
+    |s, ctx, dir| compute(ctx, s.base, s.healthy), |data| render(ctx, dir, data));
 
 /// Runs both pairs over a small grid of operating points and, at the main one, from several
 /// initial states.

@@ -5,7 +5,7 @@
 use super::{A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -83,29 +83,8 @@ pub(super) struct StatesData {
     window: (f64, f64, f64),
 }
 
-/// The study `states`: [`compute`], then [`render`].
-pub(super) struct States<'a> {
-    /// pm.
-    pub(super) pm: &'a PairModel,
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for States<'_> {
-    type Data = StatesData;
-
-    fn id(&self) -> &'static str {
-        "states"
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<StatesData> {
-        compute(ctx, self.pm, self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &StatesData) -> Result<Section> {
-        render(ctx, dir, self.pm, self.base, data)
-    }
-}
+crate::runner::study!(States { pm: &'a PairModel, base: &'a Scenario } "states" StatesData,
+    |s, ctx, dir| compute(ctx, s.pm, s.base), |data| render(ctx, dir, s.pm, s.base, data));
 
 /// Runs the broken pair at a point with chaos and impacts and sorts its samples into the states.
 pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<StatesData> {

@@ -5,7 +5,7 @@
 use super::{A000, A001};
 use crate::claims::{Claim, Verdict};
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::{Figure, Section};
 use anyhow::Result;
 use geardyn_physics::PairModel;
@@ -40,29 +40,8 @@ pub(super) struct StiffnessData {
     share_double: f64,
 }
 
-/// The study `stiffness`: [`compute`], then [`render`].
-pub(super) struct Stiffness<'a> {
-    /// pm.
-    pub(super) pm: &'a PairModel,
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for Stiffness<'_> {
-    type Data = StiffnessData;
-
-    fn id(&self) -> &'static str {
-        "stiffness"
-    }
-
-    fn compute(&self, _ctx: &Ctx, _dir: &Path) -> Result<StiffnessData> {
-        compute(self.pm, self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &StiffnessData) -> Result<Section> {
-        render(ctx, dir, self.pm, data)
-    }
-}
+crate::runner::study!(Stiffness { pm: &'a PairModel, base: &'a Scenario } "stiffness" StiffnessData,
+    |s, ctx, dir| compute(s.pm, s.base), |data| render(ctx, dir, s.pm, data));
 
 /// Builds the healthy twin and reads zone II of the broken cycle against it.
 pub(super) fn compute(pm: &PairModel, base: &Scenario) -> Result<StiffnessData> {

@@ -1,7 +1,7 @@
 //! C1's basins of attraction at omega = 1.8, where two attractors coexist (no seed statement:
 //! the benchmark's picture, docs/model.md §6).
 
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::shared::{basin_grid, basin_render};
 use crate::Section;
 use anyhow::Result;
@@ -20,33 +20,8 @@ pub(super) struct BasinsData {
     basins: BasinResult,
 }
 
-/// The study `basins`: [`compute`], then [`render`].
-pub(super) struct Basins<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// nb.
-    pub(super) nb: usize,
-}
-
-impl Study for Basins<'_> {
-    type Data = BasinsData;
-
-    fn id(&self) -> &'static str {
-        "basins"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!([self.nb])
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<BasinsData> {
-        compute(ctx, self.base, self.nb, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &BasinsData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Basins { base: &'a Scenario, nb: usize } "basins" BasinsData,
+    |s, ctx, dir| compute(ctx, s.base, s.nb, dir), |data| render(ctx, dir, data), serde_json::json!([s.nb]));
 
 /// The basins at omega = 1.8 on an `nb` x `nb` grid.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, nb: usize, dir: &Path) -> Result<BasinsData> {

@@ -5,7 +5,7 @@
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class};
 use crate::readings::{f, interval_header, interval_rows, range};
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -39,35 +39,8 @@ pub(super) struct BifurcationData {
     runs: Vec<TaskResult>,
 }
 
-/// The study `bifurcation`: [`compute`], then [`render`].
-pub(super) struct Bifurcation<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// n.
-    pub(super) n: usize,
-    /// sim.
-    pub(super) sim: SimOptions,
-}
-
-impl Study for Bifurcation<'_> {
-    type Data = BifurcationData;
-
-    fn id(&self) -> &'static str {
-        "bifurcation"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!([self.n])
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<BifurcationData> {
-        compute(ctx, self.base, self.n, self.sim, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &BifurcationData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Bifurcation { base: &'a Scenario, n: usize, sim: SimOptions } "bifurcation" BifurcationData,
+    |s, ctx, dir| compute(ctx, s.base, s.n, s.sim, dir), |data| render(ctx, dir, data), serde_json::json!([s.n]));
 
 /// The sweep over omega in [0.5, 2] from (0, 0) with the TLE.
 pub(super) fn compute(

@@ -5,7 +5,7 @@
 
 use crate::claims::{Claim, Verdict};
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
@@ -28,33 +28,8 @@ pub(super) struct OrbitsData {
     branches: Continuation,
 }
 
-/// The study `orbits`: [`compute`], then [`render`].
-pub(super) struct Orbits<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// Points of the simulated diagram beneath (its part of the request).
-    pub(super) n: usize,
-}
-
-impl Study for Orbits<'_> {
-    type Data = OrbitsData;
-
-    fn id(&self) -> &'static str {
-        "orbits"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!([self.n])
-    }
-
-    fn compute(&self, _ctx: &Ctx, _dir: &Path) -> Result<OrbitsData> {
-        compute(self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &OrbitsData) -> Result<Section> {
-        render(ctx, self.base, dir, data)
-    }
-}
+crate::runner::study!(Orbits { base: &'a Scenario, n: usize } "orbits" OrbitsData,
+    |s, ctx, dir| compute(s.base), |data| render(ctx, s.base, dir, data), serde_json::json!([s.n]));
 
 /// Shooting and continuation over omega in [0.5, 2] from the period-1 orbit at omega = 0.5.
 pub(super) fn compute(base: &Scenario) -> Result<OrbitsData> {

@@ -3,7 +3,7 @@
 //! picture, docs/model.md §6).
 
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, SweepMode, SweepOptions, TaskResult};
@@ -18,35 +18,8 @@ pub(super) struct ResponseData {
     runs: Vec<TaskResult>,
 }
 
-/// The study `response`: [`compute`], then [`render`].
-pub(super) struct Response<'a> {
-    /// base.
-    pub(super) base: &'a Scenario,
-    /// nr.
-    pub(super) nr: usize,
-    /// sim.
-    pub(super) sim: SimOptions,
-}
-
-impl Study for Response<'_> {
-    type Data = ResponseData;
-
-    fn id(&self) -> &'static str {
-        "response"
-    }
-
-    fn request(&self) -> serde_json::Value {
-        serde_json::json!([self.nr])
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<ResponseData> {
-        compute(ctx, self.base, self.nr, self.sim, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &ResponseData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Response { base: &'a Scenario, nr: usize, sim: SimOptions } "response" ResponseData,
+    |s, ctx, dir| compute(ctx, s.base, s.nr, s.sim, dir), |data| render(ctx, dir, data), serde_json::json!([s.nr]));
 
 /// The continuation sweep over omega in [0.5, 2], upwards and downwards.
 pub(super) fn compute(

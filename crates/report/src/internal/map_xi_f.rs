@@ -6,7 +6,7 @@
 use super::{B003, B004, DD_SEED, DS_SEED};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{class_map_figure, line_figure, map_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -52,27 +52,8 @@ pub(super) struct MapData {
     cells: Vec<MapCell>,
 }
 
-/// The study `map_xi_F`: [`compute`], then [`render`].
-pub(super) struct MapXiF<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-}
-
-impl Study for MapXiF<'_> {
-    type Data = MapData;
-
-    fn id(&self) -> &'static str {
-        "map_xi_F"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<MapData> {
-        compute(ctx, self.lin, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(MapXiF { lin: &'a Scenario } "map_xi_F" MapData,
+    |s, ctx, dir| compute(ctx, s.lin, dir), |data| render(ctx, dir, data));
 
 /// The corner maximum over omega, then the (xi, F) map at the omega that matches the seed.
 pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<MapData> {

@@ -5,7 +5,7 @@
 use super::{B003, B004, BACKLASH_STEP, DD_SEED, DS_SEED, F_BACKLASH};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct, sets};
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -30,27 +30,8 @@ pub(super) struct MechanismData {
     exits_d: usize,
 }
 
-/// The study `mechanism`: [`compute`], then [`render`].
-pub(super) struct Mechanism<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-}
-
-impl Study for Mechanism<'_> {
-    type Data = MechanismData;
-
-    fn id(&self) -> &'static str {
-        "mechanism"
-    }
-
-    fn compute(&self, ctx: &Ctx, _dir: &Path) -> Result<MechanismData> {
-        compute(ctx, self.lin)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Mechanism { lin: &'a Scenario } "mechanism" MechanismData,
+    |s, ctx, dir| compute(ctx, s.lin), |data| render(ctx, dir, data));
 
 /// Runs the candidate points until one shows a tensile force before both exits.
 pub(super) fn compute(ctx: &Ctx, lin: &Scenario) -> Result<MechanismData> {

@@ -6,7 +6,7 @@
 use super::{B003, B004, DD_SEED, DS_SEED};
 use crate::claims::{Claim, Verdict};
 use crate::readings::f;
-use crate::runner::{Ctx, Study};
+use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
@@ -35,27 +35,8 @@ pub(super) struct OrbitsXiData {
     branches: Continuation,
 }
 
-/// The study `orbits_xi`: [`compute`], then [`render`].
-pub(super) struct OrbitsXi<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-}
-
-impl Study for OrbitsXi<'_> {
-    type Data = OrbitsXiData;
-
-    fn id(&self) -> &'static str {
-        "orbits_xi"
-    }
-
-    fn compute(&self, _ctx: &Ctx, _dir: &Path) -> Result<OrbitsXiData> {
-        compute(self.lin)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &OrbitsXiData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(OrbitsXi { lin: &'a Scenario } "orbits_xi" OrbitsXiData,
+    |s, ctx, dir| compute(s.lin), |data| render(ctx, dir, data));
 
 /// The period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02.
 pub(super) fn compute(lin: &Scenario) -> Result<OrbitsXiData> {

@@ -9,7 +9,7 @@ use super::{chaos_ranges, fixed, multi, ranges_text, AXES, DD_SEED, DS_SEED};
 use crate::classes::{self, tolerant};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, sequence};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -94,29 +94,8 @@ pub(super) struct ReadingsData {
     readings: Vec<ReadingRuns>,
 }
 
-/// The study `readings`: [`compute`], then [`render`].
-pub(super) struct Readings<'a> {
-    /// lin.
-    pub(super) lin: &'a Scenario,
-    /// law.
-    pub(super) law: &'a Scenario,
-}
-
-impl Study for Readings<'_> {
-    type Data = ReadingsData;
-
-    fn id(&self) -> &'static str {
-        "readings"
-    }
-
-    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<ReadingsData> {
-        compute(ctx, self.lin, self.law, dir)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Section> {
-        render(ctx, dir, data)
-    }
-}
+crate::runner::study!(Readings { lin: &'a Scenario, law: &'a Scenario } "readings" ReadingsData,
+    |s, ctx, dir| compute(ctx, s.lin, s.law, dir), |data| render(ctx, dir, data));
 
 /// The load and xi sweeps under each reading the headline sections do not run.
 pub(super) fn compute(

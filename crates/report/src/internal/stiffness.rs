@@ -6,7 +6,7 @@
 use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx, Study};
+use crate::runner::{hdr, Ctx};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::Result;
@@ -59,29 +59,8 @@ pub(super) struct StiffnessData {
     mu: (f64, f64),
 }
 
-/// The study `stiffness`: [`compute`], then [`render`].
-pub(super) struct Stiffness<'a> {
-    /// pm.
-    pub(super) pm: &'a PairModel,
-    /// base.
-    pub(super) base: &'a Scenario,
-}
-
-impl Study for Stiffness<'_> {
-    type Data = StiffnessData;
-
-    fn id(&self) -> &'static str {
-        "stiffness"
-    }
-
-    fn compute(&self, _ctx: &Ctx, _dir: &Path) -> Result<StiffnessData> {
-        compute(self.pm, self.base)
-    }
-
-    fn render(&self, ctx: &Ctx, dir: &Path, data: &StiffnessData) -> Result<Section> {
-        render(ctx, dir, self.pm, data)
-    }
-}
+crate::runner::study!(Stiffness { pm: &'a PairModel, base: &'a Scenario } "stiffness" StiffnessData,
+    |s, ctx, dir| compute(s.pm, s.base), |data| render(ctx, dir, s.pm, data));
 
 /// Builds the stiffness models and reads the pair's stiffness, backlash and friction.
 pub(super) fn compute(pm: &PairModel, base: &Scenario) -> Result<StiffnessData> {
