@@ -5,7 +5,7 @@
 use crate::{rel, Claim, Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::basins::{BasinOptions, BasinResult};
-use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{SweepMode, SweepOptions, TaskResult};
 use geardyn_analysis::classify::DECISION_BUDGET;
 use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
@@ -505,6 +505,26 @@ pub fn with_linear_law(s: &Scenario) -> Result<Scenario> {
     let mut spec = s.spec().clone();
     spec.model.contact = geardyn_model::ContactLaw::Linear;
     Ok(spec.resolve()?)
+}
+
+/// Sweep options from (0, 0): `param` over `values` in `mode`, with `sections` and, if `tle`,
+/// the TLE.
+pub fn sweep_options(
+    param: &str,
+    values: Vec<f64>,
+    (mode, sim): (SweepMode, SimOptions),
+    sections: Vec<geardyn_analysis::bifurcation::Section>,
+    tle: bool,
+) -> SweepOptions {
+    SweepOptions {
+        param: param.into(),
+        values,
+        mode,
+        sim,
+        y0: [0.0, 0.0],
+        sections,
+        lyapunov: tle,
+    }
 }
 
 /// Header strings.

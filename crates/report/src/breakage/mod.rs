@@ -26,7 +26,7 @@ mod stiffness;
 pub(crate) use stiffness::write_stiffness_csv;
 
 use crate::interpretations::{label_claims, Axis, Interpretation};
-use crate::runner::{cached, rendered, Ctx, Plan};
+use crate::runner::{cached, rendered, sweep_options, Ctx, Plan};
 use crate::Section;
 use anyhow::{Context, Result};
 use geardyn_analysis::bifurcation::{Section as Sec, SweepMode, SweepOptions};
@@ -68,15 +68,7 @@ fn sweep(
     sim: SimOptions,
     sections: Vec<Sec>,
 ) -> SweepOptions {
-    SweepOptions {
-        param: param.into(),
-        values,
-        mode,
-        sim,
-        y0: [0.0, 0.0],
-        sections,
-        lyapunov: false,
-    }
+    sweep_options(param, values, (mode, sim), sections, false)
 }
 
 /// The healthy twin integrates the same physical time (its excitation period is one mesh cycle).

@@ -5,13 +5,11 @@
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class};
 use crate::readings::{f, interval_header, interval_rows, range};
-use crate::runner::Ctx;
+use crate::runner::{sweep_options, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{
-    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
-};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::ops::Range;
@@ -50,15 +48,14 @@ pub(super) fn compute(
     sim: SimOptions,
     dir: &Path,
 ) -> Result<BifurcationData> {
-    let o = SweepOptions {
-        param: "omega".into(),
-        values: linspace(0.5, 2.0, n),
-        mode: SweepMode::Fixed,
-        sim,
-        y0: [0.0, 0.0],
-        sections: vec![Sec::Strobe],
-        lyapunov: true,
-    };
+    let values = linspace(0.5, 2.0, n);
+    let o = sweep_options(
+        "omega",
+        values,
+        (SweepMode::Fixed, sim),
+        vec![Sec::Strobe],
+        true,
+    );
     let runs = ctx.sweep(dir, "C1 omega sweep", base, &o)?;
     let p = base.params();
     Ok(BifurcationData {

@@ -3,10 +3,10 @@
 //! picture, docs/model.md §6).
 
 use crate::readings::f;
-use crate::runner::Ctx;
+use crate::runner::{sweep_options, Ctx};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, SweepMode, SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{linspace, SweepMode, TaskResult};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -29,15 +29,8 @@ pub(super) fn compute(
     sim: SimOptions,
     dir: &Path,
 ) -> Result<ResponseData> {
-    let o = SweepOptions {
-        param: "omega".into(),
-        values: linspace(0.5, 2.0, nr),
-        mode: SweepMode::Sweep,
-        sim,
-        y0: [0.0, 0.0],
-        sections: vec![],
-        lyapunov: false,
-    };
+    let values = linspace(0.5, 2.0, nr);
+    let o = sweep_options("omega", values, (SweepMode::Sweep, sim), vec![], false);
     let runs = ctx.sweep(dir, "C1 frequency response", base, &o)?;
     Ok(ResponseData { runs })
 }

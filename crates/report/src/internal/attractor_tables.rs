@@ -36,12 +36,7 @@ pub(super) struct Spec {
 pub(super) fn presence(pts: &[Pt], a: f64, b: f64, test: fn(&Pt) -> bool) -> f64 {
     let w = b - a;
     let (lo, hi) = (a + TRIM * w, b - TRIM * w);
-    let mut vals: Vec<f64> = pts
-        .iter()
-        .map(|p| p.value)
-        .filter(|v| *v >= lo && *v <= hi)
-        .collect();
-    vals.dedup();
+    let mut vals = classes::values_in(pts, lo, hi);
     if vals.is_empty() {
         let mid = 0.5 * (a + b);
         if let Some(p) = pts

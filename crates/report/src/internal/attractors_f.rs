@@ -248,12 +248,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         &format!("{ics} initial states per value"),
     ));
     let distinct = |lo: f64, hi: f64| {
-        let mut vals: Vec<f64> = pts
-            .iter()
-            .map(|p| p.value)
-            .filter(|v| *v >= lo && *v <= hi)
-            .collect();
-        vals.dedup();
+        let vals = classes::values_in(&pts, lo, hi);
         let s: usize = vals
             .iter()
             .map(|&v| {

@@ -111,15 +111,7 @@ fn claims(runs: &Runs) -> Vec<Claim> {
     let (r, pts, mp) = (runs.main, &runs.pts, &runs.multi);
     let t = tolerant(pts);
     let coexist = |lo: f64, hi: f64| {
-        let vals: Vec<f64> = {
-            let mut v: Vec<f64> = mp
-                .iter()
-                .map(|p| p.value)
-                .filter(|v| *v >= lo && *v <= hi)
-                .collect();
-            v.dedup();
-            v
-        };
+        let vals = classes::values_in(mp, lo, hi);
         let c = vals
             .iter()
             .filter(|&&v| {

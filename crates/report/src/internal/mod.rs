@@ -33,7 +33,7 @@ mod xi_sweep;
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{label_claims, Axis, Interpretation};
 use crate::readings::{interval_header, interval_rows, range};
-use crate::runner::{cached, rendered, with_linear_law, Ctx, Plan};
+use crate::runner::{cached, rendered, sweep_options, with_linear_law, Ctx, Plan};
 use crate::{Section, Table};
 use anyhow::Result;
 use attractors::Attractors;
@@ -98,15 +98,7 @@ fn fixed(
     sections: Vec<Sec>,
     tle: bool,
 ) -> SweepOptions {
-    SweepOptions {
-        param: param.into(),
-        values,
-        mode: SweepMode::Fixed,
-        sim,
-        y0: [0.0, 0.0],
-        sections,
-        lyapunov: tle,
-    }
+    sweep_options(param, values, (SweepMode::Fixed, sim), sections, tle)
 }
 
 fn multi(param: &str, values: Vec<f64>, sim: SimOptions, ics: usize, d: f64) -> SweepOptions {
