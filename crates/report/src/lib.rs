@@ -33,6 +33,8 @@ mod classic;
 mod html;
 mod internal;
 mod interpretations;
+mod maps;
+mod orbit_figures;
 mod readings;
 mod runner;
 mod shared;
