@@ -31,6 +31,8 @@ mod claims;
 mod classes;
 mod classic;
 mod html;
+#[cfg(test)]
+mod html_old;
 mod internal;
 mod interpretations;
 mod maps;
@@ -38,6 +40,7 @@ mod orbit_figures;
 mod readings;
 mod runner;
 mod shared;
+mod sweep_figures;
 
 pub use claims::{Claim, Verdict};
 
@@ -270,16 +273,7 @@ fn write_root_index(root: &Path) -> Result<()> {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
     presets.sort();
-    let mut s = String::from(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>geardyn reports</title></head><body>\n<h1>geardyn reports</h1>\n<ul>\n",
-    );
-    for p in &presets {
-        let p = html::esc(p);
-        s.push_str(&format!(
-            "<li><a href=\"{p}/index.html\">preset <code>{p}</code></a></li>\n"
-        ));
-    }
-    s.push_str("</ul>\n</body></html>\n");
+    let s = html::root_page(&presets);
     geardyn_io::output::write_text(&root.join("index.html"), &s)?;
     Ok(())
 }

@@ -2,28 +2,27 @@
 //! coloured by attractor label, TLE / force / P_ID panels), basins, continuations, maps and
 //! line plots. Every figure writes the CSV of what it draws next to it.
 
-use crate::classes;
 use crate::readings::f;
 use crate::runner::{hdr, Ctx};
 use crate::{Figure, Table};
 use anyhow::Result;
 use geardyn_analysis::attractor::IdentifyOptions;
 use geardyn_analysis::basins::{Axis, BasinOptions, BasinResult};
-use geardyn_analysis::bifurcation::{Section as Sec, TaskResult};
+use geardyn_analysis::bifurcation::Section as Sec;
 use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::simulate::{Method, SimOptions};
 use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_io::figure::{
-    categorical, palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel,
-    RasterFigure, Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
+    palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel, RasterFigure,
+    Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
 };
 use geardyn_io::output::write_csv;
 use geardyn_model::MeshModel;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 
 pub use crate::maps::{class_map_figure, map_figure};
 pub use crate::orbit_figures::{attach_trajectory, branch_both_ways, orbit_figure};
+pub use crate::sweep_figures::{sweep_figure, SweepPanels};
 
 /// Most section points per run and section kept in figures and CSV files (one initial state
 /// per value); the points of a periodic run are kept once each.
@@ -94,261 +93,6 @@ pub fn section_axis(s: Sec) -> &'static str {
         Sec::DdDown => "x' at x = -D_d (down)",
         Sec::Impact => "x' before impact",
     }
-}
-
-/// What a sweep figure shows besides the sections.
-#[derive(Clone, Debug, Default)]
-pub struct SweepPanels {
-    /// TLE panel (when computed).
-    pub tle: bool,
-    /// Maximum mesh force panel.
-    pub max_force: bool,
-    /// P_ID panel.
-    pub p_id: bool,
-    /// Impact-force record (largest impact force of every recorded excitation period).
-    pub impact_force: bool,
-}
-
-/// How a label is described in legends: health and, for multi-cycle excitation, every period
-/// in mesh cycles that runs of the label have (one label in revolutions can hold a 3 -> 6
-/// mesh-cycle doubling).
-fn legend_text(
-    name: &str,
-    healthy: bool,
-    mesh_periods: &BTreeSet<usize>,
-    periodic: bool,
-) -> String {
-    if !periodic {
-        return name.to_string();
-    }
-    let mut s = name.to_string();
-    if !mesh_periods.is_empty() {
-        let list: Vec<String> = mesh_periods.iter().map(|m| m.to_string()).collect();
-        let unit = if list == ["1"] {
-            "mesh cycle"
-        } else {
-            "mesh cycles"
-        };
-        s.push_str(&format!(" ({} {unit})", list.join(", ")));
-    }
-    s.push_str(if healthy { ", healthy" } else { ", back side" });
-    s
-}
-
-/// The sweep diagram `dir/name.png|svg` with `name_points.csv` and `name_runs.csv` (and
-/// `name_impact_force.csv`).
-#[allow(clippy::too_many_arguments)]
-pub fn sweep_figure(
-    ctx: &Ctx,
-    dir: &Path,
-    name: &str,
-    param: &str,
-    results: &[TaskResult],
-    sections: &[Sec],
-    panels: &SweepPanels,
-    title: &str,
-    caption: &str,
-) -> Result<Figure> {
-    let name = &safe(name);
-    // groups by displayed name, over every run
-    let mut groups: BTreeMap<String, BTreeMap<Sec, Vec<(f64, f64)>>> = BTreeMap::new();
-    let mut counts: HashMap<String, usize> = HashMap::new();
-    let mut info: HashMap<String, (bool, BTreeSet<usize>, bool)> = HashMap::new();
-    type ByName = BTreeMap<String, Vec<(f64, f64)>>;
-    let mut extra: BTreeMap<&str, ByName> = BTreeMap::new();
-    let mut point_rows: Vec<Vec<String>> = Vec::new();
-    let mut impact_rows: Vec<Vec<String>> = Vec::new();
-    for r in results {
-        for run in &r.runs {
-            let nm = classes::name(run);
-            *counts.entry(nm.clone()).or_default() += 1;
-            let entry = info.entry(nm.clone()).or_insert((
-                run.healthy,
-                BTreeSet::new(),
-                run.motion.is_periodic(),
-            ));
-            entry
-                .1
-                .extend(run.mesh_period.filter(|_| run.motion.is_periodic()));
-            let g_ = groups.entry(nm.clone()).or_default();
-            for &sec in sections {
-                let mut pts: Vec<&(Sec, f64, f64)> =
-                    run.points.iter().filter(|p| p.0 == sec).collect();
-                if run.motion.is_periodic() {
-                    // a periodic orbit repeats its points: keep each once
-                    let mut seen = std::collections::HashSet::new();
-                    pts.retain(|p| seen.insert((g(p.1), g(p.2))));
-                }
-                let cap = if r.runs.len() > 1 {
-                    POINTS_PER_RUN_MULTI
-                } else {
-                    POINTS_PER_RUN
-                };
-                let keep = pts.len().min(cap);
-                for &&(s, x, v) in pts.iter().skip(pts.len() - keep) {
-                    let y = if s == Sec::Strobe { x } else { v };
-                    g_.entry(sec).or_default().push((r.value, y));
-                    point_rows.push(vec![
-                        exact(r.value),
-                        r.task.branch_name().into(),
-                        run.ic.to_string(),
-                        s.name().into(),
-                        g(x),
-                        g(v),
-                        nm.clone(),
-                    ]);
-                }
-            }
-            let mut put = |k: &'static str, y: f64| {
-                if y.is_finite() {
-                    extra
-                        .entry(k)
-                        .or_default()
-                        .entry(nm.clone())
-                        .or_default()
-                        .push((r.value, y));
-                }
-            };
-            if let Some(t) = run.tle {
-                put("tle", t);
-            }
-            put("max_force", run.max_force);
-            put("p_id", run.p_id);
-            if panels.impact_force {
-                for (j, &fi) in run.impact_force_per_period.iter().enumerate() {
-                    if fi > 0.0 {
-                        extra
-                            .entry("impact")
-                            .or_default()
-                            .entry(nm.clone())
-                            .or_default()
-                            .push((r.value, fi));
-                    }
-                    impact_rows.push(vec![
-                        exact(r.value),
-                        r.task.branch_name().into(),
-                        run.ic.to_string(),
-                        j.to_string(),
-                        g(fi),
-                    ]);
-                }
-            }
-        }
-    }
-    // colour order: periodic labels by frequency, then the fixed classes
-    let mut order: Vec<String> = counts.keys().cloned().collect();
-    order.sort_by(|a, b| counts[b].cmp(&counts[a]).then(a.cmp(b)));
-    let flat: BTreeMap<String, Vec<(f64, f64)>> =
-        order.iter().map(|n| (n.clone(), vec![])).collect();
-    let colored = categorical(flat, &order, &fixed_color);
-    let color_of: HashMap<String, PlotColor> = {
-        let mut m: HashMap<String, PlotColor> =
-            colored.iter().map(|(n, c, _)| (n.clone(), *c)).collect();
-        for n in &order {
-            m.entry(n.clone()).or_insert(OTHER);
-        }
-        m
-    };
-    let legend: Vec<LegendEntry> = colored
-        .iter()
-        .map(|(n, c, _)| {
-            let empty = (false, BTreeSet::new(), false);
-            let (h, mp, per) = info.get(n).unwrap_or(&empty);
-            LegendEntry::dot(legend_text(n, *h, mp, *per), *c)
-        })
-        .collect();
-    let layers_of = |by_name: geardyn_io::figure::PointsOf, r: u32| -> Vec<Layer> {
-        // draw the most frequent last so that it stays visible; sparse panels get larger dots
-        let total: usize = order
-            .iter()
-            .filter_map(|n| by_name(n))
-            .map(|p| p.len())
-            .sum();
-        let r = if total < 20_000 { r.max(2) } else { r };
-        order
-            .iter()
-            .rev()
-            .filter_map(|n| {
-                by_name(n).map(|pts| Layer {
-                    points: pts,
-                    style: Style::Dots(r),
-                    color: color_of[n],
-                })
-            })
-            .collect()
-    };
-    let mut fig_panels: Vec<Panel> = Vec::new();
-    for &sec in sections {
-        fig_panels.push(Panel {
-            y_label: section_axis(sec).into(),
-            layers: layers_of(&|n| groups.get(n).and_then(|m| m.get(&sec)).cloned(), 1),
-            ..Default::default()
-        });
-    }
-    let mut extra_panel = |k: &str, label: &str, zero: bool| {
-        if let Some(m) = extra.get(k) {
-            fig_panels.push(Panel {
-                y_label: label.into(),
-                layers: layers_of(&|n| m.get(n).cloned(), 2),
-                hlines: if zero { vec![0.0] } else { vec![] },
-                weight: 0.7,
-                ..Default::default()
-            });
-        }
-    };
-    if panels.impact_force {
-        extra_panel("impact", "impact force per period", false);
-    }
-    if panels.max_force {
-        extra_panel("max_force", "max mesh force", false);
-    }
-    if panels.p_id {
-        extra_panel("p_id", "P_ID", false);
-    }
-    if panels.tle {
-        extra_panel("tle", "TLE", true);
-    }
-    let lo = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::INFINITY, f64::min);
-    let hi = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let pad = 0.015 * (hi - lo).abs().max(1e-9);
-    let stem = dir.join(name);
-    write_figure(
-        &stem,
-        &Fig {
-            title: title.into(),
-            x_label: param.into(),
-            x_range: Some((lo - pad, hi + pad)),
-            panels: fig_panels,
-            legend,
-            legend_title: "motion".into(),
-            ..Default::default()
-        },
-    )?;
-    let pts_csv = dir.join(format!("{name}_points.csv"));
-    write_csv(
-        &pts_csv,
-        &[param, "branch", "ic", "section", "x", "v", "label"],
-        point_rows,
-    )?;
-    let runs_csv = dir.join(format!("{name}_runs.csv"));
-    geardyn_io::schema::runs_table(param, results).write_csv(&runs_csv, g)?;
-    let mut data = vec![pts_csv, runs_csv];
-    if panels.impact_force {
-        let p = dir.join(format!("{name}_impact_force.csv"));
-        write_csv(
-            &p,
-            &[param, "branch", "ic", "period", "impact_force"],
-            impact_rows,
-        )?;
-        data.push(p);
-    }
-    Ok(ctx.fig(&stem, caption, &data))
 }
 
 /// Identification settings of basins and continuations: at most `transient` excitation periods
@@ -873,28 +617,4 @@ pub fn portrait_figure(
     let csv = dir.join(format!("{name}.csv"));
     write_csv(&csv, &["series", "tau", "x", "v"], rows)?;
     Ok(ctx.fig(&stem, caption, &[csv]))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_legend_lists_every_mesh_period_of_a_label() {
-        let m: BTreeSet<usize> = [6, 3].into_iter().collect();
-        assert_eq!(
-            legend_text("1-20-0", true, &m, true),
-            "1-20-0 (3, 6 mesh cycles), healthy"
-        );
-        assert_eq!(
-            legend_text("1-40-40", false, &BTreeSet::new(), true),
-            "1-40-40, back side"
-        );
-        assert_eq!(legend_text("chaotic", false, &m, false), "chaotic");
-        let one: BTreeSet<usize> = [1].into_iter().collect();
-        assert_eq!(
-            legend_text("1-0-0", true, &one, true),
-            "1-0-0 (1 mesh cycle), healthy"
-        );
-    }
 }

@@ -3,7 +3,7 @@
 //! tree, basins at F = 0.16, 0.11 and 0.104, the load cascade and chaos without back-side
 //! meshing. Checks seed B 003 §4.3 (Table 6) and 004 §5.4 (Figs. 5.6, 5.8, Table 5.2).
 
-use super::attractor_tables::{basin_claim, extra_boxes, table_row, AttractorsData, Spec};
+use super::attractor_tables::{basin_claim, extra_boxes, sp, spl, table_row, AttractorsData};
 use super::attractors::AttractorTable;
 use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
@@ -12,6 +12,7 @@ use crate::readings::{f, pct};
 use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::linspace;
+use geardyn_analysis::continuation::ContinuationResult;
 
 /// The seed's points where basins are drawn (Fig. 5.8g at 0.16, between G3 and G2 at 0.11, below
 /// G2 at 0.104).
@@ -65,22 +66,25 @@ fn words(data: &AttractorsData) -> (String, String) {
 
 /// The claims of the seed's table.
 fn claims(data: &AttractorsData) -> Vec<Claim> {
-    let (ics, c) = (data.ics, &data.continuation);
     let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
+    let mut claims = table_claims(&pts, &basin_res);
+    claims.extend(low_load_claims(&pts));
+    claims.extend(unhealthy_claims(&data.continuation, basin_res[2]));
+    claims.push(chaos_claim(&pts));
+    claims.push(cascade_claim(
+        &pts,
+        &format!("{} initial states per value", data.ics),
+    ));
+    claims.push(multistability_claim(&pts, data.ics));
+    claims
+}
+
+/// The rows of the seed's table above F = 0.09 and the basin shares at its three points.
+fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim> {
     let t52 = format!("{B004} Table 5.2");
     let t6 = format!("{B003} Table 6");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
-    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: Some(loose),
-    };
     let p1: fn(&Pt) -> bool = |p| p.name == "1-1-0-1-0";
     let q2: fn(&Pt) -> bool = |p| p.name == "2-1-0-1-0";
     let p2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
@@ -89,13 +93,15 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
     let h1f: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
     let q4: fn(&Pt) -> bool = |p| p.class == Class::Periodic(4) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
-    let mut claims =
-        vec![
+    vec![
         table_row(
             &pts,
             0.118,
             0.2,
-            &[spl("P1 = 1-1-0-1-0", p1, h1f), spl("Q2 = 2-1-0-1-0", q2, p2h)],
+            &[
+                spl("P1 = 1-1-0-1-0", p1, h1f),
+                spl("Q2 = 2-1-0-1-0", q2, p2h),
+            ],
             "F in (0.118, 0.2): P1 = 1-1-0-1-0 and Q2 = 2-1-0-1-0, both healthy".into(),
             format!("{t52}; {t6}; {B004} §5.4"),
             "P1 + Q2".into(),
@@ -113,7 +119,11 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             &pts,
             0.105,
             0.117,
-            &[sp("P2 (another healthy period 2)", p2o), sp("Q2 = 2-1-0-1-0", q2), sp("P3", p3)],
+            &[
+                sp("P2 (another healthy period 2)", p2o),
+                sp("Q2 = 2-1-0-1-0", q2),
+                sp("P3", p3),
+            ],
             "F in (0.105, 0.117): P2 and Q2 (healthy) with P3".into(),
             format!("{t52}; {t6}"),
             "P2 + Q2 + P3".into(),
@@ -121,7 +131,9 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         basin_claim(
             basin_res[1],
             &[
-                ("P3 (non-healthy period 3)", 0.17, &|a| a.period == 3 && !a.healthy),
+                ("P3 (non-healthy period 3)", 0.17, &|a| {
+                    a.period == 3 && !a.healthy
+                }),
                 ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
                 ("P2 (other period 2)", 0.21, &|a| {
                     a.period == 2 && a.label != "2-1-0-1-0"
@@ -133,7 +145,9 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         basin_claim(
             basin_res[2],
             &[
-                ("R3 (non-healthy period 3)", 0.17, &|a| a.period == 3 && !a.healthy),
+                ("R3 (non-healthy period 3)", 0.17, &|a| {
+                    a.period == 3 && !a.healthy
+                }),
                 ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
                 ("P2 (other period 2)", 0.21, &|a| {
                     a.period == 2 && a.label != "2-1-0-1-0"
@@ -155,11 +169,13 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             format!("{t52}; {t6}; {B004} §5.4"),
             "P2 + Q4 + P3".into(),
         ),
-    ];
-    claims.extend(low_load_claims(&pts));
-    // non-healthy share below G2: the continuation's sampled shares and the basin grid at
-    // F = 0.104 (inside the interval), whichever is larger (a 16-state sample can miss a 10 %
-    // basin that the grid shows)
+    ]
+}
+
+/// The non-healthy share below G2 (58 % in both seed files): the continuation's sampled shares
+/// and the basin grid at F = 0.104 (`grid`, inside the interval), whichever is larger (a
+/// 16-state sample can miss a 10 % basin that the grid shows).
+fn unhealthy_claims(c: &ContinuationResult, grid: &[(String, BasinResult)]) -> Vec<Claim> {
     let continuation_share = {
         let mut vals: Vec<f64> = c
             .points
@@ -178,7 +194,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             })
             .fold(0.0, f64::max)
     };
-    let grid_share: f64 = basin_res[2][0]
+    let grid_share: f64 = grid[0]
         .1
         .attractors
         .iter()
@@ -186,6 +202,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         .map(|a| a.fraction)
         .sum();
     let unhealthy_share = continuation_share.max(grid_share);
+    let mut claims = Vec::new();
     for (src, txt) in [
         (
             format!("{B003} §4.3"),
@@ -216,6 +233,11 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             "Continuation basin shares (sampled initial states) and the basin grid at F = 0.104 on the basins' box; the seed's box is not given, and shares depend on it.",
         ));
     }
+    claims
+}
+
+/// Chaos without back-side meshing (004 §5.4).
+fn chaos_claim(pts: &[Pt]) -> Claim {
     let chaos_no_back = pts
         .iter()
         .filter(|p| p.class == Class::Chaotic && !p.back)
@@ -231,7 +253,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(p.min_force), b.max(p.min_force))
         });
-    claims.push(Claim::new(
+    Claim::new(
         "In chaos the mesh force can stay non-negative: chaos is not caused by back-side meshing alone",
         format!("{B004} §5.4"),
         "chaos with F_m ≥ 0 (no back-side meshing)",
@@ -242,13 +264,13 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         } else {
             format!("Back-side contact = crossings of -D_s or -D_d in the record. Chaos without back-side meshing exists (the seed's point), but the mesh force still dips below zero in every such run (least force {} to {}): the damping term c x' pulls while the teeth separate on the drive side (section on the mechanism).", f(lo_f), f(hi_f))
         },
-    ));
-    claims.push(cascade_claim(
-        &pts,
-        &format!("{ics} initial states per value"),
-    ));
+    )
+}
+
+/// Fewer coexisting attractors at larger F (003 §4.3): distinct motions per value.
+fn multistability_claim(pts: &[Pt], ics: usize) -> Claim {
     let distinct = |lo: f64, hi: f64| {
-        let vals = classes::values_in(&pts, lo, hi);
+        let vals = classes::values_in(pts, lo, hi);
         let s: usize = vals
             .iter()
             .map(|&v| {
@@ -259,7 +281,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         s as f64 / vals.len().max(1) as f64
     };
     let (dl, dh) = (distinct(0.0, 0.1), distinct(0.118, 0.2));
-    claims.push(Claim::new(
+    Claim::new(
         "At low load chaos and high multistability; as F increases fewer coexisting attractors",
         format!("{B003} §4.3"),
         "fewer attractors at larger F",
@@ -276,8 +298,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             Verdict::NotReproduced
         },
         format!("Fewer = at least half a motion per value less (partly: fewer by less). The same file's Table 6 lists 2 attractors for F < 0.0021, 1 for 0.0022–0.089, 3 for 0.09–0.117 and 2 above 0.118: not fewer at the larger loads (its table rows are checked one by one above). Measured: {ics} initial states per value, distinct motions counted per value (1-1-0-1-0 and 2-1-0-1-0 coexist up to F = 0.2)."),
-    ));
-    claims
+    )
 }
 
 /// The low-load rows of seed B's attractor table over F (Table 5.2 / Table 6): the windows of
@@ -285,11 +306,6 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
 pub(super) fn low_load_claims(pts: &[Pt]) -> Vec<Claim> {
     let t52 = format!("{B004} Table 5.2");
     let t6 = format!("{B003} Table 6");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
     let p3any: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3);
     let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
     let p6: fn(&Pt) -> bool = |p| p.class == Class::Periodic(6);

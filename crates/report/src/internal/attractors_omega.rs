@@ -4,7 +4,7 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    basin_claim, extra_boxes, found_in, presence, table_row, AttractorsData, Spec, PRESENT,
+    basin_claim, extra_boxes, found_in, presence, sp, spl, table_row, AttractorsData, PRESENT,
 };
 use super::attractors::AttractorTable;
 use super::{B003, B004};
@@ -66,38 +66,74 @@ fn words(data: &AttractorsData) -> (String, String) {
     )
 }
 
-/// The claims of the seed's table.
+/// The claims of the seed's table, by range of omega.
 fn claims(data: &AttractorsData) -> Vec<Claim> {
-    let ics = data.ics;
     let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
-    let p1: fn(&Pt) -> bool = |p| p.name == "1-0-0-1-0";
-    let q1: fn(&Pt) -> bool = |p| p.name == "1-1-1-1-1";
-    let r1: fn(&Pt) -> bool =
-        |p| p.class == Class::Periodic(1) && p.healthy && p.name != "1-0-0-1-0";
-    let r2: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2);
-    let q2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
-    let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
-    let h1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
-    let u1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && !p.healthy;
+    let mut claims = low_claims(&pts, basin_res[1], data.ics);
+    claims.extend(middle_claims(&pts));
+    claims.extend(high_claims(&pts, basin_res[2]));
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.261, 1.526): Q2 (healthy) with chaos (PN)",
+            "omega in (1.26, 1.52): Q2 (stable) with P3 (unstable)",
+            "omega in (1.261, 1.526): stable 3-1-1-1-1 (P3) coexisting with chaos (PN)",
+        ],
+    );
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.80, 1.89): Q1 (stable) and P3",
+            "omega in (1.802, 1.891): Q2 (healthy) and P3",
+        ],
+    );
+    claims
+}
+
+/// The healthy P1 of seed B's omega table (1-0-0-1-0).
+fn p1(p: &Pt) -> bool {
+    p.name == "1-0-0-1-0"
+}
+/// Q1 with back-side contact (1-1-1-1-1).
+fn q1(p: &Pt) -> bool {
+    p.name == "1-1-1-1-1"
+}
+/// A healthy period 1.
+fn h1(p: &Pt) -> bool {
+    p.class == Class::Periodic(1) && p.healthy
+}
+/// A non-healthy period 1.
+fn u1(p: &Pt) -> bool {
+    p.class == Class::Periodic(1) && !p.healthy
+}
+/// A healthy period 2.
+fn q2h(p: &Pt) -> bool {
+    p.class == Class::Periodic(2) && p.healthy
+}
+/// A non-healthy period 3.
+fn p3(p: &Pt) -> bool {
+    p.class == Class::Periodic(3) && !p.healthy
+}
+/// Chaos.
+fn chaos(p: &Pt) -> bool {
+    p.class == Class::Chaotic
+}
+
+/// The table's sources: 004 Table 5.1 and 003 Table 5.
+fn tables() -> (String, String) {
+    (format!("{B004} Table 5.1"), format!("{B003} Table 5"))
+}
+
+/// Below omega = 0.42: P1 alone, the incomplete bifurcation G1 (both places the seeds give it)
+/// and the basin shares at 0.42 (`bq`).
+fn low_claims(pts: &[Pt], bq: &[(String, BasinResult)], ics: usize) -> Vec<Claim> {
+    let (t51, t5) = tables();
     let only = |a: f64, bb: f64, test: fn(&Pt) -> bool| -> bool {
         pts.iter()
             .filter(|p| p.value >= a && p.value <= bb)
             .all(&test)
-    };
-    let t51 = format!("{B004} Table 5.1");
-    let t5 = format!("{B003} Table 5");
-    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
-    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: Some(loose),
     };
     let mut claims = Vec::new();
     let low_only = only(0.0, 0.36, p1);
@@ -106,10 +142,10 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "omega in (0.01, 0.42): only the healthy period-1 motion P1 = 1-0-0-1-0",
         format!("{t51}; {t5}; {B004} §5.3"),
         "P1 (1-0-0-1-0) only",
-        format!("found for omega ≤ 0.36: {}", found_in(&pts, 0.0, 0.36 / 0.85)),
+        format!("found for omega ≤ 0.36: {}", found_in(pts, 0.0, 0.36 / 0.85)),
         if low_only {
             Verdict::Reproduced
-        } else if low_h1 || presence(&pts, 0.01, 0.42, h1) >= PRESENT {
+        } else if low_h1 || presence(pts, 0.01, 0.42, h1) >= PRESENT {
             Verdict::Partly
         } else {
             Verdict::NotReproduced
@@ -153,7 +189,6 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
             "The thesis text gives 0.364, both tables and the summary 0.42: the row nearer to the measurement is reproduced, the other is a seed inconsistency. Multi-initial sweep with extra values at 0.364 and 0.42.",
         ));
     }
-    let bq = basin_res[1];
     claims.push(basin_claim(
         bq,
         &[
@@ -165,8 +200,17 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "At omega = 0.42 the healthy P1 holds 49 % of the basin, Q1 51 %",
         format!("{B003} §4.3; {B004} §5.3 (Fig. 5.5b)"),
     ));
+    claims
+}
+
+/// The rows from omega = 0.42 to 1.526: Q1 with P1, R1 and R2, chaos, and Q2 or P3 with chaos.
+fn middle_claims(pts: &[Pt]) -> Vec<Claim> {
+    let (t51, t5) = tables();
+    let r1: fn(&Pt) -> bool = |p| h1(p) && p.name != "1-0-0-1-0";
+    let r2: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2);
+    let mut claims = Vec::new();
     claims.push(table_row(
-        &pts,
+        pts,
         0.42,
         0.54,
         &[spl("P1 = 1-0-0-1-0", p1, h1), spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -175,7 +219,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "P1 + Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.54,
         0.58,
         &[
@@ -187,7 +231,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "R1 + Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.58,
         0.63,
         &[sp("R2 (period 2)", r2), spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -199,12 +243,12 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "R2 is listed in the healthy / stable column but marked unstable",
         format!("{t51}; {t5}"),
         "R2 healthy and unstable",
-        format!("period-2 motions in (0.58, 0.63): {}", found_in(&pts, 0.58, 0.63)),
+        format!("period-2 motions in (0.58, 0.63): {}", found_in(pts, 0.58, 0.63)),
         Verdict::SeedInconsistent,
         "Both tables put R2 in the healthy column with the mark (In); the label of the period-2 motion found here says which applies (back side = non-healthy).",
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.63,
         0.72,
         &[spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -213,7 +257,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.72,
         1.26,
         &[sp("chaos", chaos)],
@@ -222,7 +266,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "chaos".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.261,
         1.526,
         &[sp("Q2 (healthy period 2)", q2h), sp("chaos (PN)", chaos)],
@@ -231,7 +275,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q2 + PN".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.26,
         1.52,
         &[sp("Q2 (healthy period 2)", q2h), sp("P3", p3)],
@@ -240,7 +284,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q2 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.261,
         1.526,
         &[
@@ -251,7 +295,14 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         format!("{B004} §5.3 text"),
         "P3 + PN".into(),
     ));
-    let b18 = basin_res[2];
+    claims
+}
+
+/// The rows from omega = 1.8 to 3: the basins at G3 (`b18`), the inverse doubling at 1.812, Q1
+/// and P3, and the name Q1 used twice.
+fn high_claims(pts: &[Pt], b18: &[(String, BasinResult)]) -> Vec<Claim> {
+    let (t51, t5) = tables();
+    let mut claims = Vec::new();
     claims.push(basin_claim(
         b18,
         &[
@@ -274,7 +325,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Multi-initial runs at the two values: Q2 at omega = 1.801 and Q1 at 1.812 are both needed.",
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.80,
         1.89,
         &[sp("Q1 (healthy period 1)", h1), sp("P3", p3)],
@@ -283,7 +334,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q1 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.802,
         1.891,
         &[sp("Q2 (healthy period 2)", q2h), sp("P3", p3)],
@@ -292,7 +343,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q2 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.891,
         2.304,
         &[sp("Q1 (healthy period 1)", h1), sp("P3", p3)],
@@ -301,7 +352,7 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q1 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         2.304,
         3.0,
         &[sp("Q1 (healthy period 1)", h1)],
@@ -313,24 +364,9 @@ fn claims(data: &AttractorsData) -> Vec<Claim> {
         "Q1 is the unstable 1-1-1-1-1 (0.42–0.72) and the healthy attractor of 1.89–3.0",
         format!("{t51}; {t5}"),
         "one name, two attractors",
-        format!("0.42–0.72: {}; 1.89–3.0: {}", found_in(&pts, 0.42, 0.72), found_in(&pts, 1.89, 3.0)),
+        format!("0.42–0.72: {}; 1.89–3.0: {}", found_in(pts, 0.42, 0.72), found_in(pts, 1.89, 3.0)),
         Verdict::SeedInconsistent,
         "The name Q1 is reused for two different attractors (back-side contact vs healthy); the rows above test each by its own description.",
     ));
-    resolve_conflicts(
-        &mut claims,
-        &[
-            "omega in (1.261, 1.526): Q2 (healthy) with chaos (PN)",
-            "omega in (1.26, 1.52): Q2 (stable) with P3 (unstable)",
-            "omega in (1.261, 1.526): stable 3-1-1-1-1 (P3) coexisting with chaos (PN)",
-        ],
-    );
-    resolve_conflicts(
-        &mut claims,
-        &[
-            "omega in (1.80, 1.89): Q1 (stable) and P3",
-            "omega in (1.802, 1.891): Q2 (healthy) and P3",
-        ],
-    );
     claims
 }
