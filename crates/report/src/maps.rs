@@ -52,14 +52,6 @@ pub fn map_figure(
             }
         })
         .collect();
-    let step = |v: &[f64]| {
-        if v.len() > 1 {
-            (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
-        } else {
-            1.0
-        }
-    };
-    let (dx, dy) = (step(xs), step(ys));
     let stem = dir.join(name);
     write_raster(
         &stem,
@@ -67,8 +59,8 @@ pub fn map_figure(
             title: title.into(),
             x_label: axes.0.into(),
             y_label: axes.1.into(),
-            x: (xs[0] - dx / 2.0, xs[xs.len() - 1] + dx / 2.0, xs.len()),
-            y: (ys[0] - dy / 2.0, ys[ys.len() - 1] + dy / 2.0, ys.len()),
+            x: cell_axis(xs),
+            y: cell_axis(ys),
             colors,
             legend: vec![],
             legend_title: String::new(),
@@ -123,14 +115,6 @@ pub fn class_map_figure(
             )
         })
         .collect();
-    let step = |v: &[f64]| {
-        if v.len() > 1 {
-            (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
-        } else {
-            1.0
-        }
-    };
-    let (dx, dy) = (step(xs), step(ys));
     let stem = dir.join(name);
     write_raster(
         &stem,
@@ -138,8 +122,8 @@ pub fn class_map_figure(
             title: title.into(),
             x_label: axes.0.into(),
             y_label: axes.1.into(),
-            x: (xs[0] - dx / 2.0, xs[xs.len() - 1] + dx / 2.0, xs.len()),
-            y: (ys[0] - dy / 2.0, ys[ys.len() - 1] + dy / 2.0, ys.len()),
+            x: cell_axis(xs),
+            y: cell_axis(ys),
             colors,
             legend,
             legend_title: "decided class".into(),
@@ -189,4 +173,15 @@ fn write_map_csv(path: &Path, axes: (&str, &str), cells: &[MapCell]) -> Result<(
         }),
     )?;
     Ok(())
+}
+
+/// A raster axis over the grid values `v`: from half a step below the first to half a step
+/// above the last, one cell per value (a step of 1 for a single value).
+fn cell_axis(v: &[f64]) -> (f64, f64, usize) {
+    let step = if v.len() > 1 {
+        (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
+    } else {
+        1.0
+    };
+    (v[0] - step / 2.0, v[v.len() - 1] + step / 2.0, v.len())
 }

@@ -435,26 +435,9 @@ pub struct Line {
 }
 
 /// A figure of line series in stacked panels `(y label, series)`, with `name.csv` (long format:
-/// `panel, series, x, y`).
+/// `panel, series, x, y`); one y range shared by all panels when `same_y` (panels to compare).
 #[allow(clippy::too_many_arguments)]
 pub fn line_figure(
-    ctx: &Ctx,
-    dir: &Path,
-    name: &str,
-    title: &str,
-    x_label: &str,
-    panels: Vec<(String, Vec<Line>)>,
-    hlines: &[f64],
-    caption: &str,
-) -> Result<Figure> {
-    line_figure_y(
-        ctx, dir, name, title, x_label, panels, hlines, caption, false,
-    )
-}
-
-/// [`line_figure`] with one y range shared by all panels when `same_y` (panels to compare).
-#[allow(clippy::too_many_arguments)]
-pub fn line_figure_y(
     ctx: &Ctx,
     dir: &Path,
     name: &str,

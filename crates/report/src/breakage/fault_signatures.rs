@@ -454,6 +454,7 @@ fn chip_figure(
             f(chip_at.1),
             f(DETECT)
         ),
+        false,
     )
 }
 
@@ -511,6 +512,7 @@ fn tsa_figure(
             motion_text(r, 1),
             motion_text(r, 0)
         ),
+        false,
     )
 }
 

@@ -95,17 +95,23 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         )?;
     let pb = classes::fixed_points(rb);
     let ph = classes::fixed_points(rh);
-    let table = ctx.table(
-        &dir.join("intervals_F_broken.csv"),
+    let intervals = |pts: &[Pt], file: &str, title: &str| {
+        ctx.table(
+            &dir.join(file),
+            title,
+            &interval_header("F"),
+            interval_rows(&classes::intervals(pts)),
+        )
+    };
+    let table = intervals(
+        &pb,
+        "intervals_F_broken.csv",
         "Broken pair: motion over F (intervals of equal label)",
-        &interval_header("F"),
-        interval_rows(&classes::intervals(&pb)),
     )?;
-    let table_h = ctx.table(
-        &dir.join("intervals_F_healthy.csv"),
+    let table_h = intervals(
+        &ph,
+        "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
-        &interval_header("F"),
-        interval_rows(&classes::intervals(&ph)),
     )?;
     let claims = load_claims(&pb, &ph);
     Ok(Section {

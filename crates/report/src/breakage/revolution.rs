@@ -6,7 +6,7 @@ use super::{healthy_sim, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{line_figure_y, Line};
+use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::{Context, Result};
 use geardyn_analysis::simulate::{simulate, SimOptions, SimResult};
@@ -184,22 +184,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         })
         .collect::<Vec<_>>()
         .join("; ");
-    let t0b = rb.mesh().trajectory.first().map_or(0.0, |p| p.tau);
-    let t0h = rh.mesh().trajectory.first().map_or(0.0, |p| p.tau);
-    let fb: Vec<(f64, f64)> = rb
-        .mesh()
-        .trajectory
-        .iter()
-        .map(|p| ((p.tau - t0b) / cyc, p.mesh_force))
-        .collect();
-    let fh: Vec<(f64, f64)> = rh
-        .mesh()
-        .trajectory
-        .iter()
-        .map(|p| ((p.tau - t0h) / cyc, p.mesh_force))
-        .collect();
+    // the mesh force over mesh cycles from the start of the record
+    let force = |r: &SimResult| -> Vec<(f64, f64)> {
+        let t = &r.mesh().trajectory;
+        let t0 = t.first().map_or(0.0, |p| p.tau);
+        t.iter()
+            .map(|p| ((p.tau - t0) / cyc, p.mesh_force))
+            .collect()
+    };
+    let (fb, fh) = (force(rb), force(rh));
     let gain = rb.mesh().max_force / rh.mesh().max_force - 1.0;
-    let fig = line_figure_y(
+    let fig = line_figure(
         ctx,
         dir,
         "force_revolution",

@@ -95,7 +95,7 @@ fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
     vec![
         table_row(
-            &pts,
+            pts,
             0.118,
             0.2,
             &[
@@ -116,7 +116,7 @@ fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim
             format!("{B003} §4.3; {B004} §5.4 (Fig. 5.8g)"),
         ),
         table_row(
-            &pts,
+            pts,
             0.105,
             0.117,
             &[
@@ -128,36 +128,20 @@ fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim
             format!("{t52}; {t6}"),
             "P2 + Q2 + P3".into(),
         ),
-        basin_claim(
+        three_basins(
             basin_res[1],
-            &[
-                ("P3 (non-healthy period 3)", 0.17, &|a| {
-                    a.period == 3 && !a.healthy
-                }),
-                ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
-                ("P2 (other period 2)", 0.21, &|a| {
-                    a.period == 2 && a.label != "2-1-0-1-0"
-                }),
-            ],
+            "P3 (non-healthy period 3)",
             "Between G3 and G2 P3 (17 %), Q2 (62 %) and P2 (21 %) coexist, with sieve-like basins",
             format!("{B004} §5.4 (Fig. 5.8d), F = 0.11 here"),
         ),
-        basin_claim(
+        three_basins(
             basin_res[2],
-            &[
-                ("R3 (non-healthy period 3)", 0.17, &|a| {
-                    a.period == 3 && !a.healthy
-                }),
-                ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
-                ("P2 (other period 2)", 0.21, &|a| {
-                    a.period == 2 && a.label != "2-1-0-1-0"
-                }),
-            ],
+            "R3 (non-healthy period 3)",
             "At F = 0.104 R3 occupies 17 %, Q2 62 % and P2 21 %",
             format!("{B003} §4.3"),
         ),
         table_row(
-            &pts,
+            pts,
             0.09,
             0.104,
             &[
@@ -170,6 +154,28 @@ fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim
             "P2 + Q4 + P3".into(),
         ),
     ]
+}
+
+/// The seed's shares below G3 at one load: a non-healthy period 3 (named `p3`) 17 %, Q2 62 %,
+/// another period 2 21 %.
+fn three_basins(
+    basins: &[(String, BasinResult)],
+    p3: &'static str,
+    claim: &str,
+    source: String,
+) -> Claim {
+    basin_claim(
+        basins,
+        &[
+            (p3, 0.17, &|a| a.period == 3 && !a.healthy),
+            ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
+            ("P2 (other period 2)", 0.21, &|a| {
+                a.period == 2 && a.label != "2-1-0-1-0"
+            }),
+        ],
+        claim,
+        source,
+    )
 }
 
 /// The non-healthy share below G2 (58 % in both seed files): the continuation's sampled shares

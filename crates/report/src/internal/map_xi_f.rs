@@ -137,6 +137,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
         )],
         &[],
         "The seed does not state the frequency of its (xi, F) map; the map is drawn at the omega whose corner maximum is closest to the seed's F_max = 1.340.",
+        false,
     )?;
     let fig = map_figure(
         ctx, dir, "map_max_force", cells, xs, ys, ("xi", "F"), "max_force",

@@ -175,6 +175,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
         ],
         &[0.0],
         &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(c)),
+        false,
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
     let ok = ns > 0 && nd > 0;

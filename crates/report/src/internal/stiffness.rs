@@ -178,6 +178,7 @@ pub(super) fn render(
         )],
         &[],
         "Mesh stiffness over one mesh cycle for three stiffness models, without the prescribed mean k_av = 4e8 N/m (which would scale them to the same mean).",
+        false,
     )?);
     let eps = pm.geom.eps;
     let ((e0, e1), (l0, l1)) = (data.entering, data.leaving);
