@@ -31,8 +31,6 @@ mod claims;
 mod classes;
 mod classic;
 mod html;
-#[cfg(test)]
-mod html_old;
 mod internal;
 mod interpretations;
 mod maps;
