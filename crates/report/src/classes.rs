@@ -295,6 +295,17 @@ pub fn names(pts: &[&Pt]) -> Vec<String> {
     v
 }
 
+/// The distinct values of `pts` in `[lo, hi]`, in their order (neighbours deduplicated).
+pub fn values_in(pts: &[Pt], lo: f64, hi: f64) -> Vec<f64> {
+    let mut vals: Vec<f64> = pts
+        .iter()
+        .map(|p| p.value)
+        .filter(|v| *v >= lo && *v <= hi)
+        .collect();
+    vals.dedup();
+    vals
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

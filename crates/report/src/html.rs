@@ -1,10 +1,12 @@
 //! The HTML page: one self-contained file, figures and data beside it, no scripts, no external
-//! fonts.
+//! fonts. The pages are minijinja templates (`templates/`); this module gives them their values.
 
 use crate::claims::{tally, Claim, Verdict};
 use crate::readings::f;
 use crate::Section;
 use geardyn_io::Config;
+use minijinja::{context, AutoEscape, Environment, UndefinedBehavior};
+use serde::Serialize;
 
 pub(crate) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -24,42 +26,104 @@ th{background:#f3f3f3}.meta{font-size:.9em;color:#333;background:#f8f8f8;padding
 /// Rows of a table shown on the page; longer tables are cut (the CSV has all).
 const MAX_ROWS: usize = 40;
 
-fn claims_table(claims: &[&Claim]) -> String {
-    // the reading of the seed text each claim uses, when the plan has readings
-    let readings = claims.iter().any(|c| !c.interpretation.is_empty());
-    let mut s = String::from(
-        "<table id=\"claims-table\"><tr><th>claim</th><th>source</th><th>seed</th><th>measured</th><th>verdict</th><th>evidence</th>",
-    );
-    if readings {
-        s.push_str("<th>reading of the text</th>");
+/// The templates, with their whitespace rules (a line holding only a block tag gives nothing)
+/// and no automatic escaping: the templates escape text with the `esc` filter, as the page
+/// always has (`&`, `<`, `>`, `"`).
+fn templates() -> Environment<'static> {
+    let mut env = Environment::new();
+    env.set_trim_blocks(true);
+    env.set_lstrip_blocks(true);
+    env.set_keep_trailing_newline(true);
+    env.set_auto_escape_callback(|_| AutoEscape::None);
+    env.set_undefined_behavior(UndefinedBehavior::Strict);
+    env.add_filter("esc", |s: &str| esc(s));
+    env.add_filter("basename", |s: &str| {
+        s.rsplit('/').next().unwrap_or(s).to_string()
+    });
+    for (name, source) in [
+        ("page.html", include_str!("../templates/page.html")),
+        ("root.html", include_str!("../templates/root.html")),
+    ] {
+        env.add_template(name, source)
+            .expect("the report's templates parse");
     }
-    s.push_str("</tr>\n");
-    for c in claims {
-        s.push_str(&format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td><td>{}</td>",
-            esc(&c.claim),
-            esc(&c.source),
-            esc(&c.seed_value),
-            esc(&c.measured_value),
-            c.verdict.word().replace(' ', "-"),
-            esc(c.verdict.word()),
-            esc(&c.evidence)
-        ));
-        if readings {
-            s.push_str(&format!(
-                "<td class=\"small\">{}</td>",
-                esc(&c.interpretation)
-            ));
-        }
-        s.push_str("</tr>\n");
-    }
-    s.push_str("</table>\n");
-    s
+    env
 }
 
-/// The claims that have alternatives, one column per reading of the text: the verdict and the
-/// measured value in each cell (`claims_by_interpretation.csv` holds the evidence).
-fn readings_matrix(headline: &[&Claim], alternatives: &[&Claim]) -> String {
+/// Renders the template `name` (its values checked by the tests: an error is a bug).
+fn render(name: &str, values: minijinja::Value) -> String {
+    templates()
+        .get_template(name)
+        .and_then(|t| t.render(values))
+        .unwrap_or_else(|e| panic!("template {name}: {e:#}"))
+}
+
+/// The class of a verdict on the page (`not-reproduced`).
+fn class(v: Verdict) -> String {
+    v.word().replace(' ', "-")
+}
+
+/// A claim as a row of a claims table.
+#[derive(Serialize)]
+struct ClaimRow<'a> {
+    claim: &'a str,
+    source: &'a str,
+    seed: &'a str,
+    measured: &'a str,
+    class: String,
+    word: &'static str,
+    evidence: &'a str,
+    interpretation: &'a str,
+}
+
+impl<'a> ClaimRow<'a> {
+    fn of(c: &'a Claim) -> Self {
+        ClaimRow {
+            claim: &c.claim,
+            source: &c.source,
+            seed: &c.seed_value,
+            measured: &c.measured_value,
+            class: class(c.verdict),
+            word: c.verdict.word(),
+            evidence: &c.evidence,
+            interpretation: &c.interpretation,
+        }
+    }
+}
+
+/// Whether a claims table has the column of the reading of the text (some claim has one).
+fn readings_column<'a>(claims: impl IntoIterator<Item = &'a Claim>) -> bool {
+    claims.into_iter().any(|c| !c.interpretation.is_empty())
+}
+
+/// One cell of the readings matrix: a claim's verdict and measured value under one reading.
+#[derive(Serialize)]
+struct Cell<'a> {
+    class: String,
+    word: &'static str,
+    measured: &'a str,
+}
+
+/// One row of the readings matrix: a claim's text, its seed value and a cell per reading
+/// (none where the claim was not judged under it).
+#[derive(Serialize)]
+struct MatrixRow<'a> {
+    text: &'a str,
+    seed: &'a str,
+    cells: Vec<Option<Cell<'a>>>,
+}
+
+/// The claims that have alternatives, one column per reading of the text (the column says its
+/// reading: numbers would not match the study files' numbering).
+#[derive(Serialize)]
+struct Matrix<'a> {
+    readings: Vec<&'a str>,
+    rows: Vec<MatrixRow<'a>>,
+}
+
+/// The readings matrix: the verdict and the measured value in each cell
+/// (`claims_by_interpretation.csv` holds the evidence).
+fn readings_matrix<'a>(headline: &[&'a Claim], alternatives: &[&'a Claim]) -> Matrix<'a> {
     let mut texts: Vec<&str> = Vec::new();
     for c in alternatives {
         if !texts.contains(&c.claim.as_str()) {
@@ -78,43 +142,41 @@ fn readings_matrix(headline: &[&Claim], alternatives: &[&Claim]) -> String {
             readings.push(&c.interpretation);
         }
     }
-    let mut s = String::from(
-        "<h2 id=\"claims-by-reading\">The same claims under every reading of the text</h2>\n<p class=\"small\">Where the seed text leaves a reading open (section on readings), the claims that depend on it are judged under each reading. The headline table above uses the reading the text states most directly; the columns here are all readings run, listed below (every row is in <a href=\"claims_by_interpretation.csv\">claims_by_interpretation.csv</a> with its evidence).</p>\n<ol class=\"small\">\n",
-    );
-    for r in &readings {
-        s.push_str(&format!("<li>{}</li>\n", esc(r)));
-    }
-    s.push_str("</ol>\n<table><tr><th>claim</th><th>seed</th>");
-    // the column says its reading (numbers would not match the study files' numbering)
-    for r in &readings {
-        s.push_str(&format!("<th class=\"small\">{}</th>", esc(r)));
-    }
-    s.push_str("</tr>\n");
-    for t in &texts {
-        let first = rows.iter().find(|c| c.claim == *t);
-        s.push_str(&format!(
-            "<tr><td>{}</td><td>{}</td>",
-            esc(t),
-            esc(first.map_or("", |c| c.seed_value.as_str()))
-        ));
-        for r in &readings {
-            match rows
+    let rows = texts
+        .iter()
+        .map(|t| MatrixRow {
+            text: t,
+            seed: rows
                 .iter()
-                .find(|c| c.claim == *t && c.interpretation == *r)
-            {
-                Some(c) => s.push_str(&format!(
-                    "<td><span class=\"{}\">{}</span><br><span class=\"small\">{}</span></td>",
-                    c.verdict.word().replace(' ', "-"),
-                    esc(c.verdict.word()),
-                    esc(&c.measured_value)
-                )),
-                None => s.push_str("<td>–</td>"),
-            }
-        }
-        s.push_str("</tr>\n");
-    }
-    s.push_str("</table>\n");
-    s
+                .find(|c| c.claim == *t)
+                .map_or("", |c| c.seed_value.as_str()),
+            cells: readings
+                .iter()
+                .map(|r| {
+                    rows.iter()
+                        .find(|c| c.claim == *t && c.interpretation == *r)
+                        .map(|c| Cell {
+                            class: class(c.verdict),
+                            word: c.verdict.word(),
+                            measured: &c.measured_value,
+                        })
+                })
+                .collect(),
+        })
+        .collect();
+    Matrix { readings, rows }
+}
+
+/// A section as the page shows it.
+#[derive(Serialize)]
+struct SectionView<'a> {
+    #[serde(flatten)]
+    sec: &'a Section,
+    /// Its wall time, one decimal.
+    time: String,
+    /// Its claims as table rows.
+    claim_rows: Vec<ClaimRow<'a>>,
+    readings_column: bool,
 }
 
 /// What the page shows.
@@ -149,164 +211,60 @@ fn intro(preset: &str) -> &'static str {
 
 /// Renders the page.
 pub fn page(info: &PageInfo) -> String {
-    let mut s = String::new();
-    s.push_str("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n");
-    s.push_str(&format!(
-        "<title>geardyn report: {}</title>\n<style>{STYLE}</style></head><body>\n",
-        esc(info.preset)
-    ));
-    s.push_str(&format!(
-        "<h1>geardyn report — preset <code>{}</code>{}</h1>\n<p>{}</p>\n",
-        esc(info.preset),
-        if info.quick { " (quick)" } else { "" },
-        esc(intro(info.preset))
-    ));
     let p = info.scenario.params();
-    s.push_str(&format!(
-        "<p class=\"meta\">Preset operating point (dimensionless, docs/model.md): omega = {}, F = {}, xi = {}, c = {}, D_d = {}, D_s = {}; {}. \
-         Studies set their own parameters from this scenario and say so. Generated by geardyn {} in {:.0} s{}. \
-         The resolved configuration is <a href=\"config.toml\">config.toml</a>; every claim is in <a href=\"claims.csv\">claims.csv</a>; \
-         the data of every figure are in the CSV files linked under it. This folder: {:.1} MB (budget {:.0} MB).</p>\n",
-        f(p.omega),
-        f(p.load),
-        f(p.xi),
-        f(p.c),
-        f(p.d_double),
-        f(p.d_single),
-        if info.cfg.pair.is_some() { "stiffness, zones, backlash and friction from the physical [pair]" } else { "dimensionless stiffness form" },
-        env!("CARGO_PKG_VERSION"),
-        info.seconds,
-        {
-            let horizon = info.horizon;
-            let default = geardyn_analysis::classify::DECISION_PERIODS;
-            if info.quick {
-                format!(
-                    " with coarse grids (--quick: chaos is decided at a horizon of {horizon} excitation periods instead of {default}, so the verdicts are indicative only)"
-                )
-            } else if horizon != default {
-                format!(
-                    " (chaos decided at a horizon of {horizon} excitation periods instead of the default {default})"
-                )
-            } else {
-                String::new()
-            }
-        },
-        info.size as f64 / 1e6,
-        info.budget as f64 / 1e6,
-    ));
-    s.push_str("<nav><h2>Contents</h2><ol>\n<li><a href=\"#claims\">Claims of the seeds, checked by the data</a></li>\n");
-    if info.sections.iter().any(|x| !x.alternatives.is_empty()) {
-        s.push_str("<li><a href=\"#claims-by-reading\">The same claims under every reading of the text</a></li>\n");
-    }
-    for sec in info.sections {
-        s.push_str(&format!(
-            "<li><a href=\"#{}\">{}</a></li>\n",
-            sec.id,
-            esc(&sec.title)
-        ));
-    }
-    s.push_str("</ol></nav>\n");
     let claims: Vec<&Claim> = info.sections.iter().flat_map(|x| x.claims.iter()).collect();
-    s.push_str("<h2 id=\"claims\">Claims of the seeds, checked by the data</h2>\n");
-    if claims.is_empty() {
-        s.push_str("<p>No claim is checked in this plan.</p>\n");
-    } else {
-        let n = tally(&claims);
-        s.push_str(&format!(
-            "<p><b>{} claims:</b> {}.</p>\n<p class=\"small\">One row per statement; where the seeds state a thing twice differently, each statement has its own row. \
-             <i>partly</i>: the main part holds, a detail differs; <i>seed inconsistent</i>: the statement contradicts another statement of the seeds and the data side with the other. \
-             Every verdict uses the decided classification of each run (periodic by the period test, chaotic only with a significantly positive TLE); shares and counts take every value as decided; ranges and label sequences pass over a single value between two equal neighbours (a bifurcation point), and say so.</p>\n",
-            claims.len(),
-            Verdict::ALL
-                .iter()
-                .zip(n)
-                .map(|(v, k)| format!("{k} {}", v.word()))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-        s.push_str(&claims_table(&claims));
-    }
     let alternatives: Vec<&Claim> = info
         .sections
         .iter()
         .flat_map(|x| x.alternatives.iter())
         .collect();
-    if !alternatives.is_empty() {
-        s.push_str(&readings_matrix(&claims, &alternatives));
-    }
-    for sec in info.sections {
-        s.push_str(&format!("<h2 id=\"{}\">{}</h2>\n", sec.id, esc(&sec.title)));
-        s.push_str(&format!(
-            "<p class=\"meta\">{}<b>Parameters.</b> {}<br><b>Method.</b> {} <i>({:.1} s)</i></p>\n",
-            if sec.seed_ref.is_empty() {
-                String::new()
-            } else {
-                format!("<b>Seed.</b> {}<br>", esc(&sec.seed_ref))
-            },
-            esc(&sec.parameters),
-            esc(&sec.method),
-            sec.seconds
-        ));
-        if !sec.readings.is_empty() {
-            s.push_str("<ul>\n");
-            for r in &sec.readings {
-                s.push_str(&format!("<li>{}</li>\n", esc(r)));
-            }
-            s.push_str("</ul>\n");
-        }
-        for fig in &sec.figures {
-            let data = fig
-                .data
-                .iter()
-                .map(|d| {
-                    format!(
-                        "<a href=\"{}\">{}</a>",
-                        esc(d),
-                        esc(d.rsplit('/').next().unwrap_or(d))
-                    )
-                })
-                .collect::<Vec<_>>()
-                .join(", ");
-            s.push_str(&format!(
-                "<figure><img src=\"{}\" alt=\"{}\" loading=\"lazy\"><figcaption>{} (<a href=\"{}\">SVG</a>; data: {})</figcaption></figure>\n",
-                esc(&fig.png),
-                esc(&fig.caption),
-                esc(&fig.caption),
-                esc(&fig.svg),
-                data
-            ));
-        }
-        for t in &sec.tables {
-            s.push_str(&format!(
-                "<p><b>{}</b> (<a href=\"{}\">CSV</a>)</p><table><tr>",
-                esc(&t.title),
-                esc(&t.csv)
-            ));
-            for h in &t.header {
-                s.push_str(&format!("<th>{}</th>", esc(h)));
-            }
-            s.push_str("</tr>\n");
-            for row in t.rows.iter().take(MAX_ROWS) {
-                s.push_str("<tr>");
-                for c in row {
-                    s.push_str(&format!("<td>{}</td>", esc(c)));
-                }
-                s.push_str("</tr>\n");
-            }
-            s.push_str("</table>\n");
-            if t.rows.len() > MAX_ROWS {
-                s.push_str(&format!(
-                    "<p class=\"small\">First {MAX_ROWS} of {} rows; all in the CSV.</p>\n",
-                    t.rows.len()
-                ));
-            }
-        }
-        if !sec.claims.is_empty() {
-            s.push_str("<p><b>Claims checked here:</b></p>\n");
-            let cl: Vec<&Claim> = sec.claims.iter().collect();
-            s.push_str(&claims_table(&cl));
-        }
-    }
-    s.push_str("</body></html>\n");
-    s
+    let tally = Verdict::ALL
+        .iter()
+        .zip(tally(&claims))
+        .map(|(v, k)| format!("{k} {}", v.word()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let sections: Vec<SectionView> = info
+        .sections
+        .iter()
+        .map(|sec| SectionView {
+            sec,
+            time: format!("{:.1}", sec.seconds),
+            claim_rows: sec.claims.iter().map(ClaimRow::of).collect(),
+            readings_column: readings_column(&sec.claims),
+        })
+        .collect();
+    let values = context! {
+        preset => info.preset,
+        style => STYLE,
+        intro => intro(info.preset),
+        quick => info.quick,
+        p => context! {
+            omega => f(p.omega),
+            load => f(p.load),
+            xi => f(p.xi),
+            c => f(p.c),
+            d_double => f(p.d_double),
+            d_single => f(p.d_single),
+        },
+        pair => info.cfg.pair.is_some(),
+        version => env!("CARGO_PKG_VERSION"),
+        seconds => format!("{:.0}", info.seconds),
+        horizon => info.horizon,
+        default_horizon => geardyn_analysis::classify::DECISION_PERIODS,
+        size => format!("{:.1}", info.size as f64 / 1e6),
+        budget => format!("{:.0}", info.budget as f64 / 1e6),
+        claims => claims.iter().map(|c| ClaimRow::of(c)).collect::<Vec<_>>(),
+        claims_readings => readings_column(claims.iter().copied()),
+        tally,
+        matrix => (!alternatives.is_empty()).then(|| readings_matrix(&claims, &alternatives)),
+        sections,
+        max_rows => MAX_ROWS,
+    };
+    render("page.html", values)
+}
+
+/// `OUT/index.html`: links to the pages of the presets `presets`.
+pub(crate) fn root_page(presets: &[String]) -> String {
+    render("root.html", context! { presets })
 }

@@ -31,7 +31,7 @@ pub struct Axis {
 }
 
 /// One choice per axis (indices into [`Axis::choices`]; 0 is the headline reading).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Interpretation(pub Vec<usize>);
 
 impl Interpretation {

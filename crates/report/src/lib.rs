@@ -9,9 +9,15 @@
 //! ([`geardyn_analysis::classify::Motion`]) through `classes`, which tolerates an isolated
 //! value at a bifurcation point.
 //!
-//! Studies are cached in `DIR/<preset>/<study>/section.json` (keyed by the full settings and by
-//! a digest of the source of the report and of the library crates it computes through, made by
-//! `build.rs`: a build with other code recomputes every study);
+//! Every study implements [`runner::Study`]: `compute` (its sweeps, continuations and runs, from
+//! its request and the context) and `render` (its files, figures, readings and claims); a plan
+//! is the list of its studies. A study's data is cached in `DIR/<preset>/<study>/data.json`,
+//! keyed by its id, its request, the configuration and mode, and a digest of the library crates
+//! it computes through (made by `build.rs`; not the report, not the plots), and rendered on every
+//! run: a change of the report shows without recomputing, a change of an integrator or a rule of
+//! the analyses recomputes. Where the libraries give no `Deserialize` for a study's results
+//! (continuations, basins, recorded runs, signals) its rendered section is cached instead
+//! (`section.json`, keyed by the report's source too, reused only while its files are intact);
 //! sweeps inside a study are checkpointed while it runs (the checkpoint is removed when the
 //! study is complete), so an interrupted report resumes.
 //!
@@ -27,9 +33,12 @@ mod classic;
 mod html;
 mod internal;
 mod interpretations;
+mod maps;
+mod orbit_figures;
 mod readings;
 mod runner;
 mod shared;
+mod sweep_figures;
 
 pub use claims::{Claim, Verdict};
 
@@ -262,16 +271,7 @@ fn write_root_index(root: &Path) -> Result<()> {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
     presets.sort();
-    let mut s = String::from(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>geardyn reports</title></head><body>\n<h1>geardyn reports</h1>\n<ul>\n",
-    );
-    for p in &presets {
-        let p = html::esc(p);
-        s.push_str(&format!(
-            "<li><a href=\"{p}/index.html\">preset <code>{p}</code></a></li>\n"
-        ));
-    }
-    s.push_str("</ul>\n</body></html>\n");
+    let s = html::root_page(&presets);
     geardyn_io::output::write_text(&root.join("index.html"), &s)?;
     Ok(())
 }

@@ -122,9 +122,13 @@ mod tests {
 
     #[test]
     fn small_shares_do_not_read_as_absent() {
-        assert_eq!(pct(0.0), "0 %");
-        assert_eq!(pct(0.0004), "< 0.1 %");
-        assert_eq!(pct(0.003), "0.3 %");
-        assert_eq!(pct(0.5), "50 %");
+        for (share, text) in [
+            (0.0, "0 %"),
+            (0.0004, "< 0.1 %"),
+            (0.003, "0.3 %"),
+            (0.5, "50 %"),
+        ] {
+            assert_eq!(pct(share), text);
+        }
     }
 }

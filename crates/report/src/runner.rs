@@ -1,10 +1,11 @@
 //! The machinery every study plan shares: the context (the scenario every study starts from),
-//! cached sections, checkpointed sweeps, continuations, basins and maps with progress bars.
+//! the [`Study`] trait and the caches of its data or section, checkpointed sweeps,
+//! continuations, basins and maps with progress bars.
 
-use crate::{rel, Figure, Section, Table};
+use crate::{rel, Claim, Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::basins::{BasinOptions, BasinResult};
-use geardyn_analysis::bifurcation::{SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{SweepMode, SweepOptions, TaskResult};
 use geardyn_analysis::classify::DECISION_BUDGET;
 use geardyn_analysis::continuation::{ContinuationOptions, ContinuationResult};
 use geardyn_analysis::map2d::{MapCell, MapOptions};
@@ -16,12 +17,122 @@ use geardyn_io::checkpoint::fnv1a;
 use geardyn_io::Config;
 use geardyn_model::MeshModel;
 use geardyn_scenario::Scenario;
+use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// One study of a plan, to run ([`Ctx::studies`]).
-pub type Study<'a> = Box<dyn FnOnce() -> Result<Section> + Send + 'a>;
+/// One study of a plan: what it computes (`compute`, from its request and the context) and how
+/// its data is shown (`render`: files, figures, readings; `claims`: the seed's statements checked
+/// against the data). The runner caches the data and renders it on every run ([`cached`]), or,
+/// where the data cannot be read back, caches the rendered section ([`rendered`]).
+pub trait Study: Send + Sync {
+    /// What `compute` returns.
+    type Data;
+    /// The study's id: its folder, its anchor on the page, part of its cache key.
+    fn id(&self) -> &'static str;
+    /// The settings `compute` takes besides the context (configuration, mode, decision horizon
+    /// and budget, which key every study): part of the cache key.
+    fn request(&self) -> serde_json::Value {
+        serde_json::Value::Null
+    }
+    /// The sweeps, continuations, basins and runs of the study (checkpointed in `dir`).
+    fn compute(&self, ctx: &Ctx, dir: &Path) -> Result<Self::Data>;
+    /// The section of `data`: its files in `dir`, figures, tables, readings.
+    fn render(&self, ctx: &Ctx, dir: &Path, data: &Self::Data) -> Result<Section>;
+    /// Claims checked on `data` besides those `render` states (they follow them on the page).
+    fn claims(&self, _data: &Self::Data) -> Vec<Claim> {
+        Vec::new()
+    }
+}
+
+/// Declares a study of a module whose `compute` and `render` functions take its inputs: the
+/// struct (the inputs it borrows, filled in by the plan), its id, its data, the calls of
+/// `compute` and `render` (with the study `s`, the context `ctx`, the folder `dir` and the data)
+/// and, optionally, its request.
+macro_rules! study {
+    ($name:ident { $($field:ident: $ty:ty),* } $id:literal $data:ty,
+     |$s:ident, $ctx:ident, $dir:ident| $compute:expr, |$d:ident| $render:expr $(, $req:expr)?) => {
+        #[doc = concat!("The study `", $id, "`: [`compute`], then [`render`].")]
+        pub(super) struct $name<'a> {
+            $(#[doc = concat!("Its input `", stringify!($field), "`.")] pub(super) $field: $ty,)*
+        }
+
+        impl $crate::runner::Study for $name<'_> {
+            type Data = $data;
+
+            fn id(&self) -> &'static str {
+                $id
+            }
+
+            $(fn request(&self) -> serde_json::Value {
+                let $s = self;
+                $req
+            })?
+
+            #[allow(unused_variables)]
+            fn compute(&self, $ctx: &$crate::runner::Ctx, $dir: &std::path::Path) -> anyhow::Result<$data> {
+                let $s = self;
+                $compute
+            }
+
+            #[allow(unused_variables)]
+            fn render(&self, $ctx: &$crate::runner::Ctx, $dir: &std::path::Path, $d: &$data) -> anyhow::Result<$crate::Section> {
+                let $s = self;
+                $render
+            }
+        }
+    };
+}
+pub(crate) use study;
+
+/// A study of a plan as the runner drives it (object safe: a plan is a list of them).
+pub trait Planned: Send + Sync {
+    /// Computes (or reads from the cache) and renders the study.
+    fn run(&self, ctx: &Ctx) -> Result<Section>;
+}
+
+/// A plan: its studies, the longest first (they start first).
+pub type Plan<'a> = Vec<Box<dyn Planned + 'a>>;
+
+/// A study whose data is cached and rendered on every run.
+struct Cached<S>(S);
+
+impl<S: Study> Planned for Cached<S>
+where
+    S::Data: Serialize + DeserializeOwned,
+{
+    fn run(&self, ctx: &Ctx) -> Result<Section> {
+        ctx.run_cached(&self.0)
+    }
+}
+
+/// A study whose rendered section is cached (its data holds results the libraries cannot read
+/// back).
+struct Rendered<S>(S);
+
+impl<S: Study> Planned for Rendered<S> {
+    fn run(&self, ctx: &Ctx) -> Result<Section> {
+        ctx.run_rendered(&self.0)
+    }
+}
+
+/// `study` in a plan, its data cached in `DIR/<id>/data.json`, keyed by its request and the
+/// source of the library crates it computes through: editing the report (a rendering, a
+/// claim's wording, a comment) renders the cached data again instead of recomputing it.
+pub fn cached<'a, S: Study + 'a>(study: S) -> Box<dyn Planned + 'a>
+where
+    S::Data: Serialize + DeserializeOwned,
+{
+    Box::new(Cached(study))
+}
+
+/// `study` in a plan, its rendered section cached in `DIR/<id>/section.json`, keyed by its
+/// request and the source of the report and of the libraries (for data that holds results the
+/// libraries give no `Deserialize` for: continuations, basins, recorded runs, signals).
+pub fn rendered<'a, S: Study + 'a>(study: S) -> Box<dyn Planned + 'a> {
+    Box::new(Rendered(study))
+}
 
 /// Shared context of a report run.
 pub struct Ctx {
@@ -108,20 +219,94 @@ impl Ctx {
         Ok(self.scenario.clone())
     }
 
-    /// A cached study: reuse `DIR/id/section.json` when its key matches. When the study is
-    /// complete its checkpoints are removed (the cached section and its files replace them).
-    pub fn study<K: Serialize>(
-        &self,
-        id: &str,
-        key: &K,
-        body: impl FnOnce(&Path) -> Result<Section>,
-    ) -> Result<Section> {
+    /// The cache key of a study: its id, its request, the context every study computes from
+    /// (configuration, mode, decision horizon and budget) and the code version `source`.
+    fn cache_key(&self, id: &str, request: &serde_json::Value, source: &str) -> Result<String> {
+        Ok(serde_json::to_string(
+            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": request, "version": 11, "source": source, "decision_periods": self.decision().0, "decision_budget": self.decision().1, "geardyn": env!("CARGO_PKG_VERSION") }),
+        )?)
+    }
+
+    /// Runs `compute` in the study's folder `DIR/id`, and removes its checkpoints once it is
+    /// complete; returns its result and wall time. An interrupted computation is an error (its
+    /// finished runs stay in its checkpoints for the next run).
+    fn computed<T>(&self, id: &str, compute: impl FnOnce() -> Result<T>) -> Result<(T, f64)> {
+        let t = std::time::Instant::now();
+        let out = compute()?;
+        if geardyn_analysis::cancel::requested() {
+            anyhow::bail!("{id}: interrupted (its finished runs are kept in its checkpoints)");
+        }
+        let seconds = t.elapsed().as_secs_f64();
+        if let Ok(rd) = std::fs::read_dir(self.dir.join(id)) {
+            for e in rd.filter_map(|e| e.ok()) {
+                if e.file_name()
+                    .to_string_lossy()
+                    .ends_with(".checkpoint.jsonl")
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        eprintln!("{id}: {seconds:.1} s");
+        Ok((out, seconds))
+    }
+
+    /// The folder of study `id`, created.
+    fn study_dir(&self, id: &str) -> Result<PathBuf> {
         let dir = self.dir.join(id);
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create {}", dir.display()))?;
-        let key = serde_json::to_string(
-            &serde_json::json!({ "id": id, "config": self.cfg, "quick": self.quick, "key": key, "version": 11, "source": env!("GEARDYN_SOURCE_DIGEST"), "decision_periods": self.decision().0, "decision_budget": self.decision().1, "geardyn": env!("CARGO_PKG_VERSION") }),
-        )?;
+        Ok(dir)
+    }
+
+    /// A study whose data is cached (`DIR/id/data.json`: the key, the compute time, the data)
+    /// and rendered on every run: a cache whose key differs or whose data does not read is
+    /// computed again.
+    fn run_cached<S: Study>(&self, study: &S) -> Result<Section>
+    where
+        S::Data: Serialize + DeserializeOwned,
+    {
+        let id = study.id();
+        let dir = self.study_dir(id)?;
+        let key = self.cache_key(id, &study.request(), env!("GEARDYN_LIBRARY_DIGEST"))?;
+        let cache = dir.join("data.json");
+        let hit = std::fs::read_to_string(&cache).ok().and_then(|text| {
+            let mut parts = text.splitn(3, '\n');
+            let (k, secs, data) = (parts.next()?, parts.next()?, parts.next()?);
+            (k == key).then_some(())?;
+            Some((
+                serde_json::from_str::<S::Data>(data).ok()?,
+                secs.parse::<f64>().ok()?,
+            ))
+        });
+        let (data, seconds) = match hit {
+            Some(hit) => {
+                eprintln!("{id}: cached");
+                hit
+            }
+            None => {
+                let (data, seconds) = self.computed(id, || study.compute(self, &dir))?;
+                geardyn_io::output::write_text(
+                    &cache,
+                    &format!("{key}\n{seconds}\n{}", serde_json::to_string(&data)?),
+                )?;
+                (data, seconds)
+            }
+        };
+        let mut sec = study.render(self, &dir, &data)?;
+        sec.claims.extend(study.claims(&data));
+        sec.seconds = seconds;
+        Ok(sec)
+    }
+
+    /// A study whose data the libraries cannot read back: its rendered section is cached
+    /// (`DIR/id/section.json`: the key, the digests of its files, the section), keyed by the
+    /// source of the report too, and reused only while its files are the ones it wrote (a
+    /// truncated or edited CSV is recomputed, never shown as the study's).
+    fn run_rendered<S: Study>(&self, study: &S) -> Result<Section> {
+        let id = study.id();
+        let dir = self.study_dir(id)?;
+        let key = self.cache_key(id, &study.request(), env!("GEARDYN_SOURCE_DIGEST"))?;
         let cache = dir.join("section.json");
         if let Ok(text) = std::fs::read_to_string(&cache) {
             let mut parts = text.splitn(3, '\n');
@@ -129,8 +314,6 @@ impl Ctx {
                 (parts.next(), parts.next(), parts.next())
             {
                 if k == key {
-                    // the files the section shows must be the ones it wrote: a truncated or
-                    // edited CSV is recomputed, never shown as the study's
                     let want: BTreeMap<String, String> =
                         serde_json::from_str(digests).unwrap_or_default();
                     let have = Self::study_digests(&dir);
@@ -161,29 +344,18 @@ impl Ctx {
                 }
             }
         }
-        let t = std::time::Instant::now();
-        let mut sec = body(&dir)?;
-        if geardyn_analysis::cancel::requested() {
-            // its runs were cut short: not cached, computed again (from its checkpoints) next time
-            anyhow::bail!("{id}: interrupted (its finished runs are kept in its checkpoints)");
-        }
-        sec.seconds = t.elapsed().as_secs_f64();
-        if let Ok(rd) = std::fs::read_dir(&dir) {
-            for e in rd.filter_map(|e| e.ok()) {
-                if e.file_name()
-                    .to_string_lossy()
-                    .ends_with(".checkpoint.jsonl")
-                {
-                    let _ = std::fs::remove_file(e.path());
-                }
-            }
-        }
+        let (mut sec, seconds) = self.computed(id, || {
+            let data = study.compute(self, &dir)?;
+            let mut sec = study.render(self, &dir, &data)?;
+            sec.claims.extend(study.claims(&data));
+            Ok(sec)
+        })?;
+        sec.seconds = seconds;
         let digests = serde_json::to_string(&Self::study_digests(&dir))?;
         geardyn_io::output::write_text(
             &cache,
             &format!("{key}\n{digests}\n{}", serde_json::to_string(&sec)?),
         )?;
-        eprintln!("{id}: {:.1} s", sec.seconds);
         Ok(sec)
     }
 
@@ -192,9 +364,12 @@ impl Ctx {
     /// what it is alone; run one after the other, every study's tail (the few long follows of
     /// its last chaotic runs) left a core idle (breakage report: 1.67 of 2 cores busy). The
     /// seconds a section states are its own wall time, shared with the studies beside it.
-    pub fn studies<'a>(&self, jobs: Vec<Study<'a>>) -> Result<Vec<Section>> {
+    pub fn studies(&self, plan: Plan<'_>) -> Result<Vec<Section>> {
         use rayon::prelude::*;
-        jobs.into_par_iter().with_max_len(1).map(|f| f()).collect()
+        plan.into_par_iter()
+            .with_max_len(1)
+            .map(|s| s.run(self))
+            .collect()
     }
 
     /// Digests (FNV-1a, hex) of the files of a finished study folder, by name: everything but the
@@ -333,6 +508,26 @@ pub fn with_linear_law(s: &Scenario) -> Result<Scenario> {
     let mut spec = s.spec().clone();
     spec.model.contact = geardyn_model::ContactLaw::Linear;
     Ok(spec.resolve()?)
+}
+
+/// Sweep options from (0, 0): `param` over `values` in `mode`, with `sections` and, if `tle`,
+/// the TLE.
+pub fn sweep_options(
+    param: &str,
+    values: Vec<f64>,
+    (mode, sim): (SweepMode, SimOptions),
+    sections: Vec<geardyn_analysis::bifurcation::Section>,
+    tle: bool,
+) -> SweepOptions {
+    SweepOptions {
+        param: param.into(),
+        values,
+        mode,
+        sim,
+        y0: [0.0, 0.0],
+        sections,
+        lyapunov: tle,
+    }
 }
 
 /// Header strings.

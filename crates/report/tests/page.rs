@@ -210,6 +210,27 @@ fn quick_classic_report_is_complete_and_self_contained() {
         "{}",
         csv.display()
     );
+    // a truncated data.json of a data-cached study (its key intact, its data cut) is computed
+    // again and written whole, not trusted
+    let cache = std::fs::read_dir(&page_dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path().join("data.json"))
+        .find(|p| p.is_file())
+        .expect("a data-cached study");
+    let whole = std::fs::read_to_string(&cache).unwrap();
+    let (key, rest) = whole.split_once('\n').unwrap();
+    let data = rest.split_once('\n').unwrap().1;
+    std::fs::write(&cache, &whole[..whole.len() - data.len() / 2]).unwrap();
+    run(&cfg, &opts).unwrap();
+    let again = std::fs::read_to_string(&cache).unwrap();
+    let (key2, rest2) = again.split_once('\n').unwrap();
+    assert_eq!(
+        (key2, rest2.split_once('\n').unwrap().1),
+        (key, data),
+        "{}",
+        cache.display()
+    );
     std::fs::remove_dir_all(out).ok();
 }
 

@@ -8,7 +8,7 @@ use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
 use crate::shared::{basin_grid, basin_render, sweep_figure, SweepPanels};
-use crate::Section;
+use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{
@@ -47,10 +47,8 @@ pub(super) struct CoexistenceData {
     basins: BasinResult,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, dir)?)
-}
+crate::runner::study!(CoexistenceLoad { base: &'a Scenario } "coexistence_load" CoexistenceData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The multi-initial sweep over F, the scan over omega at F = 0.05 and the basins there.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<CoexistenceData> {
@@ -120,32 +118,69 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Coexiste
 /// The diagram, the tables, the basin figure and the claims.
 pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Section> {
     let (d, values, sim, ics, nb) = (data.d, &data.values, data.sim, data.ics, data.nb);
-    let (r, scan_w, rw, br) = (&data.multi, &data.scan_omegas, &data.scan, &data.basins);
+    let (scan_w, br) = (&data.scan_omegas, &data.basins);
     let fig = sweep_figure(
-        ctx, dir, "multi_F", "F", r, &[Sec::Strobe, Sec::Impact], &SweepPanels::default(),
+        ctx, dir, "multi_F", "F", &data.multi, &[Sec::Strobe, Sec::Impact], &SweepPanels::default(),
         "Broken pair: multi-initial bifurcation over F (omega = 1.2)",
         "Broken pair, omega = 1.2: runs from several random initial states per load, coloured by decided motion (label in revolutions, period in mesh cycles in the legend).",
     )?;
-    let pts = classes::points(r, 0);
+    let pts = classes::points(&data.multi, 0);
     let per_value: Vec<(f64, Vec<&Pt>)> = values
         .iter()
         .map(|&v| (v, pts.iter().filter(|p| p.value == v).collect()))
         .collect();
-    let distinct = |ps: &[&Pt]| classes::names(ps).len();
-    let coexist = |ps: &[&Pt]| {
-        let periodic: Vec<&&Pt> = ps.iter().filter(|p| p.class.periodic()).collect();
-        let mut n: Vec<&String> = periodic.iter().map(|p| &p.name).collect();
-        n.sort();
-        n.dedup();
-        n.len() >= 2 || (n.len() == 1 && ps.iter().any(|p| p.class == Class::Chaotic))
-    };
+    let table = load_table(ctx, dir, &per_value)?;
+    let (scan_table, p24_elsewhere) = omega_scan(ctx, dir, data)?;
+    let mut claims = vec![near_claim(&Near::of(&pts), &p24_elsewhere, ics)];
+    claims.extend(load_range_claims(&Shares::of(&per_value)));
+    let (bfig, btable) = basin_render(
+        ctx,
+        dir,
+        "basins_F_0.05",
+        nb,
+        attractor_region(d).0,
+        attractor_region(d).1,
+        "Broken pair: basins at omega = 1.2, F = 0.05",
+        br,
+    )?;
+    Ok(Section {
+        id: "coexistence_load".into(),
+        title: "Coexisting attractors over the load (multi-initial) and basins at F = 0.05".into(),
+        seed_ref: "000 ¶9 (period-4 and period-2 coexist at F = 0.05); 001 abstract; 002 §5.2".into(),
+        parameters: format!("F in [0.01, 0.15] plus 0.04–0.06 ({} values), omega = 1.2 (chosen: the seed gives none; a scan over {} values of omega at F = 0.05 shows the effect of that choice), {ics} initial states per value in x0 ∈ ±{}, x0' ∈ ±{} (a region that holds the coexisting impacting orbit); basins {nb} x {nb} over the same region", values.len(), scan_w.len(), f(attractor_region(d).0 .1), f(attractor_region(d).1 .1)),
+        method: format!("Multi-initial sweep, {} + {} revolutions per run, decided classification; basins with attractor identification on the revolution strobe.", sim.transient_periods, sim.record_periods),
+        figures: vec![fig, bfig],
+        readings: vec![format!(
+            "Basins at F = 0.05: {} attractor(s): {}.",
+            br.attractors.len(),
+            br.attractors.iter().map(|a| format!("{} ({:.0} %)", a.descriptor.label, 100.0 * a.fraction)).collect::<Vec<_>>().join(", ")
+        )],
+        tables: vec![table, scan_table, btable],
+        claims,
+        alternatives: vec![],
+        seconds: 0.0,
+    })
+}
+
+/// Whether the runs `ps` of one load coexist: two different periodic motions, or a periodic
+/// and a chaotic one.
+fn coexist(ps: &[&Pt]) -> bool {
+    let periodic: Vec<&&Pt> = ps.iter().filter(|p| p.class.periodic()).collect();
+    let mut n: Vec<&String> = periodic.iter().map(|p| &p.name).collect();
+    n.sort();
+    n.dedup();
+    n.len() >= 2 || (n.len() == 1 && ps.iter().any(|p| p.class == Class::Chaotic))
+}
+
+/// The table of the motions found at each load.
+fn load_table(ctx: &Ctx, dir: &Path, per_value: &[(f64, Vec<&Pt>)]) -> Result<Table> {
     let rows: Vec<Vec<String>> = per_value
         .iter()
         .map(|(v, ps)| {
             vec![
                 f(*v),
                 classes::names(ps).join(", "),
-                distinct(ps).to_string(),
+                classes::names(ps).len().to_string(),
                 (if ps.iter().any(|p| p.back) {
                     "yes"
                 } else {
@@ -155,70 +190,20 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Se
             ]
         })
         .collect();
-    let table = ctx.table(
+    ctx.table(
         &dir.join("attractors_per_load.csv"),
         "Motions found from the initial states at each load",
         &hdr(&["F", "motions", "distinct", "back-side impacts"]),
         rows,
-    )?;
-    // period-2 and period-4 near F = 0.05: on either clock
-    let near: Vec<&Pt> = pts
-        .iter()
-        .filter(|p| (p.value - 0.05).abs() <= NEAR && p.class.periodic())
-        .collect();
-    let has = |k: usize| {
-        near.iter()
-            .any(|p| p.class.period() == Some(k) || p.mesh_period == Some(k))
-    };
-    let near_p2_or_p4 = has(2) || has(4);
-    let near_names: Vec<String> = {
-        let mut v: Vec<String> = near
-            .iter()
-            .map(|p| {
-                format!(
-                    "{}{}",
-                    p.name,
-                    p.mesh_period
-                        .map_or(String::new(), |m| format!(" ({m} mesh cycles)"))
-                )
-            })
-            .collect();
-        v.sort();
-        v.dedup();
-        v
-    };
-    let all_near: Vec<String> = {
-        let mut v: Vec<String> = pts
-            .iter()
-            .filter(|p| (p.value - 0.05).abs() <= NEAR)
-            .map(|p| p.name.clone())
-            .collect();
-        v.sort();
-        v.dedup();
-        v
-    };
-    let low: Vec<&(f64, Vec<&Pt>)> = per_value.iter().filter(|(v, _)| *v < 0.03).collect();
-    let mid: Vec<&(f64, Vec<&Pt>)> = per_value
-        .iter()
-        .filter(|(v, _)| *v >= 0.03 && *v <= 0.1)
-        .collect();
-    let high: Vec<&(f64, Vec<&Pt>)> = per_value.iter().filter(|(v, _)| *v > 0.1).collect();
-    let frac = |s: &[&(f64, Vec<&Pt>)], pred: &dyn Fn(&[&Pt]) -> bool| {
-        s.iter().filter(|(_, ps)| pred(ps)).count() as f64 / s.len().max(1) as f64
-    };
-    let (cl, cm, ch) = (
-        frac(&low, &|ps| coexist(ps)),
-        frac(&mid, &|ps| coexist(ps)),
-        frac(&high, &|ps| coexist(ps)),
-    );
-    let (il, im) = (
-        frac(&low, &|ps| ps.iter().any(|p| p.back)),
-        frac(&mid, &|ps| ps.iter().any(|p| p.back)),
-    );
-    let chaos_mid = frac(&mid, &|ps| ps.iter().any(|p| p.class == Class::Chaotic));
-    let p24 = has(2) && has(4);
-    let wpts = classes::points(rw, 0);
-    let scan_rows: Vec<(f64, Vec<String>, bool)> = scan_w
+    )
+}
+
+/// The scan over omega at F = 0.05: its table, and the frequencies where a period 2 and a
+/// period 4 coexist.
+fn omega_scan(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<(Table, Vec<f64>)> {
+    let wpts = classes::points(&data.scan, 0);
+    let scan_rows: Vec<(f64, Vec<String>, bool)> = data
+        .scan_omegas
         .iter()
         .map(|&w| {
             let ps: Vec<&Pt> = wpts.iter().filter(|p| p.value == w).collect();
@@ -256,23 +241,132 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Se
             })
             .collect(),
     )?;
-    let coexist_low_high = cl.max(cm) > ch;
-    let mut claims = vec![
-        Claim::new(
-            "At F = 0.05 period-4 and period-2 attractors coexist",
-            format!("{A000} ¶9"),
-            "P2 and P4 coexist at F = 0.05",
-            format!("periodic motions for F in [0.04, 0.06]: {}", if near_names.is_empty() { "none".into() } else { near_names.join("; ") }),
-            // partly: a period 2 or 4 near F = 0.05, or the pair of them at another frequency;
-            // another periodic motion alone (1-40-40) is not part of the statement
-            if p24 { Verdict::Reproduced } else if near_p2_or_p4 || !p24_elsewhere.is_empty() { Verdict::Partly } else { Verdict::NotReproduced },
-            format!(
-                "{ics} initial states per load at omega = 1.2 (the seed gives no frequency); periods in revolutions and in mesh cycles. Motions near F = 0.05: {}.{} At other frequencies (omega_scan_F_0.05.csv), period 2 beside period 4 at {}.",
-                all_near.join(", "),
-                if p24 || !near_names.is_empty() { "" } else { " Chaotic from every initial state tried." },
-                if p24_elsewhere.is_empty() { "none of them".to_string() } else { format!("omega = {}", p24_elsewhere.iter().map(|w| f(*w)).collect::<Vec<_>>().join(", ")) }
-            ),
+    Ok((scan_table, p24_elsewhere))
+}
+
+/// The motions near F = 0.05 (within [`NEAR`]).
+struct Near {
+    /// A periodic motion of period 2, and of period 4 (on either clock).
+    p2: bool,
+    p4: bool,
+    /// The periodic motions, with their periods in mesh cycles.
+    periodic: Vec<String>,
+    /// Every motion.
+    all: Vec<String>,
+}
+
+impl Near {
+    fn of(pts: &[Pt]) -> Near {
+        let near: Vec<&Pt> = pts
+            .iter()
+            .filter(|p| (p.value - 0.05).abs() <= NEAR && p.class.periodic())
+            .collect();
+        let has = |k: usize| {
+            near.iter()
+                .any(|p| p.class.period() == Some(k) || p.mesh_period == Some(k))
+        };
+        let mut periodic: Vec<String> = near
+            .iter()
+            .map(|p| {
+                format!(
+                    "{}{}",
+                    p.name,
+                    p.mesh_period
+                        .map_or(String::new(), |m| format!(" ({m} mesh cycles)"))
+                )
+            })
+            .collect();
+        periodic.sort();
+        periodic.dedup();
+        let mut all: Vec<String> = pts
+            .iter()
+            .filter(|p| (p.value - 0.05).abs() <= NEAR)
+            .map(|p| p.name.clone())
+            .collect();
+        all.sort();
+        all.dedup();
+        Near {
+            p2: has(2),
+            p4: has(4),
+            periodic,
+            all,
+        }
+    }
+}
+
+/// Seed A's period 4 beside a period 2 at F = 0.05 (`p24_elsewhere`: the frequencies of the
+/// scan where they coexist).
+fn near_claim(near: &Near, p24_elsewhere: &[f64], ics: usize) -> Claim {
+    let p24 = near.p2 && near.p4;
+    let near_names = &near.periodic;
+    Claim::new(
+        "At F = 0.05 period-4 and period-2 attractors coexist",
+        format!("{A000} ¶9"),
+        "P2 and P4 coexist at F = 0.05",
+        format!("periodic motions for F in [0.04, 0.06]: {}", if near_names.is_empty() { "none".into() } else { near_names.join("; ") }),
+        // partly: a period 2 or 4 near F = 0.05, or the pair of them at another frequency;
+        // another periodic motion alone (1-40-40) is not part of the statement
+        if p24 { Verdict::Reproduced } else if near.p2 || near.p4 || !p24_elsewhere.is_empty() { Verdict::Partly } else { Verdict::NotReproduced },
+        format!(
+            "{ics} initial states per load at omega = 1.2 (the seed gives no frequency); periods in revolutions and in mesh cycles. Motions near F = 0.05: {}.{} At other frequencies (omega_scan_F_0.05.csv), period 2 beside period 4 at {}.",
+            near.all.join(", "),
+            if p24 || !near_names.is_empty() { "" } else { " Chaotic from every initial state tried." },
+            if p24_elsewhere.is_empty() { "none of them".to_string() } else { format!("omega = {}", p24_elsewhere.iter().map(|w| f(*w)).collect::<Vec<_>>().join(", ")) }
         ),
+    )
+}
+
+/// Shares of the loads of the low (F < 0.03), medium and high (F > 0.1) ranges.
+#[derive(Clone, Copy)]
+struct Shares {
+    /// With coexisting motions.
+    cl: f64,
+    cm: f64,
+    ch: f64,
+    /// With back-side impacts (low and medium).
+    il: f64,
+    im: f64,
+    /// With a chaotic run (medium).
+    chaos_mid: f64,
+}
+
+impl Shares {
+    fn of(per_value: &[(f64, Vec<&Pt>)]) -> Shares {
+        let low: Vec<&(f64, Vec<&Pt>)> = per_value.iter().filter(|(v, _)| *v < 0.03).collect();
+        let mid: Vec<&(f64, Vec<&Pt>)> = per_value
+            .iter()
+            .filter(|(v, _)| *v >= 0.03 && *v <= 0.1)
+            .collect();
+        let high: Vec<&(f64, Vec<&Pt>)> = per_value.iter().filter(|(v, _)| *v > 0.1).collect();
+        let frac = |s: &[&(f64, Vec<&Pt>)], pred: &dyn Fn(&[&Pt]) -> bool| {
+            s.iter().filter(|(_, ps)| pred(ps)).count() as f64 / s.len().max(1) as f64
+        };
+        let back = |ps: &[&Pt]| ps.iter().any(|p| p.back);
+        Shares {
+            cl: frac(&low, &coexist),
+            cm: frac(&mid, &coexist),
+            ch: frac(&high, &coexist),
+            il: frac(&low, &back),
+            im: frac(&mid, &back),
+            chaos_mid: frac(&mid, &|ps| ps.iter().any(|p| p.class == Class::Chaotic)),
+        }
+    }
+}
+
+/// The claims on the load ranges: coexistence at smaller loads, and the low and medium rows of
+/// the short version's table.
+fn load_range_claims(s: &Shares) -> Vec<Claim> {
+    let Shares {
+        cl,
+        cm,
+        ch,
+        il,
+        im,
+        chaos_mid,
+    } = *s;
+    let coexist_low_high = cl.max(cm) > ch;
+    let low_ok = il > IMPACTS && cl == 0.0;
+    vec![
         Claim::new(
             "Smaller loads induce the coexistence behaviour and back-side impact",
             format!("{A001} abstract and conclusions"),
@@ -297,47 +391,19 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Se
             Verdict::of_parts(&[chaos_mid > CHAOS_MEDIUM, cm > 0.0, im > IMPACTS]),
             "Medium = 0.03–0.1 (the table gives no numbers).",
         ),
-    ];
-    let low_ok = il > IMPACTS && cl == 0.0;
-    claims.push(Claim::new(
-        "Low load: tooth-back impact, no period coexistence",
-        format!("{A002} §5.2 (table, row Low)"),
-        "impacts, no coexistence",
-        format!("F < 0.03: impacts at {}, coexistence at {} of loads", pct(il), pct(cl)),
-        if low_ok {
-            Verdict::Reproduced
-        } else if cl > 0.0 && coexist_low_high {
-            Verdict::SeedInconsistent
-        } else {
-            Verdict::of_parts(&[il > IMPACTS, cl == 0.0])
-        },
-        "The long summary and the paper tie coexistence to smaller loads; the short version's table excludes it at the lowest loads. The row above with its measurement decides between them.",
-    ));
-    let (bfig, btable) = basin_render(
-        ctx,
-        dir,
-        "basins_F_0.05",
-        nb,
-        attractor_region(d).0,
-        attractor_region(d).1,
-        "Broken pair: basins at omega = 1.2, F = 0.05",
-        br,
-    )?;
-    Ok(Section {
-        id: "coexistence_load".into(),
-        title: "Coexisting attractors over the load (multi-initial) and basins at F = 0.05".into(),
-        seed_ref: "000 ¶9 (period-4 and period-2 coexist at F = 0.05); 001 abstract; 002 §5.2".into(),
-        parameters: format!("F in [0.01, 0.15] plus 0.04–0.06 ({} values), omega = 1.2 (chosen: the seed gives none; a scan over {} values of omega at F = 0.05 shows the effect of that choice), {ics} initial states per value in x0 ∈ ±{}, x0' ∈ ±{} (a region that holds the coexisting impacting orbit); basins {nb} x {nb} over the same region", values.len(), scan_w.len(), f(attractor_region(d).0 .1), f(attractor_region(d).1 .1)),
-        method: format!("Multi-initial sweep, {} + {} revolutions per run, decided classification; basins with attractor identification on the revolution strobe.", sim.transient_periods, sim.record_periods),
-        figures: vec![fig, bfig],
-        readings: vec![format!(
-            "Basins at F = 0.05: {} attractor(s): {}.",
-            br.attractors.len(),
-            br.attractors.iter().map(|a| format!("{} ({:.0} %)", a.descriptor.label, 100.0 * a.fraction)).collect::<Vec<_>>().join(", ")
-        )],
-        tables: vec![table, scan_table, btable],
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+        Claim::new(
+            "Low load: tooth-back impact, no period coexistence",
+            format!("{A002} §5.2 (table, row Low)"),
+            "impacts, no coexistence",
+            format!("F < 0.03: impacts at {}, coexistence at {} of loads", pct(il), pct(cl)),
+            if low_ok {
+                Verdict::Reproduced
+            } else if cl > 0.0 && coexist_low_high {
+                Verdict::SeedInconsistent
+            } else {
+                Verdict::of_parts(&[il > IMPACTS, cl == 0.0])
+            },
+            "The long summary and the paper tie coexistence to smaller loads; the short version's table excludes it at the lowest loads. The row above with its measurement decides between them.",
+        ),
+    ]
 }

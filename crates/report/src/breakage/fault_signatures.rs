@@ -11,7 +11,7 @@ use crate::claims::{Claim, Verdict};
 use crate::readings::f;
 use crate::runner::{hdr, Ctx};
 use crate::shared::{line_figure, Line};
-use crate::Section;
+use crate::{Figure, Section, Table};
 use anyhow::{Context, Result};
 use geardyn_analysis::indicators::{gaussian_reference, INDICATOR_NAMES};
 use geardyn_analysis::signals::{run_signals, SignalsRequest, SignalsResult, SIGNAL_NAMES};
@@ -110,10 +110,8 @@ pub(super) struct FaultSignaturesData {
     results: Vec<SignalsResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(crate) fn detectability(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base)?)
-}
+crate::runner::study!(FaultSignatures { base: &'a Scenario } "fault_signatures" FaultSignaturesData,
+    |s, ctx, dir| compute(ctx, s.base), |data| render(ctx, dir, data));
 
 /// Records the broken pair and its healthy twin over the speed-load map and the chip sizes.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<FaultSignaturesData> {
@@ -172,12 +170,58 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<FaultSignaturesData>
     })
 }
 
+/// The ratios of the acceleration's indicators at every comparable point of `data`, ranked.
+type Ranked = Vec<(&'static str, (usize, f64, f64))>;
+
 /// The CSV of every ratio, the tables, the figures, the readings and the claims.
 pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Result<Section> {
-    let (chip0, req, chip_at, map_len) = (data.chip0, &data.req, data.chip_at, data.map_len);
+    let (chip0, req, chip_at) = (data.chip0, &data.req, data.chip_at);
     let (speeds, loads, chips) = (&data.speeds, &data.loads, &data.chips);
+    write_all_ratios(dir, data)?;
+    let table = ratio_table(ctx, dir, data)?;
+    // which indicator detects where (comparable points of the speed-load map and the chip sizes)
+    let comparable: Vec<usize> = (0..data.points.len())
+        .filter(|&i| data.results[i].comparable)
+        .collect();
+    let ranked = rank(data, &comparable);
+    let readings = readings(data, &comparable, &ranked);
+    let fig_chip = chip_figure(ctx, dir, data, &ranked)?;
+    let fig_tsa = tsa_figure(ctx, dir, data, &comparable, ranked[0].0)?;
+    let claims = vec![claim(data, &comparable, &ranked)];
+    Ok(Section {
+        id: "fault_signatures".into(),
+        title: "Fault signatures: which condition indicator shows the chip, where".into(),
+        seed_ref: "000 ¶1, 001 abstract, 002 §6 (\"fault prediction\"; the seeds compute no indicator)".into(),
+        parameters: format!(
+            "Speed-load map omega ∈ {{{}}} × F ∈ {{{}}} with the preset's chip ({} mm removed); chip sizes {{{}}} mm at omega = {}, F = {}; xi, c, friction and restitution of the preset.",
+            speeds.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
+            loads.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
+            f(chip0),
+            {
+                let mut all: Vec<f64> = chips.iter().copied().chain(std::iter::once(chip0)).collect();
+                all.sort_by(f64::total_cmp);
+                all.dedup();
+                all.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", ")
+            },
+            f(chip_at.0),
+            f(chip_at.1)
+        ),
+        method: format!(
+            "geardyn signals' request at each point: {} revolutions of transient, {} recorded, {} samples per mesh cycle; both pairs from rest at tau = 0. Indicators of the acceleration's time-synchronous average (residual: mesh harmonics and shaft order 1 removed; NA4/NB4 over the run healthy → broken). A ratio detects at ≥ {} or ≤ 1/{}. Difference, residual, envelope or sideband content below -60 dB of the TSA counts as absent (a measurement's noise hides it); an absent healthy content is compared at the Gaussian value of its moment (FM4, NA4, NB4 3; M6A 15; M8A 105), both absent reads 1. When the two pairs settle on attractors of different classes, the healthy twin is restarted from the broken pair's final state; where it still differs the point is marked and not counted.",
+            req.transient, req.revolutions, req.samples_per_cycle, f(DETECT), f(DETECT)
+        ),
+        figures: vec![fig_chip, fig_tsa],
+        readings,
+        tables: vec![table],
+        claims,
+        alternatives: vec![],
+        seconds: 0.0,
+    })
+}
+
+/// `detectability_all.csv`: every ratio of every signal, long format.
+fn write_all_ratios(dir: &Path, data: &FaultSignaturesData) -> Result<()> {
     let (points, results) = (&data.points, &data.results);
-    // every ratio of every signal, long format
     let mut long = Vec::new();
     for (p, r) in points.iter().zip(results) {
         for (s, sig) in SIGNAL_NAMES.iter().enumerate() {
@@ -221,7 +265,12 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
         ],
         long.iter().cloned(),
     )?;
-    // the page's table: the acceleration's ratios beside the motion of both pairs
+    Ok(())
+}
+
+/// The page's table: the acceleration's ratios beside the motion of both pairs.
+fn ratio_table(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Result<Table> {
+    let (points, results) = (&data.points, &data.results);
     let mut header = hdr(&[
         "omega",
         "F",
@@ -255,56 +304,63 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
             row
         })
         .collect();
-    let table = ctx.table(
+    ctx.table(
         &dir.join("detectability.csv"),
         "Broken/healthy ratio of each indicator of the acceleration (∞: the healthy twin has no such content, not even noise: no difference or sideband energy), with the motion of both pairs",
         &header,
         rows,
-    )?;
-    // which indicator detects where (comparable points of the speed-load map and the chip sizes)
-    let comparable: Vec<usize> = (0..points.len())
-        .filter(|&i| results[i].comparable)
-        .collect();
+    )
+}
+
+/// The ranked indicators with their detections and their range of ratios over the comparable
+/// points: most detections first, then the largest ratio.
+fn rank(data: &FaultSignaturesData, comparable: &[usize]) -> Ranked {
     let score = |name: &str| -> (usize, f64, f64) {
         let qs: Vec<f64> = comparable
             .iter()
-            .map(|&i| ratio(&results[i], ACCEL, name))
+            .map(|&i| ratio(&data.results[i], ACCEL, name))
             .collect();
         let n = qs.iter().filter(|q| detects(**q)).count();
         let lo = qs.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = qs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         (n, lo, hi)
     };
-    let mut ranked: Vec<(&str, (usize, f64, f64))> =
-        RANKED.iter().map(|n| (*n, score(n))).collect();
-    // most detections first, then the largest ratio
+    let mut ranked: Ranked = RANKED.iter().map(|n| (*n, score(n))).collect();
     ranked.sort_by(|a, b| b.1 .0.cmp(&a.1 .0).then(b.1 .2.total_cmp(&a.1 .2)));
-    let where_of = |name: &str| -> String {
-        let at: Vec<String> = comparable
-            .iter()
-            .filter(|&&i| detects(ratio(&results[i], ACCEL, name)))
-            .map(|&i| {
-                let p = points[i];
-                format!(
-                    "omega {} F {}{} (x{})",
-                    f(p.omega),
-                    f(p.load),
-                    if p.chip_mm == chip0 {
-                        String::new()
-                    } else {
-                        format!(" chip {} mm", f(p.chip_mm))
-                    },
-                    f(ratio(&results[i], ACCEL, name))
-                )
-            })
-            .collect();
-        if at.is_empty() {
-            "nowhere".into()
-        } else {
-            at.join(", ")
-        }
-    };
-    let readings: Vec<String> = ranked
+    ranked
+}
+
+/// Where the indicator `name` detects the chip, in words.
+fn where_of(data: &FaultSignaturesData, comparable: &[usize], name: &str) -> String {
+    let (points, results) = (&data.points, &data.results);
+    let at: Vec<String> = comparable
+        .iter()
+        .filter(|&&i| detects(ratio(&results[i], ACCEL, name)))
+        .map(|&i| {
+            let p = points[i];
+            format!(
+                "omega {} F {}{} (x{})",
+                f(p.omega),
+                f(p.load),
+                if p.chip_mm == data.chip0 {
+                    String::new()
+                } else {
+                    format!(" chip {} mm", f(p.chip_mm))
+                },
+                f(ratio(&results[i], ACCEL, name))
+            )
+        })
+        .collect();
+    if at.is_empty() {
+        "nowhere".into()
+    } else {
+        at.join(", ")
+    }
+}
+
+/// The readings: the four best indicators and where they detect, and the points left out.
+fn readings(data: &FaultSignaturesData, comparable: &[usize], ranked: &Ranked) -> Vec<String> {
+    ranked
         .iter()
         .take(4)
         .map(|(n, (k, lo, hi))| {
@@ -315,13 +371,13 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
                 comparable.len(),
                 f(*lo),
                 f(*hi),
-                where_of(n)
+                where_of(data, comparable, n)
             )
         })
         .chain(
-            points
+            data.points
                 .iter()
-                .zip(results)
+                .zip(&data.results)
                 .filter(|(_, r)| !r.comparable)
                 .map(|(p, r)| {
                     format!(
@@ -334,8 +390,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
                     )
                 }),
         )
-        .collect();
-    // chip size at one point: the ratios of the ranked indicators, and the impacts beside them
+        .collect()
+}
+
+/// Chip size at one point: the ratios of the ranked indicators, and the impacts beside them.
+fn chip_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    data: &FaultSignaturesData,
+    ranked: &Ranked,
+) -> Result<Figure> {
+    let (points, results, chip_at) = (&data.points, &data.results, data.chip_at);
     let mut chip_idx: Vec<usize> = (0..points.len())
         .filter(|&i| points[i].omega == chip_at.0 && points[i].load == chip_at.1)
         .collect();
@@ -368,7 +433,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
             dots: true,
         })
         .collect();
-    let fig_chip = line_figure(
+    line_figure(
         ctx,
         dir,
         "detectability_chip",
@@ -389,9 +454,19 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
             f(chip_at.1),
             f(DETECT)
         ),
-    )?;
-    // the time-synchronous average of the acceleration where the best indicator reads most
-    let best = ranked[0].0;
+        false,
+    )
+}
+
+/// The time-synchronous average of the acceleration where the best indicator `best` reads most.
+fn tsa_figure(
+    ctx: &Ctx,
+    dir: &Path,
+    data: &FaultSignaturesData,
+    comparable: &[usize],
+    best: &str,
+) -> Result<Figure> {
+    let (points, results) = (&data.points, &data.results);
     let at = comparable
         .iter()
         .copied()
@@ -417,7 +492,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
         })
         .collect();
     let p = points[at];
-    let fig_tsa = line_figure(
+    line_figure(
         ctx,
         dir,
         "detectability_tsa",
@@ -437,7 +512,14 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
             motion_text(r, 1),
             motion_text(r, 0)
         ),
-    )?;
+        false,
+    )
+}
+
+/// The seeds' aim: the best indicator detects the chip at most like-with-like points.
+fn claim(data: &FaultSignaturesData, comparable: &[usize], ranked: &Ranked) -> Claim {
+    let (results, map_len) = (&data.results, data.map_len);
+    let best = ranked[0].0;
     let (n_best, lo_best, hi_best) = ranked[0].1;
     let n_cmp = comparable.len();
     let verdict = if n_cmp > 0 && 4 * n_best >= 3 * n_cmp {
@@ -452,7 +534,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
         .iter()
         .filter(|&&i| i < map_len && detects(ratio(&results[i], ACCEL, best)))
         .count();
-    let claims = vec![Claim::new(
+    Claim::new(
         "Localized tooth breakage can be predicted from the gear's vibration (the seeds' aim: guidance for fault prediction)",
         SOURCE,
         "a detectable signature (no indicator named)",
@@ -464,34 +546,5 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FaultSignaturesData) -> Resul
         ),
         verdict,
         "Broken pair and healthy twin from one state, one operating point; condition indicators of the acceleration's TSA (detectability.csv: every indicator, signal and point). Where the chip falls into separation the two pairs move alike and nothing detects it.",
-    )];
-    Ok(Section {
-        id: "fault_signatures".into(),
-        title: "Fault signatures: which condition indicator shows the chip, where".into(),
-        seed_ref: "000 ¶1, 001 abstract, 002 §6 (\"fault prediction\"; the seeds compute no indicator)".into(),
-        parameters: format!(
-            "Speed-load map omega ∈ {{{}}} × F ∈ {{{}}} with the preset's chip ({} mm removed); chip sizes {{{}}} mm at omega = {}, F = {}; xi, c, friction and restitution of the preset.",
-            speeds.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
-            loads.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", "),
-            f(chip0),
-            {
-                let mut all: Vec<f64> = chips.iter().copied().chain(std::iter::once(chip0)).collect();
-                all.sort_by(f64::total_cmp);
-                all.dedup();
-                all.iter().map(|v| f(*v)).collect::<Vec<_>>().join(", ")
-            },
-            f(chip_at.0),
-            f(chip_at.1)
-        ),
-        method: format!(
-            "geardyn signals' request at each point: {} revolutions of transient, {} recorded, {} samples per mesh cycle; both pairs from rest at tau = 0. Indicators of the acceleration's time-synchronous average (residual: mesh harmonics and shaft order 1 removed; NA4/NB4 over the run healthy → broken). A ratio detects at ≥ {} or ≤ 1/{}. Difference, residual, envelope or sideband content below -60 dB of the TSA counts as absent (a measurement's noise hides it); an absent healthy content is compared at the Gaussian value of its moment (FM4, NA4, NB4 3; M6A 15; M8A 105), both absent reads 1. When the two pairs settle on attractors of different classes, the healthy twin is restarted from the broken pair's final state; where it still differs the point is marked and not counted.",
-            req.transient, req.revolutions, req.samples_per_cycle, f(DETECT), f(DETECT)
-        ),
-        figures: vec![fig_chip, fig_tsa],
-        readings,
-        tables: vec![table],
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    )
 }

@@ -8,7 +8,7 @@ use crate::classes::{self, tolerant, Class, Pt};
 use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
 use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
-use crate::Section;
+use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
 use geardyn_analysis::simulate::SimOptions;
@@ -129,6 +129,7 @@ fn at_loads(main: bool, others: &[(f64, bool)]) -> (Verdict, String) {
 }
 
 /// What the study computed: the broken pair's sweeps over omega.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct FrequencyData {
     /// Values of the main sweep.
     nw: usize,
@@ -146,10 +147,8 @@ pub(super) struct FrequencyData {
     others: Vec<(f64, Vec<TaskResult>)>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, dir)?)
-}
+crate::runner::study!(FrequencySweep { base: &'a Scenario } "frequency_sweep" FrequencyData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The sweep over omega at the preset's load and, coarser, at two other loads.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<FrequencyData> {
@@ -207,10 +206,32 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         .iter()
         .map(|(fl, rr)| (*fl, FreqStats::of(&classes::fixed_points(rr))))
         .collect();
-    let oth = |pred: &dyn Fn(&FreqStats) -> bool| -> Vec<(f64, bool)> {
-        others.iter().map(|(fl, s)| (*fl, pred(s))).collect()
-    };
-    let sens_rows: Vec<Vec<String>> = std::iter::once((fload, &st))
+    let sens = sensitivity_table(ctx, dir, fload, &st, &others)?;
+    let claims = claims(fload, &st, &others);
+    Ok(Section {
+        id: "frequency_sweep".into(),
+        title: "Bifurcation over the mesh frequency omega (F = 0.1)".into(),
+        seed_ref: "000 ¶10; 001 §3 (bifurcation over the meshing frequency); 002 §5.3 (table)".into(),
+        parameters: format!("omega in [0.1, 3] ({nw} values), F = {} (the preset's load; the seed does not state it — the statements are also checked at F = 0.05 and 0.15 with {ns} values), xi = 0.05, initial state (0, 0)", f(fload)),
+        method: format!("Dormand–Prince 5(4), {} + {} revolutions per value, decided classification.", sim.transient_periods, sim.record_periods),
+        figures: vec![fig],
+        readings: vec![format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2))],
+        tables: vec![table, sens],
+        claims,
+        alternatives: vec![],
+        seconds: 0.0,
+    })
+}
+
+/// The frequency statements' measures at the three loads.
+fn sensitivity_table(
+    ctx: &Ctx,
+    dir: &Path,
+    fload: f64,
+    st: &FreqStats,
+    others: &[(f64, FreqStats)],
+) -> Result<Table> {
+    let sens_rows: Vec<Vec<String>> = std::iter::once((fload, st))
         .chain(others.iter().map(|(fl, s)| (*fl, s)))
         .map(|(fl, s)| {
             vec![
@@ -229,12 +250,19 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
             ]
         })
         .collect();
-    let sens = ctx.table(
+    ctx.table(
         &dir.join("load_sensitivity.csv"),
         "The frequency statements at three loads (the seed does not state the load of its frequency sweep)",
         &hdr(&["F", "omega 0.1–0.2: chaotic / impacts", "omega 1.1–1.3: period 1 or 2 / impacts", "omega > 2: chaotic values", "impacts per third of the range"]),
         sens_rows,
-    )?;
+    )
+}
+
+/// The seed's frequency statements, at the main load `fload` and at the other loads.
+fn claims(fload: f64, st: &FreqStats, others: &[(f64, FreqStats)]) -> Vec<Claim> {
+    let oth = |pred: &dyn Fn(&FreqStats) -> bool| -> Vec<(f64, bool)> {
+        others.iter().map(|(fl, s)| (*fl, pred(s))).collect()
+    };
     let (v_low, t_low) = at_loads(st.low_000(), &oth(&|s| s.low_000()));
     let (v_low2, t_low2) = at_loads(st.low_002(), &oth(&|s| s.low_002()));
     let (v_mid, t_mid) = at_loads(st.mid_000(), &oth(&|s| s.mid_000()));
@@ -265,7 +293,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
     let any_low_000 = st.low_000() || others.iter().any(|o| o.1.low_000());
     let any_low_002 = st.low_002() || others.iter().any(|o| o.1.low_002());
     let sh = &st.thirds;
-    let claims = vec![
+    vec![
         Claim::new(
             "At omega = 0.1 the system is chaotic with frequent back-side collisions",
             format!("{A000} ¶10"),
@@ -328,18 +356,5 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
             v_hi2,
             format!("High third = omega ∈ [2.03, 3]; chaos at more than 10 % of its values: {t_hi2}; reproduced only where chaos is the motion at most values of the third."),
         ),
-    ];
-    Ok(Section {
-        id: "frequency_sweep".into(),
-        title: "Bifurcation over the mesh frequency omega (F = 0.1)".into(),
-        seed_ref: "000 ¶10; 001 §3 (bifurcation over the meshing frequency); 002 §5.3 (table)".into(),
-        parameters: format!("omega in [0.1, 3] ({nw} values), F = {} (the preset's load; the seed does not state it — the statements are also checked at F = 0.05 and 0.15 with {ns} values), xi = 0.05, initial state (0, 0)", f(fload)),
-        method: format!("Dormand–Prince 5(4), {} + {} revolutions per value, decided classification.", sim.transient_periods, sim.record_periods),
-        figures: vec![fig],
-        readings: vec![format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2))],
-        tables: vec![table, sens],
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    ]
 }

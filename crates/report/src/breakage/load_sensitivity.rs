@@ -52,6 +52,7 @@ fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
 }
 
 /// What the study computed: the broken pair's load sweeps under the other readings.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct LoadSensitivityData {
     /// The frequencies.
     omegas: Vec<f64>,
@@ -67,10 +68,8 @@ pub(super) struct LoadSensitivityData {
     by_chip: Vec<Vec<TaskResult>>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, dir)?)
-}
+crate::runner::study!(LoadSensitivity { base: &'a Scenario } "load_sensitivity" LoadSensitivityData,
+    |s, ctx, dir| compute(ctx, s.base, dir), |data| render(ctx, dir, data));
 
 /// The broken pair's load sweep at neighbouring frequencies and for the other chip sizes.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSensitivityData> {

@@ -23,6 +23,7 @@ use std::path::Path;
 const FORCE_TIE: f64 = 1e-4;
 
 /// What the study computed: the load sweeps of both pairs.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct LoadSweepData {
     /// Values of F.
     nf: usize,
@@ -38,14 +39,8 @@ pub(super) struct LoadSweepData {
     healthy: Vec<TaskResult>,
 }
 
-/// The load sweep (broken and healthy) at omega = 1.2: [`compute`], then [`render`], cached as
-/// the study `load_sweep`.
-pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario) -> Result<Section> {
-    let nf = ctx.n(20, 97);
-    ctx.study("load_sweep", &(nf, OMEGA_LOAD), |dir| {
-        render(ctx, dir, &compute(ctx, dir, base, healthy, nf)?)
-    })
-}
+crate::runner::study!(LoadSweep { base: &'a Scenario, healthy: &'a Scenario, nf: usize } "load_sweep" LoadSweepData,
+    |s, ctx, dir| compute(ctx, dir, s.base, s.healthy, s.nf), |data| render(ctx, dir, data), serde_json::json!([s.nf, OMEGA_LOAD]));
 
 /// The sweeps over F of the broken pair and of its healthy twin at [`OMEGA_LOAD`].
 pub(super) fn compute(
@@ -100,17 +95,23 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         )?;
     let pb = classes::fixed_points(rb);
     let ph = classes::fixed_points(rh);
-    let table = ctx.table(
-        &dir.join("intervals_F_broken.csv"),
+    let intervals = |pts: &[Pt], file: &str, title: &str| {
+        ctx.table(
+            &dir.join(file),
+            title,
+            &interval_header("F"),
+            interval_rows(&classes::intervals(pts)),
+        )
+    };
+    let table = intervals(
+        &pb,
+        "intervals_F_broken.csv",
         "Broken pair: motion over F (intervals of equal label)",
-        &interval_header("F"),
-        interval_rows(&classes::intervals(&pb)),
     )?;
-    let table_h = ctx.table(
-        &dir.join("intervals_F_healthy.csv"),
+    let table_h = intervals(
+        &ph,
+        "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
-        &interval_header("F"),
-        interval_rows(&classes::intervals(&ph)),
     )?;
     let claims = load_claims(&pb, &ph);
     Ok(Section {

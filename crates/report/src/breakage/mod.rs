@@ -7,10 +7,10 @@
 //! One module per study, named after its id. This module holds the plan, the settings the
 //! seed leaves open and the helpers several studies share.
 //!
-//! Each study computes its data (`compute`: the sweeps, continuations, basins and runs through
-//! the [`Ctx`] requests, returned as a plain struct) and renders it (`render`: CSV files,
-//! figures, readings and claims, the thresholds of the claims as named constants beside them);
-//! `study` is the one after the other.
+//! Each study is a [`crate::runner::Study`]: it computes its data (`compute`: the sweeps,
+//! continuations, basins and runs through the [`Ctx`] requests, returned as a plain struct) and
+//! renders it (`render`: CSV files, figures, readings and claims, the thresholds of the claims as
+//! named constants beside them).
 
 mod coexistence_load;
 mod fault_signatures;
@@ -26,7 +26,7 @@ mod stiffness;
 pub(crate) use stiffness::write_stiffness_csv;
 
 use crate::interpretations::{label_claims, Axis, Interpretation};
-use crate::runner::{Ctx, Study};
+use crate::runner::{cached, rendered, sweep_options, Ctx, Plan};
 use crate::Section;
 use anyhow::{Context, Result};
 use geardyn_analysis::bifurcation::{Section as Sec, SweepMode, SweepOptions};
@@ -68,15 +68,7 @@ fn sweep(
     sim: SimOptions,
     sections: Vec<Sec>,
 ) -> SweepOptions {
-    SweepOptions {
-        param: param.into(),
-        values,
-        mode,
-        sim,
-        y0: [0.0, 0.0],
-        sections,
-        lyapunov: false,
-    }
+    sweep_options(param, values, (mode, sim), sections, false)
 }
 
 /// The healthy twin integrates the same physical time (its excitation period is one mesh cycle).
@@ -100,41 +92,24 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let healthy = base.healthy()?;
     let (pm, base, healthy) = (&pm, &base, &healthy);
     // the longest first (they start first), then the rest
-    let jobs: Vec<Study<'_>> = vec![
-        Box::new(move || {
-            ctx.study("frequency_sweep", &(), |dir| {
-                frequency_sweep::study(ctx, base, dir)
-            })
+    let plan: Plan<'_> = vec![
+        cached(frequency_sweep::FrequencySweep { base }),
+        cached(load_sensitivity::LoadSensitivity { base }),
+        rendered(coexistence_load::CoexistenceLoad { base }),
+        cached(load_sweep::LoadSweep {
+            base,
+            healthy,
+            nf: ctx.n(20, 97),
         }),
-        Box::new(move || {
-            ctx.study("load_sensitivity", &(), |dir| {
-                load_sensitivity::study(ctx, base, dir)
-            })
+        rendered(orbits_load::OrbitsLoad {
+            base,
+            omega: OMEGA_LOAD,
         }),
-        Box::new(move || {
-            ctx.study("coexistence_load", &(), |dir| {
-                coexistence_load::study(ctx, base, dir)
-            })
-        }),
-        Box::new(move || load_sweep::study(ctx, base, healthy)),
-        Box::new(move || {
-            ctx.study("orbits_load", &OMEGA_LOAD.to_bits(), |dir| {
-                orbits_load::orbits_load(ctx, base, OMEGA_LOAD, dir)
-            })
-        }),
-        Box::new(move || {
-            ctx.study("revolution", &(), |dir| {
-                revolution::study(ctx, base, healthy, dir)
-            })
-        }),
-        Box::new(move || ctx.study("portraits", &(), |dir| portraits::study(ctx, base, dir))),
-        Box::new(move || {
-            ctx.study("fault_signatures", &(), |dir| {
-                fault_signatures::detectability(ctx, base, dir)
-            })
-        }),
-        Box::new(move || ctx.study("stiffness", &(), |dir| stiffness::study(ctx, pm, base, dir))),
-        Box::new(move || ctx.study("states", &(), |dir| states::study(ctx, pm, base, dir))),
+        rendered(revolution::Revolution { base, healthy }),
+        rendered(portraits::Portraits { base }),
+        rendered(fault_signatures::FaultSignatures { base }),
+        rendered(stiffness::Stiffness { pm, base }),
+        rendered(states::States { pm, base }),
     ];
     // in the page's order
     let order = [
@@ -149,7 +124,7 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
         "portraits",
         "fault_signatures",
     ];
-    let mut out = ctx.studies(jobs)?;
+    let mut out = ctx.studies(plan)?;
     out.sort_by_key(|s| order.iter().position(|o| *o == s.id));
     // the load sweep and every other study run the headline reading of the text
     let headline = Interpretation::headline(&AXES).label(&AXES);

@@ -40,10 +40,8 @@ pub(super) struct OrbitsLoadData {
     branch: Continuation,
 }
 
-/// Periodic orbits over F at the load sweep's speed `omega`: [`compute`], then [`render`].
-pub fn orbits_load(ctx: &Ctx, base: &Scenario, omega: f64, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, omega)?)
-}
+crate::runner::study!(OrbitsLoad { base: &'a Scenario, omega: f64 } "orbits_load" OrbitsLoadData,
+    |s, ctx, dir| compute(ctx, s.base, s.omega), |data| render(ctx, dir, data), serde_json::json!(s.omega.to_bits()));
 
 /// Follows the orbit reached from rest at [`START`] down and up in F.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, omega: f64) -> Result<OrbitsLoadData> {

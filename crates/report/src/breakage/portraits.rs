@@ -32,10 +32,8 @@ pub(super) struct PortraitsData {
     portraits: Vec<Portrait>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base)?)
-}
+crate::runner::study!(Portraits { base: &'a Scenario } "portraits" PortraitsData,
+    |s, ctx, dir| compute(ctx, s.base), |data| render(ctx, dir, data));
 
 /// The broken pair from (0, 0) at two loads and two frequencies, each run decided.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario) -> Result<PortraitsData> {

@@ -6,7 +6,7 @@ use super::{healthy_sim, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{line_figure_y, Line};
+use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::{Context, Result};
 use geardyn_analysis::simulate::{simulate, SimOptions, SimResult};
@@ -49,10 +49,8 @@ pub(super) struct RevolutionData {
     cycle_time: f64,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, healthy: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, healthy)?)
-}
+crate::runner::study!(Revolution { base: &'a Scenario, healthy: &'a Scenario } "revolution" RevolutionData,
+    |s, ctx, dir| compute(ctx, s.base, s.healthy), |data| render(ctx, dir, data));
 
 /// Runs both pairs over a small grid of operating points and, at the main one, from several
 /// initial states.
@@ -186,22 +184,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         })
         .collect::<Vec<_>>()
         .join("; ");
-    let t0b = rb.mesh().trajectory.first().map_or(0.0, |p| p.tau);
-    let t0h = rh.mesh().trajectory.first().map_or(0.0, |p| p.tau);
-    let fb: Vec<(f64, f64)> = rb
-        .mesh()
-        .trajectory
-        .iter()
-        .map(|p| ((p.tau - t0b) / cyc, p.mesh_force))
-        .collect();
-    let fh: Vec<(f64, f64)> = rh
-        .mesh()
-        .trajectory
-        .iter()
-        .map(|p| ((p.tau - t0h) / cyc, p.mesh_force))
-        .collect();
+    // the mesh force over mesh cycles from the start of the record
+    let force = |r: &SimResult| -> Vec<(f64, f64)> {
+        let t = &r.mesh().trajectory;
+        let t0 = t.first().map_or(0.0, |p| p.tau);
+        t.iter()
+            .map(|p| ((p.tau - t0) / cyc, p.mesh_force))
+            .collect()
+    };
+    let (fb, fh) = (force(rb), force(rh));
     let gain = rb.mesh().max_force / rh.mesh().max_force - 1.0;
-    let fig = line_figure_y(
+    let fig = line_figure(
         ctx,
         dir,
         "force_revolution",

@@ -83,10 +83,8 @@ pub(super) struct StatesData {
     window: (f64, f64, f64),
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, pm, base, &compute(ctx, pm, base)?)
-}
+crate::runner::study!(States { pm: &'a PairModel, base: &'a Scenario } "states" StatesData,
+    |s, ctx, dir| compute(ctx, s.pm, s.base), |data| render(ctx, dir, s.pm, s.base, data));
 
 /// Runs the broken pair at a point with chaos and impacts and sorts its samples into the states.
 pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<StatesData> {
@@ -126,13 +124,7 @@ pub(super) fn compute(ctx: &Ctx, pm: &PairModel, base: &Scenario) -> Result<Stat
     let period = m.excitation_period();
     let cyc = m.mesh_cycle_time();
     let t_rec = r.mesh().trajectory.first().map_or(0.0, |p| p.tau);
-    let imp_t: Vec<(f64, f64)> = r
-        .mesh()
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::Impact)
-        .map(|e| (e.tau, e.x))
-        .collect();
+    let imp_t = impacts_of(&r);
     let window = |k: u64| {
         let t_start = t_rec + k as f64 * period;
         (
@@ -187,13 +179,7 @@ pub(super) fn render(
     let [pos, neg, zero] = data.signs;
     let (t_start, w0, w1) = data.window;
     let cyc = m.mesh_cycle_time();
-    let imp_t: Vec<(f64, f64)> = r
-        .mesh()
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::Impact)
-        .map(|e| (e.tau, e.x))
-        .collect();
+    let imp_t = impacts_of(r);
     let total: f64 = time.iter().sum::<f64>().max(1e-12);
     let rows: Vec<Vec<String>> = (0..5)
         .map(|k| {
@@ -271,6 +257,7 @@ pub(super) fn render(
         ],
         &[],
         &format!("Four mesh cycles around the broken one (revolution {} of the record, the one showing the most states): displacement with the backlash ±D, the dynamic mesh force and the state: 0 double-tooth, 1 single-tooth I, 2 single-tooth II (breakage), 3 separation, 4 back-side impact.", best + 1),
+        false,
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "states_window", &win)?;
     let seen: Vec<bool> = (0..5)
@@ -318,4 +305,14 @@ pub(super) fn render(
         alternatives: vec![],
         seconds: 0.0,
     })
+}
+
+/// The back-side impacts of a run: (time, x).
+fn impacts_of(r: &SimResult) -> Vec<(f64, f64)> {
+    r.mesh()
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact)
+        .map(|e| (e.tau, e.x))
+        .collect()
 }

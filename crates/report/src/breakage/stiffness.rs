@@ -40,10 +40,8 @@ pub(super) struct StiffnessData {
     share_double: f64,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, pm, &compute(pm, base)?)
-}
+crate::runner::study!(Stiffness { pm: &'a PairModel, base: &'a Scenario } "stiffness" StiffnessData,
+    |s, ctx, dir| compute(s.pm, s.base), |data| render(ctx, dir, s.pm, data));
 
 /// Builds the healthy twin and reads zone II of the broken cycle against it.
 pub(super) fn compute(pm: &PairModel, base: &Scenario) -> Result<StiffnessData> {

@@ -20,10 +20,8 @@ pub(super) struct BasinsData {
     basins: BasinResult,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, nb: usize, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, nb, dir)?)
-}
+crate::runner::study!(Basins { base: &'a Scenario, nb: usize } "basins" BasinsData,
+    |s, ctx, dir| compute(ctx, s.base, s.nb, dir), |data| render(ctx, dir, data), serde_json::json!([s.nb]));
 
 /// The basins at omega = 1.8 on an `nb` x `nb` grid.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, nb: usize, dir: &Path) -> Result<BasinsData> {

@@ -5,13 +5,11 @@
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class};
 use crate::readings::{f, interval_header, interval_rows, range};
-use crate::runner::Ctx;
+use crate::runner::{sweep_options, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{
-    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
-};
+use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::ops::Range;
@@ -27,6 +25,7 @@ const CHAOS_END: Range<f64> = 1.5..1.8;
 const WINDOW_VALUES: usize = 3;
 
 /// What the study computed: the sweep over omega.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct BifurcationData {
     /// Values of omega.
     n: usize,
@@ -38,16 +37,8 @@ pub(super) struct BifurcationData {
     runs: Vec<TaskResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    base: &Scenario,
-    n: usize,
-    sim: SimOptions,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, n, sim, dir)?)
-}
+crate::runner::study!(Bifurcation { base: &'a Scenario, n: usize, sim: SimOptions } "bifurcation" BifurcationData,
+    |s, ctx, dir| compute(ctx, s.base, s.n, s.sim, dir), |data| render(ctx, dir, data), serde_json::json!([s.n]));
 
 /// The sweep over omega in [0.5, 2] from (0, 0) with the TLE.
 pub(super) fn compute(
@@ -57,15 +48,14 @@ pub(super) fn compute(
     sim: SimOptions,
     dir: &Path,
 ) -> Result<BifurcationData> {
-    let o = SweepOptions {
-        param: "omega".into(),
-        values: linspace(0.5, 2.0, n),
-        mode: SweepMode::Fixed,
-        sim,
-        y0: [0.0, 0.0],
-        sections: vec![Sec::Strobe],
-        lyapunov: true,
-    };
+    let values = linspace(0.5, 2.0, n);
+    let o = sweep_options(
+        "omega",
+        values,
+        (SweepMode::Fixed, sim),
+        vec![Sec::Strobe],
+        true,
+    );
     let runs = ctx.sweep(dir, "C1 omega sweep", base, &o)?;
     let p = base.params();
     Ok(BifurcationData {

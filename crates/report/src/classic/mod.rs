@@ -9,7 +9,7 @@ mod bifurcation;
 mod orbits;
 mod response;
 
-use crate::runner::{Ctx, Study};
+use crate::runner::{cached, rendered, Ctx, Plan};
 use crate::Section;
 use anyhow::Result;
 
@@ -21,24 +21,15 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let sim = ctx.sim((150, 300), (40, 100));
     let nr = ctx.n(40, 150);
     let nb = ctx.n(40, 140);
-    let jobs: Vec<Study<'_>> = vec![
-        Box::new(move || {
-            ctx.study("bifurcation", &(n,), |dir| {
-                bifurcation::study(ctx, base, n, sim, dir)
-            })
-        }),
-        Box::new(move || {
-            ctx.study("response", &(nr,), |dir| {
-                response::study(ctx, base, nr, sim, dir)
-            })
-        }),
-        Box::new(move || ctx.study("basins", &(nb,), |dir| basins::study(ctx, base, nb, dir))),
-        Box::new(move || {
-            ctx.study("orbits", &(ctx.n(40, 60),), |dir| {
-                orbits::study(ctx, base, dir)
-            })
+    let plan: Plan<'_> = vec![
+        cached(bifurcation::Bifurcation { base, n, sim }),
+        cached(response::Response { base, nr, sim }),
+        rendered(basins::Basins { base, nb }),
+        rendered(orbits::Orbits {
+            base,
+            n: ctx.n(40, 60),
         }),
     ];
-    let out = ctx.studies(jobs)?;
+    let out = ctx.studies(plan)?;
     Ok(out)
 }

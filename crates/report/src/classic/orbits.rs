@@ -28,10 +28,8 @@ pub(super) struct OrbitsData {
     branches: Continuation,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, base, dir, &compute(base)?)
-}
+crate::runner::study!(Orbits { base: &'a Scenario, n: usize } "orbits" OrbitsData,
+    |s, ctx, dir| compute(s.base), |data| render(ctx, s.base, dir, data), serde_json::json!([s.n]));
 
 /// Shooting and continuation over omega in [0.5, 2] from the period-1 orbit at omega = 0.5.
 pub(super) fn compute(base: &Scenario) -> Result<OrbitsData> {

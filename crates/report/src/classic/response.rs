@@ -3,30 +3,23 @@
 //! picture, docs/model.md §6).
 
 use crate::readings::f;
-use crate::runner::Ctx;
+use crate::runner::{sweep_options, Ctx};
 use crate::Section;
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, SweepMode, SweepOptions, TaskResult};
+use geardyn_analysis::bifurcation::{linspace, SweepMode, TaskResult};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
 
 /// What the study computed: the sweeps up and down.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct ResponseData {
     /// The runs of both directions.
     runs: Vec<TaskResult>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(
-    ctx: &Ctx,
-    base: &Scenario,
-    nr: usize,
-    sim: SimOptions,
-    dir: &Path,
-) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, base, nr, sim, dir)?)
-}
+crate::runner::study!(Response { base: &'a Scenario, nr: usize, sim: SimOptions } "response" ResponseData,
+    |s, ctx, dir| compute(ctx, s.base, s.nr, s.sim, dir), |data| render(ctx, dir, data), serde_json::json!([s.nr]));
 
 /// The continuation sweep over omega in [0.5, 2], upwards and downwards.
 pub(super) fn compute(
@@ -36,15 +29,8 @@ pub(super) fn compute(
     sim: SimOptions,
     dir: &Path,
 ) -> Result<ResponseData> {
-    let o = SweepOptions {
-        param: "omega".into(),
-        values: linspace(0.5, 2.0, nr),
-        mode: SweepMode::Sweep,
-        sim,
-        y0: [0.0, 0.0],
-        sections: vec![],
-        lyapunov: false,
-    };
+    let values = linspace(0.5, 2.0, nr);
+    let o = sweep_options("omega", values, (SweepMode::Sweep, sim), vec![], false);
     let runs = ctx.sweep(dir, "C1 frequency response", base, &o)?;
     Ok(ResponseData { runs })
 }

@@ -31,17 +31,30 @@ pub(super) struct Spec {
     pub(super) loose: Option<fn(&Pt) -> bool>,
 }
 
+/// An attractor of the seed's tables known by its test alone.
+pub(super) fn sp(name: &'static str, test: fn(&Pt) -> bool) -> Spec {
+    Spec {
+        name,
+        test,
+        loose: None,
+    }
+}
+
+/// An attractor of the seed's tables, with the same kind of motion under another label.
+pub(super) fn spl(name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool) -> Spec {
+    Spec {
+        name,
+        test,
+        loose: Some(loose),
+    }
+}
+
 /// Share of the values in the interior of `[a, b]` (15 % trimmed at each end, at least the value
 /// nearest the middle) where some run satisfies `test`.
 pub(super) fn presence(pts: &[Pt], a: f64, b: f64, test: fn(&Pt) -> bool) -> f64 {
     let w = b - a;
     let (lo, hi) = (a + TRIM * w, b - TRIM * w);
-    let mut vals: Vec<f64> = pts
-        .iter()
-        .map(|p| p.value)
-        .filter(|v| *v >= lo && *v <= hi)
-        .collect();
-    vals.dedup();
+    let mut vals = classes::values_in(pts, lo, hi);
     if vals.is_empty() {
         let mid = 0.5 * (a + b);
         if let Some(p) = pts

@@ -3,22 +3,16 @@
 //! tree, basins at F = 0.16, 0.11 and 0.104, the load cascade and chaos without back-side
 //! meshing. Checks seed B 003 §4.3 (Table 6) and 004 §5.4 (Figs. 5.6, 5.8, Table 5.2).
 
-use super::attractor_tables::{
-    backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    marker_runs, table_row, AttractorsData, Spec,
-};
-use super::{multi, B003, B004};
+use super::attractor_tables::{basin_claim, extra_boxes, sp, spl, table_row, AttractorsData};
+use super::attractors::AttractorTable;
+use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
-use crate::runner::Ctx;
-use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
-use crate::Section;
-use anyhow::Result;
+use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, TaskResult};
-use geardyn_scenario::Scenario;
-use std::path::Path;
+use geardyn_analysis::bifurcation::linspace;
+use geardyn_analysis::continuation::ContinuationResult;
 
 /// The seed's points where basins are drawn (Fig. 5.8g at 0.16, between G3 and G2 at 0.11, below
 /// G2 at 0.104).
@@ -33,105 +27,64 @@ const UNHEALTHY_PARTLY: f64 = 0.3;
 /// counted before); partly when fewer by less.
 const FEWER_BY: f64 = 0.5;
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
-}
+/// The study: F over [0.0001, 0.2] at omega = 1.4, xi = 0.09.
+pub(super) const TABLE: AttractorTable = AttractorTable {
+    id: "attractors_F",
+    param: "F",
+    set: &[("omega", 1.4), ("xi", 0.09)],
+    at: "omega = 1.4, xi = 0.09",
+    values: |ctx| {
+        let mut values = linspace(0.0001, 0.2, ctx.n(30, 134));
+        values.extend([0.001, 0.002, 0.04, 0.044, 0.1, 0.104, 0.11, 0.16]);
+        values
+    },
+    continuation: |ctx| linspace(0.0001, 0.2, ctx.n(20, 67)),
+    basins: &[
+        (BASIN_LOADS[0], true),
+        (BASIN_LOADS[1], true),
+        (BASIN_LOADS[2], true),
+    ],
+    markers: &[0.001, 0.02, 0.04, 0.044, 0.07, 0.1, 0.104, 0.11, 0.16, 0.19],
+    multi_caption: "Linear contact law: runs from random initial states per load, coloured by the attractor label; the second panel shows back-side crossings of -D_s.",
+    title: (
+        "Coexisting attractors over the load F (omega = 1.4, xi = 0.09): multi-initial diagram, safety tree and basins",
+        "003 §4.3 (Table 6); 004 §5.4 (Figs. 5.6, 5.8, Table 5.2)",
+    ),
+    words,
+    claims,
+};
 
-/// The multi-initial sweep, the continuation, the basins and the marker runs over F.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
-    let set = [("omega", 1.4), ("xi", 0.09)];
-    let b = lin.with_all(&set)?;
-    let d = b.params().d_single;
-    let n = ctx.n(30, 134);
-    let mut values = linspace(0.0001, 0.2, n);
-    values.extend([0.001, 0.002, 0.04, 0.044, 0.1, 0.104, 0.11, 0.16]);
-    values.sort_by(f64::total_cmp);
-    values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let ics = ctx.n(6, 12);
-    let multi: Vec<TaskResult> = ctx.sweep(
-        dir,
-        "F multi-initial",
-        &b,
-        &multi("F", values.clone(), ctx.sim((150, 300), (30, 60)), ics, d),
-    )?;
-    let continuation = ctx.continuation(
-        dir,
-        "F continuation",
-        &b,
-        &continuation_opts("F", linspace(0.0001, 0.2, ctx.n(20, 67)), ctx.n(8, 24), d),
-    )?;
-    let nb = ctx.n(24, 80);
-    let mut basins = Vec::new();
-    for fv in BASIN_LOADS {
-        let m = b.with("F", fv)?.model().clone();
-        basins.push(basins_at(
-            ctx,
-            dir,
-            format!("basins_F_{fv}"),
-            &m,
-            (nb, d),
-            true,
-        )?);
-    }
-    let markers = marker_runs(
-        ctx,
-        dir,
-        &b,
-        "F",
-        &[0.001, 0.02, 0.04, 0.044, 0.07, 0.1, 0.104, 0.11, 0.16, 0.19],
-    )?;
-    Ok(AttractorsData {
-        d,
-        values,
-        ics,
-        nb,
-        multi,
-        continuation,
-        basins,
-        markers,
-    })
-}
-
-/// The figures, tables and the claims of the seed's table over F.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
+/// Parameters and method of the section.
+fn words(data: &AttractorsData) -> (String, String) {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
-    let (r, c) = (&data.multi, &data.continuation);
     let box_txt = &data.basins[0].boxes[0].0;
-    let fig = sweep_figure(
-        ctx, dir, "multi_F", "F", r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
-        "Multi-initial bifurcation over F (omega = 1.4, xi = 0.09)",
-        "Linear contact law: runs from random initial states per load, coloured by the attractor label; the second panel shows back-side crossings of -D_s.",
-    )?;
-    let pts = classes::points(r, 0);
-    let (fig_c, table_c) =
-        continuation_figure(ctx, dir, "tree_F", "F", c, "Bifurcation-safety tree over F")?;
-    let mut basin_figs = Vec::new();
-    let mut basin_tables = Vec::new();
-    for (fv, basins) in BASIN_LOADS.iter().zip(&data.basins) {
-        let (bf, bt) = basins_figure(
-            ctx,
-            dir,
-            basins,
-            &format!("Basins at F = {fv} (omega = 1.4, xi = 0.09)"),
-        )?;
-        basin_figs.push(bf);
-        basin_tables.push(bt);
-    }
+    (
+        format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("Multi-initial: {ics} random initial states per value, decided classification; continuation with basin overlap; basins at F = 0.16, 0.11, 0.104."),
+    )
+}
+
+/// The claims of the seed's table.
+fn claims(data: &AttractorsData) -> Vec<Claim> {
+    let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
+    let mut claims = table_claims(&pts, &basin_res);
+    claims.extend(low_load_claims(&pts));
+    claims.extend(unhealthy_claims(&data.continuation, basin_res[2]));
+    claims.push(chaos_claim(&pts));
+    claims.push(cascade_claim(
+        &pts,
+        &format!("{} initial states per value", data.ics),
+    ));
+    claims.push(multistability_claim(&pts, data.ics));
+    claims
+}
+
+/// The rows of the seed's table above F = 0.09 and the basin shares at its three points.
+fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim> {
     let t52 = format!("{B004} Table 5.2");
     let t6 = format!("{B003} Table 6");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
-    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: Some(loose),
-    };
     let p1: fn(&Pt) -> bool = |p| p.name == "1-1-0-1-0";
     let q2: fn(&Pt) -> bool = |p| p.name == "2-1-0-1-0";
     let p2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
@@ -140,13 +93,15 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
     let h1f: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
     let q4: fn(&Pt) -> bool = |p| p.class == Class::Periodic(4) && p.healthy;
     let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
-    let mut claims =
-        vec![
+    vec![
         table_row(
-            &pts,
+            pts,
             0.118,
             0.2,
-            &[spl("P1 = 1-1-0-1-0", p1, h1f), spl("Q2 = 2-1-0-1-0", q2, p2h)],
+            &[
+                spl("P1 = 1-1-0-1-0", p1, h1f),
+                spl("Q2 = 2-1-0-1-0", q2, p2h),
+            ],
             "F in (0.118, 0.2): P1 = 1-1-0-1-0 and Q2 = 2-1-0-1-0, both healthy".into(),
             format!("{t52}; {t6}; {B004} §5.4"),
             "P1 + Q2".into(),
@@ -161,40 +116,32 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             format!("{B003} §4.3; {B004} §5.4 (Fig. 5.8g)"),
         ),
         table_row(
-            &pts,
+            pts,
             0.105,
             0.117,
-            &[sp("P2 (another healthy period 2)", p2o), sp("Q2 = 2-1-0-1-0", q2), sp("P3", p3)],
+            &[
+                sp("P2 (another healthy period 2)", p2o),
+                sp("Q2 = 2-1-0-1-0", q2),
+                sp("P3", p3),
+            ],
             "F in (0.105, 0.117): P2 and Q2 (healthy) with P3".into(),
             format!("{t52}; {t6}"),
             "P2 + Q2 + P3".into(),
         ),
-        basin_claim(
+        three_basins(
             basin_res[1],
-            &[
-                ("P3 (non-healthy period 3)", 0.17, &|a| a.period == 3 && !a.healthy),
-                ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
-                ("P2 (other period 2)", 0.21, &|a| {
-                    a.period == 2 && a.label != "2-1-0-1-0"
-                }),
-            ],
+            "P3 (non-healthy period 3)",
             "Between G3 and G2 P3 (17 %), Q2 (62 %) and P2 (21 %) coexist, with sieve-like basins",
             format!("{B004} §5.4 (Fig. 5.8d), F = 0.11 here"),
         ),
-        basin_claim(
+        three_basins(
             basin_res[2],
-            &[
-                ("R3 (non-healthy period 3)", 0.17, &|a| a.period == 3 && !a.healthy),
-                ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
-                ("P2 (other period 2)", 0.21, &|a| {
-                    a.period == 2 && a.label != "2-1-0-1-0"
-                }),
-            ],
+            "R3 (non-healthy period 3)",
             "At F = 0.104 R3 occupies 17 %, Q2 62 % and P2 21 %",
             format!("{B003} §4.3"),
         ),
         table_row(
-            &pts,
+            pts,
             0.09,
             0.104,
             &[
@@ -206,11 +153,35 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             format!("{t52}; {t6}; {B004} §5.4"),
             "P2 + Q4 + P3".into(),
         ),
-    ];
-    claims.extend(low_load_claims(&pts));
-    // non-healthy share below G2: the continuation's sampled shares and the basin grid at
-    // F = 0.104 (inside the interval), whichever is larger (a 16-state sample can miss a 10 %
-    // basin that the grid shows)
+    ]
+}
+
+/// The seed's shares below G3 at one load: a non-healthy period 3 (named `p3`) 17 %, Q2 62 %,
+/// another period 2 21 %.
+fn three_basins(
+    basins: &[(String, BasinResult)],
+    p3: &'static str,
+    claim: &str,
+    source: String,
+) -> Claim {
+    basin_claim(
+        basins,
+        &[
+            (p3, 0.17, &|a| a.period == 3 && !a.healthy),
+            ("Q2 (2-1-0-1-0)", 0.62, &|a| a.label == "2-1-0-1-0"),
+            ("P2 (other period 2)", 0.21, &|a| {
+                a.period == 2 && a.label != "2-1-0-1-0"
+            }),
+        ],
+        claim,
+        source,
+    )
+}
+
+/// The non-healthy share below G2 (58 % in both seed files): the continuation's sampled shares
+/// and the basin grid at F = 0.104 (`grid`, inside the interval), whichever is larger (a
+/// 16-state sample can miss a 10 % basin that the grid shows).
+fn unhealthy_claims(c: &ContinuationResult, grid: &[(String, BasinResult)]) -> Vec<Claim> {
     let continuation_share = {
         let mut vals: Vec<f64> = c
             .points
@@ -229,7 +200,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             })
             .fold(0.0, f64::max)
     };
-    let grid_share: f64 = basin_res[2][0]
+    let grid_share: f64 = grid[0]
         .1
         .attractors
         .iter()
@@ -237,6 +208,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         .map(|a| a.fraction)
         .sum();
     let unhealthy_share = continuation_share.max(grid_share);
+    let mut claims = Vec::new();
     for (src, txt) in [
         (
             format!("{B003} §4.3"),
@@ -267,6 +239,11 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             "Continuation basin shares (sampled initial states) and the basin grid at F = 0.104 on the basins' box; the seed's box is not given, and shares depend on it.",
         ));
     }
+    claims
+}
+
+/// Chaos without back-side meshing (004 §5.4).
+fn chaos_claim(pts: &[Pt]) -> Claim {
     let chaos_no_back = pts
         .iter()
         .filter(|p| p.class == Class::Chaotic && !p.back)
@@ -282,7 +259,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(p.min_force), b.max(p.min_force))
         });
-    claims.push(Claim::new(
+    Claim::new(
         "In chaos the mesh force can stay non-negative: chaos is not caused by back-side meshing alone",
         format!("{B004} §5.4"),
         "chaos with F_m ≥ 0 (no back-side meshing)",
@@ -293,18 +270,13 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         } else {
             format!("Back-side contact = crossings of -D_s or -D_d in the record. Chaos without back-side meshing exists (the seed's point), but the mesh force still dips below zero in every such run (least force {} to {}): the damping term c x' pulls while the teeth separate on the drive side (section on the mechanism).", f(lo_f), f(hi_f))
         },
-    ));
-    claims.push(cascade_claim(
-        &pts,
-        &format!("{ics} initial states per value"),
-    ));
+    )
+}
+
+/// Fewer coexisting attractors at larger F (003 §4.3): distinct motions per value.
+fn multistability_claim(pts: &[Pt], ics: usize) -> Claim {
     let distinct = |lo: f64, hi: f64| {
-        let mut vals: Vec<f64> = pts
-            .iter()
-            .map(|p| p.value)
-            .filter(|v| *v >= lo && *v <= hi)
-            .collect();
-        vals.dedup();
+        let vals = classes::values_in(pts, lo, hi);
         let s: usize = vals
             .iter()
             .map(|&v| {
@@ -315,7 +287,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         s as f64 / vals.len().max(1) as f64
     };
     let (dl, dh) = (distinct(0.0, 0.1), distinct(0.118, 0.2));
-    claims.push(Claim::new(
+    Claim::new(
         "At low load chaos and high multistability; as F increases fewer coexisting attractors",
         format!("{B003} §4.3"),
         "fewer attractors at larger F",
@@ -332,25 +304,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             Verdict::NotReproduced
         },
         format!("Fewer = at least half a motion per value less (partly: fewer by less). The same file's Table 6 lists 2 attractors for F < 0.0021, 1 for 0.0022–0.089, 3 for 0.09–0.117 and 2 above 0.118: not fewer at the larger loads (its table rows are checked one by one above). Measured: {ics} initial states per value, distinct motions counted per value (1-1-0-1-0 and 2-1-0-1-0 coexist up to F = 0.2)."),
-    ));
-    let mut figs = vec![fig, fig_c];
-    figs.extend(basin_figs);
-    let mut tables = vec![table_c];
-    tables.extend(basin_tables);
-    tables.push(backlash_sensitivity(ctx, dir, &data.markers)?);
-    Ok(Section {
-        id: "attractors_F".into(),
-        title: "Coexisting attractors over the load F (omega = 1.4, xi = 0.09): multi-initial diagram, safety tree and basins".into(),
-        seed_ref: "003 §4.3 (Table 6); 004 §5.4 (Figs. 5.6, 5.8, Table 5.2)".into(),
-        parameters: format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
-        method: format!("Multi-initial: {ics} random initial states per value, decided classification; continuation with basin overlap; basins at F = 0.16, 0.11, 0.104."),
-        figures: figs,
-        readings: vec![format!("Continuation: {} intervals, {} events (tree_F_branches.csv).", c.intervals.len(), c.events.len())],
-        tables,
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    )
 }
 
 /// The low-load rows of seed B's attractor table over F (Table 5.2 / Table 6): the windows of
@@ -358,11 +312,6 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
 pub(super) fn low_load_claims(pts: &[Pt]) -> Vec<Claim> {
     let t52 = format!("{B004} Table 5.2");
     let t6 = format!("{B003} Table 6");
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
     let p3any: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3);
     let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
     let p6: fn(&Pt) -> bool = |p| p.class == Class::Periodic(6);

@@ -4,21 +4,16 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    backlash_sensitivity, basin_claim, basins_at, basins_figure, continuation_opts, extra_boxes,
-    found_in, marker_runs, presence, table_row, AttractorsData, Spec, PRESENT,
+    basin_claim, extra_boxes, found_in, presence, sp, spl, table_row, AttractorsData, PRESENT,
 };
-use super::{multi, B003, B004};
+use super::attractors::AttractorTable;
+use super::{B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::f;
-use crate::runner::Ctx;
-use crate::shared::{box_text, continuation_figure, sweep_figure, SweepPanels};
-use crate::Section;
-use anyhow::Result;
+use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec};
-use geardyn_scenario::Scenario;
-use std::path::Path;
+use geardyn_analysis::bifurcation::linspace;
 
 /// The seed's points where basins are drawn (G1 at 0.364 and 0.42, G3 at 1.801).
 const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
@@ -26,139 +21,119 @@ const BASIN_OMEGAS: [f64; 3] = [0.364, 0.42, 1.801];
 /// it lies within this distance of it (and nearer to it than to the other).
 const G1_TOLERANCE: f64 = 0.03;
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
-}
-
-/// The multi-initial sweep, the continuation, the basins and the marker runs over omega.
-pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<AttractorsData> {
-    let set = [("F", 0.07), ("xi", 0.23)];
-    let b = lin.with_all(&set)?;
-    let d = b.params().d_single;
-    let n = ctx.n(30, 146);
-    let mut values = ctx.n(vec![0.03], vec![0.01, 0.03, 0.06]);
-    values.extend(linspace(0.1, 3.0, n));
-    values.extend([0.364, 0.42, 0.56, 0.6, 1.801, 1.812]);
-    values.sort_by(f64::total_cmp);
-    values.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let ics = ctx.n(6, 12);
-    let multi = ctx.sweep(
-        dir,
-        "omega multi-initial",
-        &b,
-        &multi(
-            "omega",
-            values.clone(),
-            ctx.sim((150, 300), (30, 60)),
-            ics,
-            d,
-        ),
-    )?;
-    let cvals: Vec<f64> = {
+/// The study: omega over [0.01, 3] at F = 0.07, xi = 0.23.
+pub(super) const TABLE: AttractorTable = AttractorTable {
+    id: "attractors_omega",
+    param: "omega",
+    set: &[("F", 0.07), ("xi", 0.23)],
+    at: "F = 0.07, xi = 0.23",
+    values: |ctx| {
+        let mut values = ctx.n(vec![0.03], vec![0.01, 0.03, 0.06]);
+        values.extend(linspace(0.1, 3.0, ctx.n(30, 146)));
+        values.extend([0.364, 0.42, 0.56, 0.6, 1.801, 1.812]);
+        values
+    },
+    continuation: |ctx| {
         let mut v = vec![0.03];
         v.extend(linspace(0.1, 3.0, ctx.n(20, 59)));
         v
-    };
-    let continuation = ctx.continuation(
-        dir,
-        "omega continuation",
-        &b,
-        &continuation_opts("omega", cvals, ctx.n(8, 24), d),
-    )?;
-    let nb = ctx.n(24, 80);
-    let mut basins = Vec::new();
-    for w in BASIN_OMEGAS {
-        let m = b.with("omega", w)?.model().clone();
-        basins.push(basins_at(
-            ctx,
-            dir,
-            format!("basins_omega_{w}"),
-            &m,
-            (nb, d),
-            w != 0.364,
-        )?);
-    }
-    let markers = marker_runs(
-        ctx,
-        dir,
-        &b,
-        "omega",
-        &[
-            0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
-        ],
-    )?;
-    Ok(AttractorsData {
-        d,
-        values,
-        ics,
-        nb,
-        multi,
-        continuation,
-        basins,
-        markers,
-    })
+    },
+    // (no extra boxes at 0.364)
+    basins: &[
+        (BASIN_OMEGAS[0], false),
+        (BASIN_OMEGAS[1], true),
+        (BASIN_OMEGAS[2], true),
+    ],
+    markers: &[
+        0.2, 0.364, 0.42, 0.5, 0.56, 0.6, 0.68, 1.0, 1.4, 1.801, 2.0, 2.6,
+    ],
+    multi_caption: "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
+    title: (
+        "Coexisting attractors over omega (F = 0.07, xi = 0.23): multi-initial diagram, safety tree and basins",
+        "003 §4.3 (Table 5); 004 §5.3 (Figs. 5.3, 5.5, Table 5.1)",
+    ),
+    words,
+    claims,
+};
+
+/// Parameters and method of the section.
+fn words(data: &AttractorsData) -> (String, String) {
+    let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
+    let box_txt = &data.basins[0].boxes[0].0;
+    (
+        format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("Multi-initial: {ics} random initial states per value (x0 ∈ ±1.5 D_s, x0' ∈ ±1), decided classification; continuation: attractors identified on the stroboscopic section and matched by basin overlap; basins at the seed's points."),
+    )
 }
 
-/// The figures, tables and the claims of the seed's table over omega.
-pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Section> {
-    let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
-    let (r, c) = (&data.multi, &data.continuation);
-    let box_txt = &data.basins[0].boxes[0].0;
-    let fig = sweep_figure(
-        ctx, dir, "multi_omega", "omega", r, &[Sec::Strobe, Sec::DsDown], &SweepPanels::default(),
-        "Multi-initial bifurcation over omega (F = 0.07, xi = 0.23)",
-        "Linear contact law: runs from random initial states per omega, coloured by the attractor label (decided classification); the second panel shows back-side crossings of -D_s.",
-    )?;
-    let pts = classes::points(r, 0);
-    let (fig_c, table_c) = continuation_figure(
-        ctx,
-        dir,
-        "tree_omega",
-        "omega",
-        c,
-        "Bifurcation-safety tree over omega",
-    )?;
-    let mut basin_figs = Vec::new();
-    let mut basin_tables = Vec::new();
-    for (w, basins) in BASIN_OMEGAS.iter().zip(&data.basins) {
-        let (bf, bt) = basins_figure(
-            ctx,
-            dir,
-            basins,
-            &format!("Basins at omega = {w} (F = 0.07, xi = 0.23)"),
-        )?;
-        basin_figs.push(bf);
-        basin_tables.push(bt);
-    }
+/// The claims of the seed's table, by range of omega.
+fn claims(data: &AttractorsData) -> Vec<Claim> {
+    let pts = classes::points(&data.multi, 0);
     let basin_res: Vec<&[(String, BasinResult)]> =
         data.basins.iter().map(|b| b.boxes.as_slice()).collect();
-    let p1: fn(&Pt) -> bool = |p| p.name == "1-0-0-1-0";
-    let q1: fn(&Pt) -> bool = |p| p.name == "1-1-1-1-1";
-    let r1: fn(&Pt) -> bool =
-        |p| p.class == Class::Periodic(1) && p.healthy && p.name != "1-0-0-1-0";
-    let r2: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2);
-    let q2h: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2) && p.healthy;
-    let p3: fn(&Pt) -> bool = |p| p.class == Class::Periodic(3) && !p.healthy;
-    let h1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && p.healthy;
-    let u1: fn(&Pt) -> bool = |p| p.class == Class::Periodic(1) && !p.healthy;
+    let mut claims = low_claims(&pts, basin_res[1], data.ics);
+    claims.extend(middle_claims(&pts));
+    claims.extend(high_claims(&pts, basin_res[2]));
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.261, 1.526): Q2 (healthy) with chaos (PN)",
+            "omega in (1.26, 1.52): Q2 (stable) with P3 (unstable)",
+            "omega in (1.261, 1.526): stable 3-1-1-1-1 (P3) coexisting with chaos (PN)",
+        ],
+    );
+    resolve_conflicts(
+        &mut claims,
+        &[
+            "omega in (1.80, 1.89): Q1 (stable) and P3",
+            "omega in (1.802, 1.891): Q2 (healthy) and P3",
+        ],
+    );
+    claims
+}
+
+/// The healthy P1 of seed B's omega table (1-0-0-1-0).
+fn p1(p: &Pt) -> bool {
+    p.name == "1-0-0-1-0"
+}
+/// Q1 with back-side contact (1-1-1-1-1).
+fn q1(p: &Pt) -> bool {
+    p.name == "1-1-1-1-1"
+}
+/// A healthy period 1.
+fn h1(p: &Pt) -> bool {
+    p.class == Class::Periodic(1) && p.healthy
+}
+/// A non-healthy period 1.
+fn u1(p: &Pt) -> bool {
+    p.class == Class::Periodic(1) && !p.healthy
+}
+/// A healthy period 2.
+fn q2h(p: &Pt) -> bool {
+    p.class == Class::Periodic(2) && p.healthy
+}
+/// A non-healthy period 3.
+fn p3(p: &Pt) -> bool {
+    p.class == Class::Periodic(3) && !p.healthy
+}
+/// Chaos.
+fn chaos(p: &Pt) -> bool {
+    p.class == Class::Chaotic
+}
+
+/// The table's sources: 004 Table 5.1 and 003 Table 5.
+fn tables() -> (String, String) {
+    (format!("{B004} Table 5.1"), format!("{B003} Table 5"))
+}
+
+/// Below omega = 0.42: P1 alone, the incomplete bifurcation G1 (both places the seeds give it)
+/// and the basin shares at 0.42 (`bq`).
+fn low_claims(pts: &[Pt], bq: &[(String, BasinResult)], ics: usize) -> Vec<Claim> {
+    let (t51, t5) = tables();
     let only = |a: f64, bb: f64, test: fn(&Pt) -> bool| -> bool {
         pts.iter()
             .filter(|p| p.value >= a && p.value <= bb)
             .all(&test)
-    };
-    let t51 = format!("{B004} Table 5.1");
-    let t5 = format!("{B003} Table 5");
-    let chaos: fn(&Pt) -> bool = |p| p.class == Class::Chaotic;
-    let sp = |name: &'static str, test: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: None,
-    };
-    let spl = |name: &'static str, test: fn(&Pt) -> bool, loose: fn(&Pt) -> bool| Spec {
-        name,
-        test,
-        loose: Some(loose),
     };
     let mut claims = Vec::new();
     let low_only = only(0.0, 0.36, p1);
@@ -167,10 +142,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "omega in (0.01, 0.42): only the healthy period-1 motion P1 = 1-0-0-1-0",
         format!("{t51}; {t5}; {B004} §5.3"),
         "P1 (1-0-0-1-0) only",
-        format!("found for omega ≤ 0.36: {}", found_in(&pts, 0.0, 0.36 / 0.85)),
+        format!("found for omega ≤ 0.36: {}", found_in(pts, 0.0, 0.36 / 0.85)),
         if low_only {
             Verdict::Reproduced
-        } else if low_h1 || presence(&pts, 0.01, 0.42, h1) >= PRESENT {
+        } else if low_h1 || presence(pts, 0.01, 0.42, h1) >= PRESENT {
             Verdict::Partly
         } else {
             Verdict::NotReproduced
@@ -214,7 +189,6 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
             "The thesis text gives 0.364, both tables and the summary 0.42: the row nearer to the measurement is reproduced, the other is a seed inconsistency. Multi-initial sweep with extra values at 0.364 and 0.42.",
         ));
     }
-    let bq = basin_res[1];
     claims.push(basin_claim(
         bq,
         &[
@@ -226,8 +200,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "At omega = 0.42 the healthy P1 holds 49 % of the basin, Q1 51 %",
         format!("{B003} §4.3; {B004} §5.3 (Fig. 5.5b)"),
     ));
+    claims
+}
+
+/// The rows from omega = 0.42 to 1.526: Q1 with P1, R1 and R2, chaos, and Q2 or P3 with chaos.
+fn middle_claims(pts: &[Pt]) -> Vec<Claim> {
+    let (t51, t5) = tables();
+    let r1: fn(&Pt) -> bool = |p| h1(p) && p.name != "1-0-0-1-0";
+    let r2: fn(&Pt) -> bool = |p| p.class == Class::Periodic(2);
+    let mut claims = Vec::new();
     claims.push(table_row(
-        &pts,
+        pts,
         0.42,
         0.54,
         &[spl("P1 = 1-0-0-1-0", p1, h1), spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -236,7 +219,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "P1 + Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.54,
         0.58,
         &[
@@ -248,7 +231,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "R1 + Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.58,
         0.63,
         &[sp("R2 (period 2)", r2), spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -260,12 +243,12 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "R2 is listed in the healthy / stable column but marked unstable",
         format!("{t51}; {t5}"),
         "R2 healthy and unstable",
-        format!("period-2 motions in (0.58, 0.63): {}", found_in(&pts, 0.58, 0.63)),
+        format!("period-2 motions in (0.58, 0.63): {}", found_in(pts, 0.58, 0.63)),
         Verdict::SeedInconsistent,
         "Both tables put R2 in the healthy column with the mark (In); the label of the period-2 motion found here says which applies (back side = non-healthy).",
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.63,
         0.72,
         &[spl("Q1 = 1-1-1-1-1", q1, u1)],
@@ -274,7 +257,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q1".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         0.72,
         1.26,
         &[sp("chaos", chaos)],
@@ -283,7 +266,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "chaos".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.261,
         1.526,
         &[sp("Q2 (healthy period 2)", q2h), sp("chaos (PN)", chaos)],
@@ -292,7 +275,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q2 + PN".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.26,
         1.52,
         &[sp("Q2 (healthy period 2)", q2h), sp("P3", p3)],
@@ -301,7 +284,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q2 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.261,
         1.526,
         &[
@@ -312,7 +295,14 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         format!("{B004} §5.3 text"),
         "P3 + PN".into(),
     ));
-    let b18 = basin_res[2];
+    claims
+}
+
+/// The rows from omega = 1.8 to 3: the basins at G3 (`b18`), the inverse doubling at 1.812, Q1
+/// and P3, and the name Q1 used twice.
+fn high_claims(pts: &[Pt], b18: &[(String, BasinResult)]) -> Vec<Claim> {
+    let (t51, t5) = tables();
+    let mut claims = Vec::new();
     claims.push(basin_claim(
         b18,
         &[
@@ -335,7 +325,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Multi-initial runs at the two values: Q2 at omega = 1.801 and Q1 at 1.812 are both needed.",
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.80,
         1.89,
         &[sp("Q1 (healthy period 1)", h1), sp("P3", p3)],
@@ -344,7 +334,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q1 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.802,
         1.891,
         &[sp("Q2 (healthy period 2)", q2h), sp("P3", p3)],
@@ -353,7 +343,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q2 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         1.891,
         2.304,
         &[sp("Q1 (healthy period 1)", h1), sp("P3", p3)],
@@ -362,7 +352,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q1 + P3".into(),
     ));
     claims.push(table_row(
-        &pts,
+        pts,
         2.304,
         3.0,
         &[sp("Q1 (healthy period 1)", h1)],
@@ -374,46 +364,9 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &AttractorsData) -> Result<Sec
         "Q1 is the unstable 1-1-1-1-1 (0.42–0.72) and the healthy attractor of 1.89–3.0",
         format!("{t51}; {t5}"),
         "one name, two attractors",
-        format!("0.42–0.72: {}; 1.89–3.0: {}", found_in(&pts, 0.42, 0.72), found_in(&pts, 1.89, 3.0)),
+        format!("0.42–0.72: {}; 1.89–3.0: {}", found_in(pts, 0.42, 0.72), found_in(pts, 1.89, 3.0)),
         Verdict::SeedInconsistent,
         "The name Q1 is reused for two different attractors (back-side contact vs healthy); the rows above test each by its own description.",
     ));
-    resolve_conflicts(
-        &mut claims,
-        &[
-            "omega in (1.261, 1.526): Q2 (healthy) with chaos (PN)",
-            "omega in (1.26, 1.52): Q2 (stable) with P3 (unstable)",
-            "omega in (1.261, 1.526): stable 3-1-1-1-1 (P3) coexisting with chaos (PN)",
-        ],
-    );
-    resolve_conflicts(
-        &mut claims,
-        &[
-            "omega in (1.80, 1.89): Q1 (stable) and P3",
-            "omega in (1.802, 1.891): Q2 (healthy) and P3",
-        ],
-    );
-    let readings = vec![format!(
-        "Continuation: {} intervals, {} events (tree_omega_branches.csv).",
-        c.intervals.len(),
-        c.events.len()
-    )];
-    let mut figs = vec![fig, fig_c];
-    figs.extend(basin_figs);
-    let mut tables = vec![table_c];
-    tables.extend(basin_tables);
-    tables.push(backlash_sensitivity(ctx, dir, &data.markers)?);
-    Ok(Section {
-        id: "attractors_omega".into(),
-        title: "Coexisting attractors over omega (F = 0.07, xi = 0.23): multi-initial diagram, safety tree and basins".into(),
-        seed_ref: "003 §4.3 (Table 5); 004 §5.3 (Figs. 5.3, 5.5, Table 5.1)".into(),
-        parameters: format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
-        method: format!("Multi-initial: {ics} random initial states per value (x0 ∈ ±1.5 D_s, x0' ∈ ±1), decided classification; continuation: attractors identified on the stroboscopic section and matched by basin overlap; basins at the seed's points."),
-        figures: figs,
-        readings,
-        tables,
-        claims,
-        alternatives: vec![],
-        seconds: 0.0,
-    })
+    claims
 }

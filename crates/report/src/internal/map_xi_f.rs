@@ -32,6 +32,7 @@ const PEAK_CORNER: (f64, f64) = (0.2, 0.175);
 const SMALL_CORNER: (f64, f64) = (0.04, 0.05);
 
 /// What the study computed: the omega calibration and the map.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct MapData {
     /// The calibration's omegas.
     omegas: Vec<f64>,
@@ -51,10 +52,8 @@ pub(super) struct MapData {
     cells: Vec<MapCell>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, dir)?)
-}
+crate::runner::study!(MapXiF { lin: &'a Scenario } "map_xi_F" MapData,
+    |s, ctx, dir| compute(ctx, s.lin, dir), |data| render(ctx, dir, data));
 
 /// The corner maximum over omega, then the (xi, F) map at the omega that matches the seed.
 pub(super) fn compute(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<MapData> {
@@ -138,6 +137,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
         )],
         &[],
         "The seed does not state the frequency of its (xi, F) map; the map is drawn at the omega whose corner maximum is closest to the seed's F_max = 1.340.",
+        false,
     )?;
     let fig = map_figure(
         ctx, dir, "map_max_force", cells, xs, ys, ("xi", "F"), "max_force",

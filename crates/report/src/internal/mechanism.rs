@@ -30,10 +30,8 @@ pub(super) struct MechanismData {
     exits_d: usize,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin)?)
-}
+crate::runner::study!(Mechanism { lin: &'a Scenario } "mechanism" MechanismData,
+    |s, ctx, dir| compute(ctx, s.lin), |data| render(ctx, dir, data));
 
 /// Runs the candidate points until one shows a tensile force before both exits.
 pub(super) fn compute(ctx: &Ctx, lin: &Scenario) -> Result<MechanismData> {
@@ -177,6 +175,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
         ],
         &[0.0],
         &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(c)),
+        false,
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
     let ok = ns > 0 && nd > 0;

@@ -12,18 +12,20 @@
 //! module holds the plan, the settings the seed leaves open and the helpers several studies
 //! share.
 //!
-//! Each study computes its data (`compute`: the sweeps, continuations, basins and runs through
-//! the [`Ctx`] requests, returned as a plain struct) and renders it (`render`: CSV files,
-//! figures, readings and claims, the thresholds of the claims as named constants beside them);
-//! `study` is the one after the other.
+//! Each study is a [`crate::runner::Study`]: it computes its data (`compute`: the sweeps,
+//! continuations, basins and runs through the [`Ctx`] requests, returned as a plain struct) and
+//! renders it (`render`: CSV files, figures, readings and claims, the thresholds of the claims as
+//! named constants beside them).
 
 mod attractor_tables;
+mod attractors;
 mod attractors_f;
 mod attractors_omega;
 mod backlash_sweep;
 mod map_xi_f;
 mod mechanism;
 mod orbits_xi;
+mod param_sweep;
 mod readings;
 mod stiffness;
 mod xi_sweep;
@@ -31,11 +33,13 @@ mod xi_sweep;
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{label_claims, Axis, Interpretation};
 use crate::readings::{interval_header, interval_rows, range};
-use crate::runner::{with_linear_law, Ctx, Study};
+use crate::runner::{cached, rendered, sweep_options, with_linear_law, Ctx, Plan};
 use crate::{Section, Table};
 use anyhow::Result;
+use attractors::Attractors;
 use geardyn_analysis::bifurcation::{attractor_region, Section as Sec, SweepMode, SweepOptions};
 use geardyn_analysis::simulate::SimOptions;
+use param_sweep::ParamSweep;
 use std::path::Path;
 
 const B003: &str = "seed B 003 (summary)";
@@ -94,15 +98,7 @@ fn fixed(
     sections: Vec<Sec>,
     tle: bool,
 ) -> SweepOptions {
-    SweepOptions {
-        param: param.into(),
-        values,
-        mode: SweepMode::Fixed,
-        sim,
-        y0: [0.0, 0.0],
-        sections,
-        lyapunov: tle,
-    }
+    sweep_options(param, values, (SweepMode::Fixed, sim), sections, tle)
 }
 
 fn multi(param: &str, values: Vec<f64>, sim: SimOptions, ics: usize, d: f64) -> SweepOptions {
@@ -128,45 +124,35 @@ pub fn plan(ctx: &Ctx) -> Result<Vec<Section>> {
     let lin = with_linear_law(&base)?;
     let pm = base.pair_model().cloned();
     let (base, lin) = (&base, &lin);
-    let mut jobs: Vec<Study<'_>> = Vec::new();
-    if let Some(pm) = pm {
-        jobs.push(Box::new(move || {
-            ctx.study("stiffness", &(), |dir| {
-                stiffness::study(ctx, &pm, base, dir)
-            })
-        }));
+    let mut plan: Plan<'_> = Vec::new();
+    if let Some(pm) = &pm {
+        plan.push(cached(stiffness::Stiffness { pm, base }));
     }
-    jobs.push(Box::new(move || {
-        ctx.study("mechanism", &(), |dir| mechanism::study(ctx, lin, dir))
+    plan.push(rendered(mechanism::Mechanism { lin }));
+    plan.push(cached(ParamSweep {
+        table: &backlash_sweep::TABLE,
+        lin,
+        preset_law: base,
+        request: serde_json::json!([BACKLASH_STEP, F_BACKLASH]),
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("backlash_sweep", &(BACKLASH_STEP, F_BACKLASH), |dir| {
-            backlash_sweep::study(ctx, lin, base, dir)
-        })
+    plan.push(cached(ParamSweep {
+        table: &xi_sweep::TABLE,
+        lin,
+        preset_law: base,
+        request: serde_json::Value::Null,
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("xi_sweep", &(), |dir| xi_sweep::study(ctx, lin, base, dir))
+    plan.push(rendered(orbits_xi::OrbitsXi { lin }));
+    plan.push(cached(map_xi_f::MapXiF { lin }));
+    plan.push(rendered(Attractors {
+        table: &attractors_omega::TABLE,
+        lin,
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("orbits_xi", &(), |dir| orbits_xi::study(ctx, lin, dir))
+    plan.push(rendered(Attractors {
+        table: &attractors_f::TABLE,
+        lin,
     }));
-    jobs.push(Box::new(move || {
-        ctx.study("map_xi_F", &(), |dir| map_xi_f::study(ctx, lin, dir))
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("attractors_omega", &(), |dir| {
-            attractors_omega::study(ctx, lin, dir)
-        })
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("attractors_F", &(), |dir| {
-            attractors_f::study(ctx, lin, dir)
-        })
-    }));
-    jobs.push(Box::new(move || {
-        ctx.study("readings", &(), |dir| readings::study(ctx, lin, base, dir))
-    }));
-    let mut out = ctx.studies(jobs)?;
+    plan.push(cached(readings::Readings { lin, law: base }));
+    let mut out = ctx.studies(plan)?;
     // the reading of the text each section's claims use
     for sec in &mut out {
         let it = match sec.id.as_str() {

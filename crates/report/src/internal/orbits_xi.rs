@@ -35,10 +35,8 @@ pub(super) struct OrbitsXiData {
     branches: Continuation,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(lin)?)
-}
+crate::runner::study!(OrbitsXi { lin: &'a Scenario } "orbits_xi" OrbitsXiData,
+    |s, ctx, dir| compute(s.lin), |data| render(ctx, dir, data));
 
 /// The period-1 branch from rest and the branch of the period-2 attractor found at xi = 0.02.
 pub(super) fn compute(lin: &Scenario) -> Result<OrbitsXiData> {

@@ -67,6 +67,7 @@ fn interpretations() -> Vec<Interpretation> {
 }
 
 /// The runs under one reading of the text.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct ReadingRuns {
     /// The reading.
     reading: Interpretation,
@@ -81,6 +82,7 @@ struct ReadingRuns {
 }
 
 /// What the study computed: the load and xi sweeps under every reading.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct ReadingsData {
     /// Values of the load sweeps.
     n_load: usize,
@@ -92,10 +94,8 @@ pub(super) struct ReadingsData {
     readings: Vec<ReadingRuns>,
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, lin: &Scenario, law: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, &compute(ctx, lin, law, dir)?)
-}
+crate::runner::study!(Readings { lin: &'a Scenario, law: &'a Scenario } "readings" ReadingsData,
+    |s, ctx, dir| compute(ctx, s.lin, s.law, dir), |data| render(ctx, dir, data));
 
 /// The load and xi sweeps under each reading the headline sections do not run.
 pub(super) fn compute(

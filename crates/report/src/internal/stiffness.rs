@@ -24,6 +24,7 @@ const JUMP_OVER_MEDIAN: f64 = 20.0;
 const PEAK_MARGIN: usize = 10;
 
 /// One stiffness model, without the prescribed mean k_av.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct Variant {
     /// Mean mesh stiffness over the cycle (N/m).
     mean: f64,
@@ -34,6 +35,7 @@ struct Variant {
 }
 
 /// What the study computed from the pair.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(super) struct StiffnessData {
     /// Half backlash of the scenario (D_d, D_s), the columns of `stiffness.csv`.
     backlash_scenario: (f64, f64),
@@ -57,10 +59,8 @@ pub(super) struct StiffnessData {
     mu: (f64, f64),
 }
 
-/// The study: [`compute`], then [`render`].
-pub(super) fn study(ctx: &Ctx, pm: &PairModel, base: &Scenario, dir: &Path) -> Result<Section> {
-    render(ctx, dir, pm, &compute(pm, base)?)
-}
+crate::runner::study!(Stiffness { pm: &'a PairModel, base: &'a Scenario } "stiffness" StiffnessData,
+    |s, ctx, dir| compute(s.pm, s.base), |data| render(ctx, dir, s.pm, data));
 
 /// Builds the stiffness models and reads the pair's stiffness, backlash and friction.
 pub(super) fn compute(pm: &PairModel, base: &Scenario) -> Result<StiffnessData> {
@@ -178,6 +178,7 @@ pub(super) fn render(
         )],
         &[],
         "Mesh stiffness over one mesh cycle for three stiffness models, without the prescribed mean k_av = 4e8 N/m (which would scale them to the same mean).",
+        false,
     )?);
     let eps = pm.geom.eps;
     let ((e0, e1), (l0, l1)) = (data.entering, data.leaving);
