@@ -11,7 +11,8 @@
 //!
 //! Every study implements [`runner::Study`]: `compute` (its sweeps, continuations and runs, from
 //! its request and the context) and `render` (its files, figures, readings and claims); a plan
-//! is the list of its studies. A study's data is cached in `DIR/<preset>/<study>/data.json`,
+//! is the list of its studies. A study's data is cached in `DIR/.cache/<preset>/<study>.data.json`
+//! (beside the page folders, outside their size budget),
 //! keyed by its id, its request, the configuration and mode, and a digest of the library crates
 //! it computes through (made by `build.rs`; not the report, not the plots), and rendered on every
 //! run: a change of the report shows without recomputing, a change of an integrator or a rule of

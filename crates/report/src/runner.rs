@@ -117,7 +117,7 @@ impl<S: Study> Planned for Rendered<S> {
     }
 }
 
-/// `study` in a plan, its data cached in `DIR/<id>/data.json`, keyed by its request and the
+/// `study` in a plan, its data cached in `ROOT/.cache/<preset>/<id>.data.json`, keyed by its request and the
 /// source of the library crates it computes through: editing the report (a rendering, a
 /// claim's wording, a comment) renders the cached data again instead of recomputing it.
 pub fn cached<'a, S: Study + 'a>(study: S) -> Box<dyn Planned + 'a>
@@ -259,7 +259,24 @@ impl Ctx {
         Ok(dir)
     }
 
-    /// A study whose data is cached (`DIR/id/data.json`: the key, the compute time, the data)
+    /// Where the data of study `id` is cached: `ROOT/.cache/<preset>/<id>.data.json`, beside the
+    /// page folders rather than in them (the data of a sweep, every run with its points, is
+    /// larger than its CSV files; a page folder holds what a reader is given, within its size
+    /// budget).
+    fn data_cache(&self, id: &str) -> Result<PathBuf> {
+        let preset = self.dir.file_name().unwrap_or_default();
+        let dir = self
+            .dir
+            .parent()
+            .unwrap_or(&self.dir)
+            .join(".cache")
+            .join(preset);
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        Ok(dir.join(format!("{id}.data.json")))
+    }
+
+    /// A study whose data is cached ([`Ctx::data_cache`]: the key, the compute time, the data)
     /// and rendered on every run: a cache whose key differs or whose data does not read is
     /// computed again.
     fn run_cached<S: Study>(&self, study: &S) -> Result<Section>
@@ -269,7 +286,7 @@ impl Ctx {
         let id = study.id();
         let dir = self.study_dir(id)?;
         let key = self.cache_key(id, &study.request(), env!("GEARDYN_LIBRARY_DIGEST"))?;
-        let cache = dir.join("data.json");
+        let cache = self.data_cache(id)?;
         let hit = std::fs::read_to_string(&cache).ok().and_then(|text| {
             let mut parts = text.splitn(3, '\n');
             let (k, secs, data) = (parts.next()?, parts.next()?, parts.next()?);

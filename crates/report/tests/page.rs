@@ -210,13 +210,18 @@ fn quick_classic_report_is_complete_and_self_contained() {
         "{}",
         csv.display()
     );
-    // a truncated data.json of a data-cached study (its key intact, its data cut) is computed
+    // a truncated cache (`.cache/<preset>/<id>.data.json`) of a data-cached study (its key intact, its data cut) is computed
     // again and written whole, not trusted
-    let cache = std::fs::read_dir(&page_dir)
+    let caches = page_dir
+        .parent()
+        .unwrap()
+        .join(".cache")
+        .join(page_dir.file_name().unwrap());
+    let cache = std::fs::read_dir(&caches)
         .unwrap()
         .flatten()
-        .map(|e| e.path().join("data.json"))
-        .find(|p| p.is_file())
+        .map(|e| e.path())
+        .find(|p| p.to_string_lossy().ends_with(".data.json"))
         .expect("a data-cached study");
     let whole = std::fs::read_to_string(&cache).unwrap();
     let (key, rest) = whole.split_once('\n').unwrap();
