@@ -87,7 +87,7 @@ pub enum FolderError {
         example: String,
     },
     /// Another run writes into the folder.
-    #[error("{path} is in use by another geardyn run ({holder}); wait for it, or choose another --out (if that run is gone, remove {path}/.geardyn.lock)")]
+    #[error("{path} is in use by another geardyn run ({holder}); wait for it, or choose another --out (the lock goes with that run: a run that ended, however it ended, holds none)")]
     Busy {
         /// Folder.
         path: String,
