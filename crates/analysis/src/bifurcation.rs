@@ -10,232 +10,18 @@
 
 use crate::classify::{simulate_decided, Decide, Motion, TLE_PERIODS};
 use crate::lanes_decide::Decided;
-use crate::simulate::{Amplitudes, Level, SimError, SimOptions, SimResult, Summary};
-use crate::sweep_runs::{continuation_branches, TaskRuns};
+pub use crate::ranges::{linspace, range_values, RangeError, MAX_RANGE_VALUES};
+use crate::simulate::{Amplitudes, SimError, SimOptions, SimResult, Summary};
+pub use crate::sweep_settings::{
+    attractor_region, check_ics, InitialBox, ModeError, Section, SectionError, SweepMode, MAX_ICS,
+};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
-
-/// An unknown section name ([`Section::parse_list`]).
-#[derive(Debug, thiserror::Error, PartialEq)]
-#[error("unknown section '{0}': allowed {list}", list = Section::ALL.map(Section::name).join(", "))]
-pub struct SectionError(pub String);
-
-/// A Poincaré section of the bifurcation diagram.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Section {
-    /// Stroboscopic: once per excitation period.
-    Strobe,
-    /// `x = D_s` upward.
-    DsUp,
-    /// `x = -D_s` downward.
-    DsDown,
-    /// `x = D_d` upward.
-    DdUp,
-    /// `x = -D_d` downward.
-    DdDown,
-    /// Back-side impacts (state before the impact).
-    Impact,
-}
-
-impl Section {
-    /// All sections.
-    pub const ALL: [Section; 6] = [
-        Section::Strobe,
-        Section::DsUp,
-        Section::DsDown,
-        Section::DdUp,
-        Section::DdDown,
-        Section::Impact,
-    ];
-    /// Name used on the command line and in CSV.
-    pub fn name(self) -> &'static str {
-        match self {
-            Section::Strobe => "strobe",
-            Section::DsUp => "ds_up",
-            Section::DsDown => "ds_down",
-            Section::DdUp => "dd_up",
-            Section::DdDown => "dd_down",
-            Section::Impact => "impact",
-        }
-    }
-    /// Parses a name.
-    pub fn parse(s: &str) -> Option<Section> {
-        Section::ALL.into_iter().find(|x| x.name() == s)
-    }
-    /// Parses a list of names (`--sections strobe,ds_up` split at the commas; Python's
-    /// `sections`), each trimmed of spaces; an unknown name is refused with the allowed ones.
-    ///
-    /// ```
-    /// use geardyn_analysis::bifurcation::Section;
-    /// assert_eq!(Section::parse_list(["strobe", " impact"]).unwrap(), [Section::Strobe, Section::Impact]);
-    /// assert!(Section::parse_list(["nope"]).unwrap_err().to_string().starts_with("unknown section 'nope'"));
-    /// ```
-    pub fn parse_list<'a>(
-        names: impl IntoIterator<Item = &'a str>,
-    ) -> Result<Vec<Section>, SectionError> {
-        names
-            .into_iter()
-            .map(|t| Section::parse(t.trim()).ok_or_else(|| SectionError(t.to_string())))
-            .collect()
-    }
-    fn of_level(l: Level) -> Section {
-        match l {
-            Level::DsUp => Section::DsUp,
-            Level::DsDown => Section::DsDown,
-            Level::DdUp => Section::DdUp,
-            Level::DdDown => Section::DdDown,
-        }
-    }
-}
-
-/// How initial states are chosen.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "mode", rename_all = "snake_case")]
-pub enum SweepMode {
-    /// Every value from the same initial state.
-    Fixed,
-    /// Continuation: each value starts from the final state of the previous one, in both
-    /// directions (branches `up` and `down`).
-    Sweep,
-    /// `ics` initial states per value, uniformly random in the box `x0_range x v0_range` from a
-    /// generator seeded by `(seed, value index, ic index)`.
-    Multi {
-        /// Initial states per value.
-        ics: usize,
-        /// Seed.
-        seed: u64,
-        /// Range of `x0`.
-        x0_range: (f64, f64),
-        /// Range of `v0`.
-        v0_range: (f64, f64),
-    },
-}
-
-/// Largest number of initial states per value of a multi-initial sweep or a continuation.
-pub const MAX_ICS: usize = 100_000;
-
-/// A sweep mode or initial-state setting out of range ([`SweepMode::from_name`], [`check_ics`]).
-#[derive(Debug, thiserror::Error, PartialEq)]
-pub enum ModeError {
-    /// An unknown mode name.
-    #[error("bad mode '{0}': allowed fixed, sweep, multi")]
-    Name(String),
-    /// Initial states per value out of range.
-    #[error("bad ics {0}: allowed 1 ..= {MAX_ICS} (initial states per value)")]
-    Ics(usize),
-    /// A box of initial states that is not a finite interval.
-    #[error("bad {name} ({}, {}): finite MIN <= MAX", geardyn_model::error::num(.range.0), geardyn_model::error::num(.range.1))]
-    Range {
-        /// `x0_range` or `v0_range`.
-        name: &'static str,
-        /// The interval given.
-        range: (f64, f64),
-    },
-}
-
-/// Checks a number of initial states per value (`1 ..= MAX_ICS`).
-pub fn check_ics(ics: usize) -> Result<usize, ModeError> {
-    if (1..=MAX_ICS).contains(&ics) {
-        Ok(ics)
-    } else {
-        Err(ModeError::Ics(ics))
-    }
-}
-
-fn check_range(name: &'static str, r: (f64, f64)) -> Result<(f64, f64), ModeError> {
-    if r.0.is_finite() && r.1.is_finite() && r.0 <= r.1 {
-        Ok(r)
-    } else {
-        Err(ModeError::Range { name, range: r })
-    }
-}
-
-/// The random initial states of every parameter value, checked and defaulted: those of a
-/// multi-initial sweep ([`SweepMode::Multi`]) and of an attractor continuation
-/// (`crate::continuation::ContinuationOptions`). Dimensionless: `x0` in backlash units `b_c`,
-/// `v0` in `b_c omega_n`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct InitialBox {
-    /// Initial states per value, `1 ..= MAX_ICS`.
-    pub ics: usize,
-    /// Seed of the generator (with the value index and the state index).
-    pub seed: u64,
-    /// `x0` interval, finite, `MIN <= MAX`.
-    pub x0_range: (f64, f64),
-    /// `v0` interval, finite, `MIN <= MAX`.
-    pub v0_range: (f64, f64),
-}
-
-impl InitialBox {
-    /// The box of `ics` initial states per value ([`check_ics`]) drawn with `seed` from
-    /// `x0_range` x `v0_range`, each by default that of the [`attractor_region`] of the largest
-    /// half backlash `d_max` — the one place the CLI (`--ics`, `--x0-range`, `--v0-range`) and
-    /// Python (`ics`, `x0_range`, `v0_range`) check and default them. The error names the field
-    /// and its allowed range.
-    ///
-    /// ```
-    /// use geardyn_analysis::bifurcation::{attractor_region, InitialBox};
-    /// let b = InitialBox::new(8, 1, None, Some((-1.0, 1.0)), 0.5).unwrap();
-    /// assert_eq!((b.x0_range, b.v0_range), (attractor_region(0.5).0, (-1.0, 1.0)));
-    /// assert!(InitialBox::new(0, 1, None, None, 0.5).is_err());
-    /// assert!(InitialBox::new(8, 1, Some((1.0, 0.0)), None, 0.5).is_err());
-    /// ```
-    pub fn new(
-        ics: usize,
-        seed: u64,
-        x0_range: Option<(f64, f64)>,
-        v0_range: Option<(f64, f64)>,
-        d_max: f64,
-    ) -> Result<Self, ModeError> {
-        let region = attractor_region(d_max);
-        Ok(InitialBox {
-            ics: check_ics(ics)?,
-            seed,
-            x0_range: check_range("x0_range", x0_range.unwrap_or(region.0))?,
-            v0_range: check_range("v0_range", v0_range.unwrap_or(region.1))?,
-        })
-    }
-}
-
-impl SweepMode {
-    /// The mode named `name` (`fixed`, `sweep` or `multi`) — the one place the CLI and the Python
-    /// module turn their options into a mode. For `multi`: the [`InitialBox`] of `ics`, `seed`,
-    /// `x0_range`, `v0_range` and `d_max`. A range given is checked whatever the mode (a box
-    /// that is no interval is a mistake even where it is not used).
-    pub fn from_name(
-        name: &str,
-        ics: usize,
-        seed: u64,
-        x0_range: Option<(f64, f64)>,
-        v0_range: Option<(f64, f64)>,
-        d_max: f64,
-    ) -> Result<Self, ModeError> {
-        for (field, range) in [("x0_range", x0_range), ("v0_range", v0_range)] {
-            if let Some(r) = range {
-                check_range(field, r)?;
-            }
-        }
-        match name {
-            "fixed" => Ok(SweepMode::Fixed),
-            "sweep" => Ok(SweepMode::Sweep),
-            "multi" => {
-                let b = InitialBox::new(ics, seed, x0_range, v0_range, d_max)?;
-                Ok(SweepMode::Multi {
-                    ics: b.ics,
-                    seed: b.seed,
-                    x0_range: b.x0_range,
-                    v0_range: b.v0_range,
-                })
-            }
-            other => Err(ModeError::Name(other.to_string())),
-        }
-    }
-}
 
 /// Settings of a sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -399,23 +185,6 @@ pub fn tasks(opts: &SweepOptions) -> Vec<Task> {
             .collect(),
         _ => (0..n).map(|index| Task { index, branch: 0 }).collect(),
     }
-}
-
-/// Default region `(x0_range, v0_range)` of the initial states that look for coexisting
-/// attractors (multi-initial sweeps, attractor continuation, the report's coexistence studies):
-/// `x0` in `+-(D + 3 l)`, `v0` in `+-3 l`, with `d_max` = `D` the largest half backlash of the
-/// period ([`MeshModel::backlash_levels`]) and `l = max(D, 1)` (dimensionless: lengths in `b_c`,
-/// velocities in `b_c omega_n`).
-///
-/// Why so wide: the attractors, not the backlash, set the scale. On the broken pair at
-/// `omega` = 1.2, `F` = 0.07 an impacting `1-40-40` orbit coexists with the healthy `1-20-0`
-/// one; it spans `x` in `[-1, 3.82]`, `x'` in `[-2.88, 2.43]` and its basin lies at `x0 > 1.7`:
-/// 16 random starts found it 0 times in `+-1.5 x +-1` (the former default) and in
-/// `+-2 x +-1.5`, 4 times in `+-3 x +-3`. The region holds that orbit whole.
-pub fn attractor_region(d_max: f64) -> ((f64, f64), (f64, f64)) {
-    let d = d_max;
-    let l = 3.0 * d.max(1.0);
-    ((-(d + l), d + l), (-l, l))
 }
 
 /// Deterministic initial state `ic` of value `index` (independent of scheduling).
@@ -765,92 +534,154 @@ pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
     jumps
 }
 
-/// Most values of a range (`--range`, `range=`, a map's axis).
-pub const MAX_RANGE_VALUES: usize = 1_000_000;
+/// Runs per thread in a batch of the lanes path of [`crate::bifurcation::run_sweep`].
+const BATCH_PER_THREAD: usize = 64;
 
-/// A range `(START, STOP, COUNT)` that cannot make values.
-#[derive(Debug, thiserror::Error)]
-#[error("bad {name} ({}, {}, {count}): finite START and STOP (finite difference too) and 1 <= COUNT <= {max}", geardyn_model::error::num(*.start), geardyn_model::error::num(*.stop))]
-pub struct RangeError {
-    /// What the caller calls the range (`range`, `x`, `y`).
-    pub name: String,
-    /// Given start.
-    pub start: f64,
-    /// Given stop.
-    pub stop: f64,
-    /// Given count.
-    pub count: usize,
-    /// Most values allowed.
-    pub max: usize,
+/// Makes a task's result of its runs and hands it on (see `crate::bifurcation::run_sweep`).
+pub(crate) type Finish<'a> = dyn Fn(Task, Vec<Run>) -> TaskResult + Sync + 'a;
+
+/// A continuation sweep: the up branch (1) and the down branch (2) in parallel, each carrying
+/// the final state from value to value (a task of `done` passes its state on).
+pub(crate) fn continuation_branches(
+    opts: &SweepOptions,
+    models: &[MeshModel],
+    done: &HashMap<Task, TaskResult>,
+    finish: &Finish,
+) -> Vec<TaskResult> {
+    let n = opts.values.len();
+    let chain = |branch: u8| -> Vec<TaskResult> {
+        let order: Vec<usize> = if branch == 1 {
+            (0..n).collect()
+        } else {
+            (0..n).rev().collect()
+        };
+        let mut y = opts.y0;
+        let mut out = Vec::new();
+        for i in order {
+            let t = Task { index: i, branch };
+            if let Some(r) = done.get(&t) {
+                y = r.runs[0].final_state;
+                continue;
+            }
+            let run = run_once(&models[i], y, 0, opts);
+            y = run.final_state;
+            out.push(finish(t, vec![run]));
+        }
+        out
+    };
+    let (up, down) = rayon::join(|| chain(1), || chain(2));
+    up.into_iter().chain(down).collect()
 }
 
-/// The `count` values of the range `name` from `start` to `stop` ([`linspace`]), checked: finite
-/// ends whose difference is finite too, `1 ..= max` values. The one check of a range for every
-/// face (`--range 0.5:2:200`, `range=(0.5, 2, 200)`, a map's `--x omega:0.5:2:40`).
-///
-/// ```
-/// use geardyn_analysis::bifurcation::range_values;
-/// assert_eq!(range_values("range", (0.5, 1.0, 2), 10).unwrap(), vec![0.5, 1.0]);
-/// let e = range_values("x", (0.5, f64::NAN, 9), 10).unwrap_err();
-/// assert!(e.to_string().starts_with("bad x (0.5, NaN, 9)"));
-/// ```
-pub fn range_values(
-    name: &str,
-    (start, stop, count): (f64, f64, usize),
-    max: usize,
-) -> Result<Vec<f64>, RangeError> {
-    if !(start.is_finite() && stop.is_finite() && (stop - start).is_finite())
-        || count == 0
-        || count > max
-    {
-        return Err(RangeError {
-            name: name.to_string(),
-            start,
-            stop,
-            count,
-            max,
-        });
-    }
-    Ok(linspace(start, stop, count))
+/// The first runs of a batch: (value index, initial condition, initial state) of each run, and
+/// its simulation.
+type Simulated = (
+    Vec<(usize, usize, [f64; 2])>,
+    Vec<Result<SimResult, SimError>>,
+);
+
+/// The `k` runs of each task of a fixed or multi-initial sweep.
+pub(crate) struct TaskRuns<'a> {
+    pub(crate) opts: &'a SweepOptions,
+    pub(crate) models: &'a [MeshModel],
+    pub(crate) k: usize,
+    pub(crate) finish: &'a Finish<'a>,
 }
 
-/// Evenly spaced values `start..=stop` (`count` of them), each rounded to 12 significant digits.
-///
-/// The rounding keeps a grid a person typed as decimals decimal: `0.1 + 0.1 * 3` is
-/// `0.30000000000000004` in binary, and that is what a record would print and what would run.
-/// Rounded, the value that runs is the one written (`0.3`), at most `5e-13` relative from the
-/// exact fraction of the interval.
-///
-/// ```
-/// use geardyn_analysis::bifurcation::linspace;
-/// assert_eq!(linspace(0.1, 0.5, 5), vec![0.1, 0.2, 0.3, 0.4, 0.5]);
-/// assert_eq!(linspace(0.0, 1.0, 4)[1], 0.333333333333);
-/// assert_eq!(linspace(-0.1, 0.2, 4), vec![-0.1, 0.0, 0.1, 0.2]);
-/// ```
-pub fn linspace(start: f64, stop: f64, count: usize) -> Vec<f64> {
-    match count {
-        0 => vec![],
-        1 => vec![start],
-        _ => (0..count)
-            .map(|i| {
-                let v = start + (stop - start) * i as f64 / (count - 1) as f64;
-                // a value that is zero but for the rounding of the sum (a grid through zero): the
-                // sum's rounding is relative to its terms, not to the range (0.5:1e300 keeps 0.5)
-                let zero = i > 0 && v.abs() <= 1e-12 * (start.abs() + (v - start).abs());
-                if zero {
-                    0.0
-                } else {
-                    decimal12(v)
-                }
+impl TaskRuns<'_> {
+    /// Each run decided on its own thread.
+    pub(crate) fn one_by_one(&self, todo: &[Task]) -> Vec<TaskResult> {
+        let (opts, mode) = (self.opts, &self.opts.mode);
+        todo.par_iter()
+            .map(|&t| {
+                let runs: Vec<Run> = (0..self.k)
+                    .into_par_iter()
+                    .map(|ic| {
+                        let y0 = initial_state(mode, opts.y0, t.index, ic);
+                        run_once(&self.models[t.index], y0, ic, opts)
+                    })
+                    .collect();
+                (self.finish)(t, runs)
             })
-            .collect(),
+            .collect()
     }
-}
 
-/// `v` rounded to 12 significant decimal digits (non-finite values unchanged).
-fn decimal12(v: f64) -> f64 {
-    if !v.is_finite() {
-        return v;
+    /// In batches of tasks (each batch's results are handed on, so an interruption loses at most
+    /// the two batches in progress): the first runs of a batch (with fixed-step RK4 in lockstep
+    /// lanes, else one by one in parallel), then the decisions of the batch together in rounds
+    /// (TLEs in parallel; transient extensions, persistence checks and records again in the lanes
+    /// where they are RK4 — a decision's follow always is, crate::pair_engine::follow_method — and
+    /// the adaptive integrator's records in parallel: crate::lanes_decide::decide_lanes). The
+    /// batches are pipelined: a batch is classified while the next one runs (rayon balances the
+    /// two), so the threads are not left waiting on the few long classifications of a batch.
+    pub(crate) fn in_batches(&self, todo: &[Task]) -> Vec<TaskResult> {
+        let k = self.k;
+        let batch = (BATCH_PER_THREAD * rayon::current_num_threads())
+            .div_ceil(k)
+            .max(1);
+        let mut out = Vec::with_capacity(todo.len());
+        let mut pending: Option<(&[Task], Simulated)> = None;
+        let mut batches = todo.chunks(batch);
+        loop {
+            let next = batches.next();
+            let (decided, simulated) = rayon::join(
+                || pending.take().map(|(tasks, sim)| (tasks, self.decide(sim))),
+                || next.map(|tasks| (tasks, self.simulate(tasks))),
+            );
+            if let Some((tasks, decided)) = decided {
+                let mut decided = decided.into_iter();
+                for &t in tasks {
+                    let runs: Vec<Run> = decided.by_ref().take(k).collect();
+                    out.push((self.finish)(t, runs));
+                }
+            }
+            pending = simulated;
+            if pending.is_none() {
+                break;
+            }
+        }
+        out
     }
-    format!("{v:.11e}").parse().unwrap_or(v)
+
+    /// The first runs of the tasks of a batch.
+    fn simulate(&self, tasks: &[Task]) -> Simulated {
+        let (opts, mode) = (self.opts, &self.opts.mode);
+        let items: Vec<(usize, usize, [f64; 2])> = tasks
+            .iter()
+            .flat_map(|t| {
+                (0..self.k).map(move |ic| (t.index, ic, initial_state(mode, opts.y0, t.index, ic)))
+            })
+            .collect();
+        let runs: Vec<(&MeshModel, [f64; 2])> = items
+            .iter()
+            .map(|&(i, _, y0)| (&self.models[i], y0))
+            .collect();
+        let firsts = if crate::lanes::lanes_apply(&opts.sim) {
+            crate::lanes::simulate_lanes(&runs, &opts.sim)
+        } else {
+            runs.par_iter()
+                .map(|&(m, y0)| crate::simulate::simulate(m, y0, &opts.sim))
+                .collect()
+        };
+        (items, firsts)
+    }
+
+    /// The decisions of a batch's runs: runs whose model the lanes cover are decided together
+    /// (their integrations in the lanes), the others one by one.
+    fn decide(&self, (items, lane_results): Simulated) -> Vec<Run> {
+        let opts = self.opts;
+        let runs: Vec<(&MeshModel, [f64; 2])> = items
+            .iter()
+            .map(|&(i, _, y0)| (&self.models[i], y0))
+            .collect();
+        let decided = crate::lanes_decide::decide_lane_runs(&runs, lane_results, &opts.sim);
+        let with: Vec<(&MeshModel, &Decided)> =
+            runs.iter().zip(&decided).map(|(r, d)| (r.0, d)).collect();
+        let tles = record_tles(opts, &with);
+        items
+            .par_iter()
+            .zip(decided.into_par_iter().zip(tles))
+            .map(|(&(_, ic, y0), (d, tle))| run_of(y0, ic, opts, d, tle))
+            .collect()
+    }
 }

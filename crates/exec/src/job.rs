@@ -26,37 +26,12 @@
 //! assert_eq!(runs[1].value, 0.7);
 //! ```
 
+pub use crate::error::ExecError;
 use crate::observer::Observer;
 use crate::store::Store;
-use geardyn_io::output::OutputError;
-use geardyn_io::run_record::FolderError;
 use std::collections::HashMap;
 use std::hash::Hash;
 use std::sync::Mutex;
-
-/// Why a job did not run to its end.
-#[derive(Debug, thiserror::Error)]
-pub enum ExecError {
-    /// The output folder cannot take this run (another command's, another run's, in use).
-    #[error(transparent)]
-    Folder(#[from] FolderError),
-    /// The store cannot be read or written.
-    #[error(transparent)]
-    Output(#[from] OutputError),
-    /// The store refused (a shard store of another plan, damaged data, ...).
-    #[error("{0}")]
-    Store(String),
-    /// The analysis itself refused or failed (its own error, unchanged).
-    #[error(transparent)]
-    Analysis(Box<dyn std::error::Error + Send + Sync>),
-}
-
-impl ExecError {
-    /// The analysis' own error.
-    pub fn analysis(e: impl std::error::Error + Send + Sync + 'static) -> Self {
-        ExecError::Analysis(Box::new(e))
-    }
-}
 
 /// One analysis: a fixed list of items, each finished item one record.
 pub trait Job: Sync {

@@ -19,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod cancel;
+pub mod error;
 pub mod job;
 pub mod jobs;
 pub mod observer;

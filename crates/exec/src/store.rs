@@ -2,7 +2,7 @@
 //! JSONL checkpoint ([`Checkpointed`]). The other store is the Zarr store of a sharded plan
 //! ([`crate::shard::ShardStore`]).
 
-use crate::job::ExecError;
+use crate::error::ExecError;
 use geardyn_io::checkpoint::Checkpoint;
 use geardyn_io::run_record::{prepare_folder, FolderLock};
 use serde::{de::DeserializeOwned, Serialize};

@@ -32,8 +32,8 @@
 mod events;
 
 use crate::dense::Step;
-use crate::ensemble::{combine, fractions, stage_point};
 use crate::hybrid::{Guards, HybridSystem};
+use crate::rk4::{combine, fractions, stage_point};
 use crate::scheme::RK4_RESOLUTION;
 pub use crate::scheme::{
     min_step, Options, Scheme, SolverError, Stats, Stop, BASE_STEP_BUDGET, DEFAULT_ATOL,

@@ -18,6 +18,7 @@ pub mod dense;
 pub mod ensemble;
 pub mod hybrid;
 pub mod integrator;
+pub mod rk4;
 pub mod root;
 pub mod scheme;
 pub mod variational;

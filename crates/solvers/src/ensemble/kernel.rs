@@ -19,24 +19,7 @@ use super::{At, Lockstep, Soa, Stage};
 /// chunks of 4 / 8 lanes and 7.9 for the lane-major loop.
 pub const CHUNK: usize = 16;
 
-/// The step fractions `(h/2, h/6)` of an RK4 step of length `h`, rounded as every RK4 step of
-/// geardyn rounds them (`0.5 * h`, `h * (1/6)`).
-#[inline(always)]
-pub fn fractions(h: f64) -> (f64, f64) {
-    (0.5 * h, h * (1.0 / 6.0))
-}
-
-/// One component of an RK4 stage point: `y + c k` (`c` is `h/2` or `h`).
-#[inline(always)]
-pub fn stage_point(y: f64, c: f64, k: f64) -> f64 {
-    y + c * k
-}
-
-/// One component of the RK4 end state: `y + h6 (k1 + 2 (k2 + k3) + k4)`.
-#[inline(always)]
-pub fn combine(y: f64, h6: f64, k1: f64, k2: f64, k3: f64, k4: f64) -> f64 {
-    y + h6 * (k1 + 2.0 * (k2 + k3) + k4)
-}
+pub use crate::rk4::{combine, fractions, stage_point};
 
 /// A system's right-hand side over `L` lanes of dimension `N`, as the generic lane RK4 step
 /// [`rk4_lanes`] drives it. A model implements it for its lockstep step
