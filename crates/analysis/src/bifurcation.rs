@@ -114,6 +114,9 @@ pub struct Run {
     /// The evidence of the verdict ([`Summary::decided_by`]).
     #[serde(default)]
     pub decided_by: crate::classify::DecidedBy,
+    /// The ensemble escape test that decided it ([`Summary::escape`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub escape: Option<crate::escape::EscapeSummary>,
 }
 
 impl Run {
@@ -296,6 +299,7 @@ pub(crate) fn run_of(
             final_state: y0,
             periods_integrated: 0,
             decided_by: crate::classify::DecidedBy::Error,
+            escape: None,
         },
         Ok((res, s, used)) => {
             let mut points = Vec::new();
@@ -342,6 +346,7 @@ pub(crate) fn run_of(
                 transient_used: used.transient_periods,
                 periods_integrated: s.periods_integrated,
                 decided_by: s.decided_by,
+                escape: s.escape,
             }
         }
     }

@@ -32,6 +32,7 @@
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
 use crate::engine::Engine;
+use crate::escape::{span_for_bound, Copy, EscapeOutcome, EscapeSettings, EscapeSummary};
 use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
@@ -183,6 +184,7 @@ pub fn simulate_decided_with<S: Engine<N>, const N: usize>(
                 memory,
                 periods,
             } => d.tle(model.tle(opts, t, y, memory, periods)),
+            Need::Escape { start, test } => d.escaped(model.escape(opts, &test, start)),
             Need::Done => return d.finish(),
         }
     }
@@ -213,6 +215,14 @@ pub enum Need<const N: usize = 2> {
         /// last look at a run still undecided).
         periods: u64,
     },
+    /// The ensemble escape test ([`Engine::escape`]) of the motion continuing from `start`; hand
+    /// its outcome to [`Decision::escaped`].
+    Escape {
+        /// Where the copies start (the end of the current record).
+        start: Copy<N>,
+        /// The test's settings (its span cut to the work budget).
+        test: EscapeSettings,
+    },
     /// Decided: [`Decision::finish`].
     Done,
 }
@@ -230,6 +240,10 @@ enum Wait {
     /// or in the last block, the record with the requested integrator (`record` periods, the
     /// stroboscopic points only unless `last`) is [`Wait::Persist`] next; else block `k + 1`.
     Follow { k: u32, record: u64, last: bool },
+    /// The ensemble escape test of a positive exponent.
+    Escape,
+    /// The record, with the requested integrator, of the orbit the escaped copies settled on.
+    EscapeRecord,
     /// The TLE at the decision horizon: chaos only if it is still significantly positive.
     TlePersist,
     /// The TLE where the work budget ran out before the horizon.
@@ -286,6 +300,8 @@ pub struct Decision<'m, S = MeshModel, const N: usize = 2> {
     /// The current record holds the stroboscopic points only (a persistence block that was not
     /// the last: [`SimOptions::strobe_only`]); it is recorded again before it is reported.
     strobe_record: bool,
+    /// The escape test that decided the run (chaotic, or transient chaos).
+    escape: Option<EscapeSummary>,
 }
 
 impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
@@ -317,6 +333,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
             persisted: false,
             loose_period: false,
             strobe_record: false,
+            escape: None,
         };
         if d.runaway() {
             return d;
@@ -462,13 +479,112 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
                 }
                 self.settle(tol);
             }
-            Wait::TleFirst
+            Wait::EscapeRecord => {
+                if self.continued(res2, more, strict) {
+                    // the copies' orbit is no orbit of the requested integrator: follow this
+                    // motion to the horizon as without the test
+                    self.escape = None;
+                    self.persist(0);
+                }
+            }
+            Wait::Escape
+            | Wait::TleFirst
             | Wait::TlePersist
             | Wait::TleBudget
             | Wait::TleLast
             | Wait::TleLong
             | Wait::Done => {
                 panic!("no run was asked for")
+            }
+        }
+    }
+
+    /// Asks for the escape test of a run whose exponent `tle` is significantly positive, its span
+    /// cut to what the work budget pays for; a budget that cannot pay for the span whose silence
+    /// would exclude lifetimes below the decision horizon ends the decision `unsettled`.
+    fn escape_test(&mut self, tle: (f64, f64)) {
+        let mut test = self.opts.escape;
+        let per_copy_period = match self
+            .model
+            .follow_method(&self.opts)
+            .unwrap_or(self.opts.method)
+        {
+            Method::Rk4 { steps_per_cycle } => {
+                4 * u64::from(steps_per_cycle) * u64::from(self.model.cycles_per_period().max(1))
+            }
+            Method::Dopri { .. } => (self.res.rhs_evals / self.integrated().max(1)).max(1),
+        };
+        let left = self.opts.decision_budget.saturating_sub(self.res.rhs_evals);
+        let affordable = left / (u64::from(test.copies) * per_copy_period).max(1);
+        let needed = span_for_bound(test.copies, self.opts.decision_periods);
+        if affordable < needed.min(test.periods) {
+            self.budget_spent = true;
+            self.s.set_motion(Motion::Unsettled {
+                tle: Some(tle.0),
+                stderr: Some(tle.1),
+            });
+            self.ask(Wait::Done, Need::Done);
+            return;
+        }
+        test.periods = test.periods.min(affordable);
+        let (t, y) = self.res.final_state;
+        let start = Copy {
+            t,
+            y,
+            memory: self.res.final_memory,
+        };
+        self.ask(Wait::Escape, Need::Escape { start, test });
+    }
+
+    /// The outcome of the escape test [`Need::Escape`] asked for ([`Engine::escape`]; `None`
+    /// where the engine does not run it).
+    pub fn escaped(&mut self, out: Option<EscapeOutcome<N>>) {
+        assert!(
+            matches!(self.wait, Wait::Escape),
+            "no escape test was asked for"
+        );
+        let Some(out) = out else {
+            self.persist(0);
+            return;
+        };
+        self.escape = Some(out.summary());
+        self.res.rhs_evals += out.rhs_evals;
+        match out.orbits.first() {
+            None => {
+                let (l, se) = self
+                    .tle
+                    .expect("the escape test follows a positive exponent");
+                // chaotic when the silence of the copies excludes lifetimes up to the horizon
+                // (copies whose integration failed may leave it short)
+                let excluded = out.lifetime.periods() >= self.opts.decision_periods as f64;
+                self.s.set_motion(if excluded {
+                    Motion::Chaotic { tle: l, stderr: se }
+                } else {
+                    Motion::Unsettled {
+                        tle: Some(l),
+                        stderr: Some(se),
+                    }
+                });
+                self.ask(Wait::Done, Need::Done);
+            }
+            Some(g) => {
+                // the asymptotic motion: the orbit most copies settled on, recorded with the
+                // requested integrator from where the earliest of them reached it
+                let more = SimOptions {
+                    tau0: g.state.t,
+                    start_memory: g.state.memory,
+                    transient_periods: 0,
+                    strobe_only: false,
+                    ..self.opts
+                };
+                self.used.transient_periods += g.followed;
+                self.ask(
+                    Wait::EscapeRecord,
+                    Need::Sim {
+                        y0: g.state.y,
+                        opts: more,
+                    },
+                );
             }
         }
     }
@@ -480,9 +596,14 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
             Wait::TleFirst => {
                 if let Some((l, se)) = tle {
                     if significantly_positive(l, se) {
-                        if self.how.extend {
-                            // a chaotic transient shows a positive exponent too: the motion is
-                            // followed to the decision horizon before it is called chaotic
+                        if self.how.extend && self.opts.escape.on() {
+                            // a chaotic transient shows a positive exponent too: perturbed
+                            // copies of the state tell a chaotic attractor (none leaves) from a
+                            // chaotic saddle (they leak)
+                            self.escape_test((l, se));
+                        } else if self.how.extend {
+                            // the motion is followed to the decision horizon before it is
+                            // called chaotic
                             self.persist(0);
                         } else {
                             self.s.set_motion(Motion::Chaotic { tle: l, stderr: se });
@@ -564,7 +685,25 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
             None => {
                 let mut s = self.s;
                 s.periods_integrated = self.used.transient_periods + self.res.strobe.len() as u64;
+                if let (Some(e), Some((tle, _))) = (&self.escape, self.tle) {
+                    if let (
+                        Motion::Periodic { period },
+                        crate::escape::Lifetime::Estimate { periods, stderr },
+                    ) = (&s.motion, e.lifetime)
+                    {
+                        s.motion = Motion::TransientChaos {
+                            period: *period,
+                            lifetime: periods,
+                            lifetime_stderr: stderr,
+                            tle,
+                        };
+                    }
+                }
+                let by_escape = self.escape.is_some();
+                s.escape = self.escape;
                 s.decided_by = match s.motion {
+                    Motion::TransientChaos { .. } => DecidedBy::Escape,
+                    Motion::Chaotic { .. } if by_escape => DecidedBy::Escape,
                     Motion::Periodic { .. } if self.loose_period => DecidedBy::AttractingExponent,
                     Motion::Periodic { .. } => DecidedBy::PeriodTest,
                     Motion::Chaotic { .. } if self.how.extend && self.persisted => {

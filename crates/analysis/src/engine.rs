@@ -18,6 +18,7 @@
 //! assert_eq!(sys.follow_method(&SimOptions::default()), None);
 //! ```
 
+use crate::escape::{Copy, EscapeOutcome, EscapeSettings};
 use crate::lyapunov::{LyapunovOptions, TangentSpace};
 use crate::simulate::{simulate, Method, SimError, SimOptions, SimResult};
 use geardyn_model::GearSystem;
@@ -41,6 +42,19 @@ pub trait Engine<const N: usize>: GearSystem<N> + TangentSpace<N> {
         _requested: &SimOptions,
     ) -> Result<SimResult<N>, SimError> {
         simulate(self, y0, o)
+    }
+
+    /// The ensemble escape test ([`crate::escape`]) of the motion continuing from `start`, with
+    /// the settings `test` inside a decision of settings `opts`; `None` where this engine does not
+    /// run it (the decision then follows the run's own trajectory to its horizon). Default: `None`
+    /// (the test follows many copies: it wants an engine that advances them together).
+    fn escape(
+        &self,
+        _opts: &SimOptions,
+        _test: &EscapeSettings,
+        _start: Copy<N>,
+    ) -> Option<EscapeOutcome<N>> {
+        None
     }
 
     /// Top Lyapunov exponent and its standard error of the motion continuing from `(t, y)` in a

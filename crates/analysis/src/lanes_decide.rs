@@ -78,6 +78,13 @@ pub fn decide_lanes(
                 });
             }
         }
+        // the escape tests, one after another (each advances its copies in parallel lanes)
+        for d in ds.iter_mut().flatten() {
+            if let Need::Escape { start, test } = d.need() {
+                let out = crate::pair_engine::escape_of(d.model(), opts, &test, start);
+                d.escaped(out);
+            }
+        }
         let mut tles: Vec<(usize, f64, [f64; 2], f64, u64)> = Vec::new();
         let mut sims: Vec<(Item<'_>, SimOptions)> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();
@@ -106,6 +113,7 @@ pub fn decide_lanes(
                     ));
                     sim_of.push(i);
                 }
+                Need::Escape { .. } => unreachable!("escape tests run before the round"),
                 Need::Done => {}
             }
         }
@@ -176,6 +184,10 @@ fn decide_alone(d: &mut Decision<'_>, opts: &SimOptions) {
                     .pop()
                     .flatten();
                 d.tle(r);
+            }
+            Need::Escape { start, test } => {
+                let out = crate::pair_engine::escape_of(d.model(), opts, &test, start);
+                d.escaped(out);
             }
             Need::Done => return,
         }

@@ -11,6 +11,7 @@ pub mod classify;
 pub mod continuation;
 pub mod driver;
 pub mod engine;
+pub mod escape;
 pub mod generic;
 pub mod grid;
 pub mod identify;

@@ -69,7 +69,7 @@ pub struct MapCell {
 impl MapCell {
     /// Value of a metric by name: `max_force`, `min_force`, `p_id`, `period`, `tle`,
     /// `healthy` (1/0), `class` (0 healthy periodic, 1 non-healthy periodic, 2 chaotic,
-    /// 3 failed or diverged, 4 quasi-periodic, 5 unsettled).
+    /// 3 failed or diverged, 4 quasi-periodic, 5 unsettled, 6 transient chaos).
     pub fn metric(&self, name: &str) -> Option<f64> {
         let failed = self.label.starts_with("failed") || self.label.starts_with("invalid");
         Some(match name {
@@ -88,6 +88,7 @@ impl MapCell {
                 Motion::Failed { .. } | Motion::Diverged { .. } => 3.0,
                 Motion::QuasiPeriodic { .. } => 4.0,
                 Motion::Unsettled { .. } => 5.0,
+                Motion::TransientChaos { .. } => 6.0,
             },
             _ => return None,
         })

@@ -3,6 +3,7 @@
 //! validated for which kind of pair, and at which resolution it runs.
 
 use crate::engine::Engine;
+use crate::escape::{escape_test, Copy, EscapeOutcome, EscapeSettings};
 use crate::simulate::{simulate, Method, SimError, SimOptions, SimResult};
 use geardyn_model::MeshModel;
 
@@ -94,6 +95,89 @@ pub fn tle_of(
     .flatten()
 }
 
+/// The ensemble escape test ([`crate::escape`]) of the pair's motion continuing from `start`
+/// with the settings `test`, inside a decision of settings `opts`:
+/// the copies advance together in the lockstep lanes, in fixed-step RK4 at the follow's resolution
+/// ([`follow_method`]; a requested RK4 as it is), their stroboscopic points read by the period
+/// test of that integrator. `None` where the lanes do not step the pair's contact law, or for an
+/// adaptive integrator with the follow turned off.
+pub fn escape_of(
+    model: &MeshModel,
+    opts: &SimOptions,
+    test: &EscapeSettings,
+    start: Copy<2>,
+) -> Option<EscapeOutcome<2>> {
+    if !test.on() || !follow_validated(model) {
+        return None;
+    }
+    let method = match (follow_method(model, opts), opts.method) {
+        (Some(m), _) => m,
+        (None, m @ Method::Rk4 { .. }) => m,
+        (None, Method::Dopri { .. }) => return None,
+    };
+    let grid = opts.tau0;
+    let advance = |copies: &mut [Copy<2>], periods: u64| {
+        let o = SimOptions {
+            method,
+            transient_periods: 0,
+            record_periods: periods,
+            trajectory: false,
+            strobe_only: true,
+            ..*opts
+        };
+        let items: Vec<crate::lanes::Item<'_>> = copies
+            .iter()
+            .enumerate()
+            .map(|(out, c)| crate::lanes::Item {
+                out,
+                model,
+                y0: c.y,
+                t0: c.t,
+                memory: c.memory,
+                transient: 0,
+                record: periods,
+                strobe_only: true,
+            })
+            .collect();
+        let res = crate::lanes::simulate_items(
+            &items,
+            &o,
+            grid,
+            geardyn_solvers::ensemble::Dispatch::Auto,
+            ESCAPE_LONE_COPIES,
+        );
+        let mut evals = 0;
+        let pts = copies
+            .iter_mut()
+            .zip(res)
+            .map(|(c, r)| {
+                let r = r.ok()?;
+                evals += r.rhs_evals;
+                let (t, y) = r.final_state;
+                *c = Copy {
+                    t,
+                    y,
+                    memory: r.final_memory,
+                };
+                Some(r.strobe.iter().map(|p| p.y).collect())
+            })
+            .collect();
+        (pts, evals)
+    };
+    Some(escape_test(
+        start,
+        test,
+        opts.max_period,
+        method.period_tol(),
+        advance,
+    ))
+}
+
+/// Copies below which the escape test's copies advance on one-lane engines (in parallel) rather
+/// than share a lane load ([`crate::lanes_decide`]'s measurement: a 16-lane engine with 4 busy
+/// lanes takes as long as 4 one-lane engines).
+const ESCAPE_LONE_COPIES: usize = 4;
+
 /// The single pair: follows on a one-lane engine with its phase tables (the integration of a
 /// sweep's lanes, so a run decides alike alone and in a sweep) and exponents in the lanes.
 impl Engine<2> for MeshModel {
@@ -117,6 +201,14 @@ impl Engine<2> for MeshModel {
         }
     }
 
+    fn escape(
+        &self,
+        opts: &SimOptions,
+        test: &EscapeSettings,
+        start: Copy<2>,
+    ) -> Option<EscapeOutcome<2>> {
+        escape_of(self, opts, test, start)
+    }
     fn tle(
         &self,
         opts: &SimOptions,

@@ -126,6 +126,10 @@ pub struct SimOptions {
     /// Default [`crate::verdict::FOLLOW_STEPS`].
     #[serde(default = "default_follow_steps")]
     pub follow_steps: u32,
+    /// The ensemble escape test that decides a positive exponent ([`crate::escape`]; `copies` =
+    /// 0 follows the run's own trajectory to the decision horizon instead).
+    #[serde(default)]
+    pub escape: crate::escape::EscapeSettings,
     /// Record the stroboscopic points only (no statistics, forces, events or mesh-cycle strobe;
     /// `x_range` from the points): the cheap record of a decision's persistence blocks, whose only
     /// question is whether a period has appeared ([`crate::verdict`]). Not an option of the
@@ -157,6 +161,7 @@ impl Default for SimOptions {
             decision_periods: crate::verdict::DECISION_PERIODS,
             decision_budget: crate::verdict::DECISION_BUDGET,
             follow_steps: crate::verdict::FOLLOW_STEPS,
+            escape: crate::escape::EscapeSettings::default(),
             strobe_only: false,
         }
     }

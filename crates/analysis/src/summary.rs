@@ -3,6 +3,7 @@
 //! and the force extremes. [`summarize`] decides only "periodic"; the decision of the other
 //! classes is [`crate::classify`].
 
+use crate::escape::EscapeSummary;
 use crate::period::minimal_period_tol;
 use crate::record::{MeshRecord, SimResult};
 use crate::simulate::SimOptions;
@@ -50,6 +51,10 @@ pub struct Summary {
     pub periods_integrated: u64,
     /// The evidence that decided [`Summary::motion`] ([`crate::classify`]).
     pub decided_by: DecidedBy,
+    /// The ensemble escape test, when it decided the motion ([`DecidedBy::Escape`]: chaotic, or
+    /// transient chaos).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub escape: Option<EscapeSummary>,
     /// Per mesh, for a system of several meshes (empty for a single mesh, which the fields above
     /// describe). The fields above then describe the system: the label joins the meshes' labels,
     /// counts and rates are summed over the meshes, P_ID is their mean, the forces the extremes
@@ -264,6 +269,7 @@ fn summary_of_period<S: GearSystem<N>, const N: usize>(
             max_impact_force: m.max_impact_force,
             periods_integrated,
             decided_by,
+            escape: None,
             meshes: Vec::new(),
         };
     }
@@ -309,6 +315,7 @@ fn summary_of_period<S: GearSystem<N>, const N: usize>(
             .fold(0.0, f64::max),
         periods_integrated,
         decided_by,
+        escape: None,
         meshes,
     }
 }

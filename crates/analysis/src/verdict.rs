@@ -1,4 +1,4 @@
-//! The verdict on a motion: its class ([`Motion`]: periodic, chaotic, quasi-periodic,
+//! The verdict on a motion: its class ([`Motion`]: periodic, chaotic, transient chaos, quasi-periodic,
 //! unsettled, diverged, failed), the evidence that decided it ([`DecidedBy`]), and the default
 //! decision settings (horizon, work budget, the resolution of the follow) that
 //! [`crate::simulate::SimOptions`] carries. The rules that reach a verdict are
@@ -50,6 +50,10 @@ pub enum DecidedBy {
     /// Chaotic: still not periodic at the decision horizon, and the exponent there significantly
     /// positive.
     PersistentChaos,
+    /// Chaotic or transient chaos by the ensemble escape test ([`crate::escape`]): a positive
+    /// exponent, and none (chaotic) or some (transient chaos) of the perturbed copies of the
+    /// state reached a periodic orbit within the test.
+    Escape,
     /// Chaotic on the exponents after the first record, with no persistence block: the
     /// persistence check was turned off, or the first record already reached the horizon (a
     /// transient of its own at least as long, or a horizon set below it).
@@ -74,6 +78,7 @@ impl DecidedBy {
             DecidedBy::PeriodTest => "period_test",
             DecidedBy::AttractingExponent => "attracting_exponent",
             DecidedBy::PersistentChaos => "persistent_chaos",
+            DecidedBy::Escape => "escape",
             DecidedBy::FirstExponent => "first_exponent",
             DecidedBy::ZeroExponent => "zero_exponent",
             DecidedBy::Budget => "budget",
@@ -99,6 +104,19 @@ pub enum Motion {
         tle: f64,
         /// Its standard error.
         stderr: f64,
+    },
+    /// Transient chaos: a positive exponent on a chaotic saddle that the motion leaves for a
+    /// periodic orbit of this period (the ensemble escape test, [`crate::escape`]); the summary's
+    /// label is that orbit's and [`crate::summary::Summary::escape`] holds the test.
+    TransientChaos {
+        /// Period of the orbit the motion settles on (excitation periods).
+        period: usize,
+        /// Mean lifetime on the saddle (excitation periods, maximum likelihood).
+        lifetime: f64,
+        /// Its standard error.
+        lifetime_stderr: f64,
+        /// TLE on the saddle (per unit dimensionless time).
+        tle: f64,
     },
     /// No period after the extended transient, and a TLE of zero within its error.
     QuasiPeriodic {
@@ -141,6 +159,7 @@ impl Motion {
         match self {
             Motion::Periodic { .. } => "periodic",
             Motion::Chaotic { .. } => "chaotic",
+            Motion::TransientChaos { .. } => "transient-chaos",
             Motion::QuasiPeriodic { .. } => "quasi-periodic",
             Motion::Unsettled { .. } => "unsettled",
             Motion::Diverged { .. } => "diverged",
@@ -148,9 +167,20 @@ impl Motion {
         }
     }
 
-    /// Periodic?
+    /// Periodic in the long run? (A transient chaos is: it settles on a periodic orbit.)
     pub fn is_periodic(&self) -> bool {
-        matches!(self, Motion::Periodic { .. })
+        matches!(
+            self,
+            Motion::Periodic { .. } | Motion::TransientChaos { .. }
+        )
+    }
+
+    /// The period of the motion in the long run (excitation periods), if periodic.
+    pub fn period(&self) -> Option<usize> {
+        match *self {
+            Motion::Periodic { period } | Motion::TransientChaos { period, .. } => Some(period),
+            _ => None,
+        }
     }
 
     /// Chaotic?
@@ -163,6 +193,14 @@ impl Motion {
         match self {
             Motion::Periodic { period } => format!("period {period}"),
             Motion::Chaotic { tle, stderr } => format!("chaotic (TLE {tle:.4} ± {stderr:.4})"),
+            Motion::TransientChaos {
+                period,
+                lifetime,
+                lifetime_stderr,
+                tle,
+            } => format!(
+                "transient chaos (TLE {tle:.4} on a chaotic saddle, mean lifetime {lifetime:.0} ± {lifetime_stderr:.0} excitation periods), then period {period}"
+            ),
             Motion::QuasiPeriodic { tle, stderr } => {
                 format!("quasi-periodic (TLE {tle:.4} ± {stderr:.4}, no period)")
             }

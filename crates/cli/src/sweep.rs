@@ -56,6 +56,14 @@ pub struct DecisionArgs {
     /// requested integrator (0 or 16 ... 1000000) [default: 64].
     #[arg(long, allow_hyphen_values = true)]
     pub follow_steps: Option<f64>,
+    /// Copies of a chaotic state followed by the ensemble escape test, which tells a chaotic
+    /// attractor (no copy leaves) from transient chaos (copies leak to a periodic orbit); 0 turns
+    /// it off and follows the run itself to the decision horizon (0 or 2 ... 4096) [default: 64].
+    #[arg(long, allow_hyphen_values = true)]
+    pub escape_copies: Option<f64>,
+    /// Span of the escape test in excitation periods (100 ... 1000000) [default: 2000].
+    #[arg(long, allow_hyphen_values = true)]
+    pub escape_periods: Option<f64>,
 }
 
 impl DecisionArgs {
@@ -65,6 +73,8 @@ impl DecisionArgs {
             decision_periods: self.decision_periods,
             decision_budget: self.decision_budget,
             follow_steps: self.follow_steps,
+            escape_copies: self.escape_copies,
+            escape_periods: self.escape_periods,
             ..Default::default()
         }
     }

@@ -10,6 +10,7 @@
 use crate::output::{write_csv, OutputError};
 use geardyn_analysis::bifurcation::{Run, TaskResult};
 use geardyn_analysis::classify::Motion;
+use geardyn_analysis::escape::Lifetime;
 use std::path::Path;
 
 /// The values of one column.
@@ -125,7 +126,9 @@ pub fn full(v: f64) -> String {
 /// row carries its evidence even without `--lyapunov`.
 pub fn decision_tle(m: &Motion) -> Option<f64> {
     match m {
-        Motion::Chaotic { tle, .. } | Motion::QuasiPeriodic { tle, .. } => Some(*tle),
+        Motion::Chaotic { tle, .. }
+        | Motion::QuasiPeriodic { tle, .. }
+        | Motion::TransientChaos { tle, .. } => Some(*tle),
         Motion::Unsettled { tle, .. } => *tle,
         _ => None,
     }
@@ -140,7 +143,7 @@ pub fn decision_tle(m: &Motion) -> Option<f64> {
 /// | `branch` | str | `none`, `up`, `down` (continuation sweeps) |
 /// | `ic` | i64 | initial-state index (multi-initial), else 0 |
 /// | `x0`, `v0` | f64 | initial state |
-/// | `class` | str | periodic, quasi-periodic, chaotic, unsettled, diverged, failed |
+/// | `class` | str | periodic, transient-chaos, quasi-periodic, chaotic, unsettled, diverged, failed |
 /// | `label` | str | `n-p-q-r-s` when periodic, else the class (no numbers) |
 /// | `period` | i64 | period in excitation periods (0 when not periodic) |
 /// | `mesh_period` | i64 | period in mesh cycles when an excitation period spans several (0: none) |
@@ -156,6 +159,9 @@ pub fn decision_tle(m: &Motion) -> Option<f64> {
 /// | `decision_tle` | f64 | the exponent the class was decided on |
 /// | `transient_used` | i64 | transient periods used (extended while undecided) |
 /// | `decided_by` | str | the evidence of the verdict |
+/// | `lifetime` | f64 | escape test: mean lifetime on the chaotic set (excitation periods), an estimate, or a lower bound (95 %) when no copy escaped; empty without the test |
+/// | `lifetime_stderr` | f64 | the estimate's standard error (empty for a bound) |
+/// | `escaped`, `copies` | i64 | escape test: copies that reached a periodic orbit, copies followed (0, 0 without the test) |
 /// | `periods_integrated` | i64 | excitation periods followed in all |
 /// | `final_x`, `final_v` | f64 | state at the end of the record |
 /// | `reason` | str | why a failed or diverged run has no verdict, else empty |
@@ -229,6 +235,26 @@ pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
     );
     t.push("transient_used", i(&|u| u.transient_used as i64));
     t.push("decided_by", s(&|_, u| u.decided_by.name().to_string()));
+    let lifetime = |u: &Run| u.escape.as_ref().map(|e| e.lifetime);
+    t.push(
+        "lifetime",
+        f(&|_, u| lifetime(u).map_or(f64::NAN, |l| l.periods())),
+    );
+    t.push(
+        "lifetime_stderr",
+        f(&|_, u| match lifetime(u) {
+            Some(Lifetime::Estimate { stderr, .. }) => stderr,
+            _ => f64::NAN,
+        }),
+    );
+    t.push(
+        "escaped",
+        i(&|u| u.escape.as_ref().map_or(0, |e| i64::from(e.escaped))),
+    );
+    t.push(
+        "copies",
+        i(&|u| u.escape.as_ref().map_or(0, |e| i64::from(e.copies))),
+    );
     t.push("periods_integrated", i(&|u| u.periods_integrated as i64));
     t.push("final_x", f(&|_, u| u.final_state[0]));
     t.push("final_v", f(&|_, u| u.final_state[1]));

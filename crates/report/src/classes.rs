@@ -15,6 +15,8 @@ pub enum Class {
     Periodic(usize),
     /// Significantly positive TLE.
     Chaotic,
+    /// Transient chaos settling on a periodic orbit of this period (the escape test).
+    Transient(usize),
     /// TLE zero within its error, no period.
     Quasi,
     /// Not decided.
@@ -29,6 +31,7 @@ impl Class {
         match &run.motion {
             Motion::Periodic { period } => Class::Periodic(*period),
             Motion::Chaotic { .. } => Class::Chaotic,
+            Motion::TransientChaos { period, .. } => Class::Transient(*period),
             Motion::QuasiPeriodic { .. } => Class::Quasi,
             Motion::Unsettled { .. } => Class::Unsettled,
             // failed, diverged, or a class added later
@@ -36,15 +39,15 @@ impl Class {
         }
     }
 
-    /// Periodic?
+    /// Periodic in the long run (a transient chaos settles on an orbit)?
     pub fn periodic(&self) -> bool {
-        matches!(self, Class::Periodic(_))
+        matches!(self, Class::Periodic(_) | Class::Transient(_))
     }
 
-    /// Period, if periodic.
+    /// Period in the long run, if periodic.
     pub fn period(&self) -> Option<usize> {
         match self {
-            Class::Periodic(p) => Some(*p),
+            Class::Periodic(p) | Class::Transient(p) => Some(*p),
             _ => None,
         }
     }
@@ -53,7 +56,7 @@ impl Class {
 /// The name shown for a run: its `n-p-q-r-s` label when periodic, else the motion's word.
 pub fn name(run: &Run) -> String {
     match &run.motion {
-        Motion::Periodic { .. } => run.label.clone(),
+        Motion::Periodic { .. } | Motion::TransientChaos { .. } => run.label.clone(),
         m => m.word().to_string(),
     }
 }

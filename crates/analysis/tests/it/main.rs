@@ -11,6 +11,7 @@ mod common;
 mod contact_memory;
 mod continuation;
 mod decision_horizon;
+mod escape;
 mod generic;
 mod impact_range;
 mod invariants;

@@ -44,6 +44,11 @@ pub struct SimulationConfig {
     /// whose contact law the lanes step: `geardyn_analysis::pair_engine::follow_validated`): fixed-step RK4 steps per
     /// natural period; 0 follows with the requested integrator.
     pub follow_steps: u32,
+    /// Copies of a chaotic state the ensemble escape test follows (0: no test; the motion is
+    /// followed to the decision horizon instead).
+    pub escape_copies: u32,
+    /// Span of the escape test (excitation periods).
+    pub escape_periods: u64,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
     /// decisions' worst case included): a command above it is refused before it starts.
     pub max_work: f64,
@@ -64,6 +69,8 @@ impl Default for SimulationConfig {
             decision_periods: geardyn_analysis::classify::DECISION_PERIODS,
             decision_budget: geardyn_analysis::classify::DECISION_BUDGET,
             follow_steps: geardyn_analysis::classify::FOLLOW_STEPS,
+            escape_copies: geardyn_analysis::escape::ESCAPE_COPIES,
+            escape_periods: geardyn_analysis::escape::ESCAPE_PERIODS,
             max_work: geardyn_analysis::work::DEFAULT_MAX_WORK,
         }
     }
@@ -185,8 +192,50 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "decision_periods",
     "decision_budget",
     "follow_steps",
+    "escape_copies",
+    "escape_periods",
     "max_work",
 ];
+
+/// `simulation.escape_copies` checked: 0 (no escape test) or a whole number in
+/// [`geardyn_analysis::escape::ESCAPE_COPIES_RANGE`].
+fn escape_copies(v: f64) -> Result<u32, ConfigError> {
+    let r = geardyn_analysis::escape::ESCAPE_COPIES_RANGE;
+    if v == 0.0 || (v.fract() == 0.0 && v >= f64::from(*r.start()) && v <= f64::from(*r.end())) {
+        Ok(v as u32)
+    } else {
+        Err(ConfigError::Simulation {
+            field: "escape_copies",
+            value: geardyn_model::error::num(v),
+            allowed: format!(
+                "0 (no escape test: follow the run to the decision horizon) or a whole number in [{}, {}] (copies of a chaotic state)",
+                r.start(),
+                r.end()
+            )
+            .into(),
+        })
+    }
+}
+
+/// `simulation.escape_periods` checked: a whole number in
+/// [`geardyn_analysis::escape::ESCAPE_PERIODS_RANGE`].
+fn escape_periods(v: f64) -> Result<u64, ConfigError> {
+    let r = geardyn_analysis::escape::ESCAPE_PERIODS_RANGE;
+    if v.fract() == 0.0 && v >= *r.start() as f64 && v <= *r.end() as f64 {
+        Ok(v as u64)
+    } else {
+        Err(ConfigError::Simulation {
+            field: "escape_periods",
+            value: geardyn_model::error::num(v),
+            allowed: format!(
+                "a whole number in [{}, {}] (excitation periods of the escape test)",
+                r.start(),
+                r.end()
+            )
+            .into(),
+        })
+    }
+}
 
 /// `simulation.follow_steps` checked: 0 (follow with the requested integrator) or a whole number
 /// in [`geardyn_analysis::classify::FOLLOW_STEPS_RANGE`].
@@ -628,6 +677,8 @@ impl Config {
             "follow_steps" => {
                 s.follow_steps = follow_steps(value)?;
             }
+            "escape_copies" => s.escape_copies = escape_copies(value)?,
+            "escape_periods" => s.escape_periods = escape_periods(value)?,
             "max_work" => {
                 if !(value.is_finite() && (1e6..=1e18).contains(&value)) {
                     return Err(ConfigError::Simulation {
@@ -750,6 +801,8 @@ impl Config {
             });
         }
         follow_steps(f64::from(s.follow_steps))?;
+        escape_copies(f64::from(s.escape_copies))?;
+        escape_periods(s.escape_periods as f64)?;
         if s.record_periods == 0 {
             return Err(ConfigError::Simulation {
                 field: "record_periods",
@@ -770,6 +823,11 @@ impl Config {
             decision_periods: s.decision_periods,
             decision_budget: s.decision_budget,
             follow_steps: s.follow_steps,
+            escape: geardyn_analysis::escape::EscapeSettings {
+                copies: s.escape_copies,
+                periods: s.escape_periods,
+                ..Default::default()
+            },
             ..SimOptions::default()
         })
     }

@@ -61,6 +61,10 @@ pub struct SimOverrides {
     /// Resolution of a decision's follow, RK4 steps per natural period; 0 follows with the
     /// requested integrator (`simulation.follow_steps`).
     pub follow_steps: Option<f64>,
+    /// Copies of the escape test; 0 turns it off (`simulation.escape_copies`).
+    pub escape_copies: Option<f64>,
+    /// Span of the escape test in excitation periods (`simulation.escape_periods`).
+    pub escape_periods: Option<f64>,
     /// Cap on a command's estimated work (`simulation.max_work`).
     pub max_work: Option<f64>,
 }
@@ -91,6 +95,8 @@ impl SimOverrides {
             ),
             ("decision_budget", "decision_budget", self.decision_budget),
             ("follow_steps", "follow_steps", self.follow_steps),
+            ("escape_copies", "escape_copies", self.escape_copies),
+            ("escape_periods", "escape_periods", self.escape_periods),
             ("max_work", "max_work", self.max_work),
         ];
         for (name, option, value) in fields {
