@@ -18,8 +18,9 @@ set : dict, optional
     Overrides by keyword, applied after ``set``: model parameters (``omega``, ``F``, ``xi``,
     ``c``, ``D``, ``D_d``, ``D_s``, ``kappa``, ``R``, ...) and simulation settings (``x0``,
     ``v0``, ``tau0``, ``rtol``, ``atol``, ``steps_per_cycle``, ``transient_periods``,
-    ``record_periods``, and the decision's horizon, work budget and follow resolution
-    ``decision_periods``, ``decision_budget``, ``follow_steps``); see :func:`parameter_names` and docs/configuration.md.
+    ``record_periods``, the decision's horizon, work budget and follow resolution
+    ``decision_periods``, ``decision_budget``, ``follow_steps``, and its escape test
+    ``escape_copies``, ``escape_periods``); see :func:`parameter_names` and docs/configuration.md.
 contact : str, optional (keyword)
     The contact law of both flanks as the CLI's ``--contact`` takes it,
     ``LAW[:EXPONENT[:RESTITUTION]]``: ``"linear"``, ``"power:1.5"``,

@@ -664,8 +664,9 @@ def report(preset="breakage", out="out/report", *, quick=False, set=None, progre
         Coarse version of every figure.
     set, **params
         Overrides of the preset, e.g. ``F=0.12``; also ``decision_periods=``,
-        ``decision_budget=`` and ``follow_steps=`` (the horizon and budget of the chaos verdicts:
-        by default the full report's 10 000 periods and the quick report's 1000).
+        ``decision_budget=``, ``follow_steps=``, ``escape_copies=`` and ``escape_periods=`` (the
+        horizon, budget and escape test of the chaos verdicts: by default the full report's
+        10 000 periods and the quick report's 1000).
     progress : bool
         Let the report print its progress on stderr.
 

@@ -517,6 +517,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         let left = self.opts.decision_budget.saturating_sub(self.res.rhs_evals);
         let affordable = left / (u64::from(test.copies) * per_copy_period).max(1);
         let needed = span_for_bound(test.copies, self.opts.decision_periods);
+        test.periods = test.span(self.opts.decision_periods);
         if affordable < needed.min(test.periods) {
             self.budget_spent = true;
             self.s.set_motion(Motion::Unsettled {

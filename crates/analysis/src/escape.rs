@@ -36,11 +36,16 @@ use serde::{Deserialize, Serialize};
 
 /// Default number of copies ([`EscapeSettings::copies`]).
 pub const ESCAPE_COPIES: u32 = 64;
-/// Default span of the test in excitation periods ([`EscapeSettings::periods`]).
-pub const ESCAPE_PERIODS: u64 = 2000;
+/// Default span of the test ([`EscapeSettings::periods`]): 0, the span whose silence excludes
+/// lifetimes below the decision horizon ([`EscapeSettings::span`]; 469 periods for 64 copies at
+/// the default horizon of 10 000).
+pub const ESCAPE_PERIODS: u64 = 0;
+/// Shortest default span (excitation periods): time for the copies to spread over the chaotic
+/// set (ln(1e9) / TLE: 20-50 periods on the seed pairs) and for an escaped one to show its period.
+pub const ESCAPE_MIN_PERIODS: u64 = 100;
 /// [`EscapeSettings::copies`] accepted besides 0.
 pub const ESCAPE_COPIES_RANGE: std::ops::RangeInclusive<u32> = 2..=4096;
-/// [`EscapeSettings::periods`] accepted.
+/// [`EscapeSettings::periods`] accepted besides 0 (the default span).
 pub const ESCAPE_PERIODS_RANGE: std::ops::RangeInclusive<u64> = 100..=1_000_000;
 /// Default number of escapes that end the test ([`EscapeSettings::stop_after`]).
 pub const ESCAPE_STOP_AFTER: u32 = 4;
@@ -58,7 +63,8 @@ pub struct EscapeSettings {
     /// Copies of the state followed (0: no escape test; the decision follows the run's own
     /// trajectory to its horizon instead).
     pub copies: u32,
-    /// Span of the test (excitation periods).
+    /// Span of the test (excitation periods); 0: the span whose silence excludes lifetimes below
+    /// the decision horizon ([`EscapeSettings::span`]).
     pub periods: u64,
     /// Escapes that end the test early (its lifetime estimate then has a relative standard error
     /// of `1 / sqrt(stop_after)`).
@@ -82,6 +88,27 @@ impl EscapeSettings {
     /// Whether the test runs at all.
     pub fn on(&self) -> bool {
         self.copies > 0
+    }
+
+    /// The span (excitation periods) in a decision of horizon `decision_periods`: the one set, or
+    /// by default the span whose silence excludes lifetimes below the horizon at 95 % confidence
+    /// ([`span_for_bound`]), at least [`ESCAPE_MIN_PERIODS`]. So the horizon keeps its meaning:
+    /// a motion called chaotic has no lifetime shorter than it (to 95 %), and at the same cost as
+    /// following one trajectory three times as far.
+    ///
+    /// ```
+    /// use geardyn_analysis::escape::EscapeSettings;
+    /// let s = EscapeSettings::default();
+    /// assert_eq!(s.span(10_000), 469);
+    /// assert_eq!(EscapeSettings { copies: 8, ..s }.span(10_000), 3745);
+    /// assert_eq!(s.span(1000), 100);
+    /// assert_eq!(EscapeSettings { periods: 500, ..s }.span(10_000), 500);
+    /// ```
+    pub fn span(&self, decision_periods: u64) -> u64 {
+        if self.periods > 0 {
+            return self.periods;
+        }
+        span_for_bound(self.copies, decision_periods).max(ESCAPE_MIN_PERIODS)
     }
 }
 

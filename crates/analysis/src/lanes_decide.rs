@@ -78,13 +78,13 @@ pub fn decide_lanes(
                 });
             }
         }
-        // the escape tests, one after another (each advances its copies in parallel lanes)
-        for d in ds.iter_mut().flatten() {
+        // the escape tests side by side (each advances its copies in parallel lanes too)
+        ds.par_iter_mut().flatten().for_each(|d| {
             if let Need::Escape { start, test } = d.need() {
                 let out = crate::pair_engine::escape_of(d.model(), opts, &test, start);
                 d.escaped(out);
             }
-        }
+        });
         let mut tles: Vec<(usize, f64, [f64; 2], f64, u64)> = Vec::new();
         let mut sims: Vec<(Item<'_>, SimOptions)> = Vec::new();
         let mut sim_of: Vec<usize> = Vec::new();

@@ -61,7 +61,8 @@ pub struct DecisionArgs {
     /// it off and follows the run itself to the decision horizon (0 or 2 ... 4096) [default: 64].
     #[arg(long, allow_hyphen_values = true)]
     pub escape_copies: Option<f64>,
-    /// Span of the escape test in excitation periods (100 ... 1000000) [default: 2000].
+    /// Span of the escape test in excitation periods; 0: the span whose silence excludes lifetimes below the decision horizon (0 or
+    /// 100 ... 1000000) [default: 0, i.e. 469 periods for 64 copies at the default horizon].
     #[arg(long, allow_hyphen_values = true)]
     pub escape_periods: Option<f64>,
 }

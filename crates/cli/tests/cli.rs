@@ -482,7 +482,8 @@ fn the_built_in_numba_yardstick_is_the_project_one() {
 #[test]
 fn report_takes_the_decision_flags() {
     // the quick classic page at a horizon of 200 periods instead of the quick 1000: every
-    // persistently chaotic run stops there (the record ends past it), and the page says so
+    // chaotic run's escape test excludes lifetimes below the horizon and no more than needed
+    // (at least 100 periods: 64 x 100 / ln 20 = 2 136), and the page says so
     let d = tmp("report-decision");
     let (code, _, err) = geardyn(&[
         "report",
@@ -498,16 +499,22 @@ fn report_takes_the_decision_flags() {
     let runs = std::fs::read_to_string(d.join("classic/bifurcation/bif_omega_runs.csv")).unwrap();
     let header: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (by, n) = (col("decided_by"), col("periods_integrated"));
-    let chaotic: Vec<u64> = runs
+    let (by, class, life) = (col("decided_by"), col("class"), col("lifetime"));
+    let chaotic: Vec<f64> = runs
         .lines()
         .skip(1)
         .map(|l| l.split(',').collect::<Vec<_>>())
-        .filter(|f| f[by] == "persistent_chaos")
-        .map(|f| f[n].parse().unwrap())
+        .filter(|f| f[class] == "chaotic")
+        .map(|f| {
+            assert_eq!(f[by], "escape");
+            f[life].parse().unwrap()
+        })
         .collect();
     assert!(!chaotic.is_empty());
-    assert!(chaotic.iter().all(|&p| p < 1000), "{chaotic:?}");
+    assert!(
+        chaotic.iter().all(|&l| (l - 2136.4).abs() < 1.0),
+        "{chaotic:?}"
+    );
     let page = std::fs::read_to_string(d.join("classic/index.html")).unwrap();
     assert!(page.contains("a horizon of 200 excitation periods"));
     // the page's configuration states the horizon its runs were decided at

@@ -82,6 +82,9 @@ pub struct Pt {
     pub max_force: f64,
     /// Smallest mesh force.
     pub min_force: f64,
+    /// Mean lifetime on the chaotic set of a transient chaos (excitation periods) and its
+    /// standard error.
+    pub lifetime: Option<(f64, f64)>,
 }
 
 impl Pt {
@@ -96,8 +99,60 @@ impl Pt {
             mesh_period: run.mesh_period,
             max_force: run.max_force,
             min_force: run.min_force,
+            lifetime: match run.motion {
+                Motion::TransientChaos {
+                    lifetime,
+                    lifetime_stderr,
+                    ..
+                } => Some((lifetime, lifetime_stderr)),
+                _ => None,
+            },
         }
     }
+}
+
+/// Adds `note` ([`transient_note`]) to the evidence of every claim about chaos.
+pub fn note_transients(claims: &mut [crate::claims::Claim], note: Option<String>) {
+    let Some(note) = note else { return };
+    for c in claims {
+        if c.claim.to_lowercase().contains("chao") {
+            c.evidence = format!("{} {note}", c.evidence);
+        }
+    }
+}
+
+/// What a claim about chaos adds when some of the values it reads are transient chaos: where
+/// (with `param` = value), for how long (mean lifetime in `unit`) and on which orbit the motion
+/// settles; `None` when no value is. An integration of a few hundred periods sees such a value as
+/// chaos: that explains a seed's "chaos" there rather than contradicting it.
+pub fn transient_note(pts: &[Pt], param: &str, unit: &str) -> Option<String> {
+    let tr: Vec<&Pt> = pts.iter().filter(|p| p.lifetime.is_some()).collect();
+    if tr.is_empty() {
+        return None;
+    }
+    let items: Vec<String> = tr
+        .iter()
+        .take(6)
+        .map(|p| {
+            let (l, se) = p.lifetime.expect("filtered");
+            format!(
+                "{param} = {} (lifetime {} ± {} {unit}, then {})",
+                crate::readings::f(p.value),
+                crate::readings::f(l.round()),
+                crate::readings::f(se.round()),
+                p.name
+            )
+        })
+        .collect();
+    let more = if tr.len() > 6 {
+        format!(" and {} more", tr.len() - 6)
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "Transient chaos (a chaotic saddle the motion leaves for a periodic orbit; the escape test) at {}{more}: an integration of a few hundred {unit} sees these values as chaos, counted here by the orbit they settle on.",
+        items.join(", ")
+    ))
 }
 
 /// The runs of one branch (all initial states), sorted by value.
@@ -324,7 +379,22 @@ mod tests {
             mesh_period: None,
             max_force: 0.0,
             min_force: 0.0,
+            lifetime: None,
         }
+    }
+
+    #[test]
+    fn transient_chaos_is_named_with_its_lifetime_and_orbit() {
+        let mut a = pt(1.725, Class::Transient(1));
+        a.name = "1-20-0".into();
+        a.lifetime = Some((6783.2, 2261.1));
+        let pts = [pt(1.7, Class::Chaotic), a];
+        let note = transient_note(&pts, "omega", "revolutions").unwrap();
+        assert!(
+            note.contains("omega = 1.725 (lifetime 6783 ± 2261 revolutions, then 1-20-0)"),
+            "{note}"
+        );
+        assert!(transient_note(&pts[..1], "omega", "revolutions").is_none());
     }
 
     #[test]

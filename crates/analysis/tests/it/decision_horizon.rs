@@ -11,6 +11,19 @@ use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
 
+/// The defaults with the escape test off: these tests are about the follow of the run's own
+/// trajectory to the horizon, the rule where the escape test does not apply (tests/it/escape.rs
+/// holds the test's own cases).
+fn follow_only() -> SimOptions {
+    SimOptions {
+        escape: geardyn_analysis::escape::EscapeSettings {
+            copies: 0,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
 fn c1(omega: f64) -> MeshModel {
     let mut p = presets::classic();
     p.set("omega", omega).unwrap();
@@ -65,7 +78,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     // with impacts and friction, is a faithful pseudo-orbit here), at a fraction of the work
     let exact = SimOptions {
         follow_steps: 0,
-        ..Default::default()
+        ..follow_only()
     };
     let (res_dp5, s_dp5, _) =
         simulate_decided(sc.model(), [0.0, 0.0], &exact, Decide::default()).unwrap();
@@ -91,7 +104,7 @@ fn a_transient_of_eight_thousand_periods_is_periodic() {
     // decision's coarser follow leaves the chaos after ~4 400 periods)
     let exact = SimOptions {
         follow_steps: 0,
-        ..Default::default()
+        ..follow_only()
     };
     let s = decide_c1(1.19346733668, exact);
     assert_eq!(s.motion, Motion::Periodic { period: 16 }, "{}", s.label);
@@ -102,7 +115,7 @@ fn a_transient_of_eight_thousand_periods_is_periodic() {
     // a horizon below the transient reports it chaotic: the verdict is about the time integrated
     let short = SimOptions {
         decision_periods: 3_000,
-        ..Default::default()
+        ..follow_only()
     };
     let s = decide_c1(1.19346733668, short);
     assert!(s.motion.is_chaotic(), "{}", s.label);
@@ -129,7 +142,7 @@ fn a_horizon_within_the_first_record_is_no_persistence_check() {
         1.3,
         SimOptions {
             decision_periods: 0,
-            ..Default::default()
+            ..follow_only()
         },
     );
     assert!(s.motion.is_chaotic(), "{}", s.label);
@@ -146,7 +159,7 @@ fn a_budget_short_of_the_horizon_leaves_chaos_unsettled() {
         SimOptions {
             decision_budget: 4_096_000,
             follow_steps: 0,
-            ..Default::default()
+            ..follow_only()
         },
     );
     assert!(
@@ -175,7 +188,7 @@ fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
     let opts = SimOptions {
         method: RK4,
-        ..Default::default()
+        ..follow_only()
     };
     let on = |threads: usize| {
         common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
@@ -207,7 +220,7 @@ fn the_attractor_region_holds_the_impacting_orbit_of_the_broken_pair() {
         transient_periods: 20,
         record_periods: 5,
         trajectory: true,
-        ..Default::default()
+        ..follow_only()
     };
     let res = simulate(m, [2.88, 0.14], &opts).unwrap();
     assert_eq!(
@@ -234,7 +247,7 @@ fn the_attractor_region_holds_the_impacting_orbit_of_the_broken_pair() {
             },
             sim: SimOptions {
                 decision_periods: 1_000,
-                ..Default::default()
+                ..follow_only()
             },
             y0: [0.0, 0.0],
             sections: vec![],
@@ -263,12 +276,12 @@ fn the_follow_decides_chaos_in_a_fraction_of_the_work() {
         1.3,
         SimOptions {
             follow_steps: 0,
-            ..Default::default()
+            ..follow_only()
         },
     );
     let opts = SimOptions {
         method: RK4,
-        ..Default::default()
+        ..follow_only()
     };
     let (res, s, _) = simulate_decided(&c1(1.3), [0.0, 0.0], &opts, Decide::default()).unwrap();
     assert!(s.motion.is_chaotic() && exact.motion.is_chaotic());
@@ -354,7 +367,7 @@ fn a_follow_finer_than_the_run_keeps_the_budget() {
     let opts = SimOptions {
         follow_steps: 200_000,
         decision_budget: 50_000_000,
-        ..Default::default()
+        ..follow_only()
     };
     let (res, s, _) = simulate_decided(&c1(1.38), [0.0, 0.0], &opts, Decide::default()).unwrap();
     assert!(

@@ -123,11 +123,15 @@ fn c1_chaotic_attractor_passes_the_escape_test() {
     assert_eq!(s.decided_by, DecidedBy::Escape);
     let e = s.escape.expect("the escape test decided it");
     assert_eq!((e.copies, e.escaped), (64, 0));
-    // no escape among 64 copies over 2000 periods: lifetimes below 64 x 2000 / ln 20 excluded
+    // no escape among 64 copies over 469 periods: lifetimes below the horizon (10 000) excluded
     let Lifetime::AtLeast { periods } = e.lifetime else {
         panic!("{:?}", e.lifetime)
     };
-    assert!((periods - 128_000.0 / 20f64.ln()).abs() < 1.0, "{periods}");
+    assert!(
+        (periods - 64.0 * 469.0 / 20f64.ln()).abs() < 1.0,
+        "{periods}"
+    );
+    assert!(periods >= 10_000.0);
 }
 
 /// The broken pair at F = 0.1, omega = 1.725, from rest: its own trajectory is chaotic for about

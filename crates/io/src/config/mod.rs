@@ -47,7 +47,7 @@ pub struct SimulationConfig {
     /// Copies of a chaotic state the ensemble escape test follows (0: no test; the motion is
     /// followed to the decision horizon instead).
     pub escape_copies: u32,
-    /// Span of the escape test (excitation periods).
+    /// Span of the escape test (excitation periods); 0: the span whose silence excludes lifetimes below the decision horizon.
     pub escape_periods: u64,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
     /// decisions' worst case included): a command above it is refused before it starts.
@@ -217,18 +217,18 @@ fn escape_copies(v: f64) -> Result<u32, ConfigError> {
     }
 }
 
-/// `simulation.escape_periods` checked: a whole number in
+/// `simulation.escape_periods` checked: 0 (the span whose silence excludes lifetimes below the decision horizon) or a whole number in
 /// [`geardyn_analysis::escape::ESCAPE_PERIODS_RANGE`].
 fn escape_periods(v: f64) -> Result<u64, ConfigError> {
     let r = geardyn_analysis::escape::ESCAPE_PERIODS_RANGE;
-    if v.fract() == 0.0 && v >= *r.start() as f64 && v <= *r.end() as f64 {
+    if v == 0.0 || (v.fract() == 0.0 && v >= *r.start() as f64 && v <= *r.end() as f64) {
         Ok(v as u64)
     } else {
         Err(ConfigError::Simulation {
             field: "escape_periods",
             value: geardyn_model::error::num(v),
             allowed: format!(
-                "a whole number in [{}, {}] (excitation periods of the escape test)",
+                "0 (the span whose silence excludes lifetimes below the decision horizon) or a whole number in [{}, {}] (excitation periods of the escape test)",
                 r.start(),
                 r.end()
             )

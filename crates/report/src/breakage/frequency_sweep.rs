@@ -207,7 +207,11 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         .map(|(fl, rr)| (*fl, FreqStats::of(&classes::fixed_points(rr))))
         .collect();
     let sens = sensitivity_table(ctx, dir, fload, &st, &others)?;
-    let claims = claims(fload, &st, &others);
+    let mut claims = claims(fload, &st, &others);
+    classes::note_transients(
+        &mut claims,
+        classes::transient_note(&pts, "omega", "revolutions"),
+    );
     Ok(Section {
         id: "frequency_sweep".into(),
         title: "Bifurcation over the mesh frequency omega (F = 0.1)".into(),

@@ -113,7 +113,11 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
     )?;
-    let claims = load_claims(&pb, &ph);
+    let mut claims = load_claims(&pb, &ph);
+    classes::note_transients(
+        &mut claims,
+        classes::transient_note(&pb, "F", "revolutions"),
+    );
     Ok(Section {
             id: "load_sweep".into(),
             title: "Bifurcation over the load F: broken versus healthy (omega = 1.2)".into(),

@@ -262,10 +262,14 @@ impl Study for ParamSweep<'_> {
     }
 
     fn claims(&self, data: &SweepData) -> Vec<Claim> {
-        (self.table.claims)(&Runs {
+        let pts = classes::fixed_points(&data.main);
+        let note = classes::transient_note(&pts, self.table.param, "excitation periods");
+        let mut claims = (self.table.claims)(&Runs {
             main: &data.main,
-            pts: classes::fixed_points(&data.main),
+            pts,
             multi: classes::points(&data.multi, 0),
-        })
+        });
+        classes::note_transients(&mut claims, note);
+        claims
     }
 }
