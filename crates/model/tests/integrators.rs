@@ -232,12 +232,7 @@ fn event_and_breakpoint_at_the_same_instant() {
 fn zeno_sequence_is_reported_not_hung() {
     // a bouncing ball with restitution 0.5 and no sticking rule: impacts accumulate at t = 3 g^-1 ...
     struct Ball;
-    impl HybridSystem<2> for Ball {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 2]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, _t: f64, _: &(), y: &[f64; 2], _m: &(), dy: &mut [f64; 2]) {
+    geardyn_solvers::one_mode_system! { Ball, 2, |_, _t, y, dy| {
             *dy = [y[1], -1.0];
         }
         fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) {

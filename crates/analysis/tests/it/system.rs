@@ -325,7 +325,7 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
 #[test]
 fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
     use geardyn_model::{EventKind, GearSystem};
-    use geardyn_solvers::{HybridSystem, Variational};
+    use geardyn_solvers::Variational;
     // an empty record is refused (it would read as a motion at infinity)
     let opts = SimOptions {
         record_periods: 0,
@@ -337,15 +337,9 @@ fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
     /// `x' = -x` that claims no mesh.
     #[derive(Clone)]
     struct NoMesh;
-    impl HybridSystem<1> for NoMesh {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
-            dy[0] = -y[0];
-        }
-    }
+    geardyn_solvers::one_mode_system!(NoMesh, 1, |_, _t, y, dy| {
+        dy[0] = -y[0];
+    });
     impl Variational<1> for NoMesh {
         fn jacobian(&self, _t: f64, _tt: &(), _y: &[f64; 1], _m: &(), j: &mut [[f64; 1]; 1]) {
             j[0][0] = -1.0;
