@@ -1,6 +1,7 @@
 //! Decided classification: a slow periodic transient is not chaos, chaos is not given a period,
 //! and the default Lyapunov run converges to the Floquet value of a periodic orbit.
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, simulate_decided_from, Decide, Motion};
 use geardyn_analysis::lyapunov::LyapunovOptions;
 use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
@@ -38,8 +39,7 @@ fn weak_chaos_is_chaotic_not_unsettled() {
     // 0.0166 +- 0.0003 by both methods (`geardyn lyapunov --transient 20000`); the last look over
     // TLE_LONG_PERIODS decides it (it had been `unsettled`)
     let m = c1(&[("omega", 1.40452261307)]);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     match s.motion {
         Motion::Chaotic { tle, stderr } => {
             assert!(
@@ -57,8 +57,7 @@ fn a_period_longer_than_the_test_is_not_quasi_periodic() {
     // transient), beyond the period test's 32; its exponent is -0.0009 +- 0.0002, near zero but
     // not a torus: unsettled, never quasi-periodic (the long exponent look had made it one)
     let m = c1(&[("omega", 0.967336683417)]);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     assert!(
         matches!(s.motion, Motion::Unsettled { .. }),
         "{:?}: {}",
@@ -70,8 +69,7 @@ fn a_period_longer_than_the_test_is_not_quasi_periodic() {
 #[test]
 fn a_chaotic_motion_is_not_given_a_period() {
     let m = c1(&[("omega", 1.3)]);
-    let (res, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (res, s, _) = common::decided_from_rest(&m);
     assert!(s.motion.is_chaotic(), "{:?}", s.motion);
     assert_eq!(s.period, 0);
     // the label is the class alone; the crossing rates are their own field: the record's totals
@@ -199,11 +197,7 @@ fn a_contact_entered_by_a_backlash_jump_is_counted() {
         p.set(k, v).unwrap();
     }
     let m = MeshModel::new(&p).unwrap();
-    let opts = SimOptions {
-        transient_periods: 200,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(200, 20);
     let (res, s, _) = simulate_decided(&m, [0.95, 0.0], &opts, Decide::default()).unwrap();
     let (lo, hi) = res.mesh().x_range;
     assert!(lo > 0.9 && hi < 1.1, "x in [{lo}, {hi}]");
@@ -310,22 +304,14 @@ fn a_periodic_record_describes_the_orbit_not_its_approach() {
     assert!(res.mesh().min_force > -0.1, "{}", res.mesh().min_force);
     assert_eq!(used.transient_periods, 500);
     // the same orbit recorded long after the transient has the same statistics
-    let late = SimOptions {
-        transient_periods: 3000,
-        record_periods: 200,
-        ..Default::default()
-    };
+    let late = common::periods(3000, 200);
     let (res_late, s_late, _) = simulate_decided(&m, y0, &late, Decide::default()).unwrap();
     assert_eq!(s_late.label, s.label);
     assert!((res_late.mesh().max_force - res.mesh().max_force).abs() < 1e-6);
     assert!((s_late.p_id - s.p_id).abs() < 1e-6);
     // 380 + 60 periods: the transient passes a period-2 saddle at the end of the record, which
     // had been reported as the motion (2-2-0-2-0)
-    let near_saddle = SimOptions {
-        transient_periods: 380,
-        record_periods: 60,
-        ..Default::default()
-    };
+    let near_saddle = common::periods(380, 60);
     let (_, s2, _) = simulate_decided(&m, y0, &near_saddle, Decide::default()).unwrap();
     assert_eq!(s2.label, "1-1-0-1-0");
 }
@@ -343,8 +329,7 @@ fn a_slowly_converging_period_1_is_not_period_2() {
     // tolerance while neighbours still alternate by ~1e-5, and the record had read
     // "period 2: 2-2-0-2-0" (a 5000-period transient gives 1-1-0-1-0, points equal to 1e-10)
     let m = internal_preset(1.7);
-    let (_, s, used) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, used) = common::decided_from_rest(&m);
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert!(used.transient_periods > SimOptions::default().transient_periods);
     let long = SimOptions {
@@ -361,11 +346,7 @@ fn a_record_is_taken_again_until_it_lies_on_the_orbit() {
     // the record taken again from its end still held the end of the approach (1e-2 at its head),
     // so P_ID and forces mixed approach and orbit
     let m = internal_preset(1.4);
-    let opts = SimOptions {
-        transient_periods: 100,
-        record_periods: 50,
-        ..Default::default()
-    };
+    let opts = common::periods(100, 50);
     let (res, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
     assert_eq!(s.period, 3, "{}", s.label);
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
@@ -384,11 +365,7 @@ fn a_periodic_record_holds_whole_orbit_periods() {
     let m = internal_preset(1.4);
     let mut p_ids = Vec::new();
     for (transient, record) in [(300, 100), (100, 50), (2000, 100), (600, 31)] {
-        let opts = SimOptions {
-            transient_periods: transient,
-            record_periods: record,
-            ..Default::default()
-        };
+        let opts = common::periods(transient, record);
         let (res, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
         assert_eq!(s.period, 3, "{}", s.label);
         assert_eq!(
@@ -435,8 +412,7 @@ fn a_slower_approach_to_period_2_is_not_period_4() {
     // tolerance but below ten times it) had read as "period 4: 4-4-0-4-0"; a 3000-period
     // transient gives 2-2-0-2-0 with points equal to 1e-8 (audit, independent run)
     let m = internal_preset(0.7);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     let long = SimOptions {
         transient_periods: 3000,
         ..Default::default()
@@ -477,14 +453,9 @@ fn a_record_too_short_for_a_period_is_lengthened_not_called_aperiodic() {
     // been "unsettled" with a clearly negative exponent. The same run recorded over 100 periods
     // is period 1 (1-1-0).
     let m = c1(&[("omega", 0.8)]);
-    let short = SimOptions {
-        transient_periods: 50,
-        record_periods: 2,
-        ..Default::default()
-    };
+    let short = common::periods(50, 2);
     let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
-    let (_, s_ref, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s_ref, _) = common::decided_from_rest(&m);
     assert_eq!(s_ref.motion, Motion::Periodic { period: 1 });
     assert_eq!(s.motion, s_ref.motion, "{}", s.label);
 }
@@ -498,8 +469,7 @@ fn integrator_noise_does_not_double_a_period() {
     // integrations, audit) it is 7-3-0-3-0. (At omega = 0.8667 the slow-approach check already
     // catches it; this value reaches the record-again at the tighter tolerance.)
     let m = internal_preset(0.866666666667);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     let rk4 = SimOptions {
         method: geardyn_analysis::simulate::Method::Rk4 {
             steps_per_cycle: 2048,
@@ -523,13 +493,7 @@ fn the_mesh_cycle_period_of_one_orbit_does_not_jump_between_neighbouring_loads()
         .unwrap();
     for f in [0.11, 0.12] {
         let sc = base.with_all(&[("omega", 1.2), ("F", f)]).unwrap();
-        let (_, s, _) = simulate_decided(
-            sc.model(),
-            [0.0, 0.0],
-            &SimOptions::default(),
-            Decide::default(),
-        )
-        .unwrap();
+        let (_, s, _) = common::decided_from_rest(sc.model());
         assert_eq!(s.label, "3-60-0", "F = {f}");
         assert_eq!(s.mesh_period, Some(6), "F = {f}");
     }

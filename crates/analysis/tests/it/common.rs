@@ -26,17 +26,39 @@ pub fn double_well() -> geardyn_analysis::attractor::StrobeOnly<geardyn_model::r
     }
 }
 
+/// The decided run of `model` from rest with the default settings (and the settings it used).
+pub fn decided_from_rest(
+    model: &geardyn_model::MeshModel,
+) -> (
+    geardyn_analysis::simulate::SimResult<2>,
+    geardyn_analysis::summary::Summary,
+    geardyn_analysis::simulate::SimOptions,
+) {
+    geardyn_analysis::classify::simulate_decided(
+        model,
+        [0.0, 0.0],
+        &Default::default(),
+        Default::default(),
+    )
+    .unwrap()
+}
+
+/// The default simulation settings but `transient` and `record` periods.
+pub fn periods(transient: u64, record: u64) -> geardyn_analysis::simulate::SimOptions {
+    geardyn_analysis::simulate::SimOptions {
+        transient_periods: transient,
+        record_periods: record,
+        ..Default::default()
+    }
+}
+
 /// Identification with the default settings but `transient` and `record` periods.
 pub fn identify_periods(
     transient: u64,
     record: u64,
 ) -> geardyn_analysis::attractor::IdentifyOptions {
     geardyn_analysis::attractor::IdentifyOptions {
-        sim: geardyn_analysis::simulate::SimOptions {
-            transient_periods: transient,
-            record_periods: record,
-            ..Default::default()
-        },
+        sim: periods(transient, record),
         ..Default::default()
     }
 }

@@ -47,13 +47,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     // the former rule called it chaotic
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
     let sc = sc.with_all(&[("omega", 1.2), ("F", 0.065)]).unwrap();
-    let (res, s, _) = simulate_decided(
-        sc.model(),
-        [0.0, 0.0],
-        &SimOptions::default(),
-        Decide::default(),
-    )
-    .unwrap();
+    let (res, s, _) = common::decided_from_rest(sc.model());
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert_eq!(s.decided_by, DecidedBy::PeriodTest);
     assert!(

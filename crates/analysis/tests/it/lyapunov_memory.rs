@@ -4,6 +4,7 @@
 //! of the orbit measured without any linearisation (a third, independent method). Holding `chi`
 //! fixed in the tangent gave -0.054 against -0.042 at `omega = 0.8` (law exponent 1).
 
+use crate::common;
 use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
 use geardyn_model::{presets, ContactLaw, MeshModel};
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, Stop};
@@ -131,15 +132,11 @@ fn an_exponent_continued_inside_an_impact_equals_the_one_of_the_whole_run() {
     // instants inside an impact. The exponent of the run continued from such an instant (as the
     // classification asks for it) equals that of the run integrated in one piece.
     use geardyn_analysis::lyapunov::tle_variational_with;
-    use geardyn_analysis::simulate::{simulate, SimOptions};
+    use geardyn_analysis::simulate::simulate;
     let m = MeshModel::new(&presets::internal()).unwrap();
     let mut checked = 0;
     for k in 300..330u64 {
-        let head = SimOptions {
-            transient_periods: 0,
-            record_periods: k,
-            ..Default::default()
-        };
+        let head = common::periods(0, k);
         let h = simulate(&m, [0.0, 0.0], &head).unwrap();
         if h.final_memory == 0.0 {
             continue;

@@ -2,11 +2,12 @@
 //! forms and a finite-difference Jacobian of the same map, and the bifurcations of a branch
 //! against the linear response and the brute-force diagram of case C1.
 
+use crate::common;
 use geardyn_analysis::orbit_branches::{
     continue_orbits, Bifurcation, BifurcationKind, Continuation, ContinuationOptions,
 };
 use geardyn_analysis::orbits::{eigenvalues, find_orbit, stroboscopic_map, OrbitOptions};
-use geardyn_analysis::simulate::{simulate, SimOptions};
+use geardyn_analysis::simulate::simulate;
 use geardyn_model::{presets, MeshModel, ModelParams};
 use geardyn_scenario::Scenario;
 use std::f64::consts::PI;
@@ -18,11 +19,7 @@ fn of_kind(c: &Continuation, kind: BifurcationKind) -> Vec<&Bifurcation> {
 
 /// The state of `m` after 300 periods from rest (near its attractor).
 fn settled(m: &MeshModel) -> [f64; 2] {
-    let opts = SimOptions {
-        transient_periods: 300,
-        record_periods: 1,
-        ..Default::default()
-    };
+    let opts = common::periods(300, 1);
     simulate(m, [0.0, 0.0], &opts).unwrap().final_state.1
 }
 
@@ -243,11 +240,7 @@ fn an_orbit_of_a_law_with_memory_is_the_simulated_attractor() {
         .resolve()
         .unwrap();
     let m = sc.model();
-    let long = SimOptions {
-        transient_periods: 600,
-        record_periods: 96,
-        ..Default::default()
-    };
+    let long = common::periods(600, 96);
     let res = simulate(m, [0.0, 0.0], &long).unwrap();
     let s = geardyn_analysis::simulate::summarize(m, &res, &long);
     assert_eq!(s.period, 3, "{}", s.label);

@@ -4,6 +4,7 @@
 //! modal eigenvalues in the linear regime, a long simulation and the top Lyapunov exponent
 //! across contact changes.
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::orbits::{describe_orbit, find_orbit, stroboscopic_map, OrbitOptions};
@@ -160,11 +161,7 @@ fn an_orbit_of_the_toy_with_contact_changes_is_the_simulated_attractor_and_its_m
     // a long plain simulation from rest (DP5 at the default tolerance, 2001 periods) reaches the
     // orbit: its strobe point is one of the orbit's two points on the section, to the
     // integration's accuracy (the transient has decayed as 0.64^1000)
-    let long = SimOptions {
-        transient_periods: 2000,
-        record_periods: 1,
-        ..Default::default()
-    };
+    let long = common::periods(2000, 1);
     let end = simulate(&sys, [0.0; 4], &long).unwrap().final_state.1;
     let one = OrbitOptions::default();
     let (second, _) = stroboscopic_map(&sys, o.y, &one).unwrap();

@@ -2,6 +2,7 @@
 //! ([`TwoMassClearance`], four states, two meshes) through the same public functions the pair
 //! uses (simulate, the summary per mesh, the decision, the exponent, the decided sweep).
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::generic::{decided_sweep, Family};
@@ -49,11 +50,7 @@ fn the_linear_limit_matches_the_closed_form_response() {
     // static deflection in drive contact: k1 (u1 - D1) = F1, k0 (x1 - D0) + k1 (u1 - D1) = F0
     let x1_static = sys.d[0] + (sys.load[0] - sys.load[1]) / sys.k[0];
     let u1_static = sys.d[1] + sys.load[1] / sys.k[1];
-    let opts = SimOptions {
-        transient_periods: 300,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(300, 20);
     let res = simulate(&sys, [x1_static, 0.0, x1_static - u1_static, 0.0], &opts).unwrap();
     assert!(
         res.meshes.iter().all(|m| m.events.is_empty()),
@@ -236,11 +233,7 @@ fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
 /// Identification of the toy with tolerances for a four-state system.
 fn identify_opts() -> geardyn_analysis::attractor::IdentifyOptions {
     geardyn_analysis::attractor::IdentifyOptions {
-        sim: SimOptions {
-            transient_periods: 150,
-            record_periods: 32,
-            ..Default::default()
-        },
+        sim: common::periods(150, 32),
         ..Default::default()
     }
 }
@@ -389,11 +382,7 @@ fn a_start_at_rest_on_both_contact_surfaces_enters_contact() {
         amplitude: 0.05,
         ..Default::default()
     };
-    let opts = SimOptions {
-        transient_periods: 200,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(200, 20);
     let (res, s, _) =
         simulate_decided(&sys, [1.0, 0.0, 0.0, 0.0], &opts, Decide::default()).unwrap();
     assert!(s.motion.is_periodic(), "{s:?}");
