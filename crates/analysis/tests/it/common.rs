@@ -43,6 +43,18 @@ pub fn decided_from_rest(
     .unwrap()
 }
 
+/// The two-mass toy with its clearances ([`geardyn_model::reference::TwoMassClearance`]) under
+/// a light load at `omega = 0.5` and forcing amplitude `amplitude`: both meshes separate and
+/// re-enter every period at 0.4, twice in a period-2 motion at 0.6.
+pub fn rattling(amplitude: f64) -> geardyn_model::reference::TwoMassClearance {
+    geardyn_model::reference::TwoMassClearance {
+        load: [0.1, 0.05],
+        amplitude,
+        omega: 0.5,
+        ..Default::default()
+    }
+}
+
 /// The default simulation settings but `transient` and `record` periods.
 pub fn periods(transient: u64, record: u64) -> geardyn_analysis::simulate::SimOptions {
     geardyn_analysis::simulate::SimOptions {
@@ -61,6 +73,29 @@ pub fn identify_periods(
         sim: periods(transient, record),
         ..Default::default()
     }
+}
+
+/// `runs` decided in the lanes on a pool of `threads` threads, each decision (unwrapped) read
+/// by `read`.
+pub fn decided_lanes_on<T: Send>(
+    threads: usize,
+    runs: &[(&geardyn_model::MeshModel, [f64; 2])],
+    opts: &geardyn_analysis::simulate::SimOptions,
+    read: impl Fn(
+        geardyn_analysis::simulate::SimResult<2>,
+        geardyn_analysis::summary::Summary,
+        geardyn_analysis::simulate::SimOptions,
+    ) -> T,
+) -> Vec<T> {
+    on_threads(threads, || {
+        geardyn_analysis::lanes_decide::simulate_decided_lanes(runs, opts)
+    })
+    .into_iter()
+    .map(|d| {
+        let (r, s, used) = d.unwrap();
+        read(r, s, used)
+    })
+    .collect()
 }
 
 /// Every model started from every initial state (model-major), as the lanes take runs.

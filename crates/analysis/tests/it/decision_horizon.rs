@@ -6,7 +6,6 @@
 use crate::common;
 
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
-use geardyn_analysis::lanes_decide::simulate_decided_lanes;
 use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
@@ -172,13 +171,9 @@ fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
         ..Default::default()
     };
     let on = |threads: usize| {
-        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
-            .into_iter()
-            .map(|d| {
-                let (r, s, _) = d.unwrap();
-                (s.motion, s.decided_by, s.periods_integrated, r.final_state)
-            })
-            .collect::<Vec<_>>()
+        common::decided_lanes_on(threads, &runs, &opts, |r, s, _| {
+            (s.motion, s.decided_by, s.periods_integrated, r.final_state)
+        })
     };
     let one = on(1);
     assert_eq!(one, on(2));

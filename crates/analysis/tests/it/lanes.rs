@@ -41,6 +41,17 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
 }
 
+/// The items of `a` and `b` side by side, asserted to be as many (`{what}: {name}` otherwise).
+fn paired<'a, T>(
+    a: &'a [T],
+    b: &'a [T],
+    what: &str,
+    name: &str,
+) -> impl Iterator<Item = (&'a T, &'a T)> {
+    assert_eq!(a.len(), b.len(), "{what}: {name}");
+    a.iter().zip(b)
+}
+
 /// Largest deviation between two results (states, times, totals), relative to `1 + |value|`.
 fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
     let mut worst = 0.0f64;
@@ -49,8 +60,7 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
         worst = worst.max(d);
         assert!(d <= tol, "{what}: {name}: {x} vs {y} (rel {d:e})");
     };
-    assert_eq!(a.strobe.len(), b.strobe.len(), "{what}: strobe count");
-    for (p, q) in a.strobe.iter().zip(&b.strobe) {
+    for (p, q) in paired(&a.strobe, &b.strobe, what, "strobe count") {
         for i in 0..3 {
             check(p[i], q[i], "strobe");
         }
@@ -60,22 +70,12 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
         b.mesh().counts_per_period,
         "{what}: counts"
     );
-    assert_eq!(
-        a.mesh().crossings.len(),
-        b.mesh().crossings.len(),
-        "{what}: crossings"
-    );
-    for (p, q) in a.mesh().crossings.iter().zip(&b.mesh().crossings) {
+    for (p, q) in paired(&a.mesh().crossings, &b.mesh().crossings, what, "crossings") {
         assert_eq!(p.level, q.level);
         check(p.tau, q.tau, "crossing tau");
         check(p.v, q.v, "crossing v");
     }
-    assert_eq!(
-        a.mesh().events.len(),
-        b.mesh().events.len(),
-        "{what}: events"
-    );
-    for (p, q) in a.mesh().events.iter().zip(&b.mesh().events) {
+    for (p, q) in paired(&a.mesh().events, &b.mesh().events, what, "events") {
         assert_eq!(p.kind, q.kind);
         check(p.tau, q.tau, "event tau");
         check(p.v_before, q.v_before, "event v");
@@ -727,7 +727,6 @@ fn continuation_in_lanes_agrees_with_the_scalar_identification() {
 /// thread count. Also balanced chunks: on three threads the ten share no chunk at all.
 #[test]
 fn a_decision_is_the_same_in_the_rounds_and_alone() {
-    use geardyn_analysis::lanes_decide::simulate_decided_lanes;
     let models = c1_at(&[1.3, 1.40452261307]);
     let mut runs: Vec<(&MeshModel, [f64; 2])> = (0..10)
         .map(|k| (&models[0], [0.1 * k as f64, -0.05 * k as f64]))
@@ -743,21 +742,17 @@ fn a_decision_is_the_same_in_the_rounds_and_alone() {
         ..Default::default()
     };
     let on = |threads: usize| {
-        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
-            .into_iter()
-            .map(|d| {
-                let (r, s, used) = d.unwrap();
-                (
-                    s.motion,
-                    s.label,
-                    s.decided_by,
-                    s.periods_integrated,
-                    r.final_state.0.to_bits(),
-                    r.final_state.1.map(f64::to_bits),
-                    used.transient_periods,
-                )
-            })
-            .collect::<Vec<_>>()
+        common::decided_lanes_on(threads, &runs, &opts, |r, s, used| {
+            (
+                s.motion,
+                s.label,
+                s.decided_by,
+                s.periods_integrated,
+                r.final_state.0.to_bits(),
+                r.final_state.1.map(f64::to_bits),
+                used.transient_periods,
+            )
+        })
     };
     let one = on(1);
     let chaotic = one.iter().filter(|d| d.0.is_chaotic()).count();

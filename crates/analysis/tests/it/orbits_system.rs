@@ -118,14 +118,9 @@ fn orbits_of_the_linear_toy_are_the_forced_response_with_multipliers_exp_lambda_
 }
 
 /// The toy with its clearances where both meshes separate and re-enter twice in a period-2
-/// motion (`load: [0.1, 0.05], amplitude: 0.4, omega: 0.5` is chaotic: the decision says so).
+/// motion (at amplitude 0.4 it is chaotic: the decision says so).
 fn rattling() -> TwoMassClearance {
-    TwoMassClearance {
-        load: [0.1, 0.05],
-        amplitude: 0.6,
-        omega: 0.5,
-        ..Default::default()
-    }
+    crate::common::rattling(0.6)
 }
 
 #[test]

@@ -101,12 +101,7 @@ fn the_exponent_of_the_linear_limit_is_the_modal_decay_rate() {
 
 /// The toy with its clearances at a load where both meshes separate and re-enter every period.
 fn rattling() -> TwoMassClearance {
-    TwoMassClearance {
-        load: [0.1, 0.05],
-        amplitude: 0.4,
-        omega: 0.5,
-        ..Default::default()
-    }
+    crate::common::rattling(0.4)
 }
 
 #[test]
@@ -190,17 +185,18 @@ fn each_mesh_has_its_own_label_and_the_system_joins_them() {
     }
 }
 
-struct Forcing;
-impl Family<4> for Forcing {
+/// The toy `self.0()` with the forcing amplitude as the parameter.
+struct Amplitude(fn() -> TwoMassClearance);
+impl Family<4> for Amplitude {
     type System = TwoMassClearance;
     fn at(&self, a: f64) -> TwoMassClearance {
         TwoMassClearance {
             amplitude: a,
-            ..rattling()
+            ..self.0()
         }
     }
     fn period(&self, _a: f64) -> f64 {
-        2.0 * std::f64::consts::PI / 0.5
+        self.0().excitation_period()
     }
 }
 
@@ -210,7 +206,14 @@ fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
     let opts = crate::common::rk4(256, 100, 32);
     let run = |threads: usize| {
         crate::common::on_threads(threads, || {
-            decided_sweep(&Forcing, &values, [0.0; 4], &opts, Decide::default(), false)
+            decided_sweep(
+                &Amplitude(rattling),
+                &values,
+                [0.0; 4],
+                &opts,
+                Decide::default(),
+                false,
+            )
         })
     };
     let (a, b) = (run(1), run(2));
@@ -272,19 +275,6 @@ fn basins_on_a_slice_of_the_linear_toy_are_one_basin() {
 fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
     use geardyn_analysis::basins::Slice;
     use geardyn_analysis::continuation::{continuation_of, ContinuationOptions};
-    struct Amplitude;
-    impl Family<4> for Amplitude {
-        type System = TwoMassClearance;
-        fn at(&self, a: f64) -> TwoMassClearance {
-            TwoMassClearance {
-                amplitude: a,
-                ..linear()
-            }
-        }
-        fn period(&self, _a: f64) -> f64 {
-            2.0 * std::f64::consts::PI / 0.7
-        }
-    }
     let opts = ContinuationOptions {
         param: "amplitude".into(),
         values: vec![0.1, 0.2, 0.3],
@@ -295,12 +285,12 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
         phase: 0.0,
         identify: identify_opts(),
     };
-    let r = continuation_of(&Amplitude, &opts, &Slice::default()).unwrap();
+    let r = continuation_of(&Amplitude(linear), &opts, &Slice::default()).unwrap();
     let bad = ContinuationOptions {
         x0_range: (f64::NAN, 2.0),
         ..opts.clone()
     };
-    let e = continuation_of(&Amplitude, &bad, &Slice::default()).unwrap_err();
+    let e = continuation_of(&Amplitude(linear), &bad, &Slice::default()).unwrap_err();
     assert!(e.to_string().contains("x0_range"), "{e}");
     // one attractor per value, all on branch 0, no event between them
     assert_eq!(r.points.len(), 3, "{:?}", r.points);
