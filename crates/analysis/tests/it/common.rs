@@ -109,20 +109,6 @@ pub fn runs_from<'a>(
         .collect()
 }
 
-/// Fixed-step RK4 of `steps_per_cycle` steps per mesh cycle, `transient` then `record` periods.
-pub fn rk4(
-    steps_per_cycle: u32,
-    transient: u64,
-    record: u64,
-) -> geardyn_analysis::simulate::SimOptions {
-    geardyn_analysis::simulate::SimOptions {
-        method: geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle },
-        transient_periods: transient,
-        record_periods: record,
-        ..Default::default()
-    }
-}
-
 /// The default identification with fixed-step RK4 of `steps_per_cycle` steps per mesh cycle,
 /// `transient` then `record` periods.
 pub fn identify_rk4(
@@ -130,9 +116,8 @@ pub fn identify_rk4(
     transient: u64,
     record: u64,
 ) -> geardyn_analysis::attractor::IdentifyOptions {
-    let mut identify = geardyn_analysis::attractor::IdentifyOptions::default();
-    identify.sim.method = geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle };
-    identify.sim.transient_periods = transient;
-    identify.sim.record_periods = record;
-    identify
+    geardyn_analysis::attractor::IdentifyOptions {
+        sim: geardyn_analysis::simulate::SimOptions::rk4(steps_per_cycle, transient, record),
+        ..Default::default()
+    }
 }

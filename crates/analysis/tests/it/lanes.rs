@@ -172,14 +172,7 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
         let first = rows.iter().map(|r| r.3).min().unwrap();
         let last = rows.iter().map(|r| r.3).max().unwrap();
         let m = &c1_at(&[w])[0];
-        let opts = SimOptions {
-            method: Method::Rk4 {
-                steps_per_cycle: 512,
-            },
-            transient_periods: first as u64 - 2,
-            record_periods: (last - first) as u64 + 4,
-            ..Default::default()
-        };
+        let opts = SimOptions::rk4(512, first as u64 - 2, (last - first) as u64 + 4);
         let res = simulate_lanes(&[(m, [x0, v0])], &opts).remove(0).unwrap();
         let period = 2.0 * std::f64::consts::PI / w;
         for &&(_, _, _, j, x, v) in &rows {
@@ -212,7 +205,7 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
 fn c1_periodic_orbits_equal_the_scalar_rk4_path() {
     let omegas = [0.5, 0.6, 0.7, 0.8, 0.95, 1.7, 1.8, 1.9, 2.0];
     let models = c1_at(&omegas);
-    let opts = crate::common::rk4(512, 300, 40);
+    let opts = SimOptions::rk4(512, 300, 40);
     let ics = [[0.0, 0.0], [1.3, -0.4], [-1.2, 0.8]];
     let runs = crate::common::runs_from(&models, &ics);
     let lanes = simulate_lanes(&runs, &opts);
@@ -260,7 +253,7 @@ fn breakage_preset_equals_the_scalar_rk4_path() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = crate::common::rk4(64, 40, 8);
+    let opts = SimOptions::rk4(64, 40, 8);
     let runs: Vec<(&MeshModel, [f64; 2])> = models
         .iter()
         .flat_map(|m| [[0.0, 0.0], [0.9, -0.5]].map(move |y| (m, y)))
@@ -293,7 +286,7 @@ fn output_is_the_same_for_any_thread_count() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = crate::common::rk4(128, 30, 10);
+    let opts = SimOptions::rk4(128, 30, 10);
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
     let run = |threads: usize| crate::common::on_threads(threads, || simulate_lanes(&runs, &opts));
     let key = |r: &Vec<Result<SimResult, geardyn_analysis::simulate::SimError>>| {
@@ -459,7 +452,7 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
             param: "omega".into(),
             values: vec![0.6, 0.8, 1.25, 1.9],
             mode: mode.clone(),
-            sim: crate::common::rk4(128, 100, 24),
+            sim: SimOptions::rk4(128, 100, 24),
             y0: [0.0, 0.0],
             sections: vec![Section::Strobe, Section::DsUp],
             lyapunov: false,
@@ -631,7 +624,7 @@ fn map_in_lanes_equals_the_scalar_decisions() {
         x_values: vec![0.7, 1.0, 1.3, 1.8],
         y_param: "F".into(),
         y_values: vec![0.1, 0.15, 0.2],
-        sim: crate::common::rk4(128, 150, 24),
+        sim: SimOptions::rk4(128, 150, 24),
         y0: [0.0, 0.0],
         lyapunov: false,
     };

@@ -203,7 +203,7 @@ impl Family<4> for Amplitude {
 #[test]
 fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
     let values: Vec<f64> = (0..6).map(|i| 0.05 + 0.1 * i as f64).collect();
-    let opts = crate::common::rk4(256, 100, 32);
+    let opts = SimOptions::rk4(256, 100, 32);
     let run = |threads: usize| {
         crate::common::on_threads(threads, || {
             decided_sweep(
