@@ -17,16 +17,20 @@ fn c1(sets: &[(&str, f64)]) -> MeshModel {
     MeshModel::new(&p).unwrap()
 }
 
-#[test]
-fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
-    // C1 at omega = 1.3, F = 0.05: a period-6 orbit that needs ~1000 periods to settle; a
-    // 300-period transient and 50 recorded periods show no period yet
-    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
+/// C1 at omega = 1.3, F = 0.05, a period-6 orbit that needs ~1000 periods to settle, with the
+/// settings of a run that shows no period yet (a 300-period transient, 50 recorded periods).
+fn unsettled_period_6() -> (MeshModel, SimOptions) {
     let opts = SimOptions {
         record_periods: 50,
         ..Default::default()
     };
-    let (_, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    (c1(&[("omega", 1.3), ("F", 0.05)]), opts)
+}
+
+#[test]
+fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
+    let (m, opts) = unsettled_period_6();
+    let (_, s, used) = common::decided(&m, &opts);
     assert_eq!(s.motion, Motion::Periodic { period: 6 }, "{}", s.label);
     assert!(s.label.starts_with("6-"), "{}", s.label);
     assert!(used.transient_periods > opts.transient_periods);
@@ -85,11 +89,7 @@ fn a_chaotic_motion_is_not_given_a_period() {
 #[test]
 fn undecided_without_evidence_is_unsettled_not_chaotic() {
     // with neither extension nor TLE a non-periodic record stays undecided
-    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
-    let opts = SimOptions {
-        record_periods: 50,
-        ..Default::default()
-    };
+    let (m, opts) = unsettled_period_6();
     let none = Decide {
         extend: false,
         lyapunov: false,
@@ -214,7 +214,7 @@ fn deciding_from_a_first_run_equals_deciding_from_scratch() {
             record_periods: 50,
             ..Default::default()
         };
-        let a = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let a = common::decided(&m, &opts);
         let first = simulate(&m, [0.0, 0.0], &opts).unwrap();
         let s = summarize(&m, &first, &opts);
         let b = simulate_decided_from(&m, (first, s), &opts, Decide::default()).unwrap();
@@ -336,7 +336,7 @@ fn a_slowly_converging_period_1_is_not_period_2() {
         transient_periods: 5000,
         ..Default::default()
     };
-    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
+    let (_, s_long, _) = common::decided(&m, &long);
     assert_eq!(s.label, s_long.label);
 }
 
@@ -347,7 +347,7 @@ fn a_record_is_taken_again_until_it_lies_on_the_orbit() {
     // so P_ID and forces mixed approach and orbit
     let m = internal_preset(1.4);
     let opts = common::periods(100, 50);
-    let (res, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&m, &opts);
     assert_eq!(s.period, 3, "{}", s.label);
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
     assert!(geardyn_analysis::period::on_cycle_throughout(
@@ -366,7 +366,7 @@ fn a_periodic_record_holds_whole_orbit_periods() {
     let mut p_ids = Vec::new();
     for (transient, record) in [(300, 100), (100, 50), (2000, 100), (600, 31)] {
         let opts = common::periods(transient, record);
-        let (res, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let (res, s, used) = common::decided(&m, &opts);
         assert_eq!(s.period, 3, "{}", s.label);
         assert_eq!(
             used.record_periods % 3,
@@ -396,7 +396,7 @@ fn the_revolution_and_mesh_cycle_clocks_agree() {
         record_periods: 20,
         ..Default::default()
     };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (_, s, _) = common::decided(&m, &opts);
     let mp = s.mesh_period.expect("a mesh-cycle period");
     let lcm = (1..=mp * cycles)
         .find(|k| k % mp == 0 && k % cycles == 0)
@@ -405,21 +405,26 @@ fn the_revolution_and_mesh_cycle_clocks_agree() {
     assert_eq!(s.period, 3, "{}", s.label);
 }
 
+/// Asserts that the decided runs of `m` from rest with the default settings and with `other`
+/// are both labelled `label`.
+fn assert_labelled_by_default_and_with(m: &MeshModel, other: &SimOptions, label: &str) {
+    let (_, s, _) = common::decided_from_rest(m);
+    let (_, s_other, _) = common::decided(m, other);
+    assert_eq!(s_other.label, label);
+    assert_eq!(s.label, s_other.label);
+}
+
 #[test]
 fn a_slower_approach_to_period_2_is_not_period_4() {
     // internal preset at omega = 0.7: lag-2 differences of 7.7e-6 falling to 2.7e-6 over the
     // record (at the rate of the exponent, -0.00137: a decaying mode, above the period-test
     // tolerance but below ten times it) had read as "period 4: 4-4-0-4-0"; a 3000-period
     // transient gives 2-2-0-2-0 with points equal to 1e-8 (audit, independent run)
-    let m = internal_preset(0.7);
-    let (_, s, _) = common::decided_from_rest(&m);
     let long = SimOptions {
         transient_periods: 3000,
         ..Default::default()
     };
-    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
-    assert_eq!(s_long.label, "2-2-0-2-0");
-    assert_eq!(s.label, s_long.label);
+    assert_labelled_by_default_and_with(&internal_preset(0.7), &long, "2-2-0-2-0");
 }
 
 #[test]
@@ -454,7 +459,7 @@ fn a_record_too_short_for_a_period_is_lengthened_not_called_aperiodic() {
     // is period 1 (1-1-0).
     let m = c1(&[("omega", 0.8)]);
     let short = common::periods(50, 2);
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
+    let (_, s, _) = common::decided(&m, &short);
     let (_, s_ref, _) = common::decided_from_rest(&m);
     assert_eq!(s_ref.motion, Motion::Periodic { period: 1 });
     assert_eq!(s.motion, s_ref.motion, "{}", s.label);
@@ -468,17 +473,13 @@ fn integrator_noise_does_not_double_a_period() {
     // "14-6-0-6-0"; at rtol 1e-12 and with RK4 at 2048 steps per cycle (independent
     // integrations, audit) it is 7-3-0-3-0. (At omega = 0.8667 the slow-approach check already
     // catches it; this value reaches the record-again at the tighter tolerance.)
-    let m = internal_preset(0.866666666667);
-    let (_, s, _) = common::decided_from_rest(&m);
     let rk4 = SimOptions {
         method: geardyn_analysis::simulate::Method::Rk4 {
             steps_per_cycle: 2048,
         },
         ..Default::default()
     };
-    let (_, s_rk4, _) = simulate_decided(&m, [0.0, 0.0], &rk4, Decide::default()).unwrap();
-    assert_eq!(s_rk4.label, "7-3-0-3-0");
-    assert_eq!(s.label, s_rk4.label);
+    assert_labelled_by_default_and_with(&internal_preset(0.866666666667), &rk4, "7-3-0-3-0");
 }
 
 #[test]

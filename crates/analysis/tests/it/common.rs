@@ -26,7 +26,21 @@ pub fn double_well() -> geardyn_analysis::attractor::StrobeOnly<geardyn_model::r
     }
 }
 
-/// The decided run of `model` from rest with the default settings (and the settings it used).
+/// The decided run of `model` from rest with the settings `opts` and the default decision (and
+/// the settings it used).
+pub fn decided(
+    model: &geardyn_model::MeshModel,
+    opts: &geardyn_analysis::simulate::SimOptions,
+) -> (
+    geardyn_analysis::simulate::SimResult<2>,
+    geardyn_analysis::summary::Summary,
+    geardyn_analysis::simulate::SimOptions,
+) {
+    geardyn_analysis::classify::simulate_decided(model, [0.0, 0.0], opts, Default::default())
+        .unwrap()
+}
+
+/// [`decided`] with the default settings.
 pub fn decided_from_rest(
     model: &geardyn_model::MeshModel,
 ) -> (
@@ -34,13 +48,7 @@ pub fn decided_from_rest(
     geardyn_analysis::summary::Summary,
     geardyn_analysis::simulate::SimOptions,
 ) {
-    geardyn_analysis::classify::simulate_decided(
-        model,
-        [0.0, 0.0],
-        &Default::default(),
-        Default::default(),
-    )
-    .unwrap()
+    decided(model, &Default::default())
 }
 
 /// The two-mass toy with its clearances ([`geardyn_model::reference::TwoMassClearance`]) under

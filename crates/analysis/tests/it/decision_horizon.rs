@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
+use geardyn_analysis::classify::{DecidedBy, Motion, DECISION_PERIODS};
 use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
@@ -28,7 +28,7 @@ fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
         method: RK4,
         ..opts
     };
-    let (res, s, _) = simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(omega), &opts);
     assert!(
         res.mesh().max_force > 0.0 && s.max_force > 0.0,
         "{}",
@@ -60,8 +60,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
         follow_steps: 0,
         ..Default::default()
     };
-    let (res_dp5, s_dp5, _) =
-        simulate_decided(sc.model(), [0.0, 0.0], &exact, Decide::default()).unwrap();
+    let (res_dp5, s_dp5, _) = common::decided(sc.model(), &exact);
     assert_eq!(s_dp5.label, s.label);
     assert!(
         s_dp5.periods_integrated > 4_000,
@@ -259,7 +258,7 @@ fn the_follow_decides_chaos_in_a_fraction_of_the_work() {
         method: RK4,
         ..Default::default()
     };
-    let (res, s, _) = simulate_decided(&c1(1.3), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(1.3), &opts);
     assert!(s.motion.is_chaotic() && exact.motion.is_chaotic());
     assert_eq!(s.decided_by, DecidedBy::PersistentChaos);
     assert_eq!(s.periods_integrated, exact.periods_integrated);
@@ -298,8 +297,7 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
     let swept = run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap();
     for (r, &w) in swept.iter().zip(&o.values) {
         let sc = base.with("omega", w).unwrap();
-        let (res, s, _) =
-            simulate_decided(sc.model(), [0.0, 0.0], &o.sim, Decide::default()).unwrap();
+        let (res, s, _) = common::decided(sc.model(), &o.sim);
         assert_eq!(r.runs[0].label, s.label, "omega {w}");
         assert_eq!(r.runs[0].final_state, res.final_state.1, "omega {w}");
     }
@@ -345,7 +343,7 @@ fn a_follow_finer_than_the_run_keeps_the_budget() {
         decision_budget: 50_000_000,
         ..Default::default()
     };
-    let (res, s, _) = simulate_decided(&c1(1.38), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(1.38), &opts);
     assert!(
         res.rhs_evals <= opts.decision_budget + opts.decision_budget / 20,
         "{} evaluations for a budget of {}",
