@@ -10,11 +10,7 @@ use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::{Integrator, Stop};
 
 fn c1(sets: &[(&str, f64)]) -> MeshModel {
-    let mut p = presets::classic();
-    for (k, v) in sets {
-        p.set(k, *v).unwrap();
-    }
-    MeshModel::new(&p).unwrap()
+    common::model(presets::classic(), sets)
 }
 
 /// C1 at omega = 1.3, F = 0.05, a period-6 orbit that needs ~1000 periods to settle, with the

@@ -26,6 +26,23 @@ pub fn double_well() -> geardyn_analysis::attractor::StrobeOnly<geardyn_model::r
     }
 }
 
+/// The parameters `params` with the named parameters `sets` set, in order
+/// ([`geardyn_model::ModelParams::set`]).
+pub fn set(
+    mut params: geardyn_model::ModelParams,
+    sets: &[(&str, f64)],
+) -> geardyn_model::ModelParams {
+    for &(name, value) in sets {
+        params.set(name, value).unwrap();
+    }
+    params
+}
+
+/// The model of `params` with `sets` set ([`set`]).
+pub fn model(params: geardyn_model::ModelParams, sets: &[(&str, f64)]) -> geardyn_model::MeshModel {
+    geardyn_model::MeshModel::new(&set(params, sets)).unwrap()
+}
+
 /// The decided run of `model` from rest with the settings `opts` and the default decision (and
 /// the settings it used).
 pub fn decided(

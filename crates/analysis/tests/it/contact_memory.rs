@@ -7,11 +7,10 @@ use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
 use geardyn_model::{presets, ContactLaw, EventKind, MeshModel, ModelParams};
 
 fn internal_at_issue_point() -> ModelParams {
-    let mut p = presets::internal();
-    p.set("omega", 1.4).unwrap();
-    p.set("xi", 0.09).unwrap();
-    p.set("F", 0.16).unwrap();
-    p
+    common::set(
+        presets::internal(),
+        &[("omega", 1.4), ("xi", 0.09), ("F", 0.16)],
+    )
 }
 
 /// Steady strobe points (the last `n` of the record), label, and whether any contact was
@@ -104,9 +103,7 @@ fn a_continuation_inside_an_impact_keeps_its_hysteresis() {
     // fall inside an impact. A run continued from the final state of another must follow the
     // run integrated in one piece: the hysteresis factor of the impact in progress goes with the
     // state (before, the continuation restarted the contact without it, a jump of ~1e-3)
-    let mut p = presets::internal();
-    p.set("omega", 1.2).unwrap();
-    let m = MeshModel::new(&p).unwrap();
+    let m = common::model(presets::internal(), &[("omega", 1.2)]);
     let whole = common::periods(0, 60);
     let a = simulate(&m, [0.0, 0.0], &whole).unwrap();
     let mut checked = 0;

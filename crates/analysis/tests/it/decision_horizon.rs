@@ -11,9 +11,7 @@ use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
 
 fn c1(omega: f64) -> MeshModel {
-    let mut p = presets::classic();
-    p.set("omega", omega).unwrap();
-    MeshModel::new(&p).unwrap()
+    common::model(presets::classic(), &[("omega", omega)])
 }
 
 const RK4: Method = Method::Rk4 {

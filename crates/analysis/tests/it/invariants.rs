@@ -9,11 +9,10 @@ use geardyn_solvers::SolverError;
 fn divergent_impacting_run_stops_with_an_error_instead_of_crossing_the_stop() {
     // `simulate --preset breakage --set R=1 --set v_stick=0 --set xi=50 --periods 6
     // --transient 0` used to exit 0 with impacts at x = -1.4e28 (stop at -1)
-    let mut p = presets::breakage();
-    p.set("R", 1.0).unwrap();
-    p.set("v_stick", 0.0).unwrap();
-    p.set("xi", 50.0).unwrap();
-    let m = MeshModel::new(&p).unwrap();
+    let m = common::model(
+        presets::breakage(),
+        &[("R", 1.0), ("v_stick", 0.0), ("xi", 50.0)],
+    );
     let opts = common::periods(0, 6);
     match simulate(&m, [0.0, 0.0], &opts) {
         Err(SimError::Solver(SolverError::NonFinite { .. })) => {}

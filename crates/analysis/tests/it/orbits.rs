@@ -25,11 +25,10 @@ fn settled(m: &MeshModel) -> [f64; 2] {
 
 /// C1 with constant stiffness (kappa = 0) and load `f`.
 fn linear(omega: f64, f: f64) -> ModelParams {
-    let mut p = presets::classic();
-    p.set("kappa", 0.0).unwrap();
-    p.set("F", f).unwrap();
-    p.set("omega", omega).unwrap();
-    p
+    common::set(
+        presets::classic(),
+        &[("kappa", 0.0), ("F", f), ("omega", omega)],
+    )
 }
 
 /// Steady state of `x'' + c x' + (x - D) = F + xi w^2 cos(w t)` at `t = 0` (permanent drive
@@ -84,9 +83,7 @@ fn multipliers_of_a_linear_orbit_in_permanent_contact_have_modulus_exp_minus_c_p
 #[test]
 fn the_monodromy_matrix_equals_a_finite_difference_jacobian_of_the_map() {
     // C1 at omega = 0.8: a period-1 orbit with contact loss and re-entry (saltation at both)
-    let mut p = presets::classic();
-    p.set("omega", 0.8).unwrap();
-    let m = MeshModel::new(&p).unwrap();
+    let m = common::model(presets::classic(), &[("omega", 0.8)]);
     let o = find_orbit(&m, settled(&m), &OrbitOptions::default()).unwrap();
     assert!(o.events.len() >= 2, "{:?}", o.events);
     let opts = OrbitOptions::default();
