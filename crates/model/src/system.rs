@@ -164,7 +164,7 @@ pub trait GearSystem<const N: usize>: Variational<N> + Clone + Sync {
 }
 
 impl<S: GearSystem<N>, const N: usize> GearSystem<N> for &S {
-    geardyn_solvers::forward_to_referent! {
+    geardyn_solvers::forward_methods! { to referent;
         fn mesh_count(&self) -> usize;
         fn mesh_name(&self, k: usize) -> String;
         fn excitation_period(&self) -> f64;

@@ -308,7 +308,7 @@ macro_rules! one_mode_system {
 impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
     type Mode = S::Mode;
     type TimeTerms = S::TimeTerms;
-    crate::forward_to_referent! {
+    crate::forward_methods! { to referent;
         fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode;
         fn time_terms(&self, t: f64) -> S::TimeTerms;
         fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, dy: &mut [f64; N]);

@@ -170,7 +170,7 @@ pub fn memory_saltation<const N: usize>(
 
 /// A shared reference to a linearisable system is linearisable.
 impl<S: Variational<N>, const N: usize> Variational<N> for &S {
-    crate::forward_to_referent! {
+    crate::forward_methods! { to referent;
         fn jacobian(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, jac: &mut [[f64; N]; N]);
         fn guard_gradient(&self, t: f64, y: &[f64; N], mode: &S::Mode, index: usize) -> ([f64; N], f64);
         fn reset_jacobian(&self, t: f64, y: &[f64; N], mode: &S::Mode, index: usize) -> [[f64; N]; N];
