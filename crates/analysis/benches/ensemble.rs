@@ -7,7 +7,7 @@
 
 use geardyn_analysis::driver::{run_periods, Discard};
 use geardyn_analysis::lanes::simulate_lanes;
-use geardyn_analysis::simulate::{Method, SimOptions};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::{presets, ContactState, MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::Lockstep;
 use geardyn_solvers::{Integrator, Scheme};
@@ -117,14 +117,7 @@ fn main() {
     // the engine: 16 trajectories, 400 periods (300 + 100 recorded), one thread
     let ics: Vec<[f64; 2]> = (0..16).map(|i| [-1.0 + 0.1 * i as f64, 0.0]).collect();
     let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&m, y)).collect();
-    let opts = SimOptions {
-        method: Method::Rk4 {
-            steps_per_cycle: 512,
-        },
-        transient_periods: 300,
-        record_periods: 100,
-        ..Default::default()
-    };
+    let opts = SimOptions::rk4(512, 300, 100);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()

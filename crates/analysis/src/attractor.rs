@@ -38,7 +38,7 @@ use crate::engine::Engine;
 use crate::period::minimal_period;
 use crate::simulate::{simulate, summarize, SimError, SimOptions};
 use geardyn_model::MeshModel;
-use geardyn_solvers::{HybridSystem, Integrator, Scheme};
+use geardyn_solvers::{EventAction, Guards, HybridSystem, Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// A system whose attractors can be identified: an `N`-dimensional [`HybridSystem`] with a
@@ -165,38 +165,16 @@ pub struct StrobeOnly<S> {
 impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for StrobeOnly<S> {
     type Mode = S::Mode;
     type TimeTerms = S::TimeTerms;
-    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode {
-        self.sys.initial_mode(t, y)
-    }
-    fn time_terms(&self, t: f64) -> S::TimeTerms {
-        self.sys.time_terms(t)
-    }
-    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], m: &S::Mode, dy: &mut [f64; N]) {
-        self.sys.rhs(t, tt, y, m, dy)
-    }
-    fn guards(&self, t: f64, y: &[f64; N], m: &S::Mode, g: &mut geardyn_solvers::Guards) {
-        self.sys.guards(t, y, m, g)
-    }
-    fn on_event(
-        &self,
-        t: f64,
-        y: &mut [f64; N],
-        m: &mut S::Mode,
-        i: usize,
-    ) -> geardyn_solvers::EventAction {
-        self.sys.on_event(t, y, m, i)
-    }
-    fn next_breakpoint(&self, t: f64, m: &S::Mode) -> f64 {
-        self.sys.next_breakpoint(t, m)
-    }
-    fn on_breakpoint(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode) {
-        self.sys.on_breakpoint(t, y, m)
-    }
-    fn max_step(&self) -> f64 {
-        self.sys.max_step()
-    }
-    fn guard_lipschitz(&self, m: &S::Mode) -> Option<f64> {
-        self.sys.guard_lipschitz(m)
+    geardyn_solvers::forward_methods! { to field sys;
+        fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode;
+        fn time_terms(&self, t: f64) -> S::TimeTerms;
+        fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], m: &S::Mode, dy: &mut [f64; N]);
+        fn guards(&self, t: f64, y: &[f64; N], m: &S::Mode, g: &mut Guards);
+        fn on_event(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode, i: usize) -> EventAction;
+        fn next_breakpoint(&self, t: f64, m: &S::Mode) -> f64;
+        fn on_breakpoint(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode);
+        fn max_step(&self) -> f64;
+        fn guard_lipschitz(&self, m: &S::Mode) -> Option<f64>;
     }
 }
 

@@ -233,19 +233,8 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geardyn_solvers::HybridSystem;
+    use crate::lyapunov::tests::Doomed;
 
-    /// Uniform motion that blows up half a time unit into the run.
-    struct Doomed;
-    impl HybridSystem<1> for Doomed {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, t: f64, _tt: &(), _y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
-            dy[0] = if t < 0.5 { 1.0 } else { f64::NAN };
-        }
-    }
     struct Fam;
     impl Family<1> for Fam {
         type System = Doomed;

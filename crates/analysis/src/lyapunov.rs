@@ -656,23 +656,18 @@ where
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use geardyn_solvers::SolverError;
 
-    /// Uniform motion that blows up half a time unit into the run.
+    /// Uniform motion that blows up half a time unit into the run (also for the tests of
+    /// [`crate::generic`]).
     #[derive(Clone)]
-    struct Doomed;
+    pub(crate) struct Doomed;
 
-    impl HybridSystem<1> for Doomed {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, t: f64, _tt: &(), _y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
-            dy[0] = if t < 0.5 { 1.0 } else { f64::NAN };
-        }
-    }
+    geardyn_solvers::one_mode_system!(Doomed, 1, |_, t, _y, dy| {
+        dy[0] = if t < 0.5 { 1.0 } else { f64::NAN };
+    });
 
     impl Variational<1> for Doomed {
         fn jacobian(&self, _t: f64, _tt: &(), _y: &[f64; 1], _m: &(), jac: &mut [[f64; 1]; 1]) {

@@ -212,8 +212,8 @@ fn model_at(base: &Scenario, o: &MapOptions, x: f64, y: f64) -> Result<MeshModel
 }
 
 /// Checks the axes ([`MapOptions::check_axes`]) and the parameter values along both, before any
-/// work.
-fn check_map(base: &Scenario, o: &MapOptions) -> Result<(), MapError> {
+/// work; the number of cells of the map.
+fn check_map(base: &Scenario, o: &MapOptions) -> Result<usize, MapError> {
     o.check_axes()?;
     for &x in &o.x_values {
         model_at(base, o, x, o.y_values[0])?;
@@ -221,7 +221,7 @@ fn check_map(base: &Scenario, o: &MapOptions) -> Result<(), MapError> {
     for &y in &o.y_values {
         model_at(base, o, o.x_values[0], y)?;
     }
-    Ok(())
+    Ok(o.x_values.len() * o.y_values.len())
 }
 
 /// Computes the map. The axes ([`MapOptions::check_axes`]) and the parameter values along both
@@ -236,10 +236,9 @@ pub fn map2d<F>(
 where
     F: Fn(&MapCell) + Sync,
 {
-    check_map(base, o)?;
     let total = o.x_values.len() * o.y_values.len();
     let todo: Vec<usize> = (0..total).filter(|i| !done.contains_key(i)).collect();
-    let mut fresh = map_cells(base, o, &todo, &on_done).into_iter();
+    let mut fresh = map2d_cells(base, o, &todo, on_done)?.into_iter();
     let cells = (0..total)
         .map(|i| match done.get(&i) {
             Some(c) => c.clone(),
@@ -262,8 +261,7 @@ pub fn map2d_cells<F>(
 where
     F: Fn(&MapCell) + Sync,
 {
-    check_map(base, o)?;
-    let total = o.x_values.len() * o.y_values.len();
+    let total = check_map(base, o)?;
     if let Some(&i) = indices.iter().find(|&&i| i >= total) {
         return Err(MapError::Axes(format!(
             "cell {i} is outside the map of {total} cells"

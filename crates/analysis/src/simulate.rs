@@ -146,6 +146,19 @@ fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
 
+impl SimOptions {
+    /// The default settings but fixed-step RK4 of `steps_per_cycle` steps per mesh cycle,
+    /// `transient` then `record` periods.
+    pub fn rk4(steps_per_cycle: u32, transient: u64, record: u64) -> Self {
+        SimOptions {
+            method: Method::Rk4 { steps_per_cycle },
+            transient_periods: transient,
+            record_periods: record,
+            ..Default::default()
+        }
+    }
+}
+
 impl Default for SimOptions {
     fn default() -> Self {
         SimOptions {

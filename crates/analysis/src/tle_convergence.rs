@@ -132,16 +132,19 @@ mod tests {
             periods: 0,
             d0: 1e-8,
         };
-        let c = tle_converged(
-            sys,
-            Scheme::dopri_default(),
-            0.0,
-            [1.0, 0.0],
-            &opts,
-            &Convergence::default(),
-            |_| {},
-        )
-        .unwrap();
+        let converged = |conv: &Convergence| {
+            tle_converged(
+                sys,
+                Scheme::dopri_default(),
+                0.0,
+                [1.0, 0.0],
+                &opts,
+                conv,
+                |_| {},
+            )
+            .unwrap()
+        };
+        let c = converged(&Convergence::default());
         assert!(c.converged);
         assert!((c.result.tle + 0.1).abs() < 5e-4, "{}", c.result.tle);
         // a cap below the first run's length is the longest run made
@@ -151,16 +154,7 @@ mod tests {
             rel_tol: 0.0,
             ..Default::default()
         };
-        let c = tle_converged(
-            sys,
-            Scheme::dopri_default(),
-            0.0,
-            [1.0, 0.0],
-            &opts,
-            &capped,
-            |_| {},
-        )
-        .unwrap();
+        let c = converged(&capped);
         assert_eq!(c.rounds.iter().map(|r| r.periods).max(), Some(50));
     }
 }

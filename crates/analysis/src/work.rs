@@ -59,14 +59,7 @@ mod tests {
     #[test]
     fn the_product_of_legal_knobs_is_capped_and_the_message_names_the_flag() {
         let model = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
-        let opts = SimOptions {
-            method: Method::Rk4 {
-                steps_per_cycle: 1_000_000,
-            },
-            transient_periods: 0,
-            record_periods: 1_000_000,
-            ..Default::default()
-        };
+        let opts = SimOptions::rk4(1_000_000, 0, 1_000_000);
         // 4 evaluations x 1e6 steps x 1e6 periods
         let w = per_run(&model, &opts, false);
         assert_eq!(w, 4e12);

@@ -274,11 +274,12 @@ impl ContactLaw {
         )
     }
 
-    /// Checks the parameters; `Err((field, allowed))` names the offending field.
-    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
-        match *self {
-            ContactLaw::Linear => Ok(()),
-            ContactLaw::Power { exponent } => check_exp(exponent),
+    /// The law's parameters `(exponent, restitution)`, each `None` where the law has none
+    /// (the linear law has neither, the power law no restitution).
+    pub fn parameters_mut(&mut self) -> (Option<&mut f64>, Option<&mut f64>) {
+        match self {
+            ContactLaw::Linear => (None, None),
+            ContactLaw::Power { exponent } => (Some(exponent), None),
             ContactLaw::HuntCrossley {
                 exponent,
                 restitution,
@@ -286,26 +287,34 @@ impl ContactLaw {
             | ContactLaw::LankaraniNikravesh {
                 exponent,
                 restitution,
-            } => {
-                check_exp(exponent)?;
-                if !(0.0..=1.0).contains(&restitution) {
-                    return Err(("contact.restitution", restitution, "[0, 1]"));
-                }
-                Ok(())
             }
-            ContactLaw::ImpactDamping {
+            | ContactLaw::ImpactDamping {
                 exponent,
                 restitution,
-            } => {
-                check_exp(exponent)?;
-                // its damping factor 3(1-e)/(2e) grows without bound as e -> 0: the run turns
-                // stiff (minutes for e = 1e-4) and leaves the law's low-dissipation derivation
-                if !(IMPACT_DAMPING_MIN_RESTITUTION..=1.0).contains(&restitution) {
-                    return Err(("contact.restitution", restitution, "[0.1, 1]"));
-                }
-                Ok(())
-            }
+            } => (Some(exponent), Some(restitution)),
         }
+    }
+
+    /// Checks the parameters; `Err((field, allowed))` names the offending field.
+    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+        let mut law = *self;
+        let (exponent, restitution) = law.parameters_mut();
+        if let Some(&mut exponent) = exponent {
+            check_exp(exponent)?;
+        }
+        let Some(&mut restitution) = restitution else {
+            return Ok(());
+        };
+        // the impact-damping factor 3(1-e)/(2e) grows without bound as e -> 0: the run turns
+        // stiff (minutes for e = 1e-4) and leaves the law's low-dissipation derivation
+        let (least, allowed) = match self {
+            ContactLaw::ImpactDamping { .. } => (IMPACT_DAMPING_MIN_RESTITUTION, "[0.1, 1]"),
+            _ => (0.0, "[0, 1]"),
+        };
+        if !(least..=1.0).contains(&restitution) {
+            return Err(("contact.restitution", restitution, allowed));
+        }
+        Ok(())
     }
 }
 

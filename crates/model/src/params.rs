@@ -248,35 +248,13 @@ impl ModelParams {
                 }
                 _ => return Err(unknown("needs stiffness.form = \"rectangular\"")),
             },
-            "exponent" | "restitution" => match &mut self.contact {
-                ContactLaw::Linear => {
+            "exponent" | "restitution" => match (self.contact.parameters_mut(), name) {
+                ((Some(exponent), _), "exponent") => exponent,
+                ((_, Some(restitution)), "restitution") => restitution,
+                ((None, _), _) => {
                     return Err(unknown("contact.law = \"linear\" has no such parameter"))
                 }
-                ContactLaw::Power { exponent } => {
-                    if name == "exponent" {
-                        exponent
-                    } else {
-                        return Err(unknown("contact.law = \"power\" has no restitution"));
-                    }
-                }
-                ContactLaw::HuntCrossley {
-                    exponent,
-                    restitution,
-                }
-                | ContactLaw::LankaraniNikravesh {
-                    exponent,
-                    restitution,
-                }
-                | ContactLaw::ImpactDamping {
-                    exponent,
-                    restitution,
-                } => {
-                    if name == "exponent" {
-                        exponent
-                    } else {
-                        restitution
-                    }
-                }
+                _ => return Err(unknown("contact.law = \"power\" has no restitution")),
             },
             "R" | "v_stick" | "k_c" => match &mut self.back_side {
                 BackSide::Impact(law) => match name {

@@ -56,17 +56,11 @@ impl Default for Lorenz {
     }
 }
 
-impl HybridSystem<3> for Lorenz {
-    type Mode = ();
-    type TimeTerms = ();
-    fn initial_mode(&self, _t: f64, _y: &mut [f64; 3]) {}
-    fn time_terms(&self, _t: f64) {}
-    fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 3], _m: &(), dy: &mut [f64; 3]) {
-        dy[0] = self.sigma * (y[1] - y[0]);
-        dy[1] = y[0] * (self.rho - y[2]) - y[1];
-        dy[2] = y[0] * y[1] - self.beta * y[2];
-    }
-}
+geardyn_solvers::one_mode_system!(Lorenz, 3, |this, _t, y, dy| {
+    dy[0] = this.sigma * (y[1] - y[0]);
+    dy[1] = y[0] * (this.rho - y[2]) - y[1];
+    dy[2] = y[0] * y[1] - this.beta * y[2];
+});
 
 /// Harmonically forced linear oscillator with a rigid stop at `x = -gap` and restitution `r`:
 /// `x'' + 2 zeta x' + x = a cos(omega t)` for `x > -gap`, `x'+ = -r x'-` at the stop.

@@ -164,50 +164,20 @@ pub trait GearSystem<const N: usize>: Variational<N> + Clone + Sync {
 }
 
 impl<S: GearSystem<N>, const N: usize> GearSystem<N> for &S {
-    fn mesh_count(&self) -> usize {
-        (**self).mesh_count()
-    }
-    fn mesh_name(&self, k: usize) -> String {
-        (**self).mesh_name(k)
-    }
-    fn excitation_period(&self) -> f64 {
-        (**self).excitation_period()
-    }
-    fn cycles_per_period(&self) -> u32 {
-        (**self).cycles_per_period()
-    }
-    fn mesh_cycle_time(&self) -> f64 {
-        (**self).mesh_cycle_time()
-    }
-    fn cycle_position(&self, t: f64) -> f64 {
-        (**self).cycle_position(t)
-    }
-    fn natural_period(&self) -> f64 {
-        (**self).natural_period()
-    }
-    #[inline(always)]
-    fn mesh_state(&self, y: &[f64; N], k: usize) -> [f64; 2] {
-        (**self).mesh_state(y, k)
-    }
-    #[inline(always)]
-    fn mesh_force(&self, t: f64, y: &[f64; N], mode: &S::Mode, k: usize) -> f64 {
-        (**self).mesh_force(t, y, mode, k)
-    }
-    #[inline(always)]
-    fn contact(&self, mode: &S::Mode, k: usize) -> ContactState {
-        (**self).contact(mode, k)
-    }
-    fn backlash_levels(&self, k: usize) -> (f64, f64) {
-        (**self).backlash_levels(k)
-    }
-    fn event(&self, before: &S::Mode, after: &S::Mode, index: usize) -> (usize, EventKind) {
-        (**self).event(before, after, index)
-    }
-    fn impact_peak_force(&self, k: usize, v: f64) -> f64 {
-        (**self).impact_peak_force(k, v)
-    }
-    #[inline(always)]
-    fn segment(&self, mode: &S::Mode) -> u32 {
-        (**self).segment(mode)
+    geardyn_solvers::forward_methods! { to referent;
+        fn mesh_count(&self) -> usize;
+        fn mesh_name(&self, k: usize) -> String;
+        fn excitation_period(&self) -> f64;
+        fn cycles_per_period(&self) -> u32;
+        fn mesh_cycle_time(&self) -> f64;
+        fn cycle_position(&self, t: f64) -> f64;
+        fn natural_period(&self) -> f64;
+        fn mesh_state(&self, y: &[f64; N], k: usize) -> [f64; 2];
+        fn mesh_force(&self, t: f64, y: &[f64; N], mode: &S::Mode, k: usize) -> f64;
+        fn contact(&self, mode: &S::Mode, k: usize) -> ContactState;
+        fn backlash_levels(&self, k: usize) -> (f64, f64);
+        fn event(&self, before: &S::Mode, after: &S::Mode, index: usize) -> (usize, EventKind);
+        fn impact_peak_force(&self, k: usize, v: f64) -> f64;
+        fn segment(&self, mode: &S::Mode) -> u32;
     }
 }

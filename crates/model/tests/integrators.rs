@@ -8,20 +8,12 @@ struct Capped<S>(S, f64);
 impl<S: HybridSystem<2>> HybridSystem<2> for Capped<S> {
     type Mode = S::Mode;
     type TimeTerms = S::TimeTerms;
-    fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> S::Mode {
-        self.0.initial_mode(t, y)
-    }
-    fn time_terms(&self, t: f64) -> S::TimeTerms {
-        self.0.time_terms(t)
-    }
-    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; 2], m: &S::Mode, dy: &mut [f64; 2]) {
-        self.0.rhs(t, tt, y, m, dy)
-    }
-    fn guards(&self, t: f64, y: &[f64; 2], m: &S::Mode, g: &mut Guards) {
-        self.0.guards(t, y, m, g)
-    }
-    fn on_event(&self, t: f64, y: &mut [f64; 2], m: &mut S::Mode, i: usize) -> EventAction {
-        self.0.on_event(t, y, m, i)
+    geardyn_solvers::forward_methods! { to field 0;
+        fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> S::Mode;
+        fn time_terms(&self, t: f64) -> S::TimeTerms;
+        fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; 2], m: &S::Mode, dy: &mut [f64; 2]);
+        fn guards(&self, t: f64, y: &[f64; 2], m: &S::Mode, g: &mut Guards);
+        fn on_event(&self, t: f64, y: &mut [f64; 2], m: &mut S::Mode, i: usize) -> EventAction;
     }
     fn max_step(&self) -> f64 {
         self.1
@@ -232,12 +224,7 @@ fn event_and_breakpoint_at_the_same_instant() {
 fn zeno_sequence_is_reported_not_hung() {
     // a bouncing ball with restitution 0.5 and no sticking rule: impacts accumulate at t = 3 g^-1 ...
     struct Ball;
-    impl HybridSystem<2> for Ball {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 2]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, _t: f64, _: &(), y: &[f64; 2], _m: &(), dy: &mut [f64; 2]) {
+    geardyn_solvers::one_mode_system! { Ball, 2, |_, _t, y, dy| {
             *dy = [y[1], -1.0];
         }
         fn guards(&self, _t: f64, y: &[f64; 2], _m: &(), g: &mut Guards) {

@@ -267,18 +267,13 @@ fn internal_pair_builds_and_is_stiffer_per_pair_than_external() {
     e.kind = PairKind::External;
     e.z2 = 30;
     let me = e.build().unwrap();
-    let single_i = m
-        .rows
-        .iter()
-        .filter(|r| r.single)
-        .map(|r| r.k_mesh)
-        .fold(0.0, f64::max);
-    let single_e = me
-        .rows
-        .iter()
-        .filter(|r| r.single)
-        .map(|r| r.k_mesh)
-        .fold(0.0, f64::max);
+    let stiffest_single = |rows: &[geardyn_physics::pair::StiffnessRow]| {
+        rows.iter()
+            .filter(|r| r.single)
+            .map(|r| r.k_mesh)
+            .fold(0.0, f64::max)
+    };
+    let (single_i, single_e) = (stiffest_single(&m.rows), stiffest_single(&me.rows));
     assert!(single_i > single_e, "{single_i} vs {single_e}");
 }
 

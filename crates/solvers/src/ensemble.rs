@@ -53,7 +53,7 @@ mod dispatch;
 mod engine;
 mod kernel;
 
-pub use dispatch::{dispatch_path, run_lanes, run_lanes_baseline, run_lanes_on, Dispatch};
+pub use dispatch::{dispatch_path, run_lanes, run_lanes_on, Dispatch};
 pub use kernel::{combine, compose_step, fractions, rk4_lanes, stage_point, LaneKernel, CHUNK};
 
 use crate::dense::Step;

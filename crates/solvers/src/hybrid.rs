@@ -271,61 +271,56 @@ pub trait HybridSystem<const N: usize> {
     }
 }
 
+/// Implements [`HybridSystem`] for a system of one mode and no time terms (`Mode = ()`,
+/// `TimeTerms = ()`): the field `dy = f(t, y)` written as `|this, t, y, dy| { ... }` (`this` for
+/// `self`), then any further methods of the trait (guards and events, say).
+///
+/// ```
+/// use geardyn_solvers::{one_mode_system, Integrator, Scheme, Stop};
+/// struct Decay(f64);
+/// one_mode_system!(Decay, 1, |this, _t, y, dy| {
+///     dy[0] = -this.0 * y[0];
+/// });
+/// let mut it = Integrator::new(Decay(1.0), Scheme::dopri_default(), 0.0, [1.0]).unwrap();
+/// while it.step(1.0).unwrap() != Stop::Tstop {}
+/// assert!((it.y()[0] - (-1.0f64).exp()).abs() < 1e-6);
+/// ```
+#[macro_export]
+macro_rules! one_mode_system {
+    ($ty:ty, $n:literal, |$this:pat_param, $t:pat_param, $y:pat_param, $dy:ident| $field:block
+     $($more:tt)*) => {
+        impl $crate::HybridSystem<$n> for $ty {
+            type Mode = ();
+            type TimeTerms = ();
+            fn initial_mode(&self, _t: f64, _y: &mut [f64; $n]) {}
+            fn time_terms(&self, _t: f64) {}
+            fn rhs(&self, $t: f64, _tt: &(), $y: &[f64; $n], _m: &(), $dy: &mut [f64; $n]) {
+                let $this = self;
+                $field
+            }
+            $($more)*
+        }
+    };
+}
+
 /// A shared reference to a system is a system: many integrators (one per basin cell, say) can
 /// borrow one model instead of cloning its tables.
 impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
     type Mode = S::Mode;
     type TimeTerms = S::TimeTerms;
-    #[inline(always)]
-    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode {
-        (**self).initial_mode(t, y)
-    }
-    #[inline(always)]
-    fn time_terms(&self, t: f64) -> S::TimeTerms {
-        (**self).time_terms(t)
-    }
-    #[inline(always)]
-    fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, dy: &mut [f64; N]) {
-        (**self).rhs(t, tt, y, mode, dy)
-    }
-    #[inline(always)]
-    fn guards(&self, t: f64, y: &[f64; N], mode: &S::Mode, g: &mut Guards) {
-        (**self).guards(t, y, mode, g)
-    }
-    #[inline(always)]
-    fn on_event(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> EventAction {
-        (**self).on_event(t, y, mode, index)
-    }
-    #[inline(always)]
-    fn next_breakpoint(&self, t: f64, mode: &S::Mode) -> f64 {
-        (**self).next_breakpoint(t, mode)
-    }
-    #[inline(always)]
-    fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode) {
-        (**self).on_breakpoint(t, y, mode)
-    }
-    #[inline(always)]
-    fn max_step(&self) -> f64 {
-        (**self).max_step()
-    }
-    #[inline(always)]
-    fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64> {
-        (**self).guard_lipschitz(mode)
-    }
-    #[inline(always)]
-    fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool {
-        (**self).zeno_fallback(t, y, mode, index)
-    }
-    #[inline(always)]
-    fn memory(&self, mode: &S::Mode) -> f64 {
-        (**self).memory(mode)
-    }
-    #[inline(always)]
-    fn with_memory(&self, mode: &S::Mode, p: f64) -> S::Mode {
-        (**self).with_memory(mode, p)
-    }
-    #[inline(always)]
-    fn same_regime(&self, a: &S::Mode, b: &S::Mode) -> bool {
-        (**self).same_regime(a, b)
+    crate::forward_methods! { to referent;
+        fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> S::Mode;
+        fn time_terms(&self, t: f64) -> S::TimeTerms;
+        fn rhs(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, dy: &mut [f64; N]);
+        fn guards(&self, t: f64, y: &[f64; N], mode: &S::Mode, g: &mut Guards);
+        fn on_event(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> EventAction;
+        fn next_breakpoint(&self, t: f64, mode: &S::Mode) -> f64;
+        fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode);
+        fn max_step(&self) -> f64;
+        fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64>;
+        fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool;
+        fn memory(&self, mode: &S::Mode) -> f64;
+        fn with_memory(&self, mode: &S::Mode, p: f64) -> S::Mode;
+        fn same_regime(&self, a: &S::Mode, b: &S::Mode) -> bool;
     }
 }

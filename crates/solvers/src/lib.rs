@@ -5,6 +5,8 @@
 //! * [`Integrator`]: adaptive Dormand–Prince 5(4) or fixed-step RK4 ([`Scheme`]), stepping exactly
 //!   onto breakpoints and locating state events on the dense output; [`Integrator::step`] returns
 //!   why it stopped ([`Stop`]).
+//! * [`forward_methods!`]: the body of an `impl Trait for &S` that forwards to `S` (or of a
+//!   wrapper that forwards to the value it wraps).
 //! * [`ensemble`]: the lockstep ensemble RK4 engine (`L` trajectories in structure-of-arrays
 //!   lanes, events finished by the scalar integrator), for sweeps and basins.
 //!
@@ -16,6 +18,7 @@
 pub mod cancel;
 pub mod dense;
 pub mod ensemble;
+pub mod forward;
 pub mod hybrid;
 pub mod integrator;
 pub mod rk4;

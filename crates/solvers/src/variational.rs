@@ -170,51 +170,13 @@ pub fn memory_saltation<const N: usize>(
 
 /// A shared reference to a linearisable system is linearisable.
 impl<S: Variational<N>, const N: usize> Variational<N> for &S {
-    fn jacobian(
-        &self,
-        t: f64,
-        tt: &Self::TimeTerms,
-        y: &[f64; N],
-        mode: &Self::Mode,
-        jac: &mut [[f64; N]; N],
-    ) {
-        (**self).jacobian(t, tt, y, mode, jac)
-    }
-    fn guard_gradient(
-        &self,
-        t: f64,
-        y: &[f64; N],
-        mode: &Self::Mode,
-        index: usize,
-    ) -> ([f64; N], f64) {
-        (**self).guard_gradient(t, y, mode, index)
-    }
-    fn reset_jacobian(
-        &self,
-        t: f64,
-        y: &[f64; N],
-        mode: &Self::Mode,
-        index: usize,
-    ) -> [[f64; N]; N] {
-        (**self).reset_jacobian(t, y, mode, index)
-    }
-    fn memory_slope(
-        &self,
-        t: f64,
-        tt: &Self::TimeTerms,
-        y: &[f64; N],
-        mode: &Self::Mode,
-    ) -> [f64; N] {
-        (**self).memory_slope(t, tt, y, mode)
-    }
-    fn memory_reset(
-        &self,
-        t: f64,
-        y: &[f64; N],
-        before: &Self::Mode,
-        after: &Self::Mode,
-        index: Option<usize>,
-    ) -> ([f64; N], f64) {
-        (**self).memory_reset(t, y, before, after, index)
+    crate::forward_methods! { to referent;
+        fn jacobian(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode, jac: &mut [[f64; N]; N]);
+        fn guard_gradient(&self, t: f64, y: &[f64; N], mode: &S::Mode, index: usize) -> ([f64; N], f64);
+        fn reset_jacobian(&self, t: f64, y: &[f64; N], mode: &S::Mode, index: usize) -> [[f64; N]; N];
+        fn memory_slope(&self, t: f64, tt: &S::TimeTerms, y: &[f64; N], mode: &S::Mode) -> [f64; N];
+        fn memory_reset(
+            &self, t: f64, y: &[f64; N], before: &S::Mode, after: &S::Mode, index: Option<usize>,
+        ) -> ([f64; N], f64);
     }
 }

@@ -190,12 +190,7 @@ struct Osc {
     max_step: f64,
 }
 
-impl HybridSystem<2> for Osc {
-    type Mode = ();
-    type TimeTerms = ();
-    fn initial_mode(&self, _t: f64, _y: &mut [f64; 2]) {}
-    fn time_terms(&self, _t: f64) {}
-    fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 2], _m: &(), dy: &mut [f64; 2]) {
+geardyn_solvers::one_mode_system! { Osc, 2, |_, _t, y, dy| {
         *dy = [y[1], -y[0]];
     }
     fn max_step(&self) -> f64 {

@@ -1,10 +1,10 @@
 //! Sweeps: determinism across thread counts, resumption, hysteresis versus coexistence.
 
+use crate::common;
 use crate::common::on_threads;
 use geardyn_analysis::bifurcation::{
     detect_jumps, linspace, run_sweep, Section, SweepMode, SweepOptions, Task, TaskResult,
 };
-use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::presets;
 use std::collections::HashMap;
 
@@ -13,11 +13,7 @@ fn opts(values: Vec<f64>, mode: SweepMode) -> SweepOptions {
         param: "omega".into(),
         values,
         mode,
-        sim: SimOptions {
-            transient_periods: 300,
-            record_periods: 40,
-            ..Default::default()
-        },
+        sim: common::periods(300, 40),
         y0: [0.0, 0.0],
         sections: vec![Section::Strobe, Section::DsUp, Section::DsDown],
         lyapunov: false,

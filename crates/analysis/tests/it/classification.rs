@@ -1,6 +1,7 @@
 //! Decided classification: a slow periodic transient is not chaos, chaos is not given a period,
 //! and the default Lyapunov run converges to the Floquet value of a periodic orbit.
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, simulate_decided_from, Decide, Motion};
 use geardyn_analysis::lyapunov::LyapunovOptions;
 use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
@@ -9,23 +10,23 @@ use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::{Integrator, Stop};
 
 fn c1(sets: &[(&str, f64)]) -> MeshModel {
-    let mut p = presets::classic();
-    for (k, v) in sets {
-        p.set(k, *v).unwrap();
-    }
-    MeshModel::new(&p).unwrap()
+    common::model(presets::classic(), sets)
 }
 
-#[test]
-fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
-    // C1 at omega = 1.3, F = 0.05: a period-6 orbit that needs ~1000 periods to settle; a
-    // 300-period transient and 50 recorded periods show no period yet
-    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
+/// C1 at omega = 1.3, F = 0.05, a period-6 orbit that needs ~1000 periods to settle, with the
+/// settings of a run that shows no period yet (a 300-period transient, 50 recorded periods).
+fn unsettled_period_6() -> (MeshModel, SimOptions) {
     let opts = SimOptions {
         record_periods: 50,
         ..Default::default()
     };
-    let (_, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    (c1(&[("omega", 1.3), ("F", 0.05)]), opts)
+}
+
+#[test]
+fn a_slowly_settling_periodic_orbit_gets_its_period_with_default_options() {
+    let (m, opts) = unsettled_period_6();
+    let (_, s, used) = common::decided(&m, &opts);
     assert_eq!(s.motion, Motion::Periodic { period: 6 }, "{}", s.label);
     assert!(s.label.starts_with("6-"), "{}", s.label);
     assert!(used.transient_periods > opts.transient_periods);
@@ -38,8 +39,7 @@ fn weak_chaos_is_chaotic_not_unsettled() {
     // 0.0166 +- 0.0003 by both methods (`geardyn lyapunov --transient 20000`); the last look over
     // TLE_LONG_PERIODS decides it (it had been `unsettled`)
     let m = c1(&[("omega", 1.40452261307)]);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     match s.motion {
         Motion::Chaotic { tle, stderr } => {
             assert!(
@@ -57,8 +57,7 @@ fn a_period_longer_than_the_test_is_not_quasi_periodic() {
     // transient), beyond the period test's 32; its exponent is -0.0009 +- 0.0002, near zero but
     // not a torus: unsettled, never quasi-periodic (the long exponent look had made it one)
     let m = c1(&[("omega", 0.967336683417)]);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, _) = common::decided_from_rest(&m);
     assert!(
         matches!(s.motion, Motion::Unsettled { .. }),
         "{:?}: {}",
@@ -70,8 +69,7 @@ fn a_period_longer_than_the_test_is_not_quasi_periodic() {
 #[test]
 fn a_chaotic_motion_is_not_given_a_period() {
     let m = c1(&[("omega", 1.3)]);
-    let (res, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (res, s, _) = common::decided_from_rest(&m);
     assert!(s.motion.is_chaotic(), "{:?}", s.motion);
     assert_eq!(s.period, 0);
     // the label is the class alone; the crossing rates are their own field: the record's totals
@@ -87,11 +85,7 @@ fn a_chaotic_motion_is_not_given_a_period() {
 #[test]
 fn undecided_without_evidence_is_unsettled_not_chaotic() {
     // with neither extension nor TLE a non-periodic record stays undecided
-    let m = c1(&[("omega", 1.3), ("F", 0.05)]);
-    let opts = SimOptions {
-        record_periods: 50,
-        ..Default::default()
-    };
+    let (m, opts) = unsettled_period_6();
     let none = Decide {
         extend: false,
         lyapunov: false,
@@ -199,11 +193,7 @@ fn a_contact_entered_by_a_backlash_jump_is_counted() {
         p.set(k, v).unwrap();
     }
     let m = MeshModel::new(&p).unwrap();
-    let opts = SimOptions {
-        transient_periods: 200,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(200, 20);
     let (res, s, _) = simulate_decided(&m, [0.95, 0.0], &opts, Decide::default()).unwrap();
     let (lo, hi) = res.mesh().x_range;
     assert!(lo > 0.9 && hi < 1.1, "x in [{lo}, {hi}]");
@@ -220,7 +210,7 @@ fn deciding_from_a_first_run_equals_deciding_from_scratch() {
             record_periods: 50,
             ..Default::default()
         };
-        let a = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let a = common::decided(&m, &opts);
         let first = simulate(&m, [0.0, 0.0], &opts).unwrap();
         let s = summarize(&m, &first, &opts);
         let b = simulate_decided_from(&m, (first, s), &opts, Decide::default()).unwrap();
@@ -310,22 +300,14 @@ fn a_periodic_record_describes_the_orbit_not_its_approach() {
     assert!(res.mesh().min_force > -0.1, "{}", res.mesh().min_force);
     assert_eq!(used.transient_periods, 500);
     // the same orbit recorded long after the transient has the same statistics
-    let late = SimOptions {
-        transient_periods: 3000,
-        record_periods: 200,
-        ..Default::default()
-    };
+    let late = common::periods(3000, 200);
     let (res_late, s_late, _) = simulate_decided(&m, y0, &late, Decide::default()).unwrap();
     assert_eq!(s_late.label, s.label);
     assert!((res_late.mesh().max_force - res.mesh().max_force).abs() < 1e-6);
     assert!((s_late.p_id - s.p_id).abs() < 1e-6);
     // 380 + 60 periods: the transient passes a period-2 saddle at the end of the record, which
     // had been reported as the motion (2-2-0-2-0)
-    let near_saddle = SimOptions {
-        transient_periods: 380,
-        record_periods: 60,
-        ..Default::default()
-    };
+    let near_saddle = common::periods(380, 60);
     let (_, s2, _) = simulate_decided(&m, y0, &near_saddle, Decide::default()).unwrap();
     assert_eq!(s2.label, "1-1-0-1-0");
 }
@@ -343,15 +325,14 @@ fn a_slowly_converging_period_1_is_not_period_2() {
     // tolerance while neighbours still alternate by ~1e-5, and the record had read
     // "period 2: 2-2-0-2-0" (a 5000-period transient gives 1-1-0-1-0, points equal to 1e-10)
     let m = internal_preset(1.7);
-    let (_, s, used) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let (_, s, used) = common::decided_from_rest(&m);
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert!(used.transient_periods > SimOptions::default().transient_periods);
     let long = SimOptions {
         transient_periods: 5000,
         ..Default::default()
     };
-    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
+    let (_, s_long, _) = common::decided(&m, &long);
     assert_eq!(s.label, s_long.label);
 }
 
@@ -361,12 +342,8 @@ fn a_record_is_taken_again_until_it_lies_on_the_orbit() {
     // the record taken again from its end still held the end of the approach (1e-2 at its head),
     // so P_ID and forces mixed approach and orbit
     let m = internal_preset(1.4);
-    let opts = SimOptions {
-        transient_periods: 100,
-        record_periods: 50,
-        ..Default::default()
-    };
-    let (res, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let opts = common::periods(100, 50);
+    let (res, s, _) = common::decided(&m, &opts);
     assert_eq!(s.period, 3, "{}", s.label);
     let pts: Vec<[f64; 2]> = res.strobe.iter().map(|p| [p[1], p[2]]).collect();
     assert!(geardyn_analysis::period::on_cycle_throughout(
@@ -384,12 +361,8 @@ fn a_periodic_record_holds_whole_orbit_periods() {
     let m = internal_preset(1.4);
     let mut p_ids = Vec::new();
     for (transient, record) in [(300, 100), (100, 50), (2000, 100), (600, 31)] {
-        let opts = SimOptions {
-            transient_periods: transient,
-            record_periods: record,
-            ..Default::default()
-        };
-        let (res, s, used) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let opts = common::periods(transient, record);
+        let (res, s, used) = common::decided(&m, &opts);
         assert_eq!(s.period, 3, "{}", s.label);
         assert_eq!(
             used.record_periods % 3,
@@ -419,7 +392,7 @@ fn the_revolution_and_mesh_cycle_clocks_agree() {
         record_periods: 20,
         ..Default::default()
     };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (_, s, _) = common::decided(&m, &opts);
     let mp = s.mesh_period.expect("a mesh-cycle period");
     let lcm = (1..=mp * cycles)
         .find(|k| k % mp == 0 && k % cycles == 0)
@@ -428,22 +401,26 @@ fn the_revolution_and_mesh_cycle_clocks_agree() {
     assert_eq!(s.period, 3, "{}", s.label);
 }
 
+/// Asserts that the decided runs of `m` from rest with the default settings and with `other`
+/// are both labelled `label`.
+fn assert_labelled_by_default_and_with(m: &MeshModel, other: &SimOptions, label: &str) {
+    let (_, s, _) = common::decided_from_rest(m);
+    let (_, s_other, _) = common::decided(m, other);
+    assert_eq!(s_other.label, label);
+    assert_eq!(s.label, s_other.label);
+}
+
 #[test]
 fn a_slower_approach_to_period_2_is_not_period_4() {
     // internal preset at omega = 0.7: lag-2 differences of 7.7e-6 falling to 2.7e-6 over the
     // record (at the rate of the exponent, -0.00137: a decaying mode, above the period-test
     // tolerance but below ten times it) had read as "period 4: 4-4-0-4-0"; a 3000-period
     // transient gives 2-2-0-2-0 with points equal to 1e-8 (audit, independent run)
-    let m = internal_preset(0.7);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
     let long = SimOptions {
         transient_periods: 3000,
         ..Default::default()
     };
-    let (_, s_long, _) = simulate_decided(&m, [0.0, 0.0], &long, Decide::default()).unwrap();
-    assert_eq!(s_long.label, "2-2-0-2-0");
-    assert_eq!(s.label, s_long.label);
+    assert_labelled_by_default_and_with(&internal_preset(0.7), &long, "2-2-0-2-0");
 }
 
 #[test]
@@ -477,14 +454,9 @@ fn a_record_too_short_for_a_period_is_lengthened_not_called_aperiodic() {
     // been "unsettled" with a clearly negative exponent. The same run recorded over 100 periods
     // is period 1 (1-1-0).
     let m = c1(&[("omega", 0.8)]);
-    let short = SimOptions {
-        transient_periods: 50,
-        record_periods: 2,
-        ..Default::default()
-    };
-    let (_, s, _) = simulate_decided(&m, [0.0, 0.0], &short, Decide::default()).unwrap();
-    let (_, s_ref, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
+    let short = common::periods(50, 2);
+    let (_, s, _) = common::decided(&m, &short);
+    let (_, s_ref, _) = common::decided_from_rest(&m);
     assert_eq!(s_ref.motion, Motion::Periodic { period: 1 });
     assert_eq!(s.motion, s_ref.motion, "{}", s.label);
 }
@@ -497,18 +469,13 @@ fn integrator_noise_does_not_double_a_period() {
     // "14-6-0-6-0"; at rtol 1e-12 and with RK4 at 2048 steps per cycle (independent
     // integrations, audit) it is 7-3-0-3-0. (At omega = 0.8667 the slow-approach check already
     // catches it; this value reaches the record-again at the tighter tolerance.)
-    let m = internal_preset(0.866666666667);
-    let (_, s, _) =
-        simulate_decided(&m, [0.0, 0.0], &SimOptions::default(), Decide::default()).unwrap();
     let rk4 = SimOptions {
         method: geardyn_analysis::simulate::Method::Rk4 {
             steps_per_cycle: 2048,
         },
         ..Default::default()
     };
-    let (_, s_rk4, _) = simulate_decided(&m, [0.0, 0.0], &rk4, Decide::default()).unwrap();
-    assert_eq!(s_rk4.label, "7-3-0-3-0");
-    assert_eq!(s.label, s_rk4.label);
+    assert_labelled_by_default_and_with(&internal_preset(0.866666666667), &rk4, "7-3-0-3-0");
 }
 
 #[test]
@@ -523,13 +490,7 @@ fn the_mesh_cycle_period_of_one_orbit_does_not_jump_between_neighbouring_loads()
         .unwrap();
     for f in [0.11, 0.12] {
         let sc = base.with_all(&[("omega", 1.2), ("F", f)]).unwrap();
-        let (_, s, _) = simulate_decided(
-            sc.model(),
-            [0.0, 0.0],
-            &SimOptions::default(),
-            Decide::default(),
-        )
-        .unwrap();
+        let (_, s, _) = common::decided_from_rest(sc.model());
         assert_eq!(s.label, "3-60-0", "F = {f}");
         assert_eq!(s.mesh_period, Some(6), "F = {f}");
     }

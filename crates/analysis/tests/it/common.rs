@@ -26,19 +26,101 @@ pub fn double_well() -> geardyn_analysis::attractor::StrobeOnly<geardyn_model::r
     }
 }
 
+/// The parameters `params` with the named parameters `sets` set, in order
+/// ([`geardyn_model::ModelParams::set`]).
+pub fn set(
+    mut params: geardyn_model::ModelParams,
+    sets: &[(&str, f64)],
+) -> geardyn_model::ModelParams {
+    for &(name, value) in sets {
+        params.set(name, value).unwrap();
+    }
+    params
+}
+
+/// The model of `params` with `sets` set ([`set`]).
+pub fn model(params: geardyn_model::ModelParams, sets: &[(&str, f64)]) -> geardyn_model::MeshModel {
+    geardyn_model::MeshModel::new(&set(params, sets)).unwrap()
+}
+
+/// The decided run of `model` from rest with the settings `opts` and the default decision (and
+/// the settings it used).
+pub fn decided(
+    model: &geardyn_model::MeshModel,
+    opts: &geardyn_analysis::simulate::SimOptions,
+) -> (
+    geardyn_analysis::simulate::SimResult<2>,
+    geardyn_analysis::summary::Summary,
+    geardyn_analysis::simulate::SimOptions,
+) {
+    geardyn_analysis::classify::simulate_decided(model, [0.0, 0.0], opts, Default::default())
+        .unwrap()
+}
+
+/// [`decided`] with the default settings.
+pub fn decided_from_rest(
+    model: &geardyn_model::MeshModel,
+) -> (
+    geardyn_analysis::simulate::SimResult<2>,
+    geardyn_analysis::summary::Summary,
+    geardyn_analysis::simulate::SimOptions,
+) {
+    decided(model, &Default::default())
+}
+
+/// The two-mass toy with its clearances ([`geardyn_model::reference::TwoMassClearance`]) under
+/// a light load at `omega = 0.5` and forcing amplitude `amplitude`: both meshes separate and
+/// re-enter every period at 0.4, twice in a period-2 motion at 0.6.
+pub fn rattling(amplitude: f64) -> geardyn_model::reference::TwoMassClearance {
+    geardyn_model::reference::TwoMassClearance {
+        load: [0.1, 0.05],
+        amplitude,
+        omega: 0.5,
+        ..Default::default()
+    }
+}
+
+/// The default simulation settings but `transient` and `record` periods.
+pub fn periods(transient: u64, record: u64) -> geardyn_analysis::simulate::SimOptions {
+    geardyn_analysis::simulate::SimOptions {
+        transient_periods: transient,
+        record_periods: record,
+        ..Default::default()
+    }
+}
+
 /// Identification with the default settings but `transient` and `record` periods.
 pub fn identify_periods(
     transient: u64,
     record: u64,
 ) -> geardyn_analysis::attractor::IdentifyOptions {
     geardyn_analysis::attractor::IdentifyOptions {
-        sim: geardyn_analysis::simulate::SimOptions {
-            transient_periods: transient,
-            record_periods: record,
-            ..Default::default()
-        },
+        sim: periods(transient, record),
         ..Default::default()
     }
+}
+
+/// `runs` decided in the lanes on a pool of `threads` threads, each decision (unwrapped) read
+/// by `read`.
+pub fn decided_lanes_on<T: Send>(
+    threads: usize,
+    runs: &[(&geardyn_model::MeshModel, [f64; 2])],
+    opts: &geardyn_analysis::simulate::SimOptions,
+    read: impl Fn(
+        geardyn_analysis::simulate::SimResult<2>,
+        geardyn_analysis::summary::Summary,
+        geardyn_analysis::simulate::SimOptions,
+    ) -> T,
+) -> Vec<T> {
+    on_threads(threads, || {
+        geardyn_analysis::lanes_decide::simulate_decided_lanes(runs, opts)
+    })
+    .into_iter()
+    .map(|d| {
+        let (r, s, used) = d.unwrap();
+        read(r, s, used)
+    })
+    .collect()
 }
 
 /// Every model started from every initial state (model-major), as the lanes take runs.
@@ -52,20 +134,6 @@ pub fn runs_from<'a>(
         .collect()
 }
 
-/// Fixed-step RK4 of `steps_per_cycle` steps per mesh cycle, `transient` then `record` periods.
-pub fn rk4(
-    steps_per_cycle: u32,
-    transient: u64,
-    record: u64,
-) -> geardyn_analysis::simulate::SimOptions {
-    geardyn_analysis::simulate::SimOptions {
-        method: geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle },
-        transient_periods: transient,
-        record_periods: record,
-        ..Default::default()
-    }
-}
-
 /// The default identification with fixed-step RK4 of `steps_per_cycle` steps per mesh cycle,
 /// `transient` then `record` periods.
 pub fn identify_rk4(
@@ -73,9 +141,8 @@ pub fn identify_rk4(
     transient: u64,
     record: u64,
 ) -> geardyn_analysis::attractor::IdentifyOptions {
-    let mut identify = geardyn_analysis::attractor::IdentifyOptions::default();
-    identify.sim.method = geardyn_analysis::simulate::Method::Rk4 { steps_per_cycle };
-    identify.sim.transient_periods = transient;
-    identify.sim.record_periods = record;
-    identify
+    geardyn_analysis::attractor::IdentifyOptions {
+        sim: geardyn_analysis::simulate::SimOptions::rk4(steps_per_cycle, transient, record),
+        ..Default::default()
+    }
 }

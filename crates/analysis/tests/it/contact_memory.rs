@@ -2,25 +2,21 @@
 //! state. On the internal preset at omega = 1.4, xi = 0.09, F = 0.16, a factor frozen at the first
 //! contact made one period-1 motion a continuum of look-alike attractors (46 in one basin).
 
+use crate::common;
 use geardyn_analysis::simulate::{simulate, summarize, SimOptions};
 use geardyn_model::{presets, ContactLaw, EventKind, MeshModel, ModelParams};
 
 fn internal_at_issue_point() -> ModelParams {
-    let mut p = presets::internal();
-    p.set("omega", 1.4).unwrap();
-    p.set("xi", 0.09).unwrap();
-    p.set("F", 0.16).unwrap();
-    p
+    common::set(
+        presets::internal(),
+        &[("omega", 1.4), ("xi", 0.09), ("F", 0.16)],
+    )
 }
 
 /// Steady strobe points (the last `n` of the record), label, and whether any contact was
 /// entered by an impact during the record.
 fn steady(m: &MeshModel, y0: [f64; 2]) -> (Vec<[f64; 2]>, String, usize, bool) {
-    let opts = SimOptions {
-        transient_periods: 400,
-        record_periods: 12,
-        ..Default::default()
-    };
+    let opts = common::periods(400, 12);
     let res = simulate(m, y0, &opts).unwrap();
     let s = summarize(m, &res, &opts);
     assert!(s.period > 0, "{y0:?}: {}", s.label);
@@ -107,14 +103,8 @@ fn a_continuation_inside_an_impact_keeps_its_hysteresis() {
     // fall inside an impact. A run continued from the final state of another must follow the
     // run integrated in one piece: the hysteresis factor of the impact in progress goes with the
     // state (before, the continuation restarted the contact without it, a jump of ~1e-3)
-    let mut p = presets::internal();
-    p.set("omega", 1.2).unwrap();
-    let m = MeshModel::new(&p).unwrap();
-    let whole = SimOptions {
-        transient_periods: 0,
-        record_periods: 60,
-        ..Default::default()
-    };
+    let m = common::model(presets::internal(), &[("omega", 1.2)]);
+    let whole = common::periods(0, 60);
     let a = simulate(&m, [0.0, 0.0], &whole).unwrap();
     let mut checked = 0;
     for cut in 20..40 {

@@ -1,5 +1,6 @@
 //! Attractor continuation and 2-parameter maps.
 
+use crate::common;
 use crate::common::identify_periods;
 use crate::common::on_threads;
 use geardyn_analysis::attractor::Descriptor;
@@ -33,11 +34,7 @@ fn continuation_finds_both_attractors_of_the_hysteresis_window() {
         param: "omega".into(),
         values: linspace(1.4, 1.9, 11),
         mode: SweepMode::Sweep,
-        sim: SimOptions {
-            transient_periods: 300,
-            record_periods: 40,
-            ..Default::default()
-        },
+        sim: common::periods(300, 40),
         y0: [0.0, 0.0],
         sections: vec![],
         lyapunov: false,
@@ -113,11 +110,7 @@ fn map_of_max_force_is_deterministic() {
         x_values: linspace(0.05, 0.3, 4),
         y_param: "F".into(),
         y_values: linspace(0.02, 0.2, 3),
-        sim: SimOptions {
-            transient_periods: 200,
-            record_periods: 20,
-            ..Default::default()
-        },
+        sim: common::periods(200, 20),
         y0: [0.0, 0.0],
         lyapunov: false,
     };

@@ -5,8 +5,7 @@
 
 use crate::common;
 
-use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion, DECISION_PERIODS};
-use geardyn_analysis::lanes_decide::simulate_decided_lanes;
+use geardyn_analysis::classify::{DecidedBy, Motion, DECISION_PERIODS};
 use geardyn_analysis::simulate::{Method, SimOptions, Summary};
 use geardyn_model::{presets, MeshModel};
 use geardyn_scenario::ScenarioSpec;
@@ -25,9 +24,7 @@ fn follow_only() -> SimOptions {
 }
 
 fn c1(omega: f64) -> MeshModel {
-    let mut p = presets::classic();
-    p.set("omega", omega).unwrap();
-    MeshModel::new(&p).unwrap()
+    common::model(presets::classic(), &[("omega", omega)])
 }
 
 const RK4: Method = Method::Rk4 {
@@ -42,7 +39,7 @@ fn decide_c1(omega: f64, opts: SimOptions) -> Summary {
         method: RK4,
         ..opts
     };
-    let (res, s, _) = simulate_decided(&c1(omega), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(omega), &opts);
     assert!(
         res.mesh().max_force > 0.0 && s.max_force > 0.0,
         "{}",
@@ -60,13 +57,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     // the former rule called it chaotic
     let sc = ScenarioSpec::preset("breakage").unwrap().resolve().unwrap();
     let sc = sc.with_all(&[("omega", 1.2), ("F", 0.065)]).unwrap();
-    let (res, s, _) = simulate_decided(
-        sc.model(),
-        [0.0, 0.0],
-        &SimOptions::default(),
-        Decide::default(),
-    )
-    .unwrap();
+    let (res, s, _) = common::decided_from_rest(sc.model());
     assert_eq!(s.motion, Motion::Periodic { period: 1 }, "{}", s.label);
     assert_eq!(s.decided_by, DecidedBy::PeriodTest);
     assert!(
@@ -80,8 +71,7 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
         follow_steps: 0,
         ..follow_only()
     };
-    let (res_dp5, s_dp5, _) =
-        simulate_decided(sc.model(), [0.0, 0.0], &exact, Decide::default()).unwrap();
+    let (res_dp5, s_dp5, _) = common::decided(sc.model(), &exact);
     assert_eq!(s_dp5.label, s.label);
     assert!(
         s_dp5.periods_integrated > 4_000,
@@ -191,13 +181,9 @@ fn horizon_verdicts_in_the_lanes_do_not_depend_on_the_thread_count() {
         ..follow_only()
     };
     let on = |threads: usize| {
-        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
-            .into_iter()
-            .map(|d| {
-                let (r, s, _) = d.unwrap();
-                (s.motion, s.decided_by, s.periods_integrated, r.final_state)
-            })
-            .collect::<Vec<_>>()
+        common::decided_lanes_on(threads, &runs, &opts, |r, s, _| {
+            (s.motion, s.decided_by, s.periods_integrated, r.final_state)
+        })
     };
     let one = on(1);
     assert_eq!(one, on(2));
@@ -283,7 +269,7 @@ fn the_follow_decides_chaos_in_a_fraction_of_the_work() {
         method: RK4,
         ..follow_only()
     };
-    let (res, s, _) = simulate_decided(&c1(1.3), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(1.3), &opts);
     assert!(s.motion.is_chaotic() && exact.motion.is_chaotic());
     assert_eq!(s.decided_by, DecidedBy::PersistentChaos);
     assert_eq!(s.periods_integrated, exact.periods_integrated);
@@ -322,8 +308,7 @@ fn an_adaptive_run_decides_alike_alone_and_in_a_sweep() {
     let swept = run_sweep(&base, &o, &HashMap::new(), |_| {}).unwrap();
     for (r, &w) in swept.iter().zip(&o.values) {
         let sc = base.with("omega", w).unwrap();
-        let (res, s, _) =
-            simulate_decided(sc.model(), [0.0, 0.0], &o.sim, Decide::default()).unwrap();
+        let (res, s, _) = common::decided(sc.model(), &o.sim);
         assert_eq!(r.runs[0].label, s.label, "omega {w}");
         assert_eq!(r.runs[0].final_state, res.final_state.1, "omega {w}");
     }
@@ -369,7 +354,7 @@ fn a_follow_finer_than_the_run_keeps_the_budget() {
         decision_budget: 50_000_000,
         ..follow_only()
     };
-    let (res, s, _) = simulate_decided(&c1(1.38), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let (res, s, _) = common::decided(&c1(1.38), &opts);
     assert!(
         res.rhs_evals <= opts.decision_budget + opts.decision_budget / 20,
         "{} evaluations for a budget of {}",

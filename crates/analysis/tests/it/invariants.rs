@@ -1,6 +1,7 @@
 //! Issue 13: physical invariants of the back-side impact model through the simulation API.
 
-use geardyn_analysis::simulate::{simulate, SimError, SimOptions};
+use crate::common;
+use geardyn_analysis::simulate::{simulate, SimError};
 use geardyn_model::{presets, EventKind, MeshModel};
 use geardyn_solvers::SolverError;
 
@@ -8,16 +9,11 @@ use geardyn_solvers::SolverError;
 fn divergent_impacting_run_stops_with_an_error_instead_of_crossing_the_stop() {
     // `simulate --preset breakage --set R=1 --set v_stick=0 --set xi=50 --periods 6
     // --transient 0` used to exit 0 with impacts at x = -1.4e28 (stop at -1)
-    let mut p = presets::breakage();
-    p.set("R", 1.0).unwrap();
-    p.set("v_stick", 0.0).unwrap();
-    p.set("xi", 50.0).unwrap();
-    let m = MeshModel::new(&p).unwrap();
-    let opts = SimOptions {
-        transient_periods: 0,
-        record_periods: 6,
-        ..Default::default()
-    };
+    let m = common::model(
+        presets::breakage(),
+        &[("R", 1.0), ("v_stick", 0.0), ("xi", 50.0)],
+    );
+    let opts = common::periods(0, 6);
     match simulate(&m, [0.0, 0.0], &opts) {
         Err(SimError::Solver(SolverError::NonFinite { .. })) => {}
         other => panic!("expected a non-finite (divergent) error, got {other:?}"),
@@ -27,11 +23,7 @@ fn divergent_impacting_run_stops_with_an_error_instead_of_crossing_the_stop() {
 #[test]
 fn impacts_stay_on_the_stop_and_outputs_stay_finite() {
     let m = MeshModel::new(&presets::breakage()).unwrap();
-    let opts = SimOptions {
-        transient_periods: 2,
-        record_periods: 4,
-        ..Default::default()
-    };
+    let opts = common::periods(2, 4);
     let res = simulate(&m, [0.0, 0.0], &opts).unwrap();
     let d = 1.0;
     assert!(

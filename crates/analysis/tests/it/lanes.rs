@@ -41,6 +41,17 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
 }
 
+/// The items of `a` and `b` side by side, asserted to be as many (`{what}: {name}` otherwise).
+fn paired<'a, T>(
+    a: &'a [T],
+    b: &'a [T],
+    what: &str,
+    name: &str,
+) -> impl Iterator<Item = (&'a T, &'a T)> {
+    assert_eq!(a.len(), b.len(), "{what}: {name}");
+    a.iter().zip(b)
+}
+
 /// Largest deviation between two results (states, times, totals), relative to `1 + |value|`.
 fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
     let mut worst = 0.0f64;
@@ -49,8 +60,7 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
         worst = worst.max(d);
         assert!(d <= tol, "{what}: {name}: {x} vs {y} (rel {d:e})");
     };
-    assert_eq!(a.strobe.len(), b.strobe.len(), "{what}: strobe count");
-    for (p, q) in a.strobe.iter().zip(&b.strobe) {
+    for (p, q) in paired(&a.strobe, &b.strobe, what, "strobe count") {
         for i in 0..3 {
             check(p[i], q[i], "strobe");
         }
@@ -60,22 +70,12 @@ fn compare(a: &SimResult, b: &SimResult, tol: f64, what: &str) -> f64 {
         b.mesh().counts_per_period,
         "{what}: counts"
     );
-    assert_eq!(
-        a.mesh().crossings.len(),
-        b.mesh().crossings.len(),
-        "{what}: crossings"
-    );
-    for (p, q) in a.mesh().crossings.iter().zip(&b.mesh().crossings) {
+    for (p, q) in paired(&a.mesh().crossings, &b.mesh().crossings, what, "crossings") {
         assert_eq!(p.level, q.level);
         check(p.tau, q.tau, "crossing tau");
         check(p.v, q.v, "crossing v");
     }
-    assert_eq!(
-        a.mesh().events.len(),
-        b.mesh().events.len(),
-        "{what}: events"
-    );
-    for (p, q) in a.mesh().events.iter().zip(&b.mesh().events) {
+    for (p, q) in paired(&a.mesh().events, &b.mesh().events, what, "events") {
         assert_eq!(p.kind, q.kind);
         check(p.tau, q.tau, "event tau");
         check(p.v_before, q.v_before, "event v");
@@ -172,14 +172,7 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
         let first = rows.iter().map(|r| r.3).min().unwrap();
         let last = rows.iter().map(|r| r.3).max().unwrap();
         let m = &c1_at(&[w])[0];
-        let opts = SimOptions {
-            method: Method::Rk4 {
-                steps_per_cycle: 512,
-            },
-            transient_periods: first as u64 - 2,
-            record_periods: (last - first) as u64 + 4,
-            ..Default::default()
-        };
+        let opts = SimOptions::rk4(512, first as u64 - 2, (last - first) as u64 + 4);
         let res = simulate_lanes(&[(m, [x0, v0])], &opts).remove(0).unwrap();
         let period = 2.0 * std::f64::consts::PI / w;
         for &&(_, _, _, j, x, v) in &rows {
@@ -212,7 +205,7 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
 fn c1_periodic_orbits_equal_the_scalar_rk4_path() {
     let omegas = [0.5, 0.6, 0.7, 0.8, 0.95, 1.7, 1.8, 1.9, 2.0];
     let models = c1_at(&omegas);
-    let opts = crate::common::rk4(512, 300, 40);
+    let opts = SimOptions::rk4(512, 300, 40);
     let ics = [[0.0, 0.0], [1.3, -0.4], [-1.2, 0.8]];
     let runs = crate::common::runs_from(&models, &ics);
     let lanes = simulate_lanes(&runs, &opts);
@@ -260,7 +253,7 @@ fn breakage_preset_equals_the_scalar_rk4_path() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = crate::common::rk4(64, 40, 8);
+    let opts = SimOptions::rk4(64, 40, 8);
     let runs: Vec<(&MeshModel, [f64; 2])> = models
         .iter()
         .flat_map(|m| [[0.0, 0.0], [0.9, -0.5]].map(move |y| (m, y)))
@@ -293,7 +286,7 @@ fn output_is_the_same_for_any_thread_count() {
             MeshModel::new(&p).unwrap()
         })
         .collect();
-    let opts = crate::common::rk4(128, 30, 10);
+    let opts = SimOptions::rk4(128, 30, 10);
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
     let run = |threads: usize| crate::common::on_threads(threads, || simulate_lanes(&runs, &opts));
     let key = |r: &Vec<Result<SimResult, geardyn_analysis::simulate::SimError>>| {
@@ -459,7 +452,7 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
             param: "omega".into(),
             values: vec![0.6, 0.8, 1.25, 1.9],
             mode: mode.clone(),
-            sim: crate::common::rk4(128, 100, 24),
+            sim: SimOptions::rk4(128, 100, 24),
             y0: [0.0, 0.0],
             sections: vec![Section::Strobe, Section::DsUp],
             lyapunov: false,
@@ -633,7 +626,7 @@ fn map_in_lanes_equals_the_scalar_decisions() {
         x_values: vec![0.7, 1.0, 1.3, 1.8],
         y_param: "F".into(),
         y_values: vec![0.1, 0.15, 0.2],
-        sim: crate::common::rk4(128, 150, 24),
+        sim: SimOptions::rk4(128, 150, 24),
         y0: [0.0, 0.0],
         lyapunov: false,
     };
@@ -729,7 +722,6 @@ fn continuation_in_lanes_agrees_with_the_scalar_identification() {
 /// thread count. Also balanced chunks: on three threads the ten share no chunk at all.
 #[test]
 fn a_decision_is_the_same_in_the_rounds_and_alone() {
-    use geardyn_analysis::lanes_decide::simulate_decided_lanes;
     let models = c1_at(&[1.3, 1.40452261307]);
     let mut runs: Vec<(&MeshModel, [f64; 2])> = (0..10)
         .map(|k| (&models[0], [0.1 * k as f64, -0.05 * k as f64]))
@@ -745,21 +737,17 @@ fn a_decision_is_the_same_in_the_rounds_and_alone() {
         ..Default::default()
     };
     let on = |threads: usize| {
-        common::on_threads(threads, || simulate_decided_lanes(&runs, &opts))
-            .into_iter()
-            .map(|d| {
-                let (r, s, used) = d.unwrap();
-                (
-                    s.motion,
-                    s.label,
-                    s.decided_by,
-                    s.periods_integrated,
-                    r.final_state.0.to_bits(),
-                    r.final_state.1.map(f64::to_bits),
-                    used.transient_periods,
-                )
-            })
-            .collect::<Vec<_>>()
+        common::decided_lanes_on(threads, &runs, &opts, |r, s, used| {
+            (
+                s.motion,
+                s.label,
+                s.decided_by,
+                s.periods_integrated,
+                r.final_state.0.to_bits(),
+                r.final_state.1.map(f64::to_bits),
+                used.transient_periods,
+            )
+        })
     };
     let one = on(1);
     let chaotic = one.iter().filter(|d| d.0.is_chaotic()).count();

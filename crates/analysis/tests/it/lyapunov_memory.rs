@@ -4,9 +4,33 @@
 //! of the orbit measured without any linearisation (a third, independent method). Holding `chi`
 //! fixed in the tangent gave -0.054 against -0.042 at `omega = 0.8` (law exponent 1).
 
-use geardyn_analysis::lyapunov::{tle_two_trajectory, tle_variational, LyapunovOptions};
+use crate::common;
+use geardyn_analysis::lyapunov::{
+    tle_two_trajectory, tle_variational, LyapunovOptions, LyapunovResult,
+};
 use geardyn_model::{presets, ContactLaw, MeshModel};
 use geardyn_solvers::{HybridSystem, Integrator, Scheme, Stop};
+
+/// The exponent of `m` from rest by the variational method and by two trajectories.
+fn both_methods(m: &MeshModel, o: &LyapunovOptions) -> (LyapunovResult, LyapunovResult) {
+    let scheme = Scheme::dopri_default();
+    let v = tle_variational::<_, 2, 5>(m.clone(), scheme, 0.0, [0.0, 0.0], o).unwrap();
+    let t = tle_two_trajectory(m.clone(), scheme, 0.0, [0.0, 0.0], o).unwrap();
+    (v, t)
+}
+
+/// Asserts that the two estimates agree within three times their spreads and `slack`; `what`
+/// starts the message.
+fn assert_agree(what: &str, v: &LyapunovResult, t: &LyapunovResult, slack: f64) {
+    assert!(
+        (v.tle - t.tle).abs() < 3.0 * (v.spread + t.spread) + slack,
+        "{what}variational {} +- {} against two-trajectory {} +- {}",
+        v.tle,
+        v.spread,
+        t.tle,
+        t.spread
+    );
+}
 
 fn c1_ln(omega: f64, exponent: f64) -> MeshModel {
     let mut p = presets::classic();
@@ -111,18 +135,9 @@ fn both_methods_agree_on_chaos_with_a_dissipative_law() {
     // C1 with the Lankarani-Nikravesh law at omega = 1.6 is chaotic (+0.033 over 25 600 periods)
     let m = c1_ln(1.6, 1.5);
     let o = opts(&m, 4000);
-    let v = tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &o)
-        .unwrap();
-    let t = tle_two_trajectory(m, Scheme::dopri_default(), 0.0, [0.0, 0.0], &o).unwrap();
+    let (v, t) = both_methods(&m, &o);
     assert!(v.tle > 0.015, "variational {} +- {}", v.tle, v.spread);
-    assert!(
-        (v.tle - t.tle).abs() < 3.0 * (v.spread + t.spread) + 2e-3,
-        "variational {} +- {} against two-trajectory {} +- {}",
-        v.tle,
-        v.spread,
-        t.tle,
-        t.spread
-    );
+    assert_agree("", &v, &t, 2e-3);
 }
 
 #[test]
@@ -131,15 +146,11 @@ fn an_exponent_continued_inside_an_impact_equals_the_one_of_the_whole_run() {
     // instants inside an impact. The exponent of the run continued from such an instant (as the
     // classification asks for it) equals that of the run integrated in one piece.
     use geardyn_analysis::lyapunov::tle_variational_with;
-    use geardyn_analysis::simulate::{simulate, SimOptions};
+    use geardyn_analysis::simulate::simulate;
     let m = MeshModel::new(&presets::internal()).unwrap();
     let mut checked = 0;
     for k in 300..330u64 {
-        let head = SimOptions {
-            transient_periods: 0,
-            record_periods: k,
-            ..Default::default()
-        };
+        let head = common::periods(0, k);
         let h = simulate(&m, [0.0, 0.0], &head).unwrap();
         if h.final_memory == 0.0 {
             continue;
@@ -207,19 +218,9 @@ fn both_methods_and_the_decay_agree_on_pairs_with_several_segments() {
             transient_periods: transient,
             ..opts(&m, 400)
         };
-        let v = tle_variational::<_, 2, 5>(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &o)
-            .unwrap();
-        let t =
-            tle_two_trajectory(m.clone(), Scheme::dopri_default(), 0.0, [0.0, 0.0], &o).unwrap();
+        let (v, t) = both_methods(&m, &o);
         assert!(v.tle < -0.005, "{name}: periodic orbit, {}", v.tle);
-        assert!(
-            (v.tle - t.tle).abs() < 3.0 * (v.spread + t.spread) + 1e-3,
-            "{name}: variational {} +- {} against two-trajectory {} +- {}",
-            v.tle,
-            v.spread,
-            t.tle,
-            t.spread
-        );
+        assert_agree(&format!("{name}: "), &v, &t, 1e-3);
         if name == "internal" {
             // (on the broken pair a perturbation of the strobe state falls within a few periods
             // to the integrator's noise along fast directions before the slowest shows)

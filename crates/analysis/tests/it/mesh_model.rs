@@ -1,5 +1,6 @@
 //! The gear mesh model against closed forms and limit cases (docs/model.md §2–4).
 
+use crate::common;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions};
 use geardyn_model::{
     presets, BackSide, ContactLaw, ContactState, ImpactLaw, MeshModel, ModelError, ModelParams,
@@ -399,11 +400,7 @@ fn unilateral_option_forbids_tensile_mesh_force() {
     p.xi = 0.5;
     p.c = 0.4;
     p.omega = 0.9;
-    let opts = SimOptions {
-        transient_periods: 200,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(200, 20);
     let m = MeshModel::new(&p).unwrap();
     let bilateral = summarize(&m, &simulate(&m, [1.3, 0.0], &opts).unwrap(), &opts);
     p.unilateral = true;

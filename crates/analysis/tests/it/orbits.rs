@@ -2,11 +2,12 @@
 //! forms and a finite-difference Jacobian of the same map, and the bifurcations of a branch
 //! against the linear response and the brute-force diagram of case C1.
 
+use crate::common;
 use geardyn_analysis::orbit_branches::{
     continue_orbits, Bifurcation, BifurcationKind, Continuation, ContinuationOptions,
 };
 use geardyn_analysis::orbits::{eigenvalues, find_orbit, stroboscopic_map, OrbitOptions};
-use geardyn_analysis::simulate::{simulate, SimOptions};
+use geardyn_analysis::simulate::simulate;
 use geardyn_model::{presets, MeshModel, ModelParams};
 use geardyn_scenario::Scenario;
 use std::f64::consts::PI;
@@ -18,21 +19,16 @@ fn of_kind(c: &Continuation, kind: BifurcationKind) -> Vec<&Bifurcation> {
 
 /// The state of `m` after 300 periods from rest (near its attractor).
 fn settled(m: &MeshModel) -> [f64; 2] {
-    let opts = SimOptions {
-        transient_periods: 300,
-        record_periods: 1,
-        ..Default::default()
-    };
+    let opts = common::periods(300, 1);
     simulate(m, [0.0, 0.0], &opts).unwrap().final_state.1
 }
 
 /// C1 with constant stiffness (kappa = 0) and load `f`.
 fn linear(omega: f64, f: f64) -> ModelParams {
-    let mut p = presets::classic();
-    p.set("kappa", 0.0).unwrap();
-    p.set("F", f).unwrap();
-    p.set("omega", omega).unwrap();
-    p
+    common::set(
+        presets::classic(),
+        &[("kappa", 0.0), ("F", f), ("omega", omega)],
+    )
 }
 
 /// Steady state of `x'' + c x' + (x - D) = F + xi w^2 cos(w t)` at `t = 0` (permanent drive
@@ -87,9 +83,7 @@ fn multipliers_of_a_linear_orbit_in_permanent_contact_have_modulus_exp_minus_c_p
 #[test]
 fn the_monodromy_matrix_equals_a_finite_difference_jacobian_of_the_map() {
     // C1 at omega = 0.8: a period-1 orbit with contact loss and re-entry (saltation at both)
-    let mut p = presets::classic();
-    p.set("omega", 0.8).unwrap();
-    let m = MeshModel::new(&p).unwrap();
+    let m = common::model(presets::classic(), &[("omega", 0.8)]);
     let o = find_orbit(&m, settled(&m), &OrbitOptions::default()).unwrap();
     assert!(o.events.len() >= 2, "{:?}", o.events);
     let opts = OrbitOptions::default();
@@ -243,11 +237,7 @@ fn an_orbit_of_a_law_with_memory_is_the_simulated_attractor() {
         .resolve()
         .unwrap();
     let m = sc.model();
-    let long = SimOptions {
-        transient_periods: 600,
-        record_periods: 96,
-        ..Default::default()
-    };
+    let long = common::periods(600, 96);
     let res = simulate(m, [0.0, 0.0], &long).unwrap();
     let s = geardyn_analysis::simulate::summarize(m, &res, &long);
     assert_eq!(s.period, 3, "{}", s.label);

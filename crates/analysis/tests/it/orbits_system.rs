@@ -4,6 +4,7 @@
 //! modal eigenvalues in the linear regime, a long simulation and the top Lyapunov exponent
 //! across contact changes.
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::orbits::{describe_orbit, find_orbit, stroboscopic_map, OrbitOptions};
@@ -117,14 +118,9 @@ fn orbits_of_the_linear_toy_are_the_forced_response_with_multipliers_exp_lambda_
 }
 
 /// The toy with its clearances where both meshes separate and re-enter twice in a period-2
-/// motion (`load: [0.1, 0.05], amplitude: 0.4, omega: 0.5` is chaotic: the decision says so).
+/// motion (at amplitude 0.4 it is chaotic: the decision says so).
 fn rattling() -> TwoMassClearance {
-    TwoMassClearance {
-        load: [0.1, 0.05],
-        amplitude: 0.6,
-        omega: 0.5,
-        ..Default::default()
-    }
+    crate::common::rattling(0.6)
 }
 
 #[test]
@@ -160,11 +156,7 @@ fn an_orbit_of_the_toy_with_contact_changes_is_the_simulated_attractor_and_its_m
     // a long plain simulation from rest (DP5 at the default tolerance, 2001 periods) reaches the
     // orbit: its strobe point is one of the orbit's two points on the section, to the
     // integration's accuracy (the transient has decayed as 0.64^1000)
-    let long = SimOptions {
-        transient_periods: 2000,
-        record_periods: 1,
-        ..Default::default()
-    };
+    let long = common::periods(2000, 1);
     let end = simulate(&sys, [0.0; 4], &long).unwrap().final_state.1;
     let one = OrbitOptions::default();
     let (second, _) = stroboscopic_map(&sys, o.y, &one).unwrap();

@@ -2,6 +2,7 @@
 //! ([`TwoMassClearance`], four states, two meshes) through the same public functions the pair
 //! uses (simulate, the summary per mesh, the decision, the exponent, the decided sweep).
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::generic::{decided_sweep, Family};
@@ -49,11 +50,7 @@ fn the_linear_limit_matches_the_closed_form_response() {
     // static deflection in drive contact: k1 (u1 - D1) = F1, k0 (x1 - D0) + k1 (u1 - D1) = F0
     let x1_static = sys.d[0] + (sys.load[0] - sys.load[1]) / sys.k[0];
     let u1_static = sys.d[1] + sys.load[1] / sys.k[1];
-    let opts = SimOptions {
-        transient_periods: 300,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(300, 20);
     let res = simulate(&sys, [x1_static, 0.0, x1_static - u1_static, 0.0], &opts).unwrap();
     assert!(
         res.meshes.iter().all(|m| m.events.is_empty()),
@@ -104,12 +101,7 @@ fn the_exponent_of_the_linear_limit_is_the_modal_decay_rate() {
 
 /// The toy with its clearances at a load where both meshes separate and re-enter every period.
 fn rattling() -> TwoMassClearance {
-    TwoMassClearance {
-        load: [0.1, 0.05],
-        amplitude: 0.4,
-        omega: 0.5,
-        ..Default::default()
-    }
+    crate::common::rattling(0.4)
 }
 
 #[test]
@@ -193,27 +185,35 @@ fn each_mesh_has_its_own_label_and_the_system_joins_them() {
     }
 }
 
-struct Forcing;
-impl Family<4> for Forcing {
+/// The toy `self.0()` with the forcing amplitude as the parameter.
+struct Amplitude(fn() -> TwoMassClearance);
+impl Family<4> for Amplitude {
     type System = TwoMassClearance;
     fn at(&self, a: f64) -> TwoMassClearance {
         TwoMassClearance {
             amplitude: a,
-            ..rattling()
+            ..self.0()
         }
     }
     fn period(&self, _a: f64) -> f64 {
-        2.0 * std::f64::consts::PI / 0.5
+        self.0().excitation_period()
     }
 }
 
 #[test]
 fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
     let values: Vec<f64> = (0..6).map(|i| 0.05 + 0.1 * i as f64).collect();
-    let opts = crate::common::rk4(256, 100, 32);
+    let opts = SimOptions::rk4(256, 100, 32);
     let run = |threads: usize| {
         crate::common::on_threads(threads, || {
-            decided_sweep(&Forcing, &values, [0.0; 4], &opts, Decide::default(), false)
+            decided_sweep(
+                &Amplitude(rattling),
+                &values,
+                [0.0; 4],
+                &opts,
+                Decide::default(),
+                false,
+            )
         })
     };
     let (a, b) = (run(1), run(2));
@@ -236,11 +236,7 @@ fn a_decided_sweep_of_the_toy_is_the_same_on_any_thread_count() {
 /// Identification of the toy with tolerances for a four-state system.
 fn identify_opts() -> geardyn_analysis::attractor::IdentifyOptions {
     geardyn_analysis::attractor::IdentifyOptions {
-        sim: SimOptions {
-            transient_periods: 150,
-            record_periods: 32,
-            ..Default::default()
-        },
+        sim: common::periods(150, 32),
         ..Default::default()
     }
 }
@@ -279,19 +275,6 @@ fn basins_on_a_slice_of_the_linear_toy_are_one_basin() {
 fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
     use geardyn_analysis::basins::Slice;
     use geardyn_analysis::continuation::{continuation_of, ContinuationOptions};
-    struct Amplitude;
-    impl Family<4> for Amplitude {
-        type System = TwoMassClearance;
-        fn at(&self, a: f64) -> TwoMassClearance {
-            TwoMassClearance {
-                amplitude: a,
-                ..linear()
-            }
-        }
-        fn period(&self, _a: f64) -> f64 {
-            2.0 * std::f64::consts::PI / 0.7
-        }
-    }
     let opts = ContinuationOptions {
         param: "amplitude".into(),
         values: vec![0.1, 0.2, 0.3],
@@ -302,12 +285,12 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
         phase: 0.0,
         identify: identify_opts(),
     };
-    let r = continuation_of(&Amplitude, &opts, &Slice::default()).unwrap();
+    let r = continuation_of(&Amplitude(linear), &opts, &Slice::default()).unwrap();
     let bad = ContinuationOptions {
         x0_range: (f64::NAN, 2.0),
         ..opts.clone()
     };
-    let e = continuation_of(&Amplitude, &bad, &Slice::default()).unwrap_err();
+    let e = continuation_of(&Amplitude(linear), &bad, &Slice::default()).unwrap_err();
     assert!(e.to_string().contains("x0_range"), "{e}");
     // one attractor per value, all on branch 0, no event between them
     assert_eq!(r.points.len(), 3, "{:?}", r.points);
@@ -325,7 +308,7 @@ fn continuation_of_the_toy_follows_one_branch_where_it_is_linear() {
 #[test]
 fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
     use geardyn_model::{EventKind, GearSystem};
-    use geardyn_solvers::{HybridSystem, Variational};
+    use geardyn_solvers::Variational;
     // an empty record is refused (it would read as a motion at infinity)
     let opts = SimOptions {
         record_periods: 0,
@@ -337,15 +320,9 @@ fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
     /// `x' = -x` that claims no mesh.
     #[derive(Clone)]
     struct NoMesh;
-    impl HybridSystem<1> for NoMesh {
-        type Mode = ();
-        type TimeTerms = ();
-        fn initial_mode(&self, _t: f64, _y: &mut [f64; 1]) {}
-        fn time_terms(&self, _t: f64) {}
-        fn rhs(&self, _t: f64, _tt: &(), y: &[f64; 1], _m: &(), dy: &mut [f64; 1]) {
-            dy[0] = -y[0];
-        }
-    }
+    geardyn_solvers::one_mode_system!(NoMesh, 1, |_, _t, y, dy| {
+        dy[0] = -y[0];
+    });
     impl Variational<1> for NoMesh {
         fn jacobian(&self, _t: f64, _tt: &(), _y: &[f64; 1], _m: &(), j: &mut [[f64; 1]; 1]) {
             j[0][0] = -1.0;
@@ -395,11 +372,7 @@ fn a_start_at_rest_on_both_contact_surfaces_enters_contact() {
         amplitude: 0.05,
         ..Default::default()
     };
-    let opts = SimOptions {
-        transient_periods: 200,
-        record_periods: 20,
-        ..Default::default()
-    };
+    let opts = common::periods(200, 20);
     let (res, s, _) =
         simulate_decided(&sys, [1.0, 0.0, 0.0, 0.0], &opts, Decide::default()).unwrap();
     assert!(s.motion.is_periodic(), "{s:?}");

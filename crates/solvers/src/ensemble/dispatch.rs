@@ -94,16 +94,6 @@ where
     run_lanes_on(Dispatch::Auto, batch, drv)
 }
 
-/// As [`run_lanes`], always on the baseline copy (for tests and benchmarks).
-pub fn run_lanes_baseline<'s, B, D, const N: usize, const L: usize>(batch: &B, drv: &mut D)
-where
-    B: Lockstep<N, L>,
-    B::Sys: 's,
-    D: LaneDriver<'s, B, N, L>,
-{
-    run_lanes_on(Dispatch::Baseline, batch, drv)
-}
-
 /// As [`run_lanes`], on the copy `how` selects (when the CPU runs it; for tests and benchmarks).
 pub fn run_lanes_on<'s, B, D, const N: usize, const L: usize>(how: Dispatch, batch: &B, drv: &mut D)
 where
