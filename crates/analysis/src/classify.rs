@@ -1083,8 +1083,12 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         let motion = match self.tle {
             Some((l, se)) if significantly_positive(l, se) => {
                 // a positive exponent found after the extensions (a weak one the first window
-                // missed) is followed to the horizon like any other
+                // missed) takes the escape test, or is followed to the horizon, like any other
                 let done = self.integrated();
+                if how.extend && !self.budget_spent && self.opts.escape.on() {
+                    self.escape_test((l, se));
+                    return;
+                }
                 if how.extend && done < self.opts.decision_periods && !self.budget_spent {
                     self.persist(0);
                     return;
