@@ -7,16 +7,13 @@ use crate::figure::{
     LegendEntry, Panel, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
+use crate::schema::full;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
 use geardyn_analysis::orbit_branches::BifurcationKind;
 use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
-
-fn num(v: f64) -> String {
-    format!("{v}")
-}
 
 /// `bifurcation.csv`: the columns of [`crate::schema::points_table`], every digit.
 pub fn write_bifurcation(
@@ -103,7 +100,8 @@ pub fn dot_radius(points: &[(f64, f64)], values: usize) -> u32 {
     }
 }
 
-fn value_range(results: &[TaskResult]) -> (f64, f64) {
+/// The x range of a sweep diagram: its values with a margin of 1.5 %.
+pub fn value_range(results: &[TaskResult]) -> (f64, f64) {
     let lo = results
         .iter()
         .map(|r| r.value)
@@ -254,17 +252,17 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
         let run = &r.runs[0];
         run.amplitudes.map(|a| {
             vec![
-                num(r.value),
+                full(r.value),
                 r.task.branch_name().to_string(),
                 run.label.clone(),
-                num(a.mean_x),
-                num(a.rms_x),
-                num(a.p2p_x),
-                num(a.mean_force),
-                num(a.rms_force),
-                num(a.p2p_force),
-                num(run.max_force),
-                num(run.p_id),
+                full(a.mean_x),
+                full(a.rms_x),
+                full(a.p2p_x),
+                full(a.mean_force),
+                full(a.rms_force),
+                full(a.p2p_force),
+                full(run.max_force),
+                full(run.p_id),
                 run.motion.word().to_string(),
                 run.decided_by.name().to_string(),
                 run.periods_integrated.to_string(),

@@ -261,20 +261,6 @@ impl Drawn {
     }
 }
 
-/// The x range of a sweep diagram: its values with a margin of 1.5 %.
-fn x_range(results: &[TaskResult]) -> (f64, f64) {
-    let lo = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::INFINITY, f64::min);
-    let hi = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let pad = 0.015 * (hi - lo).abs().max(1e-9);
-    (lo - pad, hi + pad)
-}
-
 /// `name_points.csv`, `name_runs.csv` and, with the impact-force panel,
 /// `name_impact_force.csv`: the files of the diagram's data.
 fn write_sweep_data(
@@ -329,7 +315,7 @@ pub fn sweep_figure(
         &Fig {
             title: title.into(),
             x_label: param.into(),
-            x_range: Some(x_range(results)),
+            x_range: Some(geardyn_io::sweep_output::value_range(results)),
             panels: drawn.panels(sections, panels, &order, &color_of),
             legend,
             legend_title: "motion".into(),
