@@ -5,7 +5,7 @@ use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::bifurcation::detect_jumps;
 use geardyn_exec::request::{BifurcationRequest, SweepSpec};
-use geardyn_io::{output, run_record, sweep_output};
+use geardyn_io::{output, run_record, schema, sweep_output};
 use geardyn_scenario::Scenario;
 use std::path::PathBuf;
 
@@ -145,7 +145,7 @@ pub fn response(a: ResponseArgs, started: f64) -> Result<()> {
     )?;
     sweep_output::write_response(&a.out.join("response.csv"), &a.param, &results)?;
     // every run of both sweeps with the columns of every runs table (Python's `response().runs`)
-    sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
+    schema::runs_table(&a.param, &results).write_csv(&a.out.join("runs.csv"), schema::full)?;
     let jumps = detect_jumps(&results);
     output::write_json(&a.out.join("jumps.json"), &jumps)?;
     sweep_output::plot_response(

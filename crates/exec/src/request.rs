@@ -486,9 +486,11 @@ impl BifurcationRequest {
             &[run_record::Swept::of(param, &o.values)],
             started_unix_s,
         )?;
-        sweep_output::write_bifurcation(&out.join("bifurcation.csv"), param, results)?;
-        sweep_output::write_runs(&out.join("runs.csv"), param, results)?;
-        sweep_output::write_impact_force(&out.join("impact_force.csv"), param, results)?;
+        schema::points_table(param, results)
+            .write_csv(&out.join("bifurcation.csv"), schema::full)?;
+        schema::runs_table(param, results).write_csv(&out.join("runs.csv"), schema::full)?;
+        schema::impact_force_table(param, results)
+            .write_csv(&out.join("impact_force.csv"), schema::full)?;
         let title = format!(
             "Bifurcation diagram over {} ({} mode): {}",
             param,

@@ -151,7 +151,7 @@ pub fn tick(v: f64) -> String {
 }
 
 /// `v` with `decimals` decimals, trailing zeros (and a trailing point) dropped, never `-0`.
-fn fixed(v: f64, decimals: usize) -> String {
+pub fn fixed(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()

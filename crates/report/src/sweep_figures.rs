@@ -11,9 +11,7 @@ use crate::Figure;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{Run, Section as Sec, TaskResult};
 use geardyn_io::figure::RGBColor as PlotColor;
-use geardyn_io::figure::{
-    categorical, write_figure, Figure as Fig, Layer, LegendEntry, Panel, Style, OTHER,
-};
+use geardyn_io::figure::{categorical, Layer, LegendEntry, Panel, Style, OTHER};
 use geardyn_io::output::write_csv;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -310,17 +308,15 @@ pub fn sweep_figure(
     let drawn = Drawn::of(results, sections, panels);
     let (order, color_of, legend) = drawn.colours();
     let stem = dir.join(name);
-    write_figure(
+    let figure_panels = drawn.panels(sections, panels, &order, &color_of);
+    geardyn_io::sweep_output::write_sweep_figure(
         &stem,
-        &Fig {
-            title: title.into(),
-            x_label: param.into(),
-            x_range: Some(geardyn_io::sweep_output::value_range(results)),
-            panels: drawn.panels(sections, panels, &order, &color_of),
-            legend,
-            legend_title: "motion".into(),
-            ..Default::default()
-        },
+        title,
+        param,
+        results,
+        figure_panels,
+        legend,
+        "motion",
     )?;
     let data = write_sweep_data(dir, name, param, results, panels, drawn)?;
     Ok(ctx.fig(&stem, caption, &data))
