@@ -1,7 +1,7 @@
 //! The `geardyn` binary as a user sees it: outputs written, bad input rejected in one line.
 
 mod common;
-use common::geardyn;
+use common::{geardyn, strs};
 
 /// A fresh path for this file's test `name`.
 fn tmp(name: &str) -> std::path::PathBuf {
@@ -192,7 +192,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
     let a = tmp("bif1");
     let b = tmp("bif2");
     let args = |d: &std::path::Path| -> Vec<String> {
-        [
+        strs(&[
             "bifurcation",
             "--range",
             "0.8:1.4:9",
@@ -209,10 +209,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
             "--lyapunov",
             "--out",
             d.to_str().unwrap(),
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect()
+        ])
     };
     let aa = args(&a);
     let ba = args(&b);

@@ -31,6 +31,11 @@ pub fn tmp(tag: &str, name: &str) -> PathBuf {
     d
 }
 
+/// Owned arguments of a command line.
+pub fn strs(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
 /// A path as a command-line argument.
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
