@@ -17,6 +17,7 @@
 //! PNG and SVG are drawn by the same code (plotters, with the DejaVu Sans font embedded in the
 //! binary: `assets/`, Bitstream Vera licence; no system fonts or libraries).
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 pub use plotters::style::RGBColor;
@@ -439,6 +440,25 @@ pub(crate) type Err = String;
 
 /// Font size of a title: 20, smaller for a long title so that it fits the width (not below 13).
 /// `root` filled white with `title` on top: the area below the title.
+/// The plotting area of `ctx` in pixels (drawn on without coordinates), the pixel of a data point
+/// in it, and its width and height.
+pub(crate) fn pixel_area<'a, 'b, DB: DrawingBackend>(
+    ctx: &'b ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> (
+    DrawingArea<DB, Shift>,
+    impl Fn(f64, f64) -> (i32, i32) + Copy + use<'a, 'b, DB>,
+    (i32, i32),
+) {
+    let plot = ctx.plotting_area();
+    let (px, py) = plot.get_pixel_range();
+    let size = (px.end - px.start, py.end - py.start);
+    let map = move |x: f64, y: f64| {
+        let (a, b) = ctx.backend_coord(&(x, y));
+        (a - px.start, b - py.start)
+    };
+    (plot.strip_coord_spec(), map, size)
+}
+
 pub(crate) fn titled_area<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
@@ -607,14 +627,7 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
             mesh.x_label_formatter(&blank);
         }
         mesh.draw().map_err(|x| x.to_string())?;
-        let plot = ctx.plotting_area();
-        let (px, py) = plot.get_pixel_range();
-        let pixel = plot.strip_coord_spec();
-        let map = |x: f64, y: f64| {
-            let (a, b) = ctx.backend_coord(&(x, y));
-            (a - px.start, b - py.start)
-        };
-        let (pw, ph) = (px.end - px.start, py.end - py.start);
+        let (pixel, map, (pw, ph)) = pixel_area(&ctx);
         let inside = |p: &(i32, i32)| p.0 >= 0 && p.0 < pw && p.1 >= 0 && p.1 < ph;
         for &h in &panel.hlines {
             if h >= yr.0 && h <= yr.1 {
