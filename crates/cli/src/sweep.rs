@@ -107,9 +107,12 @@ pub struct InitialStatesArgs {
     pub v0_range: Option<String>,
 }
 
+/// A `MIN:MAX` range, when given.
+type OptionalRange = Option<(f64, f64)>;
+
 impl InitialStatesArgs {
     /// The x0 and v0 ranges given (`None`: the default).
-    pub fn ranges(&self) -> Result<(Option<(f64, f64)>, Option<(f64, f64)>)> {
+    pub fn ranges(&self) -> Result<(OptionalRange, OptionalRange)> {
         let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
         Ok((
             pair(&self.x0_range, "--x0-range")?,

@@ -442,6 +442,7 @@ pub(crate) type Err = String;
 /// `root` filled white with `title` on top: the area below the title.
 /// The plotting area of `ctx` in pixels (drawn on without coordinates), the pixel of a data point
 /// in it, and its width and height.
+#[allow(clippy::type_complexity)]
 pub(crate) fn pixel_area<'a, 'b, DB: DrawingBackend>(
     ctx: &'b ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
 ) -> (
