@@ -11,6 +11,8 @@ fn tmp(name: &str) -> std::path::PathBuf {
     common::tmp("sig", name)
 }
 
+use geardyn_analysis::indicators::INDICATOR_NAMES;
+use geardyn_analysis::signals::SIGNAL_NAMES;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -29,23 +31,6 @@ fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
         .collect();
     (header, rows)
 }
-
-const INDICATORS: [&str; 13] = [
-    "rms",
-    "peak_to_peak",
-    "crest_factor",
-    "kurtosis",
-    "fm0",
-    "fm4",
-    "m6a",
-    "m8a",
-    "na4",
-    "nb4",
-    "er",
-    "sideband_index",
-    "sideband_level_factor",
-];
-const SIGNALS: [&str; 3] = ["dte_um", "mesh_force_N", "acceleration_m_s2"];
 
 #[test]
 fn broken_and_healthy_pairs_with_every_indicator_and_recomputable_moments() {
@@ -106,8 +91,8 @@ fn broken_and_healthy_pairs_with_every_indicator_and_recomputable_moments() {
         );
     }
     for pair in ["healthy", "broken"] {
-        for (k, sig) in SIGNALS.iter().enumerate() {
-            for name in INDICATORS {
+        for (k, sig) in SIGNAL_NAMES.iter().enumerate() {
+            for name in INDICATOR_NAMES {
                 let v = ind[&(pair.into(), sig.to_string(), name.to_string())];
                 assert!(v.is_finite(), "{pair} {sig} {name} = {v}");
             }
