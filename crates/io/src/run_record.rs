@@ -1,6 +1,7 @@
-//! What ran, written beside every result (`run.json`), and the rule that output folders never
-//! mix: a folder holds the results of one command, and a checkpointed command resumes only the
-//! run it was started with (docs/configuration.md).
+//! What ran, written beside every result (`run.json`, and with it `config.toml` at the end of a
+//! sweep, map, basin or orbit run: [`write_config_and_record`]), and the rule that output folders
+//! never mix: a folder holds the results of one command, and a checkpointed command resumes only
+//! the run it was started with (docs/configuration.md).
 
 use crate::config::Config;
 use crate::output::{write_json, write_text, OutputError};
