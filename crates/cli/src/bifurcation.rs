@@ -1,24 +1,19 @@
 //! `geardyn bifurcation` and `geardyn response`.
 
-use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, run_checkpointed, ForceArg, SimArgs};
+use crate::sweep::{parse_range, run_checkpointed, InitialStatesArgs, RunArgs};
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::bifurcation::detect_jumps;
 use geardyn_exec::request::{BifurcationRequest, SweepSpec};
-use geardyn_io::{output, run_record, sweep_output};
+use geardyn_io::{output, run_record, schema, sweep_output};
 use geardyn_scenario::Scenario;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `geardyn bifurcation`.
 #[derive(Args, Debug)]
 pub struct BifurcationArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    force: ForceArg,
+    run: RunArgs,
     /// Parameter swept (omega, F, xi, c, D, D_d, D_s, mu, R, kappa, ...).
     #[arg(long, default_value = "omega")]
     param: String,
@@ -31,16 +26,9 @@ pub struct BifurcationArgs {
     /// Initial states per value (multi).
     #[arg(long, default_value_t = SweepSpec::default().ics)]
     ics: usize,
-    /// Seed of the initial states (multi).
-    #[arg(long, default_value_t = SweepSpec::default().seed)]
-    seed: u64,
-    /// x0 range of the initial states (multi), MIN:MAX; default +-(D + 3 max(D, 1)), D the
-    /// largest half backlash (a region that holds the coexisting attractors, not just the gap).
-    #[arg(long, allow_hyphen_values = true)]
-    x0_range: Option<String>,
-    /// v0 range of the initial states (multi), MIN:MAX; default +-3 max(D, 1).
-    #[arg(long, allow_hyphen_values = true)]
-    v0_range: Option<String>,
+    // seed and ranges of the initial states (multi)
+    #[command(flatten)]
+    initial: InitialStatesArgs,
     /// Sections: comma-separated from strobe, ds_up, ds_down, dd_up, dd_down, impact.
     #[arg(long, default_value = "strobe")]
     sections: String,
@@ -49,41 +37,33 @@ pub struct BifurcationArgs {
     lyapunov: bool,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/bifurcation")]
-    out: PathBuf,
+    pub out: PathBuf,
 }
 
 impl BifurcationArgs {
     /// The resolved request and its scenario: the one place `bifurcation` and `plan bifurcation`
     /// turn their flags into options (validated, the work checked against its cap).
     pub fn request(&self) -> Result<(BifurcationRequest, Scenario)> {
-        let mut cfg = self.cfg.config()?;
-        self.sim.apply(&mut cfg, &self.cfg.sets)?;
-        let scenario = cfg.resolve()?;
+        let (cfg, scenario) = self.run.resolve()?;
         let values = parse_range(&self.range)?;
-        let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+        let (x0_range, v0_range) = self.initial.ranges()?;
         let spec = SweepSpec {
             param: self.param.clone(),
             values,
             mode: self.mode.clone(),
             ics: self.ics,
-            seed: self.seed,
-            x0_range: pair(&self.x0_range, "--x0-range")?,
-            v0_range: pair(&self.v0_range, "--v0-range")?,
+            seed: self.initial.seed,
+            x0_range,
+            v0_range,
             sections: self.sections.split(',').map(str::to_string).collect(),
             lyapunov: self.lyapunov,
         };
-        let req = BifurcationRequest::new(cfg, self.cfg.source(), &scenario, &spec)?;
+        let req = BifurcationRequest::new(cfg, self.run.cfg.source(), &scenario, &spec)?;
         Ok((req, scenario))
-    }
-
-    /// The output directory (`--out`): the store of `plan bifurcation`.
-    pub fn out(&self) -> &Path {
-        &self.out
     }
 }
 
-pub fn run(a: BifurcationArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
+pub fn run(a: BifurcationArgs, started: f64) -> Result<()> {
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let n = opts.values.len();
@@ -94,7 +74,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
         opts,
         &a.out,
         "bifurcation",
-        a.force.force,
+        a.run.force.force,
     )?;
     let elapsed = t.elapsed().as_secs_f64();
     req.write_folder(&a.out, &scenario, &results, started)?;
@@ -131,11 +111,7 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct ResponseArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    force: ForceArg,
+    run: RunArgs,
     /// Parameter swept (normally omega).
     #[arg(long, default_value = "omega")]
     param: String,
@@ -147,27 +123,29 @@ pub struct ResponseArgs {
     out: PathBuf,
 }
 
-pub fn response(a: ResponseArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
+pub fn response(a: ResponseArgs, started: f64) -> Result<()> {
+    let (cfg, scenario) = a.run.resolve()?;
     let opts =
         SweepSpec::response(a.param.clone(), parse_range(&a.range)?).options(&cfg, &scenario)?;
-    let results = run_checkpointed(&cfg, &scenario, &opts, &a.out, "response", a.force.force)?;
-    output::write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_sweep_record(
+    let results = run_checkpointed(
+        &cfg,
+        &scenario,
+        &opts,
+        &a.out,
+        "response",
+        a.run.force.force,
+    )?;
+    run_record::write_config_and_record(
         &a.out,
         "response",
         &cfg,
         &scenario,
         &[run_record::Swept::of(&a.param, &opts.values)],
         started,
-        run_record::now_unix_s() - started,
     )?;
     sweep_output::write_response(&a.out.join("response.csv"), &a.param, &results)?;
     // every run of both sweeps with the columns of every runs table (Python's `response().runs`)
-    sweep_output::write_runs(&a.out.join("runs.csv"), &a.param, &results)?;
+    schema::runs_table(&a.param, &results).write_csv(&a.out.join("runs.csv"), schema::full)?;
     let jumps = detect_jumps(&results);
     output::write_json(&a.out.join("jumps.json"), &jumps)?;
     sweep_output::plot_response(
@@ -177,7 +155,7 @@ pub fn response(a: ResponseArgs) -> Result<()> {
         &format!(
             "Frequency response over {}: {}",
             a.param,
-            sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
+            sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[&a.param])
         ),
     )?;
     for j in &jumps {

@@ -1,19 +1,19 @@
 //! Global analyses: `geardyn basins`, `geardyn continuation`, `geardyn map2d`.
 
-use crate::run_config::ConfigArgs;
-use crate::sweep::{parse_pair, parse_range, progress, ForceArg, SimArgs};
+use crate::sweep::{parse_range, progress, InitialStatesArgs, RunArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
 use geardyn_analysis::basins::BasinsRequest;
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
-use geardyn_exec::request::{ContinuationRequest, MapRequest, SweepSpec};
+use geardyn_exec::request::{ContinuationRequest, MapRequest};
 use geardyn_exec::{execute, BasinsJob, Checkpointed, ContinuationJob, MapJob};
 use geardyn_io::figure::LabelColors;
-use geardyn_io::output::{write_csv, write_json, write_text};
+use geardyn_io::output::{write_csv, write_json};
+use geardyn_io::schema::full;
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Attractor-identification settings.
 #[derive(Args, Debug)]
@@ -50,11 +50,7 @@ impl IdentArgs {
 #[derive(Args, Debug)]
 pub struct BasinArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    force: ForceArg,
+    run: RunArgs,
     #[command(flatten)]
     ident: IdentArgs,
     /// Grid axes: `--grid x:MIN:MAX:N --grid v:MIN:MAX:N` (default 200 x 200 over ±2 D, ±1.5).
@@ -86,11 +82,8 @@ fn parse_axis(s: &str) -> Result<(char, (f64, f64, usize))> {
     Ok((parts[0].chars().next().unwrap_or('x'), axis))
 }
 
-pub fn basins_cmd(a: BasinArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
+pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
+    let (cfg, scenario) = a.run.resolve()?;
     let model = scenario.model();
     let mut req = BasinsRequest {
         phase: a.phase,
@@ -122,27 +115,18 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     let t = std::time::Instant::now();
     let r = execute(
         &BasinsJob { model, opts: &opts },
-        Some(&mut Checkpointed::folder(&a.out, &cfg, a.force.force)?),
+        Some(&mut Checkpointed::folder(&a.out, &cfg, a.run.force.force)?),
         &progress(&a.out),
     )?;
     let elapsed = t.elapsed().as_secs_f64();
-    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_run_record(
-        &a.out,
-        "basins",
-        &cfg,
-        &scenario,
-        started,
-        run_record::now_unix_s() - started,
-    )?;
-    let num = |v: f64| format!("{v}");
+    run_record::write_config_and_record(&a.out, "basins", &cfg, &scenario, &[], started)?;
     write_csv(
         &a.out.join("basins.csv"),
         &["x0", "v0", "attractor"],
         (0..x.n * v.n).map(|c| {
             vec![
-                num(x.value(c % x.n)),
-                num(v.value(c / x.n)),
+                full(x.value(c % x.n)),
+                full(v.value(c / x.n)),
                 r.cells[c].to_string(),
             ]
         }),
@@ -158,7 +142,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
     let title = format!(
         "Basins of attraction (initial phase {}): {}",
         a.phase,
-        sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[])
+        sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[])
     );
     sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
     for at in &r.attractors {
@@ -195,11 +179,7 @@ pub fn basins_cmd(a: BasinArgs) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct ContinuationArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    force: ForceArg,
+    run: RunArgs,
     #[command(flatten)]
     ident: IdentArgs,
     /// Parameter.
@@ -211,16 +191,9 @@ pub struct ContinuationArgs {
     /// Initial states per value.
     #[arg(long, default_value_t = ContinuationRequest::DEFAULT_ICS)]
     ics: usize,
-    /// Seed of the initial states.
-    #[arg(long, default_value_t = SweepSpec::default().seed)]
-    seed: u64,
-    /// x0 range of the initial states, MIN:MAX; default +-(D + 3 max(D, 1)), D the largest half
-    /// backlash (a region that holds the coexisting attractors).
-    #[arg(long, allow_hyphen_values = true)]
-    x0_range: Option<String>,
-    /// v0 range, MIN:MAX; default +-3 max(D, 1).
-    #[arg(long, allow_hyphen_values = true)]
-    v0_range: Option<String>,
+    // seed and ranges of the initial states
+    #[command(flatten)]
+    initial: InitialStatesArgs,
     /// Phase of the initial states as a fraction of the excitation period, in [0, 1) (as for
     /// `basins`: each value's runs start at this phase of its own excitation period).
     #[arg(long, default_value_t = 0.0)]
@@ -230,20 +203,17 @@ pub struct ContinuationArgs {
     out: PathBuf,
 }
 
-pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
+pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
+    let (cfg, scenario) = a.run.resolve()?;
     let values = parse_range(&a.range)?;
-    let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+    let (x0_range, v0_range) = a.initial.ranges()?;
     let req = ContinuationRequest {
         param: a.param.clone(),
         values,
         ics: a.ics,
-        seed: a.seed,
-        x0_range: pair(&a.x0_range, "--x0-range")?,
-        v0_range: pair(&a.v0_range, "--v0-range")?,
+        seed: a.initial.seed,
+        x0_range,
+        v0_range,
         phase: a.phase,
         identify: a.ident.request(),
     };
@@ -253,20 +223,17 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
             scenario: &scenario,
             opts: &opts,
         },
-        Some(&mut Checkpointed::folder(&a.out, &cfg, a.force.force)?),
+        Some(&mut Checkpointed::folder(&a.out, &cfg, a.run.force.force)?),
         &progress(&a.out),
     )?;
-    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
-    run_record::write_sweep_record(
+    run_record::write_config_and_record(
         &a.out,
         "continuation",
         &cfg,
         &scenario,
         &[run_record::Swept::of(&a.param, &opts.values)],
         started,
-        run_record::now_unix_s() - started,
     )?;
-    let num = |v: f64| format!("{v}");
     write_csv(
         &a.out.join("continuation.csv"),
         &[
@@ -282,15 +249,15 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
         ],
         r.points.iter().map(|p| {
             vec![
-                num(p.value),
+                full(p.value),
                 p.branch.to_string(),
                 p.label.clone(),
                 p.period.to_string(),
                 p.healthy.to_string(),
-                num(p.fraction),
-                num(p.max_force),
-                num(p.x),
-                num(p.v),
+                full(p.fraction),
+                full(p.max_force),
+                full(p.x),
+                full(p.v),
             ]
         }),
     )?;
@@ -301,7 +268,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
             "Attractor continuation over {} ({} initial states per value): {}",
             a.param,
             a.ics,
-            sweep_output::operating_point(&a.cfg.source(), scenario.params(), &[&a.param])
+            sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[&a.param])
         ),
         &a.param,
         &opts.values,
@@ -338,11 +305,7 @@ pub fn continuation_cmd(a: ContinuationArgs) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct MapArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    force: ForceArg,
+    run: RunArgs,
     /// x axis: NAME:START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "xi:0.001:0.3:40")]
     x: String,
@@ -354,7 +317,7 @@ pub struct MapArgs {
     metric: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/map2d")]
-    out: PathBuf,
+    pub out: PathBuf,
 }
 
 fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
@@ -371,23 +334,22 @@ impl MapArgs {
     /// The resolved request and its scenario: the one place `map2d` and `plan map2d` turn their
     /// flags into options (validated, the work checked against its cap).
     pub fn request(&self) -> Result<(MapRequest, Scenario)> {
-        let mut cfg = self.cfg.config()?;
-        self.sim.apply(&mut cfg, &self.cfg.sets)?;
-        let scenario = cfg.resolve()?;
+        let (cfg, scenario) = self.run.resolve()?;
         let x = parse_param_axis(&self.x, "--x")?;
         let y = parse_param_axis(&self.y, "--y")?;
-        let req = MapRequest::new(cfg, self.cfg.source(), &scenario, self.metric.clone(), x, y)?;
+        let req = MapRequest::new(
+            cfg,
+            self.run.cfg.source(),
+            &scenario,
+            self.metric.clone(),
+            x,
+            y,
+        )?;
         Ok((req, scenario))
-    }
-
-    /// The output directory (`--out`): the store of `plan map2d`.
-    pub fn out(&self) -> &Path {
-        &self.out
     }
 }
 
-pub fn map_cmd(a: MapArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
+pub fn map_cmd(a: MapArgs, started: f64) -> Result<()> {
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());
@@ -400,7 +362,7 @@ pub fn map_cmd(a: MapArgs) -> Result<()> {
         Some(&mut Checkpointed::folder(
             &a.out,
             &req.config,
-            a.force.force,
+            a.run.force.force,
         )?),
         &progress(&a.out),
     )?;

@@ -51,9 +51,7 @@ pub struct LyapunovArgs {
 }
 
 pub fn run(a: LyapunovArgs) -> Result<()> {
-    let mut cfg = a.cfg.config()?;
-    a.sim.apply(&mut cfg, &a.cfg.sets)?;
-    let scenario = cfg.resolve()?;
+    let (cfg, scenario) = a.sim.resolve(&a.cfg)?;
     let sim = cfg.sim_options()?;
     let req = LyapunovRequest {
         method: TleMethod::from_name(&a.method)?,

@@ -109,6 +109,8 @@ fn main() {
     // (a handler that cannot be installed leaves the default: Ctrl-C ends the process at once)
     let _ = ctrlc::set_handler(on_interrupt);
     let cli = Cli::parse();
+    // the start of the command, as the run records of its folder state it
+    let started = geardyn_io::run_record::now_unix_s();
     let result = match cli.command {
         Command::Report(args) => report::run(args),
         Command::Presets => {
@@ -122,16 +124,16 @@ fn main() {
             print!("{}", geardyn_io::describe::describe(&s)?);
             Ok(())
         }),
-        Command::Stiffness(args) => stiffness::run(args),
+        Command::Stiffness(args) => stiffness::run(args, started),
         Command::Simulate(args) => simulate::run(args),
-        Command::Bifurcation(args) => bifurcation::run(args),
+        Command::Bifurcation(args) => bifurcation::run(args, started),
         Command::Lyapunov(args) => lyapunov::run(args),
-        Command::Response(args) => bifurcation::response(args),
-        Command::Basins(args) => global::basins_cmd(args),
-        Command::Continuation(args) => global::continuation_cmd(args),
-        Command::Orbits(args) => orbits::run(args),
-        Command::Signals(args) => signals::run(args),
-        Command::Map2d(args) => global::map_cmd(args),
+        Command::Response(args) => bifurcation::response(args, started),
+        Command::Basins(args) => global::basins_cmd(args, started),
+        Command::Continuation(args) => global::continuation_cmd(args, started),
+        Command::Orbits(args) => orbits::run(args, started),
+        Command::Signals(args) => signals::run(args, started),
+        Command::Map2d(args) => global::map_cmd(args, started),
         Command::Bench(args) => bench::run(args),
         Command::Plan(args) => shard::plan(args),
         Command::RunShard(args) => shard::run_shard(args),

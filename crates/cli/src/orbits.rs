@@ -9,7 +9,7 @@ use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
 use geardyn_analysis::orbit_branches::BranchPoint;
 use geardyn_analysis::orbits_request::{strobe_diagram, OrbitsRequest};
 use geardyn_exec::{execute, Each, OrbitsJob};
-use geardyn_io::output::{write_json, write_text};
+use geardyn_io::output::write_json;
 use geardyn_io::run_record;
 use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
 use std::path::PathBuf;
@@ -54,8 +54,7 @@ pub struct OrbitArgs {
     out: PathBuf,
 }
 
-pub fn run(a: OrbitArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
+pub fn run(a: OrbitArgs, started: f64) -> Result<()> {
     let (cfg, scenario) = a.cfg.resolve()?;
     if a.diagram > 2000 {
         bail!("bad --diagram {}: allowed 0 ..= 2000", a.diagram);
@@ -120,7 +119,6 @@ pub fn run(a: OrbitArgs) -> Result<()> {
             .write_csv(&a.out.join("bifurcations.csv"), full)?;
     }
     write_json(&a.out.join("orbits.json"), &result)?;
-    write_text(&a.out.join("config.toml"), &cfg.to_toml())?;
     let swept: Vec<run_record::Swept> = match param {
         Some(p) => vec![run_record::Swept::of(
             p,
@@ -137,15 +135,7 @@ pub fn run(a: OrbitArgs) -> Result<()> {
         );
         geardyn_io::sweep_output::plot_orbits(&a.out.join("branch"), &title, p, &result, &diagram)?;
     }
-    run_record::write_sweep_record(
-        &a.out,
-        "orbits",
-        &cfg,
-        &scenario,
-        &swept,
-        started,
-        run_record::now_unix_s() - started,
-    )?;
+    run_record::write_config_and_record(&a.out, "orbits", &cfg, &scenario, &swept, started)?;
     drop(lock);
     // what was found, in words
     match param {

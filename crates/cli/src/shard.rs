@@ -55,12 +55,12 @@ pub fn plan(a: PlanArgs) -> Result<()> {
     let (request, store, n) = match a.command {
         PlanCommand::Map2d { args, shards } => (
             Request::Map2d(args.request()?.0),
-            args.out().to_path_buf(),
+            args.out.clone(),
             shards.shards,
         ),
         PlanCommand::Bifurcation { args, shards } => (
             Request::Bifurcation(args.request()?.0),
-            args.out().to_path_buf(),
+            args.out.clone(),
             shards.shards,
         ),
     };

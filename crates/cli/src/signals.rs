@@ -53,8 +53,7 @@ pub struct SignalsArgs {
     out: PathBuf,
 }
 
-pub fn run(mut a: SignalsArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
+pub fn run(mut a: SignalsArgs, started: f64) -> Result<()> {
     // the default pair is the broken one (a command about a chipped tooth)
     if a.cfg.preset.is_none() && a.cfg.config.is_none() {
         a.cfg.preset = Some("breakage".into());

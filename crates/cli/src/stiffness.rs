@@ -18,8 +18,7 @@ pub struct StiffnessArgs {
     out: PathBuf,
 }
 
-pub fn run(a: StiffnessArgs) -> Result<()> {
-    let started = run_record::now_unix_s();
+pub fn run(a: StiffnessArgs, started: f64) -> Result<()> {
     let (cfg, scenario) = a.cfg.resolve()?;
     let _lock = run_record::prepare_folder(&a.out, "stiffness", None, false)?;
     write_text(&a.out.join("config.toml"), &cfg.to_toml())?;

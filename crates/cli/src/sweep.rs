@@ -1,9 +1,11 @@
-//! Shared machinery of the sweep commands: simulation arguments, ranges, checkpointed parallel
-//! execution with a progress bar.
+//! Shared machinery of the sweep commands: simulation and run arguments, initial states, ranges,
+//! checkpointed parallel execution with a progress bar.
 
+use crate::run_config::ConfigArgs;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::bifurcation::{range_values, SweepOptions, TaskResult, MAX_RANGE_VALUES};
+use geardyn_exec::request::SweepSpec;
 use geardyn_exec::{execute, Checkpointed, Progress, SweepJob};
 use geardyn_io::config::{Face, SimOverrides};
 use geardyn_io::Config;
@@ -81,6 +83,55 @@ impl DecisionArgs {
     }
 }
 
+/// The arguments of the commands that resume from a checkpoint in their output folder: the
+/// configuration, the integration settings over it, and `--force`.
+#[derive(Args, Debug, Clone)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub cfg: ConfigArgs,
+    #[command(flatten)]
+    pub sim: SimArgs,
+    #[command(flatten)]
+    pub force: ForceArg,
+}
+
+impl RunArgs {
+    /// The configuration, every override applied, and the scenario it resolves to.
+    pub fn resolve(&self) -> Result<(Config, Scenario)> {
+        self.sim.resolve(&self.cfg)
+    }
+}
+
+/// The initial states of a multi-initial sweep or a continuation beside their count: the seed
+/// and the boxes they are drawn from.
+#[derive(Args, Debug, Clone)]
+pub struct InitialStatesArgs {
+    /// Seed of the initial states.
+    #[arg(long, default_value_t = SweepSpec::default().seed)]
+    pub seed: u64,
+    /// x0 range of the initial states, MIN:MAX; default +-(D + 3 max(D, 1)), D the largest half
+    /// backlash (a region that holds the coexisting attractors, not just the gap).
+    #[arg(long, allow_hyphen_values = true)]
+    pub x0_range: Option<String>,
+    /// v0 range of the initial states, MIN:MAX; default +-3 max(D, 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub v0_range: Option<String>,
+}
+
+/// A `MIN:MAX` range, when given.
+type OptionalRange = Option<(f64, f64)>;
+
+impl InitialStatesArgs {
+    /// The x0 and v0 ranges given (`None`: the default).
+    pub fn ranges(&self) -> Result<(OptionalRange, OptionalRange)> {
+        let pair = |s: &Option<String>, flag| s.as_deref().map(|s| parse_pair(s, flag)).transpose();
+        Ok((
+            pair(&self.x0_range, "--x0-range")?,
+            pair(&self.v0_range, "--v0-range")?,
+        ))
+    }
+}
+
 /// `--force` of the commands that resume from a checkpoint in their output folder.
 #[derive(Args, Debug, Clone)]
 pub struct ForceArg {
@@ -104,6 +155,14 @@ impl SimArgs {
             ..self.decision.overrides()
         };
         Ok(o.apply(cfg, sets, Face::Cli)?)
+    }
+
+    /// The configuration of `cfg` with these overrides applied, and the scenario it resolves to.
+    pub fn resolve(&self, cfg: &ConfigArgs) -> Result<(Config, Scenario)> {
+        let mut c = cfg.config()?;
+        self.apply(&mut c, &cfg.sets)?;
+        let scenario = c.resolve()?;
+        Ok((c, scenario))
     }
 }
 

@@ -1,7 +1,7 @@
 //! The `geardyn` binary as a user sees it: outputs written, bad input rejected in one line.
 
 mod common;
-use common::geardyn;
+use common::{geardyn, geardyn_ok, strs};
 
 /// A fresh path for this file's test `name`.
 fn tmp(name: &str) -> std::path::PathBuf {
@@ -11,7 +11,7 @@ fn tmp(name: &str) -> std::path::PathBuf {
 #[test]
 fn simulate_writes_every_output() {
     let dir = tmp("sim");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "simulate",
         "--preset",
         "classic",
@@ -24,7 +24,6 @@ fn simulate_writes_every_output() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("period 2"), "{out}");
     for f in [
         "trajectory.csv",
@@ -192,7 +191,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
     let a = tmp("bif1");
     let b = tmp("bif2");
     let args = |d: &std::path::Path| -> Vec<String> {
-        [
+        strs(&[
             "bifurcation",
             "--range",
             "0.8:1.4:9",
@@ -209,10 +208,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
             "--lyapunov",
             "--out",
             d.to_str().unwrap(),
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect()
+        ])
     };
     let aa = args(&a);
     let ba = args(&b);
@@ -249,7 +245,7 @@ fn bifurcation_is_resumable_and_thread_count_independent() {
 
 #[test]
 fn lyapunov_and_response_commands() {
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "lyapunov",
         "--set",
         "omega=1.3",
@@ -258,13 +254,12 @@ fn lyapunov_and_response_commands() {
         "--transient",
         "100",
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(
         out.contains("variational") && out.contains("two-trajectory"),
         "{out}"
     );
     let d = tmp("resp");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "response",
         "--range",
         "0.7:1.2:11",
@@ -273,7 +268,6 @@ fn lyapunov_and_response_commands() {
         "--out",
         d.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("both sweeps"));
     let csv = std::fs::read_to_string(d.join("response.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 22);
@@ -311,14 +305,13 @@ fn lyapunov_and_response_commands() {
 #[test]
 fn stiffness_command_and_physical_show() {
     let d = tmp("stiff");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "stiffness",
         "--preset",
         "breakage",
         "--out",
         d.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("eps_b"), "{out}");
     let csv = std::fs::read_to_string(d.join("stiffness.csv")).unwrap();
     assert!(csv.starts_with("position_cycles,k_pair1_N_per_m"));
@@ -360,7 +353,7 @@ fn stiffness_command_and_physical_show() {
 #[test]
 fn basins_continuation_and_map_commands() {
     let d = tmp("basins");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "basins",
         "--set",
         "omega=1.8",
@@ -375,7 +368,6 @@ fn basins_continuation_and_map_commands() {
         "--out",
         d.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(
         out.contains("attractor #0") && out.contains("attractor #1"),
         "{out}"
@@ -405,7 +397,7 @@ fn basins_continuation_and_map_commands() {
     assert!(err.contains("--grid"), "{err}");
 
     let c = tmp("cont");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "continuation",
         "--range",
         "1.75:1.85:3",
@@ -418,7 +410,6 @@ fn basins_continuation_and_map_commands() {
         "--out",
         c.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("healthy {"), "{out}");
     assert!(
         c.join("continuation.csv").exists()
@@ -427,7 +418,7 @@ fn basins_continuation_and_map_commands() {
     );
 
     let m = tmp("map");
-    let (code, out, err) = geardyn(&[
+    let out = geardyn_ok(&[
         "map2d",
         "--x",
         "xi:0.05:0.3:3",
@@ -440,7 +431,6 @@ fn basins_continuation_and_map_commands() {
         "--out",
         m.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("max_force in"), "{out}");
     let map = std::fs::read_to_string(m.join("map.csv")).unwrap();
     assert_eq!(map.lines().count(), 10);
@@ -485,7 +475,7 @@ fn report_takes_the_decision_flags() {
     // chaotic run's escape test excludes lifetimes below the horizon and no more than needed
     // (at least 100 periods: 64 x 100 / ln 20 = 2 136), and the page says so
     let d = tmp("report-decision");
-    let (code, _, err) = geardyn(&[
+    geardyn_ok(&[
         "report",
         "--preset",
         "classic",
@@ -495,7 +485,6 @@ fn report_takes_the_decision_flags() {
         "--out",
         d.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
     let runs = std::fs::read_to_string(d.join("classic/bifurcation/bif_omega_runs.csv")).unwrap();
     let header: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();

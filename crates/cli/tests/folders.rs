@@ -9,7 +9,7 @@ fn tmp(name: &str) -> std::path::PathBuf {
     common::tmp("folders", name)
 }
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -33,11 +33,17 @@ fn simulate_classic(out: &Path) -> (i32, String) {
     ])
 }
 
-#[test]
-fn a_link_in_the_output_folder_is_refused_and_its_target_untouched() {
-    let d = tmp("link");
+/// A fresh folder for the test `name` and its `out` holding a finished short run of classic.
+fn simulated_folder(name: &str) -> (PathBuf, PathBuf) {
+    let d = tmp(name);
     let out = d.join("out");
     assert_eq!(simulate_classic(&out).0, 0);
+    (d, out)
+}
+
+#[test]
+fn a_link_in_the_output_folder_is_refused_and_its_target_untouched() {
+    let (d, out) = simulated_folder("link");
     let outside = d.join("precious.txt");
     std::fs::write(&outside, "precious").unwrap();
     for name in [
@@ -248,9 +254,7 @@ fn work_above_the_cap_is_refused_at_once_and_the_decision_keeps_its_budget() {
 fn a_refusal_comes_before_any_write_and_names_alone_do_not_make_a_folder_ours() {
     // a link anywhere in the folder (here a linked study-like folder) is refused before the run
     // writes anything: a refusal halfway left config.toml of one run beside results of another
-    let d = tmp("early");
-    let out = d.join("out");
-    assert_eq!(simulate_classic(&out).0, 0);
+    let (d, out) = simulated_folder("early");
     let before = std::fs::read_to_string(out.join("config.toml")).unwrap();
     let outside = d.join("elsewhere");
     std::fs::create_dir_all(&outside).unwrap();
@@ -301,9 +305,7 @@ fn a_refusal_comes_before_any_write_and_names_alone_do_not_make_a_folder_ours() 
 #[test]
 fn a_folder_named_like_a_result_file_is_refused_before_the_run() {
     // it was refused only at its write, after the whole computation
-    let d = tmp("dirnamed");
-    let out = d.join("out");
-    assert_eq!(simulate_classic(&out).0, 0);
+    let (d, out) = simulated_folder("dirnamed");
     std::fs::remove_file(out.join("summary.json")).unwrap();
     std::fs::create_dir_all(out.join("summary.json")).unwrap();
     let t = Instant::now();
@@ -322,6 +324,7 @@ fn a_folder_named_like_a_result_file_is_refused_before_the_run() {
     assert_ne!(code, 0);
     assert!(err.contains("named like a result file"), "{err}");
     assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
+    std::fs::remove_dir_all(d).ok();
 }
 
 #[test]

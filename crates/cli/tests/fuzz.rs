@@ -4,6 +4,8 @@
 //!
 //! A few hundred cases run in the normal suite; `GEARDYN_FUZZ_CASES=N` runs N.
 
+mod common;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::process::{Command, Stdio};
@@ -221,7 +223,7 @@ fn random_config_mutations_end_with_a_result_or_one_line_error() {
         }
         let cfg = dir.join("c.toml");
         std::fs::write(&cfg, lines.join("\n")).unwrap();
-        let args: Vec<String> = [
+        let args = common::strs(&[
             "simulate",
             "--config",
             cfg.to_str().unwrap(),
@@ -233,10 +235,7 @@ fn random_config_mutations_end_with_a_result_or_one_line_error() {
             "1",
             "--out",
             out.to_str().unwrap(),
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+        ]);
         check(&args, &out);
     }
     let _ = std::fs::remove_dir_all(&dir);

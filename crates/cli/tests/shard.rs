@@ -15,21 +15,29 @@ use std::path::{Path, PathBuf};
 use std::process::{Output, Stdio};
 use std::time::Duration;
 
-const MAP: &[&str] = &[
-    "--preset",
-    "classic",
-    "--x",
-    "omega:0.6:1.2:6",
-    "--y",
-    "F:0.05:0.2:5",
+/// The short runs of every plan here (chaos decided at 300 periods, not 10 000: seconds less per
+/// chaotic cell, still 7 of the map's 30).
+const SHORT: &[&str] = &[
     "--periods",
     "20",
     "--transient",
     "60",
-    // (chaos decided at 300 periods, not 10 000: seconds less per chaotic cell, still 7 of 30)
     "--decision-periods",
     "300",
 ];
+
+/// The arguments of the map planned here: a 6 x 5 C1 map of short runs.
+fn map() -> Vec<&'static str> {
+    let grid = [
+        "--preset",
+        "classic",
+        "--x",
+        "omega:0.6:1.2:6",
+        "--y",
+        "F:0.05:0.2:5",
+    ];
+    [&grid[..], SHORT].concat()
+}
 
 fn run(args: &[&str]) -> Output {
     bin().args(args).output().unwrap()
@@ -106,6 +114,17 @@ fn store_files(store: &Path) -> Vec<(String, Vec<u8>)> {
     out
 }
 
+/// Asserts that the `files` of the folders `a` and `b` are the same bytes.
+fn same_files(a: &Path, b: &Path, files: &[&str]) {
+    for f in files {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        assert!(x == y, "{f} of {} and {} differ", a.display(), b.display());
+    }
+}
+
 fn single_map(args: &[&str], name: &str) -> PathBuf {
     let single = tmp(name);
     let a = with(&["map2d"], args);
@@ -116,7 +135,7 @@ fn single_map(args: &[&str], name: &str) -> PathBuf {
 #[test]
 fn four_shards_in_parallel_merge_to_the_single_process_map() {
     for (name, extra) in [("dopri", &[][..]), ("rk4", &["--integrator", "rk4"][..])] {
-        let args = with(MAP, extra);
+        let args = with(&map(), extra);
         let args = strs(&args);
         let single = single_map(&args, &format!("single-{name}"));
         let store = tmp(&format!("store-{name}"));
@@ -125,20 +144,11 @@ fn four_shards_in_parallel_merge_to_the_single_process_map() {
         assert!(st.contains("4 done, 0 missing"), "{st}");
         assert_eq!(ok(&["status", s(&store), "--missing"]).trim(), "");
         ok(&["merge", s(&store)]);
-        for f in ["map.csv", "map.npy", "config.toml"] {
-            assert_eq!(
-                std::fs::read(store.join(f)).unwrap(),
-                std::fs::read(single.join(f)).unwrap(),
-                "{name}: {f}"
-            );
-        }
+        same_files(&store, &single, &["map.csv", "map.npy", "config.toml"]);
         // merge again, elsewhere: the same files (idempotent)
         let other = tmp(&format!("merged-{name}"));
         ok(&["merge", s(&store), "--out", s(&other)]);
-        assert_eq!(
-            std::fs::read(other.join("map.csv")).unwrap(),
-            std::fs::read(single.join("map.csv")).unwrap()
-        );
+        same_files(&other, &single, &["map.csv"]);
         // a done shard is not computed again
         assert!(ok(&["run-shard", s(&store), "--shard", "1"]).contains("done already"));
         for d in [single, store, other] {
@@ -149,11 +159,11 @@ fn four_shards_in_parallel_merge_to_the_single_process_map() {
 
 #[test]
 fn a_killed_shard_run_again_writes_the_same_bytes() {
-    let single = single_map(MAP, "kill-single");
+    let single = single_map(&map(), "kill-single");
     let clean = tmp("kill-clean");
-    plan_and_run_all(MAP, &clean);
+    plan_and_run_all(&map(), &clean);
     let hurt = tmp("kill-hurt");
-    let plan = with(&["plan", "map2d"], MAP);
+    let plan = with(&["plan", "map2d"], &map());
     ok(&strs(&with(
         &strs(&plan),
         &["--shards", "4", "--out", s(&hurt)],
@@ -179,10 +189,7 @@ fn a_killed_shard_run_again_writes_the_same_bytes() {
     SetSlurm::run_all(&hurt);
     assert_eq!(store_files(&hurt), store_files(&clean));
     ok(&["merge", s(&hurt)]);
-    assert_eq!(
-        std::fs::read(hurt.join("map.csv")).unwrap(),
-        std::fs::read(single.join("map.csv")).unwrap()
-    );
+    same_files(&hurt, &single, &["map.csv"]);
     for d in [single, clean, hurt] {
         std::fs::remove_dir_all(d).ok();
     }
@@ -191,9 +198,9 @@ fn a_killed_shard_run_again_writes_the_same_bytes() {
 #[test]
 fn a_done_shard_whose_chunk_changed_is_damaged_and_runs_again() {
     let clean = tmp("damaged-clean");
-    plan_and_run_all(MAP, &clean);
+    plan_and_run_all(&map(), &clean);
     let hurt = tmp("damaged-hurt");
-    plan_and_run_all(MAP, &hurt);
+    plan_and_run_all(&map(), &hurt);
     assert!(ok(&["status", s(&hurt)]).contains("4 done, 0 missing"));
     // a chunk of a finished shard truncated after the shard wrote its marker (a full disk, a
     // copy interrupted): the marker alone no longer makes the shard done
@@ -233,7 +240,7 @@ impl SetSlurm {
 #[test]
 fn plans_of_another_request_or_version_and_bad_input_are_refused() {
     let store = tmp("refuse");
-    let plan = with(&["plan", "map2d"], MAP);
+    let plan = with(&["plan", "map2d"], &map());
     ok(&strs(&with(
         &strs(&plan),
         &["--shards", "4", "--out", s(&store)],
@@ -307,7 +314,7 @@ fn plans_of_another_request_or_version_and_bad_input_are_refused() {
 
 #[test]
 fn a_multi_initial_bifurcation_in_shards_equals_the_single_process() {
-    let args = [
+    let sweep = [
         "--preset",
         "classic",
         "--param",
@@ -318,15 +325,10 @@ fn a_multi_initial_bifurcation_in_shards_equals_the_single_process() {
         "multi",
         "--ics",
         "3",
-        "--periods",
-        "20",
-        "--transient",
-        "60",
-        "--decision-periods",
-        "300",
         "--integrator",
         "rk4",
     ];
+    let args = [&sweep[..], SHORT].concat();
     let single = tmp("bif-single");
     ok(&strs(&with(
         &strs(&with(&["bifurcation"], &args)),
@@ -341,13 +343,11 @@ fn a_multi_initial_bifurcation_in_shards_equals_the_single_process() {
         ok(&["run-shard", s(&store), "--shard", i]);
     }
     ok(&["merge", s(&store)]);
-    for f in ["runs.csv", "bifurcation.csv", "impact_force.csv"] {
-        assert_eq!(
-            std::fs::read(store.join(f)).unwrap(),
-            std::fs::read(single.join(f)).unwrap(),
-            "{f}"
-        );
-    }
+    same_files(
+        &store,
+        &single,
+        &["runs.csv", "bifurcation.csv", "impact_force.csv"],
+    );
     for d in [single, store] {
         std::fs::remove_dir_all(d).ok();
     }

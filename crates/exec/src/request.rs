@@ -18,7 +18,7 @@ use geardyn_analysis::map2d::{MapCell, MapOptions};
 use geardyn_io::figure::{
     colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
 };
-use geardyn_io::output::{write_text, OutputError};
+use geardyn_io::output::OutputError;
 use geardyn_io::ConfigError;
 use geardyn_io::{npy, run_record, schema, sweep_output, Config};
 use geardyn_scenario::{Scenario, ScenarioError};
@@ -398,15 +398,13 @@ impl MapRequest {
         let o = &self.options;
         let (xp, yp) = (o.x_param.as_str(), o.y_param.as_str());
         let (xv, yv) = (&o.x_values, &o.y_values);
-        write_text(&out.join("config.toml"), &self.config.to_toml())?;
-        run_record::write_sweep_record(
+        run_record::write_config_and_record(
             out,
             "map2d",
             &self.config,
             scenario,
             &[run_record::Swept::of(xp, xv), run_record::Swept::of(yp, yv)],
             started_unix_s,
-            run_record::now_unix_s() - started_unix_s,
         )?;
         schema::map_table(xp, yp, cells).write_csv(&out.join("map.csv"), schema::full)?;
         let vals: Vec<f64> = cells
@@ -480,19 +478,19 @@ impl BifurcationRequest {
     ) -> Result<(), FolderWriteError> {
         let o = &self.options;
         let param = o.param.as_str();
-        write_text(&out.join("config.toml"), &self.config.to_toml())?;
-        run_record::write_sweep_record(
+        run_record::write_config_and_record(
             out,
             "bifurcation",
             &self.config,
             scenario,
             &[run_record::Swept::of(param, &o.values)],
             started_unix_s,
-            run_record::now_unix_s() - started_unix_s,
         )?;
-        sweep_output::write_bifurcation(&out.join("bifurcation.csv"), param, results)?;
-        sweep_output::write_runs(&out.join("runs.csv"), param, results)?;
-        sweep_output::write_impact_force(&out.join("impact_force.csv"), param, results)?;
+        schema::points_table(param, results)
+            .write_csv(&out.join("bifurcation.csv"), schema::full)?;
+        schema::runs_table(param, results).write_csv(&out.join("runs.csv"), schema::full)?;
+        schema::impact_force_table(param, results)
+            .write_csv(&out.join("impact_force.csv"), schema::full)?;
         let title = format!(
             "Bifurcation diagram over {} ({} mode): {}",
             param,

@@ -56,6 +56,29 @@ fn sweep() -> (
     (cfg, scenario, opts)
 }
 
+/// The records of `job` run with its store in `file` under `cfg`, told to `observer`.
+fn run_stored(
+    job: &SweepJob,
+    file: &std::path::Path,
+    cfg: &Config,
+    observer: &dyn Observer<TaskResult>,
+) -> Vec<TaskResult> {
+    execute(
+        job,
+        Some(&mut Checkpointed::file(file, cfg).unwrap()),
+        observer,
+    )
+    .unwrap()
+}
+
+/// Asserts that `a` and `b` are the same records.
+fn same(a: &[TaskResult], b: &[TaskResult]) {
+    assert_eq!(
+        serde_json::to_string(a).unwrap(),
+        serde_json::to_string(b).unwrap()
+    );
+}
+
 #[test]
 fn a_finished_job_resumes_without_running_anything_and_gives_the_same_records() {
     let dir = Dir::new("resume");
@@ -63,36 +86,18 @@ fn a_finished_job_resumes_without_running_anything_and_gives_the_same_records() 
     let (cfg, scenario, opts) = sweep();
     let job = SweepJob::new("sweep", &scenario, &opts);
     let first = Count::default();
-    let a = execute(
-        &job,
-        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
-        &first,
-    )
-    .unwrap();
+    let a = run_stored(&job, &file, &cfg, &first);
     assert_eq!(first.finished.load(Ordering::SeqCst), 3);
     let again = Count::default();
-    let b = execute(
-        &job,
-        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
-        &again,
-    )
-    .unwrap();
+    let b = run_stored(&job, &file, &cfg, &again);
     assert_eq!(again.found.load(Ordering::SeqCst), 3);
     assert_eq!(again.finished.load(Ordering::SeqCst), 0);
-    assert_eq!(
-        serde_json::to_string(&a).unwrap(),
-        serde_json::to_string(&b).unwrap()
-    );
+    same(&a, &b);
     // another context (configuration) is not resumed
     let mut other = cfg.clone();
     other.simulation.record_periods = 11;
     let third = Count::default();
-    execute(
-        &job,
-        Some(&mut Checkpointed::file(&file, &other).unwrap()),
-        &third,
-    )
-    .unwrap();
+    run_stored(&job, &file, &other, &third);
     assert_eq!(third.found.load(Ordering::SeqCst), 0);
 }
 
@@ -102,12 +107,7 @@ fn a_stored_record_that_is_not_one_of_the_jobs_items_is_computed_again() {
     let file = dir.0.join("s.checkpoint.jsonl");
     let (cfg, scenario, opts) = sweep();
     let job = SweepJob::new("sweep", &scenario, &opts);
-    let clean = execute(
-        &job,
-        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
-        &(),
-    )
-    .unwrap();
+    let clean = run_stored(&job, &file, &cfg, &());
     // rewrite the store as value 0.7 recorded at another value, and a task out of range: both
     // well-formed lines under the job's own key, neither one of its items
     let text = std::fs::read_to_string(&file).unwrap();
@@ -123,16 +123,8 @@ fn a_stored_record_that_is_not_one_of_the_jobs_items_is_computed_again() {
     }
     drop(cp);
     let count = Count::default();
-    let again = execute(
-        &job,
-        Some(&mut Checkpointed::file(&file, &cfg).unwrap()),
-        &count,
-    )
-    .unwrap();
+    let again = run_stored(&job, &file, &cfg, &count);
     assert_eq!(count.found.load(Ordering::SeqCst), 1);
     assert_eq!(count.finished.load(Ordering::SeqCst), 2);
-    assert_eq!(
-        serde_json::to_string(&again).unwrap(),
-        serde_json::to_string(&clean).unwrap()
-    );
+    same(&again, &clean);
 }

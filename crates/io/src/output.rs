@@ -1,5 +1,6 @@
 //! Writers for simulation results: CSV tables and JSON summaries.
 
+use crate::schema::full;
 use geardyn_analysis::simulate::{SimResult, Summary};
 use std::path::Path;
 
@@ -42,10 +43,6 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
     crate::safe_write::write_bytes(path, text.as_bytes())
 }
 
-fn num(v: f64) -> String {
-    format!("{v}")
-}
-
 /// `trajectory.csv`: `tau,x,v,mesh_force,state`.
 pub fn write_trajectory(path: &Path, res: &SimResult) -> Result<(), OutputError> {
     write_csv(
@@ -53,10 +50,10 @@ pub fn write_trajectory(path: &Path, res: &SimResult) -> Result<(), OutputError>
         &["tau", "x", "v", "mesh_force", "state"],
         res.mesh().trajectory.iter().map(|p| {
             [
-                num(p.tau),
-                num(p.x),
-                num(p.v),
-                num(p.mesh_force),
+                full(p.tau),
+                full(p.x),
+                full(p.v),
+                full(p.mesh_force),
                 p.state.to_string(),
             ]
         }),
@@ -70,7 +67,7 @@ pub fn write_strobe(path: &Path, res: &SimResult) -> Result<(), OutputError> {
         &["tau", "x", "v"],
         res.strobe
             .iter()
-            .map(|p| [num(p.tau), num(p.y[0]), num(p.y[1])]),
+            .map(|p| [full(p.tau), full(p.y[0]), full(p.y[1])]),
     )
 }
 
@@ -93,13 +90,13 @@ pub fn write_events(path: &Path, res: &SimResult) -> Result<(), OutputError> {
                 .and_then(|v| v.as_str().map(str::to_string))
                 .unwrap_or_default();
             [
-                num(e.tau),
-                num(e.cycle_position),
+                full(e.tau),
+                full(e.cycle_position),
                 kind,
-                num(e.x),
-                num(e.v_before),
-                num(e.v_after),
-                num(e.peak_force),
+                full(e.x),
+                full(e.v_before),
+                full(e.v_after),
+                full(e.peak_force),
             ]
         }),
     )
@@ -110,10 +107,14 @@ pub fn write_sections(path: &Path, res: &SimResult) -> Result<(), OutputError> {
     write_csv(
         path,
         &["section", "tau", "x", "v"],
-        res.mesh()
-            .crossings
-            .iter()
-            .map(|c| [c.level.name().to_string(), num(c.tau), num(c.x), num(c.v)]),
+        res.mesh().crossings.iter().map(|c| {
+            [
+                c.level.name().to_string(),
+                full(c.tau),
+                full(c.x),
+                full(c.v),
+            ]
+        }),
     )
 }
 

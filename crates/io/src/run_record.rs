@@ -1,9 +1,10 @@
-//! What ran, written beside every result (`run.json`), and the rule that output folders never
-//! mix: a folder holds the results of one command, and a checkpointed command resumes only the
-//! run it was started with (docs/configuration.md).
+//! What ran, written beside every result (`run.json`, and with it `config.toml` at the end of a
+//! sweep, map, basin or orbit run: [`write_config_and_record`]), and the rule that output folders
+//! never mix: a folder holds the results of one command, and a checkpointed command resumes only
+//! the run it was started with (docs/configuration.md).
 
 use crate::config::Config;
-use crate::output::{write_json, OutputError};
+use crate::output::{write_json, write_text, OutputError};
 use geardyn_scenario::{ResolvedRecord, Scenario};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -399,6 +400,23 @@ fn first_line(path: &Path) -> String {
     String::from_utf8_lossy(&line).into_owned()
 }
 
+/// Writes `config.toml` and `run.json` into `out` at the end of a run that began at
+/// `started_unix_s` (`swept`: the parameters a sweep or map varied, `scenario` its base point;
+/// empty for a run at one point).
+pub fn write_config_and_record(
+    out: &Path,
+    kind: &str,
+    cfg: &Config,
+    scenario: &Scenario,
+    swept: &[Swept],
+    started_unix_s: f64,
+) -> Result<(), OutputError> {
+    write_text(&out.join("config.toml"), &cfg.to_toml())?;
+    let elapsed_s = now_unix_s() - started_unix_s;
+    let rec = RunRecord::new(kind, cfg, scenario, swept, started_unix_s, elapsed_s);
+    write_json(&out.join("run.json"), &rec)
+}
+
 /// Writes `run.json` into `out` (a run at one point: nothing swept).
 pub fn write_run_record(
     out: &Path,
@@ -408,33 +426,33 @@ pub fn write_run_record(
     started_unix_s: f64,
     elapsed_s: f64,
 ) -> Result<(), OutputError> {
-    write_sweep_record(out, kind, cfg, scenario, &[], started_unix_s, elapsed_s)
+    let rec = RunRecord::new(kind, cfg, scenario, &[], started_unix_s, elapsed_s);
+    write_json(&out.join("run.json"), &rec)
 }
 
-/// Writes `run.json` of a sweep or map into `out`: `scenario` is the base point, `swept` the
-/// parameters it varied.
-pub fn write_sweep_record(
-    out: &Path,
-    kind: &str,
-    cfg: &Config,
-    scenario: &Scenario,
-    swept: &[Swept],
-    started_unix_s: f64,
-    elapsed_s: f64,
-) -> Result<(), OutputError> {
-    let rec = RunRecord {
-        swept: swept.to_vec(),
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        git_commit: option_env!("GEARDYN_GIT_COMMIT").map(String::from),
-        kind: kind.to_string(),
-        command: std::env::args().collect(),
-        config: serde_json::to_value(cfg.to_value()).unwrap_or(serde_json::Value::Null),
-        resolved: scenario.record(),
-        threads: rayon_threads(),
-        started_unix_s,
-        elapsed_s,
-    };
-    write_json(&out.join("run.json"), &rec)
+impl RunRecord {
+    /// The record of a run of command `kind` by this build and process.
+    fn new(
+        kind: &str,
+        cfg: &Config,
+        scenario: &Scenario,
+        swept: &[Swept],
+        started_unix_s: f64,
+        elapsed_s: f64,
+    ) -> Self {
+        RunRecord {
+            swept: swept.to_vec(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            git_commit: option_env!("GEARDYN_GIT_COMMIT").map(String::from),
+            kind: kind.to_string(),
+            command: std::env::args().collect(),
+            config: serde_json::to_value(cfg.to_value()).unwrap_or(serde_json::Value::Null),
+            resolved: scenario.record(),
+            threads: rayon_threads(),
+            started_unix_s,
+            elapsed_s,
+        }
+    }
 }
 
 fn rayon_threads() -> usize {

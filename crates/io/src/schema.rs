@@ -182,10 +182,7 @@ pub fn runs_table(param: &str, results: &[TaskResult]) -> Table {
         f(&|_, u| u.amplitudes.as_ref().map_or(f64::NAN, g))
     };
     let rate = |k: usize| f(&|_, u| u.rates.map_or(f64::NAN, |r| r[k]));
-    let mut t = Table::default();
-    t.push_exact(param, f(&|r, _| r.value));
-    t.push("branch", s(&|r, _| r.task.branch_name().to_string()));
-    t.push("ic", i(&|u| u.ic as i64));
+    let mut t = run_keyed(param, runs.iter().copied());
     t.push_exact("x0", f(&|_, u| u.y0[0]));
     t.push_exact("v0", f(&|_, u| u.y0[1]));
     t.push("class", s(&|_, u| u.motion.word().to_string()));
@@ -313,6 +310,24 @@ pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -
     t
 }
 
+/// A table that starts with the columns naming the run of each row: `<param>` (every digit),
+/// `branch`, `ic` (the runs table, the section points, the impact forces).
+fn run_keyed<'a>(param: &str, rows: impl Iterator<Item = (&'a TaskResult, &'a Run)>) -> Table {
+    let rows: Vec<(&TaskResult, &Run)> = rows.collect();
+    let mut t = Table::default();
+    t.push_exact(
+        param,
+        Values::F64(rows.iter().map(|(r, _)| r.value).collect()),
+    );
+    let branches = rows.iter().map(|(r, _)| r.task.branch_name().to_string());
+    t.push("branch", Values::Str(branches.collect()));
+    t.push(
+        "ic",
+        Values::I64(rows.iter().map(|(_, u)| u.ic as i64).collect()),
+    );
+    t
+}
+
 /// The section points of a sweep (`bifurcation.csv`): `<param>, branch, ic, section, x, v,
 /// label`, one row per point (`section` one of strobe, ds_up, ds_down, dd_up, dd_down, impact;
 /// `x`, `v` the state there).
@@ -327,20 +342,7 @@ pub fn points_table(param: &str, results: &[TaskResult]) -> Table {
             })
         })
         .collect();
-    let mut t = Table::default();
-    t.push_exact(param, Values::F64(pts.iter().map(|p| p.0.value).collect()));
-    t.push(
-        "branch",
-        Values::Str(
-            pts.iter()
-                .map(|p| p.0.task.branch_name().to_string())
-                .collect(),
-        ),
-    );
-    t.push(
-        "ic",
-        Values::I64(pts.iter().map(|p| p.1.ic as i64).collect()),
-    );
+    let mut t = run_keyed(param, pts.iter().map(|p| (p.0, p.1)));
     t.push(
         "section",
         Values::Str(pts.iter().map(|p| p.4.to_string()).collect()),
@@ -369,20 +371,7 @@ pub fn impact_force_table(param: &str, results: &[TaskResult]) -> Table {
             })
         })
         .collect();
-    let mut t = Table::default();
-    t.push_exact(param, Values::F64(rows.iter().map(|p| p.0.value).collect()));
-    t.push(
-        "branch",
-        Values::Str(
-            rows.iter()
-                .map(|p| p.0.task.branch_name().to_string())
-                .collect(),
-        ),
-    );
-    t.push(
-        "ic",
-        Values::I64(rows.iter().map(|p| p.1.ic as i64).collect()),
-    );
+    let mut t = run_keyed(param, rows.iter().map(|p| (p.0, p.1)));
     t.push(
         "period",
         Values::I64(rows.iter().map(|p| p.2 as i64).collect()),

@@ -141,42 +141,38 @@ fn plots(
     } else {
         "last excitation period"
     };
-    write_figure(
-        &out.join("time_history"),
-        &Figure {
-            title: format!("Time history ({periods}): {op}"),
-            x_label: "τ (dimensionless time)".into(),
-            x_range,
-            panels: vec![Panel {
-                y_label: "x (units of b_c)".into(),
-                layers,
+    // one panel over the window shown, under the title `what`
+    let over_time = |name: &str, what: &str, panel: Panel, legend: Vec<LegendEntry>| {
+        write_figure(
+            &out.join(name),
+            &Figure {
+                title: format!("{what} ({periods}): {op}"),
+                x_label: "τ (dimensionless time)".into(),
+                x_range,
+                panels: vec![panel],
+                legend,
+                panel_height: 460,
                 ..Default::default()
-            }],
-            legend,
-            panel_height: 460,
-            ..Default::default()
-        },
-    )?;
-    write_figure(
-        &out.join("mesh_force"),
-        &Figure {
-            title: format!("Dynamic mesh force ({periods}): {op}"),
-            x_label: "τ (dimensionless time)".into(),
-            x_range,
-            panels: vec![Panel {
-                y_label: "F_m (units of k_av b_c)".into(),
-                layers: vec![Layer {
-                    points: decimate(&fs, 20_000),
-                    style: Style::Line(1),
-                    color: palette(1),
-                }],
-                hlines: vec![0.0],
-                ..Default::default()
-            }],
-            panel_height: 460,
-            ..Default::default()
-        },
-    )?;
+            },
+        )
+    };
+    let x_panel = Panel {
+        y_label: "x (units of b_c)".into(),
+        layers,
+        ..Default::default()
+    };
+    over_time("time_history", "Time history", x_panel, legend)?;
+    let force_panel = Panel {
+        y_label: "F_m (units of k_av b_c)".into(),
+        layers: vec![Layer {
+            points: decimate(&fs, 20_000),
+            style: Style::Line(1),
+            color: palette(1),
+        }],
+        hlines: vec![0.0],
+        ..Default::default()
+    };
+    over_time("mesh_force", "Dynamic mesh force", force_panel, vec![])?;
     let stride = (res.mesh().trajectory.len() / 40_000).max(1);
     let phase: Vec<(f64, f64)> = res
         .mesh()

@@ -7,6 +7,7 @@ use crate::figure::{
     LegendEntry, Panel, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
+use crate::schema::full;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::{Section, TaskResult};
 use geardyn_analysis::orbit_branches::BifurcationKind;
@@ -14,39 +15,22 @@ use plotters::style::RGBColor;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-fn num(v: f64) -> String {
-    format!("{v}")
-}
-
-/// `bifurcation.csv`: the columns of [`crate::schema::points_table`], every digit.
-pub fn write_bifurcation(
-    path: &Path,
-    param: &str,
-    results: &[TaskResult],
-) -> Result<(), OutputError> {
-    crate::schema::points_table(param, results).write_csv(path, crate::schema::full)
-}
-
-/// `runs.csv`: one row per simulation, the columns of [`crate::schema::runs_table`], every digit.
-pub fn write_runs(path: &Path, param: &str, results: &[TaskResult]) -> Result<(), OutputError> {
-    crate::schema::runs_table(param, results).write_csv(path, crate::schema::full)
-}
-
-/// `impact_force.csv`: the columns of [`crate::schema::impact_force_table`], every digit.
-pub fn write_impact_force(
-    path: &Path,
-    param: &str,
-    results: &[TaskResult],
-) -> Result<(), OutputError> {
-    crate::schema::impact_force_table(param, results).write_csv(path, crate::schema::full)
-}
-
 /// The name a run is drawn under: its label when periodic, else its decided class.
 fn run_name(run: &geardyn_analysis::bifurcation::Run) -> String {
     if run.motion.is_periodic() {
         run.label.clone()
     } else {
         run.motion.word().to_string()
+    }
+}
+
+/// The name an attractor is drawn under: its label when periodic, else its decided class
+/// (without the crossing rates).
+pub fn attractor_name(d: &geardyn_analysis::attractor::Descriptor) -> &str {
+    if d.period > 0 {
+        &d.label
+    } else {
+        d.motion.word()
     }
 }
 
@@ -103,6 +87,32 @@ pub fn dot_radius(points: &[(f64, f64)], values: usize) -> u32 {
     }
 }
 
+/// A figure over the swept parameter `param` (the values of `results`, with a margin, on the x
+/// axis): `panels` stacked, `legend` beside them under `legend_title`.
+pub fn write_sweep_figure(
+    stem: &Path,
+    title: &str,
+    param: &str,
+    results: &[TaskResult],
+    panels: Vec<Panel>,
+    legend: Vec<LegendEntry>,
+    legend_title: &str,
+) -> Result<(), FigureError> {
+    write_figure(
+        stem,
+        &Figure {
+            title: title.into(),
+            x_label: param.into(),
+            x_range: Some(value_range(results)),
+            panels,
+            legend,
+            legend_title: legend_title.into(),
+            ..Default::default()
+        },
+    )
+}
+
+/// The x range of a sweep diagram: its values with a margin of 1.5 %.
 fn value_range(results: &[TaskResult]) -> (f64, f64) {
     let lo = results
         .iter()
@@ -218,18 +228,8 @@ pub fn plot_bifurcation(
         .iter()
         .map(|(n, c, _)| LegendEntry::dot(n.clone(), *c))
         .collect();
-    write_figure(
-        stem,
-        &Figure {
-            title: title.into(),
-            x_label: param.into(),
-            x_range: Some(value_range(results)),
-            panels,
-            legend,
-            legend_title: if sweep { "branch" } else { "motion" }.into(),
-            ..Default::default()
-        },
-    )
+    let legend_title = if sweep { "branch" } else { "motion" };
+    write_sweep_figure(stem, title, param, results, panels, legend, legend_title)
 }
 
 /// `response.csv`: amplitudes of both continuation branches.
@@ -254,17 +254,17 @@ pub fn write_response(path: &Path, param: &str, results: &[TaskResult]) -> Resul
         let run = &r.runs[0];
         run.amplitudes.map(|a| {
             vec![
-                num(r.value),
+                full(r.value),
                 r.task.branch_name().to_string(),
                 run.label.clone(),
-                num(a.mean_x),
-                num(a.rms_x),
-                num(a.p2p_x),
-                num(a.mean_force),
-                num(a.rms_force),
-                num(a.p2p_force),
-                num(run.max_force),
-                num(run.p_id),
+                full(a.mean_x),
+                full(a.rms_x),
+                full(a.p2p_x),
+                full(a.mean_force),
+                full(a.rms_force),
+                full(a.p2p_force),
+                full(run.max_force),
+                full(run.p_id),
                 run.motion.word().to_string(),
                 run.decided_by.name().to_string(),
                 run.periods_integrated.to_string(),
@@ -350,28 +350,26 @@ pub fn plot_response(
             figure::class_color(c).unwrap_or(OTHER),
         )
     }));
-    write_figure(
-        stem,
-        &Figure {
-            title: title.into(),
-            x_label: param.into(),
-            x_range: Some(value_range(results)),
-            panels: vec![
-                figure::Panel {
-                    y_label: "RMS of x (AC)".into(),
-                    layers: x_layers,
-                    ..Default::default()
-                },
-                figure::Panel {
-                    y_label: "RMS of F_m (AC)".into(),
-                    layers: f_layers,
-                    ..Default::default()
-                },
-            ],
-            legend,
-            legend_title: "branch / motion".into(),
+    let panels = vec![
+        figure::Panel {
+            y_label: "RMS of x (AC)".into(),
+            layers: x_layers,
             ..Default::default()
         },
+        figure::Panel {
+            y_label: "RMS of F_m (AC)".into(),
+            layers: f_layers,
+            ..Default::default()
+        },
+    ];
+    write_sweep_figure(
+        stem,
+        title,
+        param,
+        results,
+        panels,
+        legend,
+        "branch / motion",
     )
 }
 
@@ -420,12 +418,7 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
                 format!(
                     "#{} {}{}, {} ({:.1} %)",
                     at.id,
-                    if at.descriptor.period > 0 {
-                        at.descriptor.label.clone()
-                    } else {
-                        // the decided class, without the crossing rates
-                        at.descriptor.motion.word().to_string()
-                    },
+                    attractor_name(&at.descriptor),
                     at.descriptor
                         .mesh_period
                         .map_or(String::new(), |m| format!(" [{m} mesh cycles]")),
@@ -456,28 +449,51 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
             OTHER,
         ));
     }
-    if r.diverged > 0.0 {
-        legend.push(LegendEntry::dot(
-            format!("divergent ({:.1} %)", 100.0 * r.diverged),
-            black,
-        ));
-    }
-    if r.failed > 0.0 {
-        legend.push(LegendEntry::dot(
-            format!("unresolved ({:.1} %)", 100.0 * r.failed),
-            UNSETTLED,
-        ));
-    }
-    let (nx, nv) = (r.x.n.max(1), r.v.n.max(1));
+    legend.extend(lost_cells_legend(r, (black, UNSETTLED), |what, pct| {
+        format!("{what} ({pct:.1} %)")
+    }));
+    let x = (r.x.min, r.x.max, r.x.n.max(1));
+    let v = (r.v.min, r.v.max, r.v.n.max(1));
+    write_basin_raster(stem, title, r, (x, v), colors, legend)
+}
+
+/// The legend entries of the cells of `r` that reached no attractor, in `colors` (divergent,
+/// unresolved), each with its share (`label(what, percent)`); none for a share of 0.
+pub fn lost_cells_legend(
+    r: &BasinResult,
+    colors: (RGBColor, RGBColor),
+    label: impl Fn(&str, f64) -> String,
+) -> Vec<LegendEntry> {
+    [
+        ("divergent", r.diverged, colors.0),
+        ("unresolved", r.failed, colors.1),
+    ]
+    .into_iter()
+    .filter(|e| e.1 > 0.0)
+    .map(|(what, share, color)| LegendEntry::dot(label(what, 100.0 * share), color))
+    .collect()
+}
+
+/// Writes the basin image `stem` of `r` on the grid `x` × `v` (`(min, max, cells)` of each axis,
+/// cell centres at the ends): a colour per cell, `legend` beside the image, crosses at the
+/// attractors' stroboscopic points (up to 24 each) inside the grid.
+pub fn write_basin_raster(
+    stem: &Path,
+    title: &str,
+    r: &BasinResult,
+    (x, v): ((f64, f64, usize), (f64, f64, usize)),
+    colors: Vec<RGBColor>,
+    legend: Vec<LegendEntry>,
+) -> Result<(), FigureError> {
     let (dx, dv) = (
-        (r.x.max - r.x.min) / (nx - 1).max(1) as f64,
-        (r.v.max - r.v.min) / (nv - 1).max(1) as f64,
+        (x.1 - x.0) / (x.2 - 1).max(1) as f64,
+        (v.1 - v.0) / (v.2 - 1).max(1) as f64,
     );
     let marks = r
         .attractors
         .iter()
         .flat_map(|a| a.descriptor.points.iter().take(24).map(|p| (p[0], p[1])))
-        .filter(|p| p.0 >= r.x.min && p.0 <= r.x.max && p.1 >= r.v.min && p.1 <= r.v.max)
+        .filter(|p| p.0 >= x.0 && p.0 <= x.1 && p.1 >= v.0 && p.1 <= v.1)
         .collect();
     write_raster(
         stem,
@@ -485,8 +501,8 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
             title: title.into(),
             x_label: "x0".into(),
             y_label: "x0'".into(),
-            x: (r.x.min - dx / 2.0, r.x.max + dx / 2.0, nx),
-            y: (r.v.min - dv / 2.0, r.v.max + dv / 2.0, nv),
+            x: (x.0 - dx / 2.0, x.1 + dx / 2.0, x.2),
+            y: (v.0 - dv / 2.0, v.1 + dv / 2.0, v.2),
             colors,
             legend,
             legend_title: "attractor (basin share)".into(),

@@ -42,6 +42,11 @@ impl Drop for Dir {
     }
 }
 
+/// A store's text: the key line, then the lines of records `recs`.
+fn store(recs: &[u32]) -> String {
+    format!("{KEY}\n") + &recs.iter().map(|&a| line(a)).collect::<String>()
+}
+
 fn write(path: &Path, bytes: &[u8]) {
     std::fs::write(path, bytes).unwrap();
 }
@@ -64,10 +69,7 @@ fn records_survive_a_reopen_without_rewrite() {
     cp.append(&rec(2)).unwrap();
     drop(cp);
     let before = std::fs::read(&p).unwrap();
-    assert_eq!(
-        before,
-        format!("{KEY}\n{}{}", line(1), line(2)).into_bytes()
-    );
+    assert_eq!(before, store(&[1, 2]).into_bytes());
     let (cp, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert_eq!(done, vec![rec(1), rec(2)]);
     assert_eq!(cp.dropped(), 0);
@@ -79,19 +81,13 @@ fn records_survive_a_reopen_without_rewrite() {
 fn torn_last_line_is_dropped_and_appends_continue_on_a_new_line() {
     let dir = Dir::new("torn");
     let p = dir.file();
-    write(
-        &p,
-        format!("{KEY}\n{}{}{{\"a\":3,\"s\":\"r", line(1), line(2)).as_bytes(),
-    );
+    write(&p, (store(&[1, 2]) + "{\"a\":3,\"s\":\"r").as_bytes());
     let (cp, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert_eq!(done, vec![rec(1), rec(2)]);
     assert_eq!(cp.dropped(), 1);
     cp.append(&rec(3)).unwrap();
     drop(cp);
-    assert_eq!(
-        std::fs::read_to_string(&p).unwrap(),
-        format!("{KEY}\n{}{}{}", line(1), line(2), line(3))
-    );
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), store(&[1, 2, 3]));
     let (_, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert_eq!(done, vec![rec(1), rec(2), rec(3)]);
     no_temp_left(&dir);
@@ -102,10 +98,7 @@ fn a_complete_last_record_without_newline_is_kept() {
     let dir = Dir::new("nonl");
     let p = dir.file();
     let l2 = line(2);
-    write(
-        &p,
-        format!("{KEY}\n{}{}", line(1), l2.trim_end()).as_bytes(),
-    );
+    write(&p, (store(&[1]) + l2.trim_end()).as_bytes());
     let (cp, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();
     assert_eq!(done, vec![rec(1), rec(2)]);
     assert_eq!(cp.dropped(), 0);
@@ -119,7 +112,7 @@ fn a_complete_last_record_without_newline_is_kept() {
 fn reading_goes_on_past_non_utf8_and_damaged_lines() {
     let dir = Dir::new("bad");
     let p = dir.file();
-    let mut bytes = format!("{KEY}\n{}", line(1)).into_bytes();
+    let mut bytes = store(&[1]).into_bytes();
     bytes.extend_from_slice(b"\xff\xfe\x00garbage\xc3\n");
     bytes.extend_from_slice(line(2).as_bytes());
     bytes.extend_from_slice(b"{\"a\": \"not a number\"}\n");
@@ -134,20 +127,14 @@ fn reading_goes_on_past_non_utf8_and_damaged_lines() {
     assert_eq!(cp.dropped(), 3);
     drop(cp);
     // rewritten with the good records only
-    assert_eq!(
-        std::fs::read_to_string(&p).unwrap(),
-        format!("{KEY}\n{}{}{}{}", line(1), line(2), line(3), line(4))
-    );
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), store(&[1, 2, 3, 4]));
 }
 
 #[test]
 fn validation_drops_rejected_records() {
     let dir = Dir::new("validate");
     let p = dir.file();
-    write(
-        &p,
-        format!("{KEY}\n{}{}{}", line(1), line(7), line(2)).as_bytes(),
-    );
+    write(&p, store(&[1, 7, 2]).as_bytes());
     let (cp, done) = Checkpoint::open_validated::<Rec, _>(&p, KEY, |r| r.a < 5).unwrap();
     assert_eq!(done, vec![rec(1), rec(2)]);
     assert_eq!(cp.dropped(), 1);
@@ -160,7 +147,7 @@ fn validation_drops_rejected_records() {
 fn a_rewrite_replaces_the_file_by_rename_never_in_place() {
     let dir = Dir::new("rename");
     let p = dir.file();
-    let original = format!("{KEY}\n{}{{torn", line(1));
+    let original = store(&[1]) + "{torn";
     write(&p, original.as_bytes());
     // a second name for the original file: an in-place truncation would show through it
     let link = dir.0.join("link.jsonl");
@@ -174,10 +161,7 @@ fn a_rewrite_replaces_the_file_by_rename_never_in_place() {
     cp.append(&rec(2)).unwrap();
     drop(cp);
     assert_eq!(std::fs::read_to_string(&link).unwrap(), original);
-    assert_eq!(
-        std::fs::read_to_string(&p).unwrap(),
-        format!("{KEY}\n{}{}", line(1), line(2))
-    );
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), store(&[1, 2]));
     #[cfg(unix)]
     {
         assert_ne!(ino(&p), ino_before, "rewritten in place");
@@ -203,10 +187,7 @@ fn a_checkpoint_of_another_run_is_set_aside() {
         std::fs::read_to_string(dir.0.join("checkpoint.jsonl.old")).unwrap(),
         other
     );
-    assert_eq!(
-        std::fs::read_to_string(&p).unwrap(),
-        format!("{KEY}\n{}", line(5))
-    );
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), store(&[5]));
     // a non-UTF-8 key line is another run's too
     write(&p, b"\xff\xff\n");
     let (_, done) = Checkpoint::open::<Rec>(&p, KEY).unwrap();

@@ -17,6 +17,7 @@
 //! PNG and SVG are drawn by the same code (plotters, with the DejaVu Sans font embedded in the
 //! binary: `assets/`, Bitstream Vera licence; no system fonts or libraries).
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 pub use plotters::style::RGBColor;
@@ -151,7 +152,7 @@ pub fn tick(v: f64) -> String {
 }
 
 /// `v` with `decimals` decimals, trailing zeros (and a trailing point) dropped, never `-0`.
-fn fixed(v: f64, decimals: usize) -> String {
+pub fn fixed(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -439,6 +440,26 @@ pub(crate) type Err = String;
 
 /// Font size of a title: 20, smaller for a long title so that it fits the width (not below 13).
 /// `root` filled white with `title` on top: the area below the title.
+/// The plotting area of `ctx` in pixels (drawn on without coordinates), the pixel of a data point
+/// in it, and its width and height.
+#[allow(clippy::type_complexity)]
+pub(crate) fn pixel_area<'a, 'b, DB: DrawingBackend>(
+    ctx: &'b ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> (
+    DrawingArea<DB, Shift>,
+    impl Fn(f64, f64) -> (i32, i32) + Copy + use<'a, 'b, DB>,
+    (i32, i32),
+) {
+    let plot = ctx.plotting_area();
+    let (px, py) = plot.get_pixel_range();
+    let size = (px.end - px.start, py.end - py.start);
+    let map = move |x: f64, y: f64| {
+        let (a, b) = ctx.backend_coord(&(x, y));
+        (a - px.start, b - py.start)
+    };
+    (plot.strip_coord_spec(), map, size)
+}
+
 pub(crate) fn titled_area<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
@@ -607,14 +628,7 @@ fn draw_figure<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, fig: &Figure) -
             mesh.x_label_formatter(&blank);
         }
         mesh.draw().map_err(|x| x.to_string())?;
-        let plot = ctx.plotting_area();
-        let (px, py) = plot.get_pixel_range();
-        let pixel = plot.strip_coord_spec();
-        let map = |x: f64, y: f64| {
-            let (a, b) = ctx.backend_coord(&(x, y));
-            (a - px.start, b - py.start)
-        };
-        let (pw, ph) = (px.end - px.start, py.end - py.start);
+        let (pixel, map, (pw, ph)) = pixel_area(&ctx);
         let inside = |p: &(i32, i32)| p.0 >= 0 && p.0 < pw && p.1 >= 0 && p.1 < ph;
         for &h in &panel.hlines {
             if h >= yr.0 && h <= yr.1 {

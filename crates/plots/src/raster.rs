@@ -3,8 +3,8 @@
 
 use crate::colors::colormap;
 use crate::figure::{
-    axis_range, axis_tick, draw_legend, legend_width, padded, titled_area, write_png_svg, Draw,
-    Err, FigureError, LegendEntry,
+    axis_range, axis_tick, draw_legend, legend_width, padded, pixel_area, titled_area,
+    write_png_svg, Draw, Err, FigureError, LegendEntry,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -71,13 +71,7 @@ fn draw_raster<DB: DrawingBackend>(
         .axis_desc_style(("sans-serif", 15))
         .draw()
         .map_err(|x| x.to_string())?;
-    let plot = ctx.plotting_area();
-    let (px, py) = plot.get_pixel_range();
-    let pixel = plot.strip_coord_spec();
-    let map = |x: f64, y: f64| {
-        let (a, b) = ctx.backend_coord(&(x, y));
-        (a - px.start, b - py.start)
-    };
+    let (pixel, map, _) = pixel_area(&ctx);
     let (dx, dy) = ((xr.1 - xr.0) / nx as f64, (yr.1 - yr.0) / ny as f64);
     for iy in 0..ny {
         let mut ix = 0;

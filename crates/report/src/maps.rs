@@ -52,25 +52,11 @@ pub fn map_figure(
             }
         })
         .collect();
-    let stem = dir.join(name);
-    write_raster(
-        &stem,
-        &RasterFigure {
-            title: title.into(),
-            x_label: axes.0.into(),
-            y_label: axes.1.into(),
-            x: cell_axis(xs),
-            y: cell_axis(ys),
-            colors,
-            legend: vec![],
-            legend_title: String::new(),
-            colorbar: Some((lo, hi, metric.replace('_', " "))),
-            marks: vec![],
-        },
-    )?;
-    let csv = dir.join(format!("{name}.csv"));
-    write_map_csv(&csv, axes, cells)?;
-    Ok(ctx.fig(&stem, caption, &[csv]))
+    let raster = RasterFigure {
+        colorbar: Some((lo, hi, metric.replace('_', " "))),
+        ..map_raster(title, axes, (xs, ys), colors)
+    };
+    write_map(ctx, dir, name, &raster, cells, caption)
 }
 
 /// A map of the decided classes `dir/name.png|svg` (legend) with `name.csv`.
@@ -115,29 +101,48 @@ pub fn class_map_figure(
             )
         })
         .collect();
+    let raster = RasterFigure {
+        legend,
+        legend_title: "decided class".into(),
+        ..map_raster(title, axes, (xs, ys), colors)
+    };
+    let caption = format!("{title}: the decided class of every cell (periodic by the period test, chaotic only with a significantly positive TLE).");
+    write_map(ctx, dir, name, &raster, cells, &caption)
+}
+
+/// The raster of a map over the grid `xs` × `ys`, its axes named `axes`: a colour per cell.
+fn map_raster(
+    title: &str,
+    axes: (&str, &str),
+    (xs, ys): (&[f64], &[f64]),
+    colors: Vec<PlotColor>,
+) -> RasterFigure {
+    RasterFigure {
+        title: title.into(),
+        x_label: axes.0.into(),
+        y_label: axes.1.into(),
+        x: cell_axis(xs),
+        y: cell_axis(ys),
+        colors,
+        ..Default::default()
+    }
+}
+
+/// Writes the map `raster` as `dir/name.png|svg` and its `cells` as `name.csv`: its figure, with
+/// `caption`.
+fn write_map(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    raster: &RasterFigure,
+    cells: &[MapCell],
+    caption: &str,
+) -> Result<Figure> {
     let stem = dir.join(name);
-    write_raster(
-        &stem,
-        &RasterFigure {
-            title: title.into(),
-            x_label: axes.0.into(),
-            y_label: axes.1.into(),
-            x: cell_axis(xs),
-            y: cell_axis(ys),
-            colors,
-            legend,
-            legend_title: "decided class".into(),
-            colorbar: None,
-            marks: vec![],
-        },
-    )?;
+    write_raster(&stem, raster)?;
     let csv = dir.join(format!("{name}.csv"));
-    write_map_csv(&csv, axes, cells)?;
-    Ok(ctx.fig(
-        &stem,
-        &format!("{title}: the decided class of every cell (periodic by the period test, chaotic only with a significantly positive TLE)."),
-        &[csv],
-    ))
+    write_map_csv(&csv, (&raster.x_label, &raster.y_label), cells)?;
+    Ok(ctx.fig(&stem, caption, &[csv]))
 }
 
 fn write_map_csv(path: &Path, axes: (&str, &str), cells: &[MapCell]) -> Result<()> {

@@ -20,17 +20,7 @@ pub fn f(v: f64) -> String {
         return s;
     }
     let decimals = (3 - a.log10().floor() as i32).clamp(0, 9) as usize;
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
+    geardyn_io::figure::fixed(v, decimals)
 }
 
 /// A percentage (`49 %`).
@@ -53,6 +43,18 @@ pub fn range(a: f64, b: f64) -> String {
         f(a)
     } else {
         format!("{}–{}", f(a), f(b))
+    }
+}
+
+/// The ranges `r` (from [`crate::classes::ranges`]) for people: `0.1–0.2, 0.5`, or `none`.
+pub fn ranges_text(r: &[(f64, f64, usize)]) -> String {
+    if r.is_empty() {
+        "none".into()
+    } else {
+        r.iter()
+            .map(|c| range(c.0, c.1))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 

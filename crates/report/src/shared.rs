@@ -13,10 +13,11 @@ use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_analysis::simulate::{Method, SimOptions};
 use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_io::figure::{
-    palette, write_figure, write_raster, Figure as Fig, Layer, LegendEntry, Panel, RasterFigure,
-    Style, CHAOTIC, OTHER, QUASI, UNSETTLED,
+    palette, write_figure, Figure as Fig, Layer, LegendEntry, Panel, Style, CHAOTIC, OTHER, QUASI,
+    UNSETTLED,
 };
 use geardyn_io::output::write_csv;
+use geardyn_io::sweep_output::{attractor_name, lost_cells_legend, write_basin_raster};
 use geardyn_model::MeshModel;
 use std::path::Path;
 
@@ -221,11 +222,7 @@ pub fn basin_render(
                 format!(
                     "#{} {} {} — {:.1} %",
                     a.id,
-                    if a.descriptor.period > 0 {
-                        a.descriptor.label.as_str()
-                    } else {
-                        a.descriptor.motion.word()
-                    },
+                    attractor_name(&a.descriptor),
                     if a.descriptor.healthy {
                         "healthy"
                     } else {
@@ -237,44 +234,12 @@ pub fn basin_render(
             )
         })
         .collect();
-    if r.diverged > 0.0 {
-        legend.push(LegendEntry::dot(
-            format!("divergent — {:.1} %", 100.0 * r.diverged),
-            black,
-        ));
-    }
-    if r.failed > 0.0 {
-        legend.push(LegendEntry::dot(
-            format!("unresolved — {:.1} %", 100.0 * r.failed),
-            OTHER,
-        ));
-    }
-    let marks: Vec<(f64, f64)> = r
-        .attractors
-        .iter()
-        .flat_map(|a| a.descriptor.points.iter().take(24).map(|p| (p[0], p[1])))
-        .filter(|p| p.0 >= x.0 && p.0 <= x.1 && p.1 >= v.0 && p.1 <= v.1)
-        .collect();
-    let (dx, dv) = (
-        (x.1 - x.0) / (n - 1).max(1) as f64,
-        (v.1 - v.0) / (n - 1).max(1) as f64,
-    );
+    legend.extend(lost_cells_legend(r, (black, OTHER), |what, pct| {
+        format!("{what} — {pct:.1} %")
+    }));
     let stem = dir.join(name);
-    write_raster(
-        &stem,
-        &RasterFigure {
-            title: title.into(),
-            x_label: "x0".into(),
-            y_label: "x0'".into(),
-            x: (x.0 - dx / 2.0, x.1 + dx / 2.0, n),
-            y: (v.0 - dv / 2.0, v.1 + dv / 2.0, n),
-            colors,
-            legend,
-            legend_title: "attractor (basin share)".into(),
-            colorbar: None,
-            marks,
-        },
-    )?;
+    let grid = ((x.0, x.1, n), (v.0, v.1, n));
+    write_basin_raster(&stem, title, r, grid, colors, legend)?;
     let cells_csv = dir.join(format!("{name}_cells.csv"));
     write_csv(
         &cells_csv,

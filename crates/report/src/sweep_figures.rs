@@ -11,9 +11,7 @@ use crate::Figure;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{Run, Section as Sec, TaskResult};
 use geardyn_io::figure::RGBColor as PlotColor;
-use geardyn_io::figure::{
-    categorical, write_figure, Figure as Fig, Layer, LegendEntry, Panel, Style, OTHER,
-};
+use geardyn_io::figure::{categorical, Layer, LegendEntry, Panel, Style, OTHER};
 use geardyn_io::output::write_csv;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -261,20 +259,6 @@ impl Drawn {
     }
 }
 
-/// The x range of a sweep diagram: its values with a margin of 1.5 %.
-fn x_range(results: &[TaskResult]) -> (f64, f64) {
-    let lo = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::INFINITY, f64::min);
-    let hi = results
-        .iter()
-        .map(|r| r.value)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let pad = 0.015 * (hi - lo).abs().max(1e-9);
-    (lo - pad, hi + pad)
-}
-
 /// `name_points.csv`, `name_runs.csv` and, with the impact-force panel,
 /// `name_impact_force.csv`: the files of the diagram's data.
 fn write_sweep_data(
@@ -324,17 +308,15 @@ pub fn sweep_figure(
     let drawn = Drawn::of(results, sections, panels);
     let (order, color_of, legend) = drawn.colours();
     let stem = dir.join(name);
-    write_figure(
+    let figure_panels = drawn.panels(sections, panels, &order, &color_of);
+    geardyn_io::sweep_output::write_sweep_figure(
         &stem,
-        &Fig {
-            title: title.into(),
-            x_label: param.into(),
-            x_range: Some(x_range(results)),
-            panels: drawn.panels(sections, panels, &order, &color_of),
-            legend,
-            legend_title: "motion".into(),
-            ..Default::default()
-        },
+        title,
+        param,
+        results,
+        figure_panels,
+        legend,
+        "motion",
     )?;
     let data = write_sweep_data(dir, name, param, results, panels, drawn)?;
     Ok(ctx.fig(&stem, caption, &data))

@@ -24,11 +24,23 @@ pub fn geardyn<S: AsRef<OsStr>>(args: &[S]) -> (i32, String, String) {
     outcome(bin().args(args).output().unwrap())
 }
 
+/// Runs `geardyn args`, which must succeed (else the test fails with its stderr): its stdout.
+pub fn geardyn_ok<S: AsRef<OsStr>>(args: &[S]) -> String {
+    let (code, stdout, stderr) = geardyn(args);
+    assert_eq!(code, 0, "{stderr}");
+    stdout
+}
+
 /// A path `geardyn-TAG-PID-NAME` in the temporary folder, with nothing there.
 pub fn tmp(tag: &str, name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("geardyn-{tag}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
+}
+
+/// Owned arguments of a command line.
+pub fn strs(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
 }
 
 /// A path as a command-line argument.

@@ -1,7 +1,6 @@
 //! A basin grid as a job: one item per cell.
 
 use super::settings_of;
-use crate::job::{ExecError, Job};
 use geardyn_analysis::attractor::{Outcome, Recordable};
 use geardyn_analysis::basins::{basins, BasinOptions, BasinResult};
 use std::collections::HashMap;
@@ -15,30 +14,14 @@ pub struct BasinsJob<'a, S> {
     pub opts: &'a BasinOptions,
 }
 
-impl<S: Recordable<2> + Sync> Job for BasinsJob<'_, S> {
-    type Record = (usize, Outcome);
-    type Id = usize;
-    type Output = BasinResult;
-    fn kind(&self) -> &str {
-        "basins"
-    }
-    fn settings(&self) -> serde_json::Value {
-        settings_of(self.opts)
-    }
-    fn total(&self) -> usize {
-        self.opts.x.n * self.opts.v.n
-    }
-    fn id_of(&self, c: &(usize, Outcome)) -> Option<usize> {
-        (c.0 < self.total()).then_some(c.0)
-    }
-    fn run(
-        &self,
-        done: HashMap<usize, (usize, Outcome)>,
-        on_done: &(dyn Fn(&(usize, Outcome)) + Sync),
-    ) -> Result<BasinResult, ExecError> {
+job! {
+    impl[S: Recordable<2> + Sync] BasinsJob<'_, S>: (usize, Outcome) => BasinResult, by usize;
+    kind(j) "basins";
+    total(j) j.opts.x.n * j.opts.v.n;
+    id_of(j, c) (c.0 < j.total()).then_some(c.0);
+    settings(j) settings_of(j.opts);
+    run(j, done, on_done) {
         let done: HashMap<usize, Outcome> = done.into_iter().map(|(k, v)| (k, v.1)).collect();
-        Ok(basins(self.model, self.opts, &done, |c, o| {
-            on_done(&(c, o.clone()))
-        }))
+        Ok(basins(j.model, j.opts, &done, |c, o| on_done(&(c, o.clone()))))
     }
 }

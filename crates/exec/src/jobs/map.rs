@@ -1,10 +1,9 @@
 //! A two-parameter map as a job: one item per cell.
 
 use super::settings_of;
-use crate::job::{ExecError, ItemJob, Job};
+use crate::job::ExecError;
 use geardyn_analysis::map2d::{map2d, map2d_cells, MapCell, MapOptions};
 use geardyn_scenario::Scenario;
-use std::collections::HashMap;
 
 /// A two-parameter map: one item per cell (row-major, x fastest), a [`MapCell`] each.
 pub struct MapJob<'a> {
@@ -14,37 +13,12 @@ pub struct MapJob<'a> {
     pub opts: &'a MapOptions,
 }
 
-impl Job for MapJob<'_> {
-    type Record = MapCell;
-    type Id = usize;
-    type Output = Vec<MapCell>;
-    fn kind(&self) -> &str {
-        "map2d"
-    }
-    fn settings(&self) -> serde_json::Value {
-        settings_of(self.opts)
-    }
-    fn total(&self) -> usize {
-        self.opts.x_values.len() * self.opts.y_values.len()
-    }
-    fn id_of(&self, c: &MapCell) -> Option<usize> {
-        (c.index < self.total()).then_some(c.index)
-    }
-    fn run(
-        &self,
-        done: HashMap<usize, MapCell>,
-        on_done: &(dyn Fn(&MapCell) + Sync),
-    ) -> Result<Vec<MapCell>, ExecError> {
-        map2d(self.scenario, self.opts, &done, on_done).map_err(ExecError::analysis)
-    }
-}
-
-impl ItemJob for MapJob<'_> {
-    fn run_items(
-        &self,
-        items: &[usize],
-        on_done: &(dyn Fn(&MapCell) + Sync),
-    ) -> Result<Vec<MapCell>, ExecError> {
-        map2d_cells(self.scenario, self.opts, items, on_done).map_err(ExecError::analysis)
-    }
+job! {
+    impl[] MapJob<'_>: MapCell => Vec<MapCell>, by usize;
+    kind(j) "map2d";
+    total(j) j.opts.x_values.len() * j.opts.y_values.len();
+    id_of(j, c) (c.index < j.total()).then_some(c.index);
+    settings(j) settings_of(j.opts);
+    run(j, done, on_done) map2d(j.scenario, j.opts, &done, on_done).map_err(ExecError::analysis);
+    run_items(j, items, on_done) map2d_cells(j.scenario, j.opts, items, on_done).map_err(ExecError::analysis)
 }

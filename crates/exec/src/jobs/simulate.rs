@@ -1,11 +1,10 @@
 //! One simulation (`geardyn simulate`, Python `simulate`) as a job: the configuration resolved
 //! and checked, the run decided, its folder written ([`geardyn_io::simulate_folder`]).
 
-use crate::job::{ExecError, Job};
+use crate::job::ExecError;
 use geardyn_analysis::summary::Summary;
 use geardyn_io::simulate_folder::{simulate, Simulated};
 use geardyn_io::Config;
-use std::collections::HashMap;
 use std::path::Path;
 
 /// One simulation of `config`: one item, its [`Summary`] given to the observer, the whole run
@@ -21,34 +20,12 @@ pub struct SimulateJob<'a> {
     pub out: Option<&'a Path>,
 }
 
-impl Job for SimulateJob<'_> {
-    type Record = Summary;
-    type Id = ();
-    type Output = Simulated;
-    fn kind(&self) -> &str {
-        "simulate"
-    }
-    fn settings(&self) -> serde_json::Value {
-        serde_json::json!({ "trajectory_periods": self.trajectory_periods })
-    }
-    fn total(&self) -> usize {
-        1
-    }
-    fn id_of(&self, _: &Summary) -> Option<()> {
-        None
-    }
-    fn run(
-        &self,
-        _done: HashMap<(), Summary>,
-        on_done: &(dyn Fn(&Summary) + Sync),
-    ) -> Result<Simulated, ExecError> {
-        let s = simulate(
-            self.config.clone(),
-            self.source.to_string(),
-            self.trajectory_periods,
-            self.out,
-        )
-        .map_err(ExecError::analysis)?;
+job! {
+    impl[] SimulateJob<'_>: "simulate", Summary => Simulated, steps 1;
+    settings(j) serde_json::json!({ "trajectory_periods": j.trajectory_periods });
+    run(j, on_done) {
+        let s = simulate(j.config.clone(), j.source.to_string(), j.trajectory_periods, j.out)
+            .map_err(ExecError::analysis)?;
         on_done(&s.summary);
         Ok(s)
     }

@@ -304,15 +304,28 @@ fn from_exec(e: ExecError) -> ShardError {
     }
 }
 
-impl Store<MapCell> for ShardStore<'_> {
-    fn open(&mut self, _: &str, _: Value) -> Result<Vec<MapCell>, ExecError> {
+/// A record a shard store holds: how a shard's records complete the store (each point's values in
+/// the chunks of the shard, written by [`ShardStore::complete`]).
+trait ShardRecord: Serialize + serde::de::DeserializeOwned + Sized {
+    /// Writes the shard's `records` into `store`.
+    fn complete(store: &mut ShardStore<'_>, records: &[Self]) -> Result<(), ExecError>;
+}
+
+impl<R: ShardRecord> Store<R> for ShardStore<'_> {
+    fn open(&mut self, _: &str, _: Value) -> Result<Vec<R>, ExecError> {
         self.done()
     }
-    fn append(&self, _: &MapCell) -> Result<(), ExecError> {
+    fn append(&self, _: &R) -> Result<(), ExecError> {
         Ok(())
     }
-    fn finish(&mut self, cells: &[MapCell]) -> Result<(), ExecError> {
-        let Request::Map2d(r) = &self.plan.request else {
+    fn finish(&mut self, records: &[R]) -> Result<(), ExecError> {
+        R::complete(self, records)
+    }
+}
+
+impl ShardRecord for MapCell {
+    fn complete(store: &mut ShardStore<'_>, cells: &[MapCell]) -> Result<(), ExecError> {
+        let Request::Map2d(r) = &store.plan.request else {
             return Err(ExecError::Store(
                 "map cells in a store of another command".into(),
             ));
@@ -320,19 +333,13 @@ impl Store<MapCell> for ShardStore<'_> {
         let nx = r.options.x_values.len();
         let by_index: std::collections::HashMap<usize, &MapCell> =
             cells.iter().map(|c| (c.index, c)).collect();
-        self.complete(cells, &|at| map_values(by_index[&(at[0] * nx + at[1])]))
+        store.complete(cells, &|at| map_values(by_index[&(at[0] * nx + at[1])]))
     }
 }
 
-impl Store<TaskResult> for ShardStore<'_> {
-    fn open(&mut self, _: &str, _: Value) -> Result<Vec<TaskResult>, ExecError> {
-        self.done()
-    }
-    fn append(&self, _: &TaskResult) -> Result<(), ExecError> {
-        Ok(())
-    }
-    fn finish(&mut self, results: &[TaskResult]) -> Result<(), ExecError> {
-        let Request::Bifurcation(r) = &self.plan.request else {
+impl ShardRecord for TaskResult {
+    fn complete(store: &mut ShardStore<'_>, results: &[TaskResult]) -> Result<(), ExecError> {
+        let Request::Bifurcation(r) = &store.plan.request else {
             return Err(ExecError::Store(
                 "sweep runs in a store of another command".into(),
             ));
@@ -340,7 +347,7 @@ impl Store<TaskResult> for ShardStore<'_> {
         let strobe = strobe_len(r);
         let by_index: std::collections::HashMap<usize, &TaskResult> =
             results.iter().map(|t| (t.task.index, t)).collect();
-        self.complete(results, &|at| {
+        store.complete(results, &|at| {
             let t = by_index[&at[0]];
             run_values(&t.runs[at.get(1).copied().unwrap_or(0)], strobe)
         })

@@ -16,6 +16,16 @@ fn long_numbers_in_parser_messages_are_shortened() {
 
 use super::*;
 
+/// The error of a classic configuration file whose simulation settings `edit` changed.
+fn file_error(edit: impl FnOnce(&mut SimulationConfig)) -> String {
+    let mut f = Config::preset("classic").unwrap();
+    edit(&mut f.simulation);
+    Config::from_toml(&f.to_toml())
+        .and_then(|c| c.sim_options())
+        .unwrap_err()
+        .to_string()
+}
+
 #[test]
 fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
     let mut c = Config::preset("classic").unwrap();
@@ -35,12 +45,7 @@ fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
     let e = c.set("decision_periods", 1e8).unwrap_err().to_string();
     assert!(e.contains("decision_periods"), "{e}");
     // the same bound from a file
-    let mut f = Config::preset("classic").unwrap();
-    f.simulation.decision_budget = 2_000_000_000_000;
-    let e = Config::from_toml(&f.to_toml())
-        .and_then(|c| c.sim_options())
-        .unwrap_err()
-        .to_string();
+    let e = file_error(|s| s.decision_budget = 2_000_000_000_000);
     assert!(e.contains("decision_budget"), "{e}");
     // follow_steps: 0 (the requested integrator) or 16 and more steps per natural period
     c.set("follow_steps", 0.0).unwrap();
@@ -54,12 +59,7 @@ fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
             "{e}"
         );
     }
-    let mut f = Config::preset("classic").unwrap();
-    f.simulation.follow_steps = 4;
-    let e = Config::from_toml(&f.to_toml())
-        .and_then(|c| c.sim_options())
-        .unwrap_err()
-        .to_string();
+    let e = file_error(|s| s.follow_steps = 4);
     assert!(e.contains("follow_steps"), "{e}");
     // the option --follow-steps (Python: follow_steps=) sets it, checked the same way
     let mut c = Config::preset("classic").unwrap();

@@ -5,7 +5,7 @@
 use super::{sweep, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
-use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
+use crate::readings::{f, interval_header, interval_rows, pct, ranges_text, sequence};
 use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::{Section, Table};
@@ -331,7 +331,7 @@ fn claims(fload: f64, st: &FreqStats, others: &[(f64, FreqStats)]) -> Vec<Claim>
                 st.high_chaos,
                 st.high_n,
                 st.high_chaos_imp,
-                if st.band.is_empty() { "none".into() } else { st.band.iter().map(|b| range(b.0, b.1)).collect::<Vec<_>>().join(", ") }
+                ranges_text(&st.band)
             ),
             v_high,
             format!("Decided classification of every value above omega = 2; {t_high}."),

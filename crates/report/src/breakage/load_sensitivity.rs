@@ -6,7 +6,7 @@ use super::load_sweep::{broken_load_claims, HIGH_LOADS};
 use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
-use crate::readings::{f, range};
+use crate::readings::{f, ranges_text};
 use crate::runner::{hdr, Ctx};
 use crate::Section;
 use anyhow::Result;
@@ -31,15 +31,7 @@ fn sensitivity_row(pts: &[Pt], omega: f64, mm: f64) -> (Vec<String>, bool) {
         .map(|p| p.value)
         .fold(f64::NAN, f64::max);
     let chaos = classes::ranges(&tolerant(pts), |p| p.class == Class::Chaotic);
-    let chaos_txt = if chaos.is_empty() {
-        "none".into()
-    } else {
-        chaos
-            .iter()
-            .map(|c| range(c.0, c.1))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let chaos_txt = ranges_text(&chaos);
     let row = vec![
         f(omega),
         f(mm),

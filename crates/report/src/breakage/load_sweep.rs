@@ -6,7 +6,7 @@
 use super::{healthy_sim, sweep, A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
-use crate::readings::{f, interval_header, interval_rows, pct, range, sequence};
+use crate::readings::{f, interval_header, interval_rows, pct, ranges_text, sequence};
 use crate::runner::Ctx;
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
@@ -189,15 +189,7 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
         .filter(|p| p.back)
         .map(|p| p.value)
         .fold(f64::NAN, f64::max);
-    let ch_txt = if chaos.is_empty() {
-        "none".to_string()
-    } else {
-        chaos
-            .iter()
-            .map(|c| range(c.0, c.1))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let ch_txt = ranges_text(&chaos);
     let lower: Vec<&Pt> = classes::within(pb, 0.0, IMPACT_SPLIT);
     let upper: Vec<&Pt> = classes::within(pb, IMPACT_SPLIT, 0.15);
     let (sl, su) = (

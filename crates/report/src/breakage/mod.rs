@@ -23,7 +23,7 @@ mod revolution;
 mod states;
 mod stiffness;
 
-pub(crate) use stiffness::write_stiffness_csv;
+pub(crate) use stiffness::stiffness_figures;
 
 use crate::interpretations::{label_claims, Axis, Interpretation};
 use crate::runner::{cached, rendered, sweep_options, Ctx, Plan};

@@ -106,14 +106,7 @@ pub(super) fn render(
     pm: &PairModel,
     data: &StiffnessData,
 ) -> Result<Section> {
-    let (dd, ds) = data.backlash;
-    let csv = dir.join("stiffness.csv");
-    write_stiffness_csv(&csv, pm, dd, ds)?;
-    let figs: Vec<Figure> =
-        geardyn_io::pair_plots::pair_figures(dir, pm, &data.healthy, dd, ds, "")?
-            .iter()
-            .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
-            .collect();
+    let figs = stiffness_figures(ctx, dir, pm, &data.healthy, data.backlash)?;
     let eps = pm.geom.eps;
     let (eb, nb) = (data.eps_b, data.broken_cycle);
     let (k_zone2, k_same_healthy) = (data.k_zone2, data.k_same_healthy);
@@ -197,10 +190,29 @@ pub(super) fn render(
     })
 }
 
+/// Writes `stiffness.csv` of `pm` ([`write_stiffness_csv`]) and the pair's figures, against
+/// `healthy` (`pm` itself for a pair without breakage), each with the table as its data.
+pub(crate) fn stiffness_figures(
+    ctx: &Ctx,
+    dir: &Path,
+    pm: &PairModel,
+    healthy: &PairModel,
+    (dd, ds): (f64, f64),
+) -> Result<Vec<Figure>> {
+    let csv = dir.join("stiffness.csv");
+    write_stiffness_csv(&csv, pm, dd, ds)?;
+    Ok(
+        geardyn_io::pair_plots::pair_figures(dir, pm, healthy, dd, ds, "")?
+            .iter()
+            .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
+            .collect(),
+    )
+}
+
 /// `stiffness.csv`: the pair's table with the columns of `geardyn stiffness`
 /// ([`geardyn_io::schema::pair_stiffness_table`]), six significant digits, every `step`-th sample
 /// when the table is long; `dd`, `ds` the half backlash of the double- and single-tooth zones.
-pub fn write_stiffness_csv(path: &Path, pm: &PairModel, dd: f64, ds: f64) -> Result<()> {
+fn write_stiffness_csv(path: &Path, pm: &PairModel, dd: f64, ds: f64) -> Result<()> {
     let step = (pm.rows.len() / 6000).max(1);
     geardyn_io::schema::pair_stiffness_table(pm.rows.iter().step_by(step), dd, ds)
         .write_csv(path, crate::shared::g)?;

@@ -244,6 +244,16 @@ pub(super) fn extra_boxes(d: f64) -> [StateBox; 2] {
     ]
 }
 
+/// The boxes of [`extra_boxes`] in words: `A and B`.
+pub(super) fn extra_boxes_text(d: f64) -> String {
+    let [a, b] = extra_boxes(d);
+    format!(
+        "{} and {}",
+        crate::shared::box_text(a.0, a.1),
+        crate::shared::box_text(b.0, b.1)
+    )
+}
+
 /// A seed's basin share is matched when the measured share lies within this distance of it
 /// (10 points).
 const SHARE_TOLERANCE: f64 = 0.1;
@@ -386,6 +396,13 @@ pub(super) struct AttractorsData {
     pub(super) basins: Vec<BasinsAt>,
     /// The motions at marker values with both backlash levels.
     pub(super) markers: MarkerRuns,
+}
+
+impl AttractorsData {
+    /// The basins of each basin value, box by box.
+    pub(super) fn basin_results(&self) -> Vec<&[(String, geardyn_analysis::basins::BasinResult)]> {
+        self.basins.iter().map(|b| b.boxes.as_slice()).collect()
+    }
 }
 
 /// The motions found at a few marker values with the pair's physical backlash and with the

@@ -3,13 +3,12 @@
 //! tree, basins at F = 0.16, 0.11 and 0.104, the load cascade and chaos without back-side
 //! meshing. Checks seed B 003 §4.3 (Table 6) and 004 §5.4 (Figs. 5.6, 5.8, Table 5.2).
 
-use super::attractor_tables::{basin_claim, extra_boxes, sp, spl, table_row, AttractorsData};
+use super::attractor_tables::{basin_claim, extra_boxes_text, sp, spl, table_row, AttractorsData};
 use super::attractors::AttractorTable;
 use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
-use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::linspace;
 use geardyn_analysis::continuation::ContinuationResult;
@@ -59,7 +58,7 @@ fn words(data: &AttractorsData) -> (String, String) {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
     let box_txt = &data.basins[0].boxes[0].0;
     (
-        format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("F in [0.0001, 0.2] ({} values, extra values at the seed's points), omega = 1.4, xi = 0.09 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {}: the seed gives no box)", values.len(), extra_boxes_text(d)),
         format!("Multi-initial: {ics} random initial states per value, decided classification; continuation with basin overlap; basins at F = 0.16, 0.11, 0.104."),
     )
 }
@@ -67,8 +66,7 @@ fn words(data: &AttractorsData) -> (String, String) {
 /// The claims of the seed's table.
 fn claims(data: &AttractorsData) -> Vec<Claim> {
     let pts = classes::points(&data.multi, 0);
-    let basin_res: Vec<&[(String, BasinResult)]> =
-        data.basins.iter().map(|b| b.boxes.as_slice()).collect();
+    let basin_res = data.basin_results();
     let mut claims = table_claims(&pts, &basin_res);
     claims.extend(low_load_claims(&pts));
     claims.extend(unhealthy_claims(&data.continuation, basin_res[2]));

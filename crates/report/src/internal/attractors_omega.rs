@@ -4,14 +4,13 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    basin_claim, extra_boxes, found_in, presence, sp, spl, table_row, AttractorsData, PRESENT,
+    basin_claim, extra_boxes_text, found_in, presence, sp, spl, table_row, AttractorsData, PRESENT,
 };
 use super::attractors::AttractorTable;
 use super::{B003, B004};
 use crate::claims::{resolve_conflicts, Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::f;
-use crate::shared::box_text;
 use geardyn_analysis::basins::BasinResult;
 use geardyn_analysis::bifurcation::linspace;
 
@@ -61,7 +60,7 @@ fn words(data: &AttractorsData) -> (String, String) {
     let (d, values, ics, nb) = (data.d, &data.values, data.ics, data.nb);
     let box_txt = &data.basins[0].boxes[0].0;
     (
-        format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {} and {}: the seed gives no box)", values.len(), box_text(extra_boxes(d)[0].0, extra_boxes(d)[0].1), box_text(extra_boxes(d)[1].0, extra_boxes(d)[1].1)),
+        format!("omega in [0.01, 3] ({} values, extra values at the seed's points 0.364, 0.42, 1.801, 1.812), F = 0.07, xi = 0.23 (seed); physical backlash; linear contact law; basins {nb} × {nb} on {box_txt} (shares of the seed's attractors also read on {}: the seed gives no box)", values.len(), extra_boxes_text(d)),
         format!("Multi-initial: {ics} random initial states per value (x0 ∈ ±1.5 D_s, x0' ∈ ±1), decided classification; continuation: attractors identified on the stroboscopic section and matched by basin overlap; basins at the seed's points."),
     )
 }
@@ -69,8 +68,7 @@ fn words(data: &AttractorsData) -> (String, String) {
 /// The claims of the seed's table, by range of omega.
 fn claims(data: &AttractorsData) -> Vec<Claim> {
     let pts = classes::points(&data.multi, 0);
-    let basin_res: Vec<&[(String, BasinResult)]> =
-        data.basins.iter().map(|b| b.boxes.as_slice()).collect();
+    let basin_res = data.basin_results();
     let mut claims = low_claims(&pts, basin_res[1], data.ics);
     claims.extend(middle_claims(&pts));
     claims.extend(high_claims(&pts, basin_res[2]));

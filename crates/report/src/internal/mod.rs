@@ -32,7 +32,7 @@ mod xi_sweep;
 
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{label_claims, Axis, Interpretation};
-use crate::readings::{interval_header, interval_rows, range};
+use crate::readings::{interval_header, interval_rows, ranges_text};
 use crate::runner::{cached, rendered, sweep_options, with_linear_law, Ctx, Plan};
 use crate::{Section, Table};
 use anyhow::Result;
@@ -176,17 +176,6 @@ fn has_name(pts: &[Pt], name: &str) -> Option<f64> {
 
 fn chaos_ranges(pts: &[Pt]) -> Vec<(f64, f64, usize)> {
     classes::ranges(&tolerant(pts), |p| p.class == Class::Chaotic)
-}
-
-fn ranges_text(r: &[(f64, f64, usize)]) -> String {
-    if r.is_empty() {
-        "none".into()
-    } else {
-        r.iter()
-            .map(|c| range(c.0, c.1))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
 }
 
 fn tle_agreement(pts: &[Pt]) -> (usize, usize, usize) {

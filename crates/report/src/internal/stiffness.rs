@@ -149,14 +149,7 @@ pub(super) fn render(
     pm: &PairModel,
     data: &StiffnessData,
 ) -> Result<Section> {
-    let (dd, ds) = data.backlash_scenario;
-    let csv = dir.join("stiffness.csv");
-    crate::breakage::write_stiffness_csv(&csv, pm, dd, ds)?;
-    let mut figs: Vec<crate::Figure> =
-        geardyn_io::pair_plots::pair_figures(dir, pm, pm, dd, ds, "")?
-            .iter()
-            .map(|(stem, caption)| ctx.fig(stem, caption, std::slice::from_ref(&csv)))
-            .collect();
+    let mut figs = crate::breakage::stiffness_figures(ctx, dir, pm, pm, data.backlash_scenario)?;
     let [elastic, no_thermal, full] = &data.variants;
     let (m_el, tv_el) = (elastic.mean, elastic.variation);
     let (m_nt, tv_nt) = (no_thermal.mean, no_thermal.variation);
