@@ -72,6 +72,9 @@ impl Verdict {
     }
 }
 
+/// Longest evidence of a claim (characters): a few sentences, details in the study's CSV files.
+pub const EVIDENCE_MAX: usize = 400;
+
 /// A statement of the seeds checked against the data.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Claim {

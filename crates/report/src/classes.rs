@@ -111,32 +111,41 @@ impl Pt {
     }
 }
 
-/// Adds `note` ([`transient_note`]) to the evidence of every claim about chaos.
-pub fn note_transients(claims: &mut [crate::claims::Claim], note: Option<String>) {
-    let Some(note) = note else { return };
+/// Adds to the evidence of every claim about chaos the values of `pts` that are transient chaos
+/// ([`transient_note`]), as many of them as the evidence has room for.
+pub fn note_transients(claims: &mut [crate::claims::Claim], pts: &[Pt], param: &str, unit: &str) {
     for c in claims {
-        if c.claim.to_lowercase().contains("chao") {
+        if !c.claim.to_lowercase().contains("chao") {
+            continue;
+        }
+        let room = crate::claims::EVIDENCE_MAX.saturating_sub(c.evidence.chars().count() + 1);
+        let note = (0..=3)
+            .rev()
+            .filter_map(|n| transient_note(pts, param, unit, n))
+            .find(|n| n.chars().count() <= room);
+        if let Some(note) = note {
             c.evidence = format!("{} {note}", c.evidence);
         }
     }
 }
 
 /// What a claim about chaos adds when some of the values it reads are transient chaos: where
-/// (with `param` = value), for how long (mean lifetime in `unit`) and on which orbit the motion
-/// settles; `None` when no value is. An integration of a few hundred periods sees such a value as
-/// chaos: that explains a seed's "chaos" there rather than contradicting it.
-pub fn transient_note(pts: &[Pt], param: &str, unit: &str) -> Option<String> {
+/// (with `param` = value; the first `items` of them named with their mean lifetime in `unit` and
+/// the orbit the motion settles on), `None` when no value is. An integration of a few hundred
+/// periods sees such a value as chaos: that explains a seed's "chaos" there rather than
+/// contradicting it.
+pub fn transient_note(pts: &[Pt], param: &str, unit: &str, items: usize) -> Option<String> {
     let tr: Vec<&Pt> = pts.iter().filter(|p| p.lifetime.is_some()).collect();
     if tr.is_empty() {
         return None;
     }
-    let items: Vec<String> = tr
+    let named: Vec<String> = tr
         .iter()
-        .take(6)
+        .take(items)
         .map(|p| {
             let (l, se) = p.lifetime.expect("filtered");
             format!(
-                "{param} = {} (lifetime {} ± {} {unit}, then {})",
+                "{param} = {} ({} ± {} {unit}, then {})",
                 crate::readings::f(p.value),
                 crate::readings::f(l.round()),
                 crate::readings::f(se.round()),
@@ -144,14 +153,14 @@ pub fn transient_note(pts: &[Pt], param: &str, unit: &str) -> Option<String> {
             )
         })
         .collect();
-    let more = if tr.len() > 6 {
-        format!(" and {} more", tr.len() - 6)
-    } else {
-        String::new()
+    let rest = tr.len() - named.len();
+    let list = match (named.is_empty(), rest) {
+        (true, _) => format!("{rest} values"),
+        (false, 0) => named.join(", "),
+        (false, _) => format!("{} and {rest} more", named.join(", ")),
     };
     Some(format!(
-        "Transient chaos (a chaotic saddle the motion leaves for a periodic orbit; the escape test) at {}{more}: an integration of a few hundred {unit} sees these values as chaos, counted here by the orbit they settle on.",
-        items.join(", ")
+        "Transient chaos (escape test; mean lifetime, then the orbit) at {list}: chaos to a short integration."
     ))
 }
 
@@ -389,12 +398,15 @@ mod tests {
         a.name = "1-20-0".into();
         a.lifetime = Some((6783.2, 2261.1));
         let pts = [pt(1.7, Class::Chaotic), a];
-        let note = transient_note(&pts, "omega", "revolutions").unwrap();
+        let note = transient_note(&pts, "omega", "revolutions", 3).unwrap();
         assert!(
-            note.contains("omega = 1.725 (lifetime 6783 ± 2261 revolutions, then 1-20-0)"),
+            note.contains("omega = 1.725 (6783 ± 2261 revolutions, then 1-20-0)"),
             "{note}"
         );
-        assert!(transient_note(&pts[..1], "omega", "revolutions").is_none());
+        assert!(transient_note(&pts[..1], "omega", "revolutions", 3).is_none());
+        assert!(transient_note(&pts, "omega", "revolutions", 0)
+            .unwrap()
+            .contains("at 1 values"));
     }
 
     #[test]

@@ -41,7 +41,7 @@ mod runner;
 mod shared;
 mod sweep_figures;
 
-pub use claims::{Claim, Verdict};
+pub use claims::{Claim, Verdict, EVIDENCE_MAX};
 
 use anyhow::{Context, Result};
 use geardyn_io::Config;

@@ -317,7 +317,10 @@ fn seed_report(preset: &str, min_reproduced: f64, min_with_partly: f64) {
         assert!(rows.iter().all(|r| !r[2].is_empty()), "{preset}");
         // evidence in a few sentences (details in the study CSV files)
         for r in &rows {
-            assert!(r[6].chars().count() <= 400, "{preset}: long evidence {r:?}");
+            assert!(
+                r[6].chars().count() <= geardyn_report::EVIDENCE_MAX,
+                "{preset}: long evidence {r:?}"
+            );
         }
         let every = claims_file(&page_dir.join("claims_by_interpretation.csv"));
         assert_eq!(every[0], claims_file(&page_dir.join("claims.csv"))[0]);

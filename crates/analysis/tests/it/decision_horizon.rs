@@ -59,7 +59,10 @@ fn a_chaotic_transient_of_thousands_of_revolutions_is_periodic() {
     let sc = sc.with_all(&[("omega", 1.2), ("F", 0.065)]).unwrap();
     let (res, s, _) = common::decided_from_rest(sc.model());
     // the escape test sees the copies leak to the orbit (lifetime ~4 700 revolutions)
-    let Motion::TransientChaos { period, lifetime, .. } = s.motion else {
+    let Motion::TransientChaos {
+        period, lifetime, ..
+    } = s.motion
+    else {
         panic!("{:?}", s.motion)
     };
     assert_eq!((period, s.label.as_str()), (1, "1-20-0"));
@@ -108,7 +111,10 @@ fn a_transient_of_eight_thousand_periods_is_periodic() {
     // the escape test: transient chaos, then the same period-16 orbit, at a lifetime of the
     // order of the single trajectory's 8 000 periods
     let s = decide_c1(1.19346733668, SimOptions::default());
-    let Motion::TransientChaos { period, lifetime, .. } = s.motion else {
+    let Motion::TransientChaos {
+        period, lifetime, ..
+    } = s.motion
+    else {
         panic!("{:?}", s.motion)
     };
     assert_eq!(period, 16);

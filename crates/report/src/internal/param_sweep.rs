@@ -262,14 +262,13 @@ impl Study for ParamSweep<'_> {
     }
 
     fn claims(&self, data: &SweepData) -> Vec<Claim> {
-        let pts = classes::fixed_points(&data.main);
-        let note = classes::transient_note(&pts, self.table.param, "excitation periods");
-        let mut claims = (self.table.claims)(&Runs {
+        let runs = Runs {
             main: &data.main,
-            pts,
+            pts: classes::fixed_points(&data.main),
             multi: classes::points(&data.multi, 0),
-        });
-        classes::note_transients(&mut claims, note);
+        };
+        let mut claims = (self.table.claims)(&runs);
+        classes::note_transients(&mut claims, &runs.pts, self.table.param, "periods");
         claims
     }
 }
