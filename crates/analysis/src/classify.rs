@@ -32,7 +32,7 @@
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
 use crate::engine::Engine;
-use crate::escape::{span_for_bound, Copy, EscapeOutcome, EscapeSettings, EscapeSummary};
+use crate::escape::{decorrelation_periods, Copy, EscapeOutcome, EscapeSettings, EscapeSummary};
 use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
@@ -500,10 +500,12 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
     }
 
     /// Asks for the escape test of a run whose exponent `tle` is significantly positive, its span
-    /// cut to what the work budget pays for; a budget that cannot pay for the span whose silence
-    /// would exclude lifetimes below the decision horizon ends the decision `unsettled`.
+    /// cut to what the work budget pays for; a budget that cannot pay for the span a chaotic
+    /// verdict requires ([`EscapeSettings::required`]) ends the decision `unsettled`.
     fn escape_test(&mut self, tle: (f64, f64)) {
         let mut test = self.opts.escape;
+        test.spread =
+            decorrelation_periods(tle.0, self.model.excitation_period(), test.perturbation);
         let per_copy_period = match self
             .model
             .follow_method(&self.opts)
@@ -516,9 +518,9 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         };
         let left = self.opts.decision_budget.saturating_sub(self.res.rhs_evals);
         let affordable = left / (u64::from(test.copies) * per_copy_period).max(1);
-        let needed = span_for_bound(test.copies, self.opts.decision_periods);
+        let needed = test.required(self.opts.decision_periods);
         test.periods = test.span(self.opts.decision_periods);
-        if affordable < needed.min(test.periods) {
+        if affordable < needed {
             self.budget_spent = true;
             self.s.set_motion(Motion::Unsettled {
                 tle: Some(tle.0),
@@ -555,9 +557,11 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
                 let (l, se) = self
                     .tle
                     .expect("the escape test follows a positive exponent");
-                // chaotic when the silence of the copies excludes lifetimes up to the horizon
+                // chaotic when the copies' silence lasted the exposure the verdict requires
                 // (copies whose integration failed may leave it short)
-                let excluded = out.lifetime.periods() >= self.opts.decision_periods as f64;
+                let exposure = out.lifetime.periods() * crate::escape::LN_20;
+                let excluded = exposure
+                    >= (crate::escape::ESCAPE_EXPOSURE * self.opts.decision_periods) as f64 - 0.5;
                 self.s.set_motion(if excluded {
                     Motion::Chaotic { tle: l, stderr: se }
                 } else {

@@ -34,15 +34,20 @@
 use crate::period::minimal_period_tol;
 use serde::{Deserialize, Serialize};
 
-/// Default number of copies ([`EscapeSettings::copies`]).
-pub const ESCAPE_COPIES: u32 = 64;
-/// Default span of the test ([`EscapeSettings::periods`]): 0, the span whose silence excludes
-/// lifetimes below the decision horizon ([`EscapeSettings::span`]; 469 periods for 64 copies at
-/// the default horizon of 10 000).
+/// Default number of copies ([`EscapeSettings::copies`]): one full lane engine.
+pub const ESCAPE_COPIES: u32 = 16;
+/// Default span of the test ([`EscapeSettings::periods`]): 0, the span of
+/// [`EscapeSettings::span`] (the copies' spread, then [`ESCAPE_EXPOSURE`] horizons of exposure).
 pub const ESCAPE_PERIODS: u64 = 0;
-/// Shortest default span (excitation periods): time for the copies to spread over the chaotic
-/// set (ln(1e9) / TLE: 20-50 periods on the seed pairs) and for an escaped one to show its period.
+/// Exposure the test needs before it calls a motion chaotic: this many times the decision horizon
+/// in copy-periods (after the copies have spread). No escape in it excludes lifetimes below
+/// `2 / ln 20 = 0.67` horizons at 95 % confidence — a single trajectory followed to the horizon
+/// excludes a third of one — at about the cost of following that trajectory twice as far.
+pub const ESCAPE_EXPOSURE: u64 = 2;
+/// Shortest default span (excitation periods): time for an escaped copy to show its period.
 pub const ESCAPE_MIN_PERIODS: u64 = 100;
+/// Largest spread time counted ([`decorrelation_periods`], excitation periods).
+pub const ESCAPE_MAX_SPREAD: u64 = 2000;
 /// [`EscapeSettings::copies`] accepted besides 0.
 pub const ESCAPE_COPIES_RANGE: std::ops::RangeInclusive<u32> = 2..=4096;
 /// [`EscapeSettings::periods`] accepted besides 0 (the default span).
@@ -71,6 +76,11 @@ pub struct EscapeSettings {
     pub stop_after: u32,
     /// Relative size of the perturbation ([`ESCAPE_PERTURBATION`]).
     pub perturbation: f64,
+    /// Excitation periods the copies take to spread over the chaotic set
+    /// ([`decorrelation_periods`]): escape times and exposure count from there (set by the
+    /// decision from the motion's exponent).
+    #[serde(skip)]
+    pub spread: u64,
 }
 
 impl Default for EscapeSettings {
@@ -80,6 +90,7 @@ impl Default for EscapeSettings {
             periods: ESCAPE_PERIODS,
             stop_after: ESCAPE_STOP_AFTER,
             perturbation: ESCAPE_PERTURBATION,
+            spread: 0,
         }
     }
 }
@@ -91,25 +102,51 @@ impl EscapeSettings {
     }
 
     /// The span (excitation periods) in a decision of horizon `decision_periods`: the one set, or
-    /// by default the span whose silence excludes lifetimes below the horizon at 95 % confidence
-    /// ([`span_for_bound`]), at least [`ESCAPE_MIN_PERIODS`]. So the horizon keeps its meaning:
-    /// a motion called chaotic has no lifetime shorter than it (to 95 %), and at the same cost as
-    /// following one trajectory three times as far.
+    /// by default the copies' spread ([`EscapeSettings::spread`]) and then the exposure the
+    /// verdict `chaotic` needs ([`EscapeSettings::required`]), at least [`ESCAPE_MIN_PERIODS`].
     ///
     /// ```
     /// use geardyn_analysis::escape::EscapeSettings;
-    /// let s = EscapeSettings::default();
-    /// assert_eq!(s.span(10_000), 469);
-    /// assert_eq!(EscapeSettings { copies: 8, ..s }.span(10_000), 3745);
-    /// assert_eq!(s.span(1000), 100);
+    /// let s = EscapeSettings { spread: 30, ..Default::default() };
+    /// assert_eq!(s.span(10_000), 30 + 1250); // 16 copies x 1250 periods = 2 horizons
+    /// assert_eq!(s.span(200), 100);
     /// assert_eq!(EscapeSettings { periods: 500, ..s }.span(10_000), 500);
     /// ```
     pub fn span(&self, decision_periods: u64) -> u64 {
         if self.periods > 0 {
             return self.periods;
         }
-        span_for_bound(self.copies, decision_periods).max(ESCAPE_MIN_PERIODS)
+        self.required(decision_periods).max(ESCAPE_MIN_PERIODS)
     }
+
+    /// The span a silent test must have run to call a motion chaotic in a decision of horizon
+    /// `decision_periods`: the spread, then [`ESCAPE_EXPOSURE`] horizons of copy-periods.
+    pub fn required(&self, decision_periods: u64) -> u64 {
+        let per_copy = (ESCAPE_EXPOSURE * decision_periods).div_ceil(u64::from(self.copies.max(1)));
+        self.spread + per_copy
+    }
+}
+
+/// Excitation periods for copies perturbed by `perturbation` to spread over a chaotic set whose
+/// top Lyapunov exponent is `tle` (per unit time), the excitation period lasting `period` units:
+/// `ln(1 / perturbation) / (tle period)`, at most [`ESCAPE_MAX_SPREAD`]. Until then the copies are
+/// one trajectory: they neither escape independently nor add exposure.
+///
+/// ```
+/// // C1 at omega = 1.3: TLE 0.080, period 2 pi / 1.3: ln(1e9) / 0.387 = 54 periods
+/// let d = geardyn_analysis::escape::decorrelation_periods(0.080, std::f64::consts::TAU / 1.3, 1e-9);
+/// assert_eq!(d, 54);
+/// ```
+pub fn decorrelation_periods(tle: f64, period: f64, perturbation: f64) -> u64 {
+    let growth = tle * period;
+    // (NaN fails both comparisons: the longest spread)
+    let valid = growth > 0.0 && perturbation > 0.0 && perturbation < 1.0;
+    if !valid {
+        return ESCAPE_MAX_SPREAD;
+    }
+    ((1.0 / perturbation).ln() / growth)
+        .ceil()
+        .min(ESCAPE_MAX_SPREAD as f64) as u64
 }
 
 /// The state of one copy: time, state and the memory of its mode (as a run continues:
@@ -178,17 +215,6 @@ impl Lifetime {
             Lifetime::Estimate { periods, .. } | Lifetime::AtLeast { periods } => periods,
         }
     }
-}
-
-/// The span of an escape test of `copies` copies that the lifetime bound `horizon` (excitation
-/// periods) needs: no escape over it excludes lifetimes below `horizon` at 95 % confidence.
-///
-/// ```
-/// // 64 copies: 469 periods exclude lifetimes below 10 000
-/// assert_eq!(geardyn_analysis::escape::span_for_bound(64, 10_000), 469);
-/// ```
-pub fn span_for_bound(copies: u32, horizon: u64) -> u64 {
-    (horizon as f64 * LN_20 / f64::from(copies.max(1))).ceil() as u64
 }
 
 /// Copies that settled on one periodic orbit.
@@ -388,8 +414,12 @@ pub fn escape_test<const N: usize>(
     }
     let copies = all.iter().filter(|f| !f.failed).count() as u32;
     let escape_times: Vec<u64> = all.iter().filter_map(|f| f.settled.map(|e| e.0)).collect();
-    let times: Vec<f64> = escape_times.iter().map(|&t| t as f64).collect();
-    let lifetime = Lifetime::from_escapes(copies, &times, done as f64);
+    // the clock starts when the copies have spread
+    let times: Vec<f64> = escape_times
+        .iter()
+        .map(|&t| t.saturating_sub(s.spread) as f64)
+        .collect();
+    let lifetime = Lifetime::from_escapes(copies, &times, done.saturating_sub(s.spread) as f64);
     EscapeOutcome {
         copies,
         escape_times,

@@ -60,11 +60,12 @@ pub struct DecisionArgs {
     pub follow_steps: Option<f64>,
     /// Copies of a chaotic state followed by the ensemble escape test, which tells a chaotic
     /// attractor (no copy leaves) from transient chaos (copies leak to a periodic orbit); 0 turns
-    /// it off and follows the run itself to the decision horizon (0 or 2 ... 4096) [default: 64].
+    /// it off and follows the run itself to the decision horizon (0 or 2 ... 4096) [default: 16].
     #[arg(long, allow_hyphen_values = true)]
     pub escape_copies: Option<f64>,
-    /// Span of the escape test in excitation periods; 0: the span whose silence excludes lifetimes below the decision horizon (0 or
-    /// 100 ... 1000000) [default: 0, i.e. 469 periods for 64 copies at the default horizon].
+    /// Span of the escape test in excitation periods; 0: the copies' spread, then two decision
+    /// horizons of copy-periods (0 or 100 ... 1000000) [default: 0, i.e. 1250 periods and the
+    /// spread for 16 copies at the default horizon].
     #[arg(long, allow_hyphen_values = true)]
     pub escape_periods: Option<f64>,
 }

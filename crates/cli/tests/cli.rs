@@ -472,8 +472,8 @@ fn the_built_in_numba_yardstick_is_the_project_one() {
 #[test]
 fn report_takes_the_decision_flags() {
     // the quick classic page at a horizon of 200 periods instead of the quick 1000: every
-    // chaotic run's escape test excludes lifetimes below the horizon and no more than needed
-    // (at least 100 periods: 64 x 100 / ln 20 = 2 136), and the page says so
+    // chaotic run's escape test had the exposure of two horizons at least (its lifetime bound is
+    // 400 / ln 20 = 133.5 or more), and the page says so
     let d = tmp("report-decision");
     geardyn_ok(&[
         "report",
@@ -500,10 +500,7 @@ fn report_takes_the_decision_flags() {
         })
         .collect();
     assert!(!chaotic.is_empty());
-    assert!(
-        chaotic.iter().all(|&l| (l - 2136.4).abs() < 1.0),
-        "{chaotic:?}"
-    );
+    assert!(chaotic.iter().all(|&l| l >= 133.5), "{chaotic:?}");
     let page = std::fs::read_to_string(d.join("classic/index.html")).unwrap();
     assert!(page.contains("a horizon of 200 excitation periods"));
     // the page's configuration states the horizon its runs were decided at

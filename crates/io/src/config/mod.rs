@@ -47,7 +47,7 @@ pub struct SimulationConfig {
     /// Copies of a chaotic state the ensemble escape test follows (0: no test; the motion is
     /// followed to the decision horizon instead).
     pub escape_copies: u32,
-    /// Span of the escape test (excitation periods); 0: the span whose silence excludes lifetimes below the decision horizon.
+    /// Span of the escape test (excitation periods); 0: the copies' spread, then two decision horizons of copy-periods.
     pub escape_periods: u64,
     /// Cap on a command's estimated work (right-hand-side evaluations in all runs, the
     /// decisions' worst case included): a command above it is refused before it starts.
@@ -217,7 +217,7 @@ fn escape_copies(v: f64) -> Result<u32, ConfigError> {
     }
 }
 
-/// `simulation.escape_periods` checked: 0 (the span whose silence excludes lifetimes below the decision horizon) or a whole number in
+/// `simulation.escape_periods` checked: 0 (the default span) or a whole number in
 /// [`geardyn_analysis::escape::ESCAPE_PERIODS_RANGE`].
 fn escape_periods(v: f64) -> Result<u64, ConfigError> {
     let r = geardyn_analysis::escape::ESCAPE_PERIODS_RANGE;
@@ -228,7 +228,7 @@ fn escape_periods(v: f64) -> Result<u64, ConfigError> {
             field: "escape_periods",
             value: geardyn_model::error::num(v),
             allowed: format!(
-                "0 (the span whose silence excludes lifetimes below the decision horizon) or a whole number in [{}, {}] (excitation periods of the escape test)",
+                "0 (the default span) or a whole number in [{}, {}] (excitation periods of the escape test)",
                 r.start(),
                 r.end()
             )
