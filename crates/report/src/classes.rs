@@ -15,8 +15,6 @@ pub enum Class {
     Periodic(usize),
     /// Significantly positive TLE.
     Chaotic,
-    /// Transient chaos settling on a periodic orbit of this period (the escape test).
-    Transient(usize),
     /// TLE zero within its error, no period.
     Quasi,
     /// Not decided.
@@ -31,7 +29,9 @@ impl Class {
         match &run.motion {
             Motion::Periodic { period } => Class::Periodic(*period),
             Motion::Chaotic { .. } => Class::Chaotic,
-            Motion::TransientChaos { period, .. } => Class::Transient(*period),
+            // a claim reads the motion in the long run: transient chaos by the orbit it settles
+            // on (its lifetime is `Pt::lifetime`)
+            Motion::TransientChaos { period, .. } => Class::Periodic(*period),
             Motion::QuasiPeriodic { .. } => Class::Quasi,
             Motion::Unsettled { .. } => Class::Unsettled,
             // failed, diverged, or a class added later
@@ -39,15 +39,15 @@ impl Class {
         }
     }
 
-    /// Periodic in the long run (a transient chaos settles on an orbit)?
+    /// Periodic (in the long run)?
     pub fn periodic(&self) -> bool {
-        matches!(self, Class::Periodic(_) | Class::Transient(_))
+        matches!(self, Class::Periodic(_))
     }
 
-    /// Period in the long run, if periodic.
+    /// Period, if periodic.
     pub fn period(&self) -> Option<usize> {
         match self {
-            Class::Periodic(p) | Class::Transient(p) => Some(*p),
+            Class::Periodic(p) => Some(*p),
             _ => None,
         }
     }
@@ -394,7 +394,7 @@ mod tests {
 
     #[test]
     fn transient_chaos_is_named_with_its_lifetime_and_orbit() {
-        let mut a = pt(1.725, Class::Transient(1));
+        let mut a = pt(1.725, Class::Periodic(1));
         a.name = "1-20-0".into();
         a.lifetime = Some((6783.2, 2261.1));
         let pts = [pt(1.7, Class::Chaotic), a];
