@@ -197,64 +197,65 @@ pub const SIMULATION_NAMES: &[&str] = &[
     "max_work",
 ];
 
+/// A setting that is 0 (`zero`: what 0 means) or a whole number in `lo..=hi` (`unit`: what it
+/// counts), checked.
+fn zero_or_count(
+    field: &'static str,
+    v: f64,
+    (lo, hi): (u64, u64),
+    zero: &str,
+    unit: &str,
+) -> Result<u64, ConfigError> {
+    if v == 0.0 || (v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64) {
+        Ok(v as u64)
+    } else {
+        Err(ConfigError::Simulation {
+            field,
+            value: geardyn_model::error::num(v),
+            allowed: format!("0 ({zero}) or a whole number in [{lo}, {hi}] ({unit})").into(),
+        })
+    }
+}
+
 /// `simulation.escape_copies` checked: 0 (no escape test) or a whole number in
 /// [`geardyn_analysis::escape::ESCAPE_COPIES_RANGE`].
 fn escape_copies(v: f64) -> Result<u32, ConfigError> {
     let r = geardyn_analysis::escape::ESCAPE_COPIES_RANGE;
-    if v == 0.0 || (v.fract() == 0.0 && v >= f64::from(*r.start()) && v <= f64::from(*r.end())) {
-        Ok(v as u32)
-    } else {
-        Err(ConfigError::Simulation {
-            field: "escape_copies",
-            value: geardyn_model::error::num(v),
-            allowed: format!(
-                "0 (no escape test: follow the run to the decision horizon) or a whole number in [{}, {}] (copies of a chaotic state)",
-                r.start(),
-                r.end()
-            )
-            .into(),
-        })
-    }
+    let n = zero_or_count(
+        "escape_copies",
+        v,
+        (u64::from(*r.start()), u64::from(*r.end())),
+        "no escape test: follow the run to the decision horizon",
+        "copies of a chaotic state",
+    )?;
+    Ok(n as u32)
 }
 
 /// `simulation.escape_periods` checked: 0 (the default span) or a whole number in
 /// [`geardyn_analysis::escape::ESCAPE_PERIODS_RANGE`].
 fn escape_periods(v: f64) -> Result<u64, ConfigError> {
     let r = geardyn_analysis::escape::ESCAPE_PERIODS_RANGE;
-    if v == 0.0 || (v.fract() == 0.0 && v >= *r.start() as f64 && v <= *r.end() as f64) {
-        Ok(v as u64)
-    } else {
-        Err(ConfigError::Simulation {
-            field: "escape_periods",
-            value: geardyn_model::error::num(v),
-            allowed: format!(
-                "0 (the default span) or a whole number in [{}, {}] (excitation periods of the escape test)",
-                r.start(),
-                r.end()
-            )
-            .into(),
-        })
-    }
+    zero_or_count(
+        "escape_periods",
+        v,
+        (*r.start(), *r.end()),
+        "the default: the copies' spread, then two decision horizons of copy-periods",
+        "excitation periods of the escape test",
+    )
 }
 
 /// `simulation.follow_steps` checked: 0 (follow with the requested integrator) or a whole number
 /// in [`geardyn_analysis::classify::FOLLOW_STEPS_RANGE`].
 fn follow_steps(v: f64) -> Result<u32, ConfigError> {
     let r = geardyn_analysis::classify::FOLLOW_STEPS_RANGE;
-    if v == 0.0 || (v.fract() == 0.0 && v >= f64::from(*r.start()) && v <= f64::from(*r.end())) {
-        Ok(v as u32)
-    } else {
-        Err(ConfigError::Simulation {
-            field: "follow_steps",
-            value: geardyn_model::error::num(v),
-            allowed: format!(
-                "0 (follow with the requested integrator) or a whole number in [{}, {}] (RK4 steps per natural period)",
-                r.start(),
-                r.end()
-            )
-            .into(),
-        })
-    }
+    let n = zero_or_count(
+        "follow_steps",
+        v,
+        (u64::from(*r.start()), u64::from(*r.end())),
+        "follow with the requested integrator",
+        "RK4 steps per natural period",
+    )?;
+    Ok(n as u32)
 }
 
 /// Largest configuration file read (bytes): a config is a few kilobytes.

@@ -47,6 +47,24 @@ fn the_decision_knobs_take_their_own_ranges_from_set_and_from_a_file() {
     // the same bound from a file
     let e = file_error(|s| s.decision_budget = 2_000_000_000_000);
     assert!(e.contains("decision_budget"), "{e}");
+    // the escape test: 0 copies (off) or 2 to 4096; its span 0 (the default) or 100 and more
+    assert_eq!(c.sim_options().unwrap().escape.copies, 16);
+    c.set("escape_copies", 0.0).unwrap();
+    assert!(!c.sim_options().unwrap().escape.on());
+    c.set("escape_copies", 64.0).unwrap();
+    c.set("escape_periods", 3000.0).unwrap();
+    let esc = c.sim_options().unwrap().escape;
+    assert_eq!((esc.copies, esc.periods), (64, 3000));
+    for (name, bad, range) in [
+        ("escape_copies", 1.0, "[2, 4096]"),
+        ("escape_copies", 2.5, "[2, 4096]"),
+        ("escape_copies", f64::NAN, "[2, 4096]"),
+        ("escape_periods", 50.0, "[100, 1000000]"),
+        ("escape_periods", -1.0, "[100, 1000000]"),
+    ] {
+        let e = c.set(name, bad).unwrap_err().to_string();
+        assert!(e.contains(name) && e.contains(range), "{e}");
+    }
     // follow_steps: 0 (the requested integrator) or 16 and more steps per natural period
     c.set("follow_steps", 0.0).unwrap();
     assert_eq!(c.sim_options().unwrap().follow_steps, 0);
