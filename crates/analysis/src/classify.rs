@@ -302,6 +302,9 @@ pub struct Decision<'m, S = MeshModel, const N: usize = 2> {
     strobe_record: bool,
     /// The escape test that decided the run (chaotic, or transient chaos).
     escape: Option<EscapeSummary>,
+    /// The escape test was asked for (once per decision: a run it could not decide goes on as
+    /// without it).
+    escape_tried: bool,
 }
 
 impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
@@ -334,6 +337,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
             loose_period: false,
             strobe_record: false,
             escape: None,
+            escape_tried: false,
         };
         if d.runaway() {
             return d;
@@ -503,6 +507,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
     /// cut to what the work budget pays for; a budget that cannot pay for the span a chaotic
     /// verdict requires ([`EscapeSettings::required`]) ends the decision `unsettled`.
     fn escape_test(&mut self, tle: (f64, f64)) {
+        self.escape_tried = true;
         let mut test = self.opts.escape;
         test.spread =
             decorrelation_periods(tle.0, self.model.excitation_period(), test.perturbation);
@@ -1089,7 +1094,7 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
                 // a positive exponent found after the extensions (a weak one the first window
                 // missed) takes the escape test, or is followed to the horizon, like any other
                 let done = self.integrated();
-                if how.extend && !self.budget_spent && self.opts.escape.on() {
+                if how.extend && !self.budget_spent && self.opts.escape.on() && !self.escape_tried {
                     self.escape_test((l, se));
                     return;
                 }

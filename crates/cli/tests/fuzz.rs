@@ -240,3 +240,34 @@ fn random_config_mutations_end_with_a_result_or_one_line_error() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A positive exponent where the lanes do not step the contact law (the internal preset's
+/// Johnson-type law): the escape test does not apply, and the decision follows the run to its
+/// horizon once — it once asked for the test again after every follow, for ever.
+#[test]
+fn a_chaotic_run_without_the_escape_test_ends() {
+    let out = std::env::temp_dir().join(format!("geardyn-noescape-{}", std::process::id()));
+    let args: Vec<String> = [
+        "bifurcation",
+        "--preset",
+        "internal",
+        "--transient",
+        "100",
+        "--periods",
+        "30",
+        "--mode",
+        "sweep",
+        "--param",
+        "omega",
+        "--range",
+        "1.4:1.8:6",
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let (code, _, err, _) = run(&args);
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(code, Some(0), "{err}");
+}
