@@ -32,16 +32,21 @@
 //! record but a negative exponent; calling it chaotic is the error a researcher notices first.
 
 use crate::engine::Engine;
-use crate::escape::{decorrelation_periods, Copy, EscapeOutcome, EscapeSettings, EscapeSummary};
+use crate::escape::EscapeSummary;
+
+mod escape_steps;
+mod need;
 use crate::period::{approaches_lower_period, lag_split, on_cycle_throughout};
 use crate::simulate::{
     simulate, summarize, summarize_tol, Method, SimError, SimOptions, SimResult, Summary,
 };
+use crate::verdict::{significantly_negative, significantly_positive};
 pub use crate::verdict::{
     DecidedBy, Motion, DECISION_BUDGET, DECISION_PERIODS, DIVERGED_SCALES, FOLLOW_STEPS,
     FOLLOW_STEPS_RANGE, MAX_DECISION_BUDGET,
 };
 use geardyn_model::{GearSystem, MeshModel};
+pub use need::Need;
 use serde::Serialize;
 
 /// Doublings of the transient tried before a non-periodic, non-chaotic run is called
@@ -113,14 +118,6 @@ pub fn tle_periods(opts: &SimOptions) -> u64 {
     opts.record_periods.max(TLE_PERIODS)
 }
 
-fn significantly_positive(tle: f64, se: f64) -> bool {
-    tle > TLE_POSITIVE && tle > 3.0 * se
-}
-
-fn significantly_negative(tle: f64, se: f64) -> bool {
-    significantly_positive(-tle, se)
-}
-
 /// Factor on the period-test tolerance for motions whose TLE is significantly negative (after the
 /// extended transient): their points must repeat to this many times the strict tolerance.
 pub const ATTRACTING_PERIOD_TOL_FACTOR: f64 = 100.0;
@@ -188,43 +185,6 @@ pub fn simulate_decided_with<S: Engine<N>, const N: usize>(
             Need::Done => return d.finish(),
         }
     }
-}
-
-/// The next integration a [`Decision`] waits for.
-#[derive(Clone, Copy, Debug)]
-pub enum Need<const N: usize = 2> {
-    /// A run of [`simulate`] from `y0` with `opts` (a transient extension, the persistence check
-    /// of a positive exponent, or the record again of a periodic run whose head is transient);
-    /// hand its result to [`Decision::simulated`].
-    Sim {
-        /// Initial state.
-        y0: [f64; N],
-        /// Options of the run (`tau0` is its start time).
-        opts: SimOptions,
-    },
-    /// The TLE of the motion continuing from `(t, y)` ([`Engine::tle`]); hand it to
-    /// [`Decision::tle`].
-    Tle {
-        /// Start time.
-        t: f64,
-        /// Start state.
-        y: [f64; N],
-        /// Memory of the start mode ([`SimResult::final_memory`] of the run it continues).
-        memory: f64,
-        /// Excitation periods of the estimate ([`tle_periods`], or [`TLE_LONG_PERIODS`] for the
-        /// last look at a run still undecided).
-        periods: u64,
-    },
-    /// The ensemble escape test ([`Engine::escape`]) of the motion continuing from `start`; hand
-    /// its outcome to [`Decision::escaped`].
-    Escape {
-        /// Where the copies start (the end of the current record).
-        start: Copy<N>,
-        /// The test's settings (its span cut to the work budget).
-        test: EscapeSettings,
-    },
-    /// Decided: [`Decision::finish`].
-    Done,
 }
 
 /// What a [`Decision`] waits for.
@@ -499,102 +459,6 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
             | Wait::TleLong
             | Wait::Done => {
                 panic!("no run was asked for")
-            }
-        }
-    }
-
-    /// Asks for the escape test of a run whose exponent `tle` is significantly positive, its span
-    /// cut to what the work budget pays for; a budget that cannot pay for the span a chaotic
-    /// verdict requires ([`EscapeSettings::required`]) ends the decision `unsettled`.
-    fn escape_test(&mut self, tle: (f64, f64)) {
-        self.escape_tried = true;
-        let mut test = self.opts.escape;
-        test.spread =
-            decorrelation_periods(tle.0, self.model.excitation_period(), test.perturbation);
-        let per_copy_period = match self
-            .model
-            .follow_method(&self.opts)
-            .unwrap_or(self.opts.method)
-        {
-            Method::Rk4 { steps_per_cycle } => {
-                4 * u64::from(steps_per_cycle) * u64::from(self.model.cycles_per_period().max(1))
-            }
-            Method::Dopri { .. } => (self.res.rhs_evals / self.integrated().max(1)).max(1),
-        };
-        let left = self.opts.decision_budget.saturating_sub(self.res.rhs_evals);
-        let affordable = left / (u64::from(test.copies) * per_copy_period).max(1);
-        let needed = test.required(self.opts.decision_periods);
-        test.periods = test.span(self.opts.decision_periods);
-        if affordable < needed {
-            self.budget_spent = true;
-            self.s.set_motion(Motion::Unsettled {
-                tle: Some(tle.0),
-                stderr: Some(tle.1),
-            });
-            self.ask(Wait::Done, Need::Done);
-            return;
-        }
-        test.periods = test.periods.min(affordable);
-        let (t, y) = self.res.final_state;
-        let start = Copy {
-            t,
-            y,
-            memory: self.res.final_memory,
-        };
-        self.ask(Wait::Escape, Need::Escape { start, test });
-    }
-
-    /// The outcome of the escape test [`Need::Escape`] asked for ([`Engine::escape`]; `None`
-    /// where the engine does not run it).
-    pub fn escaped(&mut self, out: Option<EscapeOutcome<N>>) {
-        assert!(
-            matches!(self.wait, Wait::Escape),
-            "no escape test was asked for"
-        );
-        let Some(out) = out else {
-            self.persist(0);
-            return;
-        };
-        self.escape = Some(out.summary());
-        self.res.rhs_evals += out.rhs_evals;
-        match out.orbits.first() {
-            None => {
-                let (l, se) = self
-                    .tle
-                    .expect("the escape test follows a positive exponent");
-                // chaotic when the copies' silence lasted the exposure the verdict requires
-                // (copies whose integration failed may leave it short)
-                let exposure = out.lifetime.periods() * crate::escape::LN_20;
-                let excluded = exposure
-                    >= (crate::escape::ESCAPE_EXPOSURE * self.opts.decision_periods) as f64 - 0.5;
-                self.s.set_motion(if excluded {
-                    Motion::Chaotic { tle: l, stderr: se }
-                } else {
-                    Motion::Unsettled {
-                        tle: Some(l),
-                        stderr: Some(se),
-                    }
-                });
-                self.ask(Wait::Done, Need::Done);
-            }
-            Some(g) => {
-                // the asymptotic motion: the orbit most copies settled on, recorded with the
-                // requested integrator from where the earliest of them reached it
-                let more = SimOptions {
-                    tau0: g.state.t,
-                    start_memory: g.state.memory,
-                    transient_periods: 0,
-                    strobe_only: false,
-                    ..self.opts
-                };
-                self.used.transient_periods += g.followed;
-                self.ask(
-                    Wait::EscapeRecord,
-                    Need::Sim {
-                        y0: g.state.y,
-                        opts: more,
-                    },
-                );
             }
         }
     }

@@ -39,6 +39,17 @@ pub const FOLLOW_STEPS: u32 = 64;
 /// [`crate::simulate::SimOptions::follow_steps`] accepted besides 0: below 16 steps per natural period RK4 leaves
 /// its useful accuracy (and at about 2.2 its stability).
 pub const FOLLOW_STEPS_RANGE: std::ops::RangeInclusive<u32> = 16..=1_000_000;
+/// An exponent `tle` (standard error `se`) that is positive beyond doubt: above
+/// [`crate::classify::TLE_POSITIVE`] and three standard errors.
+pub(crate) fn significantly_positive(tle: f64, se: f64) -> bool {
+    tle > crate::classify::TLE_POSITIVE && tle > 3.0 * se
+}
+
+/// [`significantly_positive`] of `-tle`.
+pub(crate) fn significantly_negative(tle: f64, se: f64) -> bool {
+    significantly_positive(-tle, se)
+}
+
 /// The evidence that decided a run's class (`decided_by` in `summary.json` and runs tables).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
