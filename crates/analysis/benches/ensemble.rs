@@ -9,7 +9,7 @@ use geardyn_analysis::driver::{run_periods, Discard};
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::{presets, ContactState, MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
-use geardyn_solvers::ensemble::Lockstep;
+use geardyn_solvers::ensemble::{Lockstep, StepStart};
 use geardyn_solvers::{Integrator, Scheme};
 use std::time::Instant;
 
@@ -32,8 +32,16 @@ fn kernel_loop(t: &MeshLanes, lanes: &MeshLaneBlock<L>, work: &Work, n: usize, h
         }
         let mut y1 = [[0.0; L]; 2];
         let mut f1 = [[0.0; L]; 2];
+        let st = StepStart {
+            j,
+            t0: &t0,
+            t1: &t1,
+            grid: &grid,
+            y0: &y,
+            f0: &f,
+        };
         acc = acc.wrapping_add(<MeshLanes as Lockstep<2, L>>::step(
-            t, j, &t0, &t1, &grid, lanes, work, &y, &f, &mut y1, &mut f1,
+            t, &st, lanes, work, &mut y1, &mut f1,
         ));
         (y, f, t0) = (y1, f1, t1);
         for g in grid.iter_mut() {

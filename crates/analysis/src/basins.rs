@@ -249,7 +249,7 @@ impl<const N: usize> Pass<'_, N> {
         // (the pair's lanes speak its own dimension: N = 2 here)
         let pair_snapshot: Vec<Descriptor> =
             self.snapshot.iter().map(|d| d.clone().resized()).collect();
-        let computed = crate::lanes_identify::identify_lanes_in(
+        let computed = crate::lanes_identify::identify_lanes(
             mesh,
             &y0s,
             &pair_snapshot,

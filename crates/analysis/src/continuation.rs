@@ -187,7 +187,7 @@ pub fn attractors_of<S: Recordable<N>, const N: usize>(
             // pair's lanes speak its own dimension, N = 2 here)
             let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
             let pair: Vec<Descriptor> = snapshot.iter().map(|d| d.clone().resized()).collect();
-            crate::lanes_identify::identify_lanes(model, &y0s, &pair, &id, |_, _| {})
+            crate::lanes_identify::identify_lanes(model, &y0s, &pair, None, &id, |_, _| {})
                 .into_iter()
                 .map(Outcome::resized)
                 .collect()

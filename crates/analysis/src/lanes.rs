@@ -294,6 +294,43 @@ struct Job<'s> {
     strobe_only: bool,
 }
 
+/// The recording hooks of a mesh lane driver, written once: `LaneDriver::on_lockstep` and
+/// `LaneDriver::on_step` of a driver with the fields `acc` (the lanes' running totals, an
+/// [`Acc`]), `rec_mask` (the lanes that record) and `mesh_on` (mesh-cycle strobe instants
+/// matter). A lockstep step is recorded by `acc`, except its rare lanes; a scalar step of a
+/// recording lane `l` goes to the lane's recorder `$rec` (an `Option<&mut PairRecorder>`, `None`
+/// when the lane has none now) between a store and a load of its totals. `$s` names `self`.
+macro_rules! recording_hooks {
+    ($s:ident, $l:ident => $rec:expr) => {
+        #[inline(always)]
+        fn on_lockstep(&mut $s, batch: &MeshLanes, st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>) -> u32 {
+            $s.acc.record(batch, st, st.mask & $s.rec_mask, $s.mesh_on)
+        }
+
+        fn on_step(
+            &mut $s,
+            $l: usize,
+            _sys: &MeshModel,
+            step: &Step<2>,
+            before: &MeshMode,
+            stop: Stop,
+            after: &MeshMode,
+            y_after: &[f64; 2],
+        ) {
+            if $s.rec_mask & (1 << $l) == 0 {
+                return;
+            }
+            if let Some(rec) = $rec {
+                $s.acc.store($l, rec);
+                let own = rec.sys;
+                rec.on_step(&own, step, before, stop, after, y_after);
+                $s.acc.load($l, rec);
+            }
+        }
+    };
+}
+pub(crate) use recording_hooks;
+
 /// Lane driver of many [`simulate`](crate::simulate::simulate) runs.
 struct SimDriver<'s, 'q, const L: usize> {
     items: &'q [Item<'s>],
@@ -358,33 +395,7 @@ impl<'s, const L: usize> LaneDriver<'s, MeshLanes, 2, L> for SimDriver<'s, '_, L
         })
     }
 
-    #[inline(always)]
-    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>) -> u32 {
-        self.acc
-            .record(batch, st, st.mask & self.rec_mask, self.mesh_on)
-    }
-
-    fn on_step(
-        &mut self,
-        l: usize,
-        _sys: &MeshModel,
-        step: &Step<2>,
-        before: &MeshMode,
-        stop: Stop,
-        after: &MeshMode,
-        y_after: &[f64; 2],
-    ) {
-        if self.rec_mask & (1 << l) == 0 {
-            return;
-        }
-        let Some(rec) = self.jobs[l].as_mut().and_then(|j| j.rec.as_mut()) else {
-            return;
-        };
-        self.acc.store(l, rec);
-        let own = rec.sys;
-        rec.on_step(&own, step, before, stop, after, y_after);
-        self.acc.load(l, rec);
-    }
+    recording_hooks!(self, l => self.jobs[l].as_mut().and_then(|j| j.rec.as_mut()));
 
     fn on_strobe(&mut self, l: usize, t: f64, y: &[f64; 2]) -> Next {
         let job = self.jobs[l].as_mut().expect("busy lane");
@@ -466,6 +477,23 @@ pub(crate) struct Item<'s> {
     pub(crate) strobe_only: bool,
 }
 
+impl<'s> Item<'s> {
+    /// Run `out`: `model` from `y0` with the start time, start memory, transient, record and
+    /// strobe-only setting of `opts`.
+    pub(crate) fn new(out: usize, model: &'s MeshModel, y0: [f64; 2], opts: &SimOptions) -> Self {
+        Item {
+            out,
+            model,
+            y0,
+            t0: opts.tau0,
+            memory: opts.start_memory,
+            transient: opts.transient_periods,
+            record: opts.record_periods,
+            strobe_only: opts.strobe_only,
+        }
+    }
+}
+
 /// Work items grouped by phase table.
 pub(crate) type Groups<'s> = Vec<(MeshLanes, Vec<Item<'s>>)>;
 
@@ -544,16 +572,6 @@ pub fn simulate_lanes(
     simulate_lanes_on::<LANES>(runs, opts, Dispatch::Auto)
 }
 
-/// As [`simulate_lanes`], on the baseline (not AVX2) copy of the engine: the results are
-/// identical (for tests).
-#[doc(hidden)]
-pub fn simulate_lanes_baseline(
-    runs: &[(&MeshModel, [f64; 2])],
-    opts: &SimOptions,
-) -> Vec<Result<SimResult, SimError>> {
-    simulate_lanes_on::<LANES>(runs, opts, Dispatch::Baseline)
-}
-
 /// As [`simulate_lanes`], on the copy of the engine `how` selects (when the CPU runs it): the
 /// results are identical (for tests).
 #[doc(hidden)]
@@ -587,19 +605,15 @@ pub fn simulate_lane_grid(
     opts: &SimOptions,
     grid_tau0: f64,
 ) -> Result<SimResult, SimError> {
-    let item = Item {
-        out: 0,
-        model,
-        y0,
-        t0: opts.tau0,
-        memory: opts.start_memory,
-        transient: opts.transient_periods,
-        record: opts.record_periods,
-        strobe_only: opts.strobe_only,
-    };
-    simulate_items(&[item], opts, grid_tau0, Dispatch::Auto, usize::MAX)
-        .pop()
-        .expect("one run, one result")
+    simulate_items(
+        &[Item::new(0, model, y0, opts)],
+        opts,
+        grid_tau0,
+        Dispatch::Auto,
+        usize::MAX,
+    )
+    .pop()
+    .expect("one run, one result")
 }
 
 fn simulate_lanes_on<const L: usize>(
@@ -610,16 +624,7 @@ fn simulate_lanes_on<const L: usize>(
     let items: Vec<Item<'_>> = runs
         .iter()
         .enumerate()
-        .map(|(out, &(model, y0))| Item {
-            out,
-            model,
-            y0,
-            t0: opts.tau0,
-            memory: opts.start_memory,
-            transient: opts.transient_periods,
-            record: opts.record_periods,
-            strobe_only: opts.strobe_only,
-        })
+        .map(|(out, &(model, y0))| Item::new(out, model, y0, opts))
         .collect();
     if L == 1 {
         simulate_items(&items, opts, opts.tau0, how, usize::MAX)

@@ -10,7 +10,7 @@ use crate::driver::Observer;
 use crate::identify::{Capture, CellLabels};
 use crate::lane_plan::chunk_len;
 use crate::lane_plan::{lanes_apply, LANES};
-use crate::lanes::{Acc, PairRecorder};
+use crate::lanes::{recording_hooks, Acc, PairRecorder};
 use crate::record::Recorder;
 use crate::simulate::{summarize, Method, SimOptions};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
@@ -70,32 +70,10 @@ where
         })
     }
 
-    #[inline(always)]
-    fn on_lockstep(&mut self, batch: &MeshLanes, st: &LaneStep<'_, MeshLaneBlock<L>, 2, L>) -> u32 {
-        self.acc
-            .record(batch, st, st.mask & self.rec_mask, self.mesh_on)
-    }
-
-    fn on_step(
-        &mut self,
-        l: usize,
-        _sys: &MeshModel,
-        step: &Step<2>,
-        before: &MeshMode,
-        stop: Stop,
-        after: &MeshMode,
-        y_after: &[f64; 2],
-    ) {
-        if self.rec_mask & (1 << l) == 0 {
-            return;
-        }
-        if let Some((_, IdPhase::Record { rec, .. })) = self.jobs[l].as_mut() {
-            self.acc.store(l, rec);
-            let own = rec.sys;
-            rec.on_step(&own, step, before, stop, after, y_after);
-            self.acc.load(l, rec);
-        }
-    }
+    recording_hooks!(self, l => match self.jobs[l].as_mut() {
+        Some((_, IdPhase::Record { rec, .. })) => Some(rec),
+        _ => None,
+    });
 
     fn on_strobe(&mut self, l: usize, t: f64, y: &[f64; 2]) -> Next {
         let o = self.opts;
@@ -209,24 +187,10 @@ pub fn identify_lanes_apply(opts: &IdentifyOptions) -> bool {
 }
 
 /// [`identify`](crate::identify::identify) of `model` from every initial state of `y0s` (see
-/// [`identify_lanes_apply`]), in lockstep lanes; outcomes in input order. `on_done(i, outcome)`
-/// receives each outcome as soon as it is known (from any thread).
+/// [`identify_lanes_apply`]), in lockstep lanes, also captured by the labelled `cells` of a basin
+/// grid when given ([`crate::identify::identify_in`]: the same outcomes); outcomes in input
+/// order. `on_done(i, outcome)` receives each outcome as soon as it is known (from any thread).
 pub fn identify_lanes<F>(
-    model: &MeshModel,
-    y0s: &[[f64; 2]],
-    known: &[Descriptor],
-    opts: &IdentifyOptions,
-    on_done: F,
-) -> Vec<Outcome>
-where
-    F: Fn(usize, &Outcome) + Sync,
-{
-    identify_lanes_in_dyn(model, y0s, known, None, opts, &on_done)
-}
-
-/// As [`identify_lanes`], also captured by the labelled cells of a basin grid
-/// ([`crate::identify::identify_in`]: the same outcomes).
-pub fn identify_lanes_in<F>(
     model: &MeshModel,
     y0s: &[[f64; 2]],
     known: &[Descriptor],
@@ -240,7 +204,7 @@ where
     identify_lanes_in_dyn(model, y0s, known, cells, opts, &on_done)
 }
 
-/// [`identify_lanes_in`], compiled once (not generic over the callback: the lanes engine it
+/// [`identify_lanes`], compiled once (not generic over the callback: the lanes engine it
 /// drives is instantiated here only).
 fn identify_lanes_in_dyn(
     model: &MeshModel,

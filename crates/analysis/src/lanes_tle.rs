@@ -26,7 +26,7 @@ use crate::simulate::{Method, SimOptions};
 use geardyn_model::mesh_lanes::AffineTables;
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{
-    compose_step, run_lanes, At, End, LaneDriver, Lockstep, Next, Soa, Stage, Start,
+    compose_step, run_lanes, At, End, LaneDriver, Lockstep, Next, Soa, Stage, Start, StepStart,
 };
 use rayon::prelude::*;
 
@@ -107,46 +107,31 @@ impl<const L: usize> Lockstep<5, L> for TangentLanes<'_> {
     /// scalar arithmetic) and the tangent the affine step's linear part
     /// ([`MeshLanes::tangent_affine_step`]): a few operations instead of four evaluations of its
     /// part of the field. Otherwise the composed RK4 step.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn step(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
+        s: &StepStart<'_, 5, L>,
         ln: &MeshLaneBlock<L>,
         work: &AffineTables<L>,
-        y0: &Soa<5, L>,
-        f0: &Soa<5, L>,
         y1: &mut Soa<5, L>,
         f1: &mut Soa<5, L>,
     ) -> u32 {
         if !self.base.is_affine() {
-            return compose_step(self, j, t0, t1, grid, ln, y0, f0, y1, f1);
+            return compose_step(self, s, ln, y1, f1);
         }
+        let y0 = s.y0;
         let mut s1 = [[0.0; L]; 2];
         let mut g1 = [[0.0; L]; 2];
         // the state by the RK4 stages (its trajectory is the scalar one, bit for bit, as
         // before: the decisions that continue from an exponent's end state do not move); the
         // tangent, the costly part, by the affine table
-        let mut mask = self.base.step_stages(
-            j,
-            t0,
-            t1,
-            grid,
-            ln,
-            &[y0[0], y0[1]],
-            &[f0[0], f0[1]],
-            &mut s1,
-            &mut g1,
-        );
+        let (y0s, f0s) = ([y0[0], y0[1]], [s.f0[0], s.f0[1]]);
+        let state = s.with_states(&y0s, &f0s);
+        let mut mask = self.base.step_stages(&state, ln, &mut s1, &mut g1);
         let (mut dx, mut dv) = ([0.0; L], [0.0; L]);
         let (mut a, mut b) = ([0.0; L], [0.0; L]);
         self.base.tangent_affine_step(
-            j,
-            t0,
-            t1,
+            &state,
             ln,
             work,
             [&y0[2], &y0[3]],

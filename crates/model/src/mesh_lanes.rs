@@ -68,7 +68,7 @@ use crate::params::StiffnessForm;
 use crate::phase::cos_cycles;
 #[cfg(doc)]
 use geardyn_solvers::ensemble::{rk4_lanes, LaneKernel};
-use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage};
+use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage, StepStart};
 use std::f64::consts::PI;
 
 mod affine;
@@ -561,22 +561,17 @@ impl<const L: usize> Lockstep<2, L> for MeshLanes {
     #[inline(always)]
     fn step(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
+        s: &StepStart<'_, 2, L>,
         ln: &MeshLaneBlock<L>,
         work: &AffineTables<L>,
-        y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
         if self.affine {
-            let bits = self.affine_kernel::<L>(j, t0, t1, ln, work, y0, y1, f1);
-            self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
+            let bits = self.affine_kernel::<L>(s, ln, work, y1, f1);
+            self.settle(s, ln, y1, f1, bits)
         } else {
-            self.step_stages(j, t0, t1, grid, ln, y0, f0, y1, f1)
+            self.step_stages(s, ln, y1, f1)
         }
     }
 

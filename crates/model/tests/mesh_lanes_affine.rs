@@ -8,8 +8,11 @@
 // lane loops over several arrays read clearer with an index
 #![allow(clippy::needless_range_loop)]
 
-use geardyn_model::{presets, ContactLaw, ContactState, MeshLanes, MeshMode, MeshModel};
-use geardyn_solvers::ensemble::{At, Lockstep, Stage};
+use geardyn_model::mesh_lanes::AffineTables;
+use geardyn_model::{
+    presets, ContactLaw, ContactState, MeshLaneBlock, MeshLanes, MeshMode, MeshModel,
+};
+use geardyn_solvers::ensemble::{At, Lockstep, Soa, Stage, StepStart};
 
 const L: usize = 8;
 
@@ -20,6 +23,31 @@ fn mode(contact: ContactState) -> MeshMode {
         contact,
         chi: 0.0,
     }
+}
+
+/// The lockstep step of `t` at phase `j` of the grid of step `h` from `(y0, f0)` (every lane at
+/// grid point `j`): the lanes that take it, the end states and the end fields.
+fn step_at(
+    t: &MeshLanes,
+    ln: &MeshLaneBlock<L>,
+    work: &AffineTables<L>,
+    j: usize,
+    h: f64,
+    y0: &Soa<2, L>,
+    f0: &Soa<2, L>,
+) -> (u32, Soa<2, L>, Soa<2, L>) {
+    let (t0, t1, grid) = ([j as f64 * h; L], [(j + 1) as f64 * h; L], [j as f64; L]);
+    let s = StepStart {
+        j,
+        t0: &t0,
+        t1: &t1,
+        grid: &grid,
+        y0,
+        f0,
+    };
+    let (mut y1, mut f1) = ([[0.0; L]; 2], [[0.0; L]; 2]);
+    let mask = Lockstep::<2, L>::step(t, &s, ln, work, &mut y1, &mut f1);
+    (mask, y1, f1)
 }
 
 /// Largest deviation of the affine step from the RK4 stages over every phase of `m`'s table
@@ -53,7 +81,6 @@ fn deviation(m: &MeshModel, n: u32) -> (f64, usize) {
     let (mut worst, mut verdicts) = (0.0f64, 0);
     for j in 0..steps {
         let t0 = [j as f64 * h; L];
-        let t1 = [(j + 1) as f64 * h; L];
         let grid = [j as f64; L];
         let mut y0 = [[0.0; L]; 2];
         for l in 0..L {
@@ -66,14 +93,8 @@ fn deviation(m: &MeshModel, n: u32) -> (f64, usize) {
         let at = At { t: t0, grid };
         let mut f0 = [[0.0; L]; 2];
         Lockstep::<2, L>::rhs(&exact, j, Stage::Start, &at, &le, &y0, &mut f0);
-        let (mut ya, mut fa) = ([[0.0; L]; 2], [[0.0; L]; 2]);
-        let (mut ye, mut fe) = ([[0.0; L]; 2], [[0.0; L]; 2]);
-        let ma = Lockstep::<2, L>::step(
-            &affine, j, &t0, &t1, &grid, &la, &wa, &y0, &f0, &mut ya, &mut fa,
-        );
-        let me = Lockstep::<2, L>::step(
-            &exact, j, &t0, &t1, &grid, &le, &we, &y0, &f0, &mut ye, &mut fe,
-        );
+        let (ma, ya, fa) = step_at(&affine, &la, &wa, j, h, &y0, &f0);
+        let (me, ye, fe) = step_at(&exact, &le, &we, j, h, &y0, &f0);
         verdicts += (ma ^ me).count_ones() as usize;
         for i in 0..2 {
             for l in 0..L {
@@ -171,14 +192,7 @@ fn the_affine_step_never_takes_a_non_finite_lane() {
                 y0[0] = [x; L];
                 y0[comp][k] = b;
                 let f0 = [[0.0; L]; 2];
-                let (mut y1, mut f1) = ([[0.0; L]; 2], [[0.0; L]; 2]);
-                let j = 37;
-                let t0 = [j as f64 * h; L];
-                let t1 = [(j + 1) as f64 * h; L];
-                let grid = [j as f64; L];
-                let mask = Lockstep::<2, L>::step(
-                    &t, j, &t0, &t1, &grid, &la, &wa, &y0, &f0, &mut y1, &mut f1,
-                );
+                let (mask, y1, f1) = step_at(&t, &la, &wa, 37, h, &y0, &f0);
                 let finite = y1[0][k].is_finite() && y1[1][k].is_finite() && f1[1][k].is_finite();
                 assert!(
                     mask & (1 << k) == 0 || finite,

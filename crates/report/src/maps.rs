@@ -13,20 +13,32 @@ use std::path::Path;
 
 use crate::shared::*;
 
+/// What a map figure draws: the `cells` over the grid `xs` × `ys`, the axes named `axes`, under
+/// `title`.
+#[derive(Clone, Copy)]
+pub struct MapView<'a> {
+    /// The cells, `x` fastest.
+    pub cells: &'a [MapCell],
+    /// The `x` values.
+    pub xs: &'a [f64],
+    /// The `y` values.
+    pub ys: &'a [f64],
+    /// The parameter names of `x` and `y`.
+    pub axes: (&'a str, &'a str),
+    /// The figure's title.
+    pub title: &'a str,
+}
+
 /// A two-parameter map `dir/name.png|svg` of one metric (colour bar), with `name.csv`.
-#[allow(clippy::too_many_arguments)]
 pub fn map_figure(
     ctx: &Ctx,
     dir: &Path,
     name: &str,
-    cells: &[MapCell],
-    xs: &[f64],
-    ys: &[f64],
-    axes: (&str, &str),
+    map: &MapView,
     metric: &str,
-    title: &str,
     caption: &str,
 ) -> Result<Figure> {
+    let cells = map.cells;
     let name = &safe(name);
     let vals: Vec<f64> = cells
         .iter()
@@ -54,23 +66,14 @@ pub fn map_figure(
         .collect();
     let raster = RasterFigure {
         colorbar: Some((lo, hi, metric.replace('_', " "))),
-        ..map_raster(title, axes, (xs, ys), colors)
+        ..map_raster(map, colors)
     };
     write_map(ctx, dir, name, &raster, cells, caption)
 }
 
 /// A map of the decided classes `dir/name.png|svg` (legend) with `name.csv`.
-#[allow(clippy::too_many_arguments)]
-pub fn class_map_figure(
-    ctx: &Ctx,
-    dir: &Path,
-    name: &str,
-    cells: &[MapCell],
-    xs: &[f64],
-    ys: &[f64],
-    axes: (&str, &str),
-    title: &str,
-) -> Result<Figure> {
+pub fn class_map_figure(ctx: &Ctx, dir: &Path, name: &str, map: &MapView) -> Result<Figure> {
+    let (cells, title) = (map.cells, map.title);
     let name = &safe(name);
     let classes_ = [
         ("healthy periodic", palette(0)),
@@ -104,25 +107,20 @@ pub fn class_map_figure(
     let raster = RasterFigure {
         legend,
         legend_title: "decided class".into(),
-        ..map_raster(title, axes, (xs, ys), colors)
+        ..map_raster(map, colors)
     };
     let caption = format!("{title}: the decided class of every cell (periodic by the period test, chaotic only with a significantly positive TLE).");
     write_map(ctx, dir, name, &raster, cells, &caption)
 }
 
-/// The raster of a map over the grid `xs` × `ys`, its axes named `axes`: a colour per cell.
-fn map_raster(
-    title: &str,
-    axes: (&str, &str),
-    (xs, ys): (&[f64], &[f64]),
-    colors: Vec<PlotColor>,
-) -> RasterFigure {
+/// The raster of `map`: a colour per cell.
+fn map_raster(map: &MapView, colors: Vec<PlotColor>) -> RasterFigure {
     RasterFigure {
-        title: title.into(),
-        x_label: axes.0.into(),
-        y_label: axes.1.into(),
-        x: cell_axis(xs),
-        y: cell_axis(ys),
+        title: map.title.into(),
+        x_label: map.axes.0.into(),
+        y_label: map.axes.1.into(),
+        x: cell_axis(map.xs),
+        y: cell_axis(map.ys),
         colors,
         ..Default::default()
     }

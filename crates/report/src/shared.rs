@@ -21,7 +21,7 @@ use geardyn_io::sweep_output::{attractor_name, lost_cells_legend, write_basin_ra
 use geardyn_model::MeshModel;
 use std::path::Path;
 
-pub use crate::maps::{class_map_figure, map_figure};
+pub use crate::maps::{class_map_figure, map_figure, MapView};
 pub use crate::orbit_figures::{attach_trajectory, branch_both_ways, orbit_figure};
 pub use crate::sweep_figures::{sweep_figure, SweepPanels};
 

@@ -127,28 +127,22 @@ pub trait Lockstep<const N: usize, const L: usize>: Sync {
         y: &Soa<N, L>,
         dy: &mut Soa<N, L>,
     );
-    /// One RK4 grid step of every lane from `(y0, f0)` at `t0` to `t1` (`f0` the field at the
-    /// start, as the scalar integrator carries it from the previous step): the end states `y1`,
-    /// the end fields `f1`, and the lanes whose step provably holds no event ([`Lockstep::clear`]
-    /// with the interior bound over the Hermite interpolant) and stayed finite. The default
-    /// composes [`Lockstep::rhs`] and [`Lockstep::clear`] exactly as the scalar RK4 step does; a
-    /// model may fuse them (same arithmetic, fewer trips through memory).
-    #[allow(clippy::too_many_arguments)]
+    /// One RK4 grid step `s` of every lane (from `(s.y0, s.f0)` at `s.t0` to `s.t1`, see
+    /// [`StepStart`]): the end states `y1`, the end fields `f1`, and the lanes whose step provably
+    /// holds no event ([`Lockstep::clear`] with the interior bound over the Hermite interpolant)
+    /// and stayed finite. The default composes [`Lockstep::rhs`] and [`Lockstep::clear`] exactly
+    /// as the scalar RK4 step does; a model may fuse them (same arithmetic, fewer trips through
+    /// memory).
     #[inline(always)]
     fn step(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
+        s: &StepStart<'_, N, L>,
         lanes: &Self::Lanes,
         _work: &Self::Work,
-        y0: &Soa<N, L>,
-        f0: &Soa<N, L>,
         y1: &mut Soa<N, L>,
         f1: &mut Soa<N, L>,
     ) -> u32 {
-        compose_step(self, j, t0, t1, grid, lanes, y0, f0, y1, f1)
+        compose_step(self, s, lanes, y1, f1)
     }
 
     /// Bit `l` set when lane `l`'s step from `y0` to `y1` provably holds no event: no armed guard
@@ -175,6 +169,50 @@ pub struct At<const L: usize> {
     pub t: [f64; L],
     /// Grid positions (steps from the origin of the lane's grid).
     pub grid: [f64; L],
+}
+
+/// Where one grid step of every lane starts, as the lanes' step functions take it
+/// ([`Lockstep::step`], [`rk4_lanes`], [`compose_step`], a model's kernels): the phase index, each
+/// lane's start and end times (rounded as the scalar integrator rounds them), the grid position of
+/// the start (steps from the lane's grid origin; the end is one more), and the start states with
+/// their fields (`f0` carried from the previous step, as the scalar integrator carries it).
+#[derive(Clone, Copy)]
+pub struct StepStart<'a, const N: usize, const L: usize> {
+    /// Phase index of the step.
+    pub j: usize,
+    /// Start times.
+    pub t0: &'a [f64; L],
+    /// End times.
+    pub t1: &'a [f64; L],
+    /// Grid position of the start.
+    pub grid: &'a [f64; L],
+    /// States at the start.
+    pub y0: &'a Soa<N, L>,
+    /// Derivatives at the start.
+    pub f0: &'a Soa<N, L>,
+}
+
+impl<'a, const N: usize, const L: usize> StepStart<'a, N, L> {
+    /// The same step from other start states `(y0, f0)` (of another dimension: a part of the
+    /// state, say).
+    #[inline(always)]
+    pub fn with_states<'b, const M: usize>(
+        &self,
+        y0: &'b Soa<M, L>,
+        f0: &'b Soa<M, L>,
+    ) -> StepStart<'b, M, L>
+    where
+        'a: 'b,
+    {
+        StepStart {
+            j: self.j,
+            t0: self.t0,
+            t1: self.t1,
+            grid: self.grid,
+            y0,
+            f0,
+        }
+    }
 }
 
 /// One lockstep step of the lanes in `mask`, as seen by a [`LaneDriver`].

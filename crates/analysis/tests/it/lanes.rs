@@ -302,14 +302,11 @@ fn output_is_the_same_for_any_thread_count() {
     assert_eq!(one, key(&run(5)));
     // the same bytes from the baseline copy of the engine as from the AVX2/FMA and AVX-512 ones
     // (no fused multiply-add anywhere in the lanes; `one` ran on the best copy this CPU has)
-    let base = geardyn_analysis::lanes::simulate_lanes_baseline(&runs, &opts);
-    assert_eq!(one, key(&base));
-    let avx2 = geardyn_analysis::lanes::simulate_lanes_dispatch(
-        &runs,
-        &opts,
-        geardyn_solvers::ensemble::Dispatch::Avx2,
-    );
-    assert_eq!(one, key(&avx2));
+    use geardyn_solvers::ensemble::Dispatch;
+    for how in [Dispatch::Baseline, Dispatch::Avx2] {
+        let copy = geardyn_analysis::lanes::simulate_lanes_dispatch(&runs, &opts, how);
+        assert_eq!(one, key(&copy), "{how:?}");
+    }
 }
 
 /// Basins of C1 at omega = 1.8 on a coarse grid: the cells run in lanes (early capture, then the

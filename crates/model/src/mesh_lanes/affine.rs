@@ -7,7 +7,7 @@ use super::stages::{max_fast, min_fast};
 use super::{lane_contact, MeshLane, MeshLaneBlock, MeshLanes};
 use crate::mesh_kernel as kernel;
 use geardyn_solvers::dense::hermite;
-use geardyn_solvers::ensemble::Soa;
+use geardyn_solvers::ensemble::{Soa, StepStart};
 
 /// Largest table (steps per strobe period) stepped by the affine map: 8 coefficients per lane
 /// and step must stay in the core's cache (16 lanes x 1024 steps x 64 bytes = 1 MiB).
@@ -110,19 +110,16 @@ impl MeshLanes {
     /// flagged for the scalar integrator steps that could hold no event). And one finiteness test:
     /// a finite end acceleration `F + xi w^2 cos - h_f (k (x - s D) + c x')` implies a finite
     /// `x` and `x'` (an infinite or NaN one makes it infinite or NaN, `0 * inf` included).
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn affine_kernel<const L: usize>(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
+        s: &StepStart<'_, 2, L>,
         ln: &MeshLaneBlock<L>,
         w: &AffineTables<L>,
-        y0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u64 {
+        let StepStart { j, t0, t1, y0, .. } = *s;
         let r = &self.rows[j];
         let e = &w.tab[j];
         let ce = r.cos[2];
@@ -169,20 +166,19 @@ impl MeshLanes {
     /// a linear law is the state equation without its forcing, so in contact its RK4 step is the
     /// linear part `P` of the state's affine step (the same table column); when separated it is
     /// `(dx + h dx', dx')`. Also the end coefficients `(a, b)` (`-h_f k`, `-h_f c` in contact,
-    /// zero when separated; `h_f` the friction factor), as the affine state step takes them.
-    #[allow(clippy::too_many_arguments)]
+    /// zero when separated; `h_f` the friction factor), as the affine state step takes them. Of
+    /// the step `s` it reads the phase and the times (the tangent's start is `d0`).
     #[inline(always)]
     pub fn tangent_affine_step<const L: usize>(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
+        s: &StepStart<'_, 2, L>,
         ln: &MeshLaneBlock<L>,
         w: &AffineTables<L>,
         d0: [&[f64; L]; 2],
         d1: [&mut [f64; L]; 2],
         ab: [&mut [f64; L]; 2],
     ) {
+        let StepStart { j, t0, t1, .. } = *s;
         debug_assert!(self.affine, "tangent_affine_step needs an affine table");
         let r = &self.rows[j];
         let e = &w.tab[j];

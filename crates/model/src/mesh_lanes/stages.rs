@@ -10,7 +10,7 @@
 use super::{lane_contact, MeshLaneBlock, MeshLanes};
 use crate::mesh_kernel as kernel;
 use geardyn_solvers::dense::{hermite, nested_at};
-use geardyn_solvers::ensemble::{rk4_lanes, At, LaneKernel, Soa, Stage};
+use geardyn_solvers::ensemble::{rk4_lanes, At, LaneKernel, Soa, Stage, StepStart};
 use geardyn_solvers::Direction;
 use std::f64::consts::PI;
 
@@ -101,18 +101,8 @@ impl<const UNI: bool, const HARM: bool, const L: usize> LaneKernel<2, L> for Sta
 /// back contact, `x + D` unless in drive contact) keep their sign at the ends and stay farther
 /// from zero than the interior bound of the Hermite interpolant lets them move (the rigorous
 /// bound of the scalar integrator: `0.25 max(|r2| + |r3|)` over `x` and `x'`).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn verdict(
-    y0: [f64; 2],
-    f0: [f64; 2],
-    y1: [f64; 2],
-    f1: [f64; 2],
-    h: f64,
-    d: f64,
-    sd: f64,
-    sb: f64,
-) -> (bool, bool) {
+fn verdict([y0, f0, y1, f1]: [[f64; 2]; 4], h: f64, d: f64, sd: f64, sb: f64) -> (bool, bool) {
     let [_, _, r2x, r3x] = hermite(y0[0], y1[0], f0[0], f1[0], h);
     let [_, _, r2v, r3v] = hermite(y0[1], y1[1], f0[1], f1[1], h);
     // (a NaN in the first sum gives a NaN margin, one in the second is dropped by max_fast: a
@@ -222,51 +212,34 @@ impl MeshLanes {
     /// finite and therefore not cleared either way. Public for callers that need the state's
     /// scalar trajectory bit for bit (the Lyapunov lanes: the decisions that continue from their
     /// end state).
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn step_stages<const L: usize>(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
-        grid: &[f64; L],
+        s: &StepStart<'_, 2, L>,
         ln: &MeshLaneBlock<L>,
-        y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
         y1: &mut Soa<2, L>,
         f1: &mut Soa<2, L>,
     ) -> u32 {
         // one copy of the stages per clamp and stiffness form
-        macro_rules! stages {
-            ($uni:literal, $harm:literal) => {
-                rk4_lanes(
-                    &Stages::<$uni, $harm>(self),
-                    j,
-                    t0,
-                    t1,
-                    grid,
-                    ln,
-                    y0,
-                    f0,
-                    y1,
-                    f1,
-                )
-            };
-        }
         match (self.unilateral, self.harmonic) {
-            (false, false) => stages!(false, false),
-            (false, true) => stages!(false, true),
-            (true, false) => stages!(true, false),
-            (true, true) => stages!(true, true),
+            (false, false) => rk4_lanes(&Stages::<false, false>(self), s, ln, y1, f1),
+            (false, true) => rk4_lanes(&Stages::<false, true>(self), s, ln, y1, f1),
+            (true, false) => rk4_lanes(&Stages::<true, false>(self), s, ln, y1, f1),
+            (true, true) => rk4_lanes(&Stages::<true, true>(self), s, ln, y1, f1),
         }
+        let StepStart {
+            j, t0, t1, y0, f0, ..
+        } = *s;
         let d = self.rows[j].d;
         let mut bits = [0u64; L];
         for l in 0..L {
             let (ok, finite) = verdict(
-                [y0[0][l], y0[1][l]],
-                [f0[0][l], f0[1][l]],
-                [y1[0][l], y1[1][l]],
-                [f1[0][l], f1[1][l]],
+                [
+                    [y0[0][l], y0[1][l]],
+                    [f0[0][l], f0[1][l]],
+                    [y1[0][l], y1[1][l]],
+                    [f1[0][l], f1[1][l]],
+                ],
                 t1[l] - t0[l],
                 d,
                 ln.sd[l],
@@ -275,27 +248,25 @@ impl MeshLanes {
             bits[l] = ((ok as u64) << l) | ((finite as u64) << (32 + l));
         }
         let bits = bits.iter().fold(0, |m, b| m | b);
-        self.settle(j, t0, t1, ln, y0, f0, y1, f1, bits)
+        self.settle(s, ln, y1, f1, bits)
     }
 
     /// The lanes that take a kernel's step (`bits`: clear, and finite in the upper half): the
     /// clear ones, and the finite ones near a surface without a sign change at the ends whose
     /// step the scalar integrator's midpoint test would take as an ordinary one (rare: next to
     /// events).
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn settle<const L: usize>(
         &self,
-        j: usize,
-        t0: &[f64; L],
-        t1: &[f64; L],
+        s: &StepStart<'_, 2, L>,
         ln: &MeshLaneBlock<L>,
-        y0: &Soa<2, L>,
-        f0: &Soa<2, L>,
         y1: &Soa<2, L>,
         f1: &Soa<2, L>,
         bits: u64,
     ) -> u32 {
+        let StepStart {
+            j, t0, t1, y0, f0, ..
+        } = *s;
         let mut mask = bits as u32;
         let mut rest = (bits >> 32) as u32 & !mask;
         if rest != 0 {
@@ -319,17 +290,7 @@ mod tests {
 
     /// The verdict as the scalar integrator states it: each armed guard keeps its sign at both
     /// ends and both end values are farther from zero than the margin.
-    #[allow(clippy::too_many_arguments)]
-    fn direct(
-        y0: [f64; 2],
-        f0: [f64; 2],
-        y1: [f64; 2],
-        f1: [f64; 2],
-        h: f64,
-        d: f64,
-        sd: f64,
-        sb: f64,
-    ) -> bool {
+    fn direct([y0, f0, y1, f1]: [[f64; 2]; 4], h: f64, d: f64, sd: f64, sb: f64) -> bool {
         let mut dev = 0.0f64;
         for i in 0..2 {
             let r1 = y1[i] - y0[i];
@@ -391,8 +352,8 @@ mod tests {
             let h = 1e-2 * (1 + next() % 4) as f64;
             let (y0, f0, y1, f1) = ([v[0], v[1]], [v[2], v[3]], [v[4], v[5]], [v[6], v[7]]);
             assert_eq!(
-                verdict(y0, f0, y1, f1, h, d, sd, sb).0,
-                direct(y0, f0, y1, f1, h, d, sd, sb),
+                verdict([y0, f0, y1, f1], h, d, sd, sb).0,
+                direct([y0, f0, y1, f1], h, d, sd, sb),
                 "{y0:?} {f0:?} {y1:?} {f1:?} {h} {sd} {sb}"
             );
             checked += 1;
@@ -402,10 +363,7 @@ mod tests {
         let nan = f64::NAN;
         assert!(
             !verdict(
-                [0.0, 0.0],
-                [0.0, 0.0],
-                [nan, 0.0],
-                [0.0, 0.0],
+                [[0.0, 0.0], [0.0, 0.0], [nan, 0.0], [0.0, 0.0]],
                 0.01,
                 d,
                 0.0,
@@ -415,10 +373,7 @@ mod tests {
         );
         assert!(
             !verdict(
-                [0.0, 0.0],
-                [0.0, 0.0],
-                [0.0, 0.0],
-                [0.0, f64::INFINITY],
+                [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, f64::INFINITY]],
                 0.01,
                 d,
                 0.0,

@@ -7,7 +7,7 @@ use super::{B003, B004, DD_SEED, DS_SEED};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{class_map_figure, line_figure, map_figure, Line};
+use crate::shared::{class_map_figure, line_figure, map_figure, Line, MapView};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::linspace;
@@ -139,20 +139,29 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MapData) -> Result<Section> {
         "The seed does not state the frequency of its (xi, F) map; the map is drawn at the omega whose corner maximum is closest to the seed's F_max = 1.340.",
         false,
     )?;
+    let map = MapView {
+        cells,
+        xs,
+        ys,
+        axes: ("xi", "F"),
+        title: &format!(
+            "Maximum dynamic mesh force over (xi, F), omega = {}",
+            f(w_star)
+        ),
+    };
     let fig = map_figure(
-        ctx, dir, "map_max_force", cells, xs, ys, ("xi", "F"), "max_force",
-        &format!("Maximum dynamic mesh force over (xi, F), omega = {}", f(w_star)),
+        ctx, dir, "map_max_force", &map, "max_force",
         &format!("Largest mesh force (units of k_av b_c) of the motion from (0, 0), linear contact law, omega = {} (chosen to match the seed's F_max), D_d = 0.9, D_s = 1 as the xi sweep.", f(w_star)),
     )?;
+    let title = format!("Decided motion over (xi, F), omega = {}", f(w_star));
     let fig_c = class_map_figure(
         ctx,
         dir,
         "map_class",
-        cells,
-        xs,
-        ys,
-        ("xi", "F"),
-        &format!("Decided motion over (xi, F), omega = {}", f(w_star)),
+        &MapView {
+            title: &title,
+            ..map
+        },
     )?;
     let peak = cells
         .iter()

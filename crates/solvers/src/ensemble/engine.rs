@@ -2,7 +2,7 @@
 //! instants, the scalar integrator that finishes a lane's event steps) around the batched step of
 //! a [`Lockstep`] model, and the loop [`drive`] that feeds lanes from a [`LaneDriver`].
 
-use super::{At, End, LaneDriver, LaneStep, Lockstep, Next, Soa, Stage};
+use super::{At, End, LaneDriver, LaneStep, Lockstep, Next, Soa, Stage, StepStart};
 use crate::hybrid::HybridSystem;
 use crate::integrator::{Integrator, Scheme, SolverError, Stats, Stop};
 
@@ -346,18 +346,15 @@ where
             let c = self.cur;
             let (y0, y1) = pair(&mut self.y, c);
             let (f0, f1) = pair(&mut self.f, c);
-            let clear = batch.step(
+            let s = StepStart {
                 j,
-                &self.t,
-                &t1,
-                &self.idx,
-                &self.lanes,
-                &self.work,
+                t0: &self.t,
+                t1: &t1,
+                grid: &self.idx,
                 y0,
                 f0,
-                y1,
-                f1,
-            );
+            };
+            let clear = batch.step(&s, &self.lanes, &self.work, y1, f1);
             let ok = self.active & self.lockable & clear;
             if ok != 0 {
                 let st = LaneStep {

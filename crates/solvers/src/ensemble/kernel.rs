@@ -12,7 +12,7 @@
 //! stream instead of running one group after the other. Temporaries live on the stack; nothing
 //! allocates, and everything is monomorphised per kernel.
 
-use super::{At, Lockstep, Soa, Stage};
+use super::{At, Lockstep, Soa, Stage, StepStart};
 
 /// Default lanes per chunk ([`LaneKernel::CHUNK`]). On the C1 kernel benchmark (16 lanes, one
 /// thread) 16 ran at 5.2 ns per lane-step on AVX2 and 3.6 on AVX-512, against 8.1 / 6.5 for
@@ -27,7 +27,7 @@ pub use crate::rk4::{combine, fractions, stage_point};
 /// [`Lockstep`] implementation.
 ///
 /// ```
-/// use geardyn_solvers::ensemble::{rk4_lanes, At, LaneKernel, Soa, Stage};
+/// use geardyn_solvers::ensemble::{rk4_lanes, At, LaneKernel, Soa, Stage, StepStart};
 ///
 /// /// `x' = -a x` in every lane, `a` per lane.
 /// struct Decay;
@@ -44,7 +44,8 @@ pub use crate::rk4::{combine, fractions, stage_point};
 /// }
 /// let (y0, f0) = ([[1.0; 4]], [[-1.0; 4]]);
 /// let (mut y1, mut f1) = ([[0.0; 4]], [[0.0; 4]]);
-/// rk4_lanes(&Decay, 0, &[0.0; 4], &[0.1; 4], &[0.0; 4], &[1.0; 4], &y0, &f0, &mut y1, &mut f1);
+/// let s = StepStart { j: 0, t0: &[0.0; 4], t1: &[0.1; 4], grid: &[0.0; 4], y0: &y0, f0: &f0 };
+/// rk4_lanes(&Decay, &s, &[1.0; 4], &mut y1, &mut f1);
 /// assert!((y1[0][0] - (-0.1f64).exp()).abs() < 1e-7);
 /// assert_eq!(f1[0][0], -y1[0][0]);
 /// ```
@@ -75,25 +76,27 @@ pub trait LaneKernel<const N: usize, const L: usize> {
     );
 }
 
-/// The RK4 step of every lane from `(y0, f0)` at `t0` to `t1` (`f0` the field at the start, as
-/// the scalar integrator carries it; `grid` the start's grid position): the end states `y1` and
-/// the end fields `f1`, with the arithmetic of the scalar RK4 step (see the module doc).
-#[allow(clippy::too_many_arguments)]
+/// The RK4 step `s` of every lane (from `(s.y0, s.f0)` at `s.t0` to `s.t1`, see [`StepStart`]):
+/// the end states `y1` and the end fields `f1`, with the arithmetic of the scalar RK4 step (see
+/// the module doc).
 #[inline(always)]
 pub fn rk4_lanes<K, const N: usize, const L: usize>(
     k: &K,
-    j: usize,
-    t0: &[f64; L],
-    t1: &[f64; L],
-    grid: &[f64; L],
+    s: &StepStart<'_, N, L>,
     lanes: &K::Lanes,
-    y0: &Soa<N, L>,
-    f0: &Soa<N, L>,
     y1: &mut Soa<N, L>,
     f1: &mut Soa<N, L>,
 ) where
     K: LaneKernel<N, L> + ?Sized,
 {
+    let StepStart {
+        j,
+        t0,
+        t1,
+        grid,
+        y0,
+        f0,
+    } = *s;
     let mut h = [0.0; L];
     let mut h2 = [0.0; L];
     let mut h6 = [0.0; L];
@@ -188,21 +191,18 @@ impl<B: Lockstep<N, L> + ?Sized, const N: usize, const L: usize> LaneKernel<N, L
 /// The RK4 step of [`Lockstep::step`] composed from [`Lockstep::rhs`] and [`Lockstep::clear`]
 /// exactly as the scalar RK4 step does (the trait's default, for models that take the composed
 /// step in some cases and their own in others).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn compose_step<B: Lockstep<N, L> + ?Sized, const N: usize, const L: usize>(
     b: &B,
-    j: usize,
-    t0: &[f64; L],
-    t1: &[f64; L],
-    grid: &[f64; L],
+    s: &StepStart<'_, N, L>,
     lanes: &B::Lanes,
-    y0: &Soa<N, L>,
-    f0: &Soa<N, L>,
     y1: &mut Soa<N, L>,
     f1: &mut Soa<N, L>,
 ) -> u32 {
-    rk4_lanes(&Composed(b), j, t0, t1, grid, lanes, y0, f0, y1, f1);
+    rk4_lanes(&Composed(b), s, lanes, y1, f1);
+    let StepStart {
+        j, t0, t1, y0, f0, ..
+    } = *s;
     let y = y0;
     // interior bound of the Hermite interpolant over the guard components, and finiteness
     let mut dev = [0.0f64; L];
