@@ -170,37 +170,43 @@ pub fn box_text(x: (f64, f64), v: (f64, f64)) -> String {
     )
 }
 
-/// Basins of `model` on an `n x n` grid of the box `x0 in x`, `x0' in v` (checkpointed as
-/// `dir/name`); [`basin_render`] draws them.
-#[allow(clippy::too_many_arguments)]
+/// The grid of a basin computation: `n x n` initial states on the box `x0 in x`, `x0' in v`,
+/// checkpointed as `dir/name` ([`basin_grid`]) and drawn as `dir/name.png|svg` ([`basin_render`]).
+#[derive(Clone, Copy)]
+pub struct BasinGrid<'a> {
+    /// Name of the checkpoint and of the figure and tables.
+    pub name: &'a str,
+    /// Initial states per axis.
+    pub n: usize,
+    /// `x0` range.
+    pub x: (f64, f64),
+    /// `x0'` range.
+    pub v: (f64, f64),
+}
+
+/// Basins of `model` on the grid `g`; [`basin_render`] draws them.
 pub fn basin_grid(
     ctx: &Ctx,
     dir: &Path,
-    name: &str,
+    g: &BasinGrid,
     model: &MeshModel,
-    n: usize,
-    x: (f64, f64),
-    v: (f64, f64),
     identify: IdentifyOptions,
 ) -> Result<BasinResult> {
-    let opts = basin_options(n, x, v, identify);
-    ctx.basins(dir, &safe(name), model, &opts)
+    let opts = basin_options(g.n, g.x, g.v, identify);
+    ctx.basins(dir, &safe(g.name), model, &opts)
 }
 
 /// Basins `dir/name.png|svg` with `name_cells.csv` and `name_attractors.csv` from basins `r`
-/// computed by [`basin_grid`] with the same `name`, `n`, `x` and `v`. Returns the figure and a
-/// table of the attractors.
-#[allow(clippy::too_many_arguments)]
+/// computed by [`basin_grid`] on the same grid `g`. Returns the figure and a table of the
+/// attractors.
 pub fn basin_render(
     ctx: &Ctx,
     dir: &Path,
-    name: &str,
-    n: usize,
-    x: (f64, f64),
-    v: (f64, f64),
+    g: &BasinGrid,
     title: &str,
     r: &BasinResult,
 ) -> Result<(Figure, Table)> {
+    let BasinGrid { name, n, x, v } = *g;
     let name = &safe(name);
     let cols = attractor_colors(r.attractors.len());
     let black = PlotColor(0, 0, 0);

@@ -7,7 +7,7 @@ use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Class, Pt};
 use crate::readings::{f, pct};
 use crate::runner::{hdr, Ctx};
-use crate::shared::{basin_grid, basin_render, sweep_figure, SweepPanels};
+use crate::shared::{basin_grid, basin_render, sweep_figure, BasinGrid, SweepPanels};
 use crate::{Section, Table};
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
@@ -95,11 +95,8 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Coexiste
     let basins = basin_grid(
         ctx,
         dir,
-        "basins_F_0.05",
+        &basins_grid(nb, d),
         &m,
-        nb,
-        attractor_region(d).0,
-        attractor_region(d).1,
         crate::shared::identify_options(ctx.n(40, 100), 16),
     )?;
     Ok(CoexistenceData {
@@ -113,6 +110,18 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Coexiste
         nb,
         basins,
     })
+}
+
+/// The grid of the basins at F = 0.05: `nb` x `nb` initial states on the [`attractor_region`] of
+/// the largest half backlash `d`.
+fn basins_grid(nb: usize, d: f64) -> BasinGrid<'static> {
+    let (x, v) = attractor_region(d);
+    BasinGrid {
+        name: "basins_F_0.05",
+        n: nb,
+        x,
+        v,
+    }
 }
 
 /// The diagram, the tables, the basin figure and the claims.
@@ -136,10 +145,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Se
     let (bfig, btable) = basin_render(
         ctx,
         dir,
-        "basins_F_0.05",
-        nb,
-        attractor_region(d).0,
-        attractor_region(d).1,
+        &basins_grid(nb, d),
         "Broken pair: basins at omega = 1.2, F = 0.05",
         br,
     )?;

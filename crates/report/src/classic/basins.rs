@@ -2,7 +2,7 @@
 //! the benchmark's picture, docs/model.md §6).
 
 use crate::runner::Ctx;
-use crate::shared::{basin_grid, basin_render};
+use crate::shared::{basin_grid, basin_render, BasinGrid};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
@@ -23,17 +23,24 @@ pub(super) struct BasinsData {
 crate::runner::study!(Basins { base: &'a Scenario, nb: usize } "basins" BasinsData,
     |s, ctx, dir| compute(ctx, s.base, s.nb, dir), |data| render(ctx, dir, data), serde_json::json!([s.nb]));
 
+/// The grid of the basins: `nb` x `nb` initial states on [`BOX`].
+fn grid(nb: usize) -> BasinGrid<'static> {
+    BasinGrid {
+        name: "basins_omega_1.8",
+        n: nb,
+        x: BOX.0,
+        v: BOX.1,
+    }
+}
+
 /// The basins at omega = 1.8 on an `nb` x `nb` grid.
 pub(super) fn compute(ctx: &Ctx, base: &Scenario, nb: usize, dir: &Path) -> Result<BasinsData> {
     let m = base.with("omega", 1.8)?.model().clone();
     let basins = basin_grid(
         ctx,
         dir,
-        "basins_omega_1.8",
+        &grid(nb),
         &m,
-        nb,
-        BOX.0,
-        BOX.1,
         crate::shared::identify_options(300, 32),
     )?;
     Ok(BasinsData { nb, basins })
@@ -45,10 +52,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &BasinsData) -> Result<Section
     let (fig, table) = basin_render(
         ctx,
         dir,
-        "basins_omega_1.8",
-        nb,
-        BOX.0,
-        BOX.1,
+        &grid(nb),
         "C1 basins at omega = 1.8",
         &data.basins,
     )?;

@@ -7,7 +7,9 @@ use crate::claims::{Claim, Verdict};
 use crate::classes::{self, Pt};
 use crate::readings::{f, pct};
 use crate::runner::Ctx;
-use crate::shared::{basin_boxes, basin_grid, basin_render, box_text, identify_options, StateBox};
+use crate::shared::{
+    basin_boxes, basin_grid, basin_render, box_text, identify_options, BasinGrid, StateBox,
+};
 use crate::{Figure, Table};
 use anyhow::Result;
 use geardyn_analysis::basins::BasinResult;
@@ -502,16 +504,13 @@ pub(super) fn basins_at(
     extra: bool,
 ) -> Result<BasinsAt> {
     let state_box = ((-2.0 * d, 2.0 * d), (-1.5, 1.5));
-    let grid = basin_grid(
-        ctx,
-        dir,
-        &name,
-        model,
+    let g = BasinGrid {
+        name: &name,
         n,
-        state_box.0,
-        state_box.1,
-        identify_options(300, 32),
-    )?;
+        x: state_box.0,
+        v: state_box.1,
+    };
+    let grid = basin_grid(ctx, dir, &g, model, identify_options(300, 32))?;
     let mut boxes = vec![(box_text(state_box.0, state_box.1), grid)];
     if extra {
         boxes.extend(basin_boxes(
@@ -540,14 +539,11 @@ pub(super) fn basins_figure(
     title: &str,
 ) -> Result<(Figure, Table)> {
     let (x, v) = basins.state_box;
-    basin_render(
-        ctx,
-        dir,
-        &basins.name,
-        basins.n,
+    let g = BasinGrid {
+        name: &basins.name,
+        n: basins.n,
         x,
         v,
-        title,
-        &basins.boxes[0].1,
-    )
+    };
+    basin_render(ctx, dir, &g, title, &basins.boxes[0].1)
 }
