@@ -6,7 +6,7 @@
 //! compare the figures of one run with each other, not across runs.
 
 use geardyn_analysis::driver::{run_periods, Discard};
-use geardyn_analysis::lanes::simulate_lanes;
+use geardyn_analysis::lanes::{simulate_lanes, LaneSim};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_model::{presets, ContactState, MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{Lockstep, StepStart};
@@ -125,7 +125,7 @@ fn main() {
     // the engine: 16 trajectories, 400 periods (300 + 100 recorded), one thread
     let ics: Vec<[f64; 2]> = (0..16).map(|i| [-1.0 + 0.1 * i as f64, 0.0]).collect();
     let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&m, y)).collect();
-    let opts = SimOptions::rk4(512, 300, 100);
+    let opts = LaneSim::new(&SimOptions::rk4(512, 300, 100)).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()

@@ -192,10 +192,10 @@ where
         };
         let mesh = model
             .as_mesh()
-            .filter(|_| lanes && crate::lanes_identify::identify_lanes_apply(&opts.identify))
-            .filter(|_| opts.slice == Slice::default());
+            .filter(|_| lanes && opts.slice == Slice::default())
+            .zip(crate::lanes_identify::LaneIdentify::new(&opts.identify));
         let fresh = match mesh {
-            Some(mesh) => pass.run_lanes(mesh, &on_cell),
+            Some((mesh, lane)) => pass.run_lanes(mesh, lane, &on_cell),
             None => pass.run_scalar(model, &on_cell),
         };
         let outs: Vec<Outcome<N>> = fresh.iter().map(|(_, o)| o.clone()).collect();
@@ -234,6 +234,7 @@ impl<const N: usize> Pass<'_, N> {
     fn run_lanes(
         &self,
         mesh: &MeshModel,
+        lane: crate::lanes_identify::LaneIdentify<'_>,
         on_cell: &(dyn Fn(usize, &Outcome<N>) + Sync),
     ) -> Vec<(usize, Outcome<N>)> {
         let (opts, nx) = (self.opts, self.opts.x.n);
@@ -254,7 +255,7 @@ impl<const N: usize> Pass<'_, N> {
             &y0s,
             &pair_snapshot,
             self.labels,
-            &opts.identify,
+            lane,
             |i, o| on_cell(todo[i].0, &o.clone().resized()),
         );
         let mut computed = computed.into_iter().map(Outcome::resized);

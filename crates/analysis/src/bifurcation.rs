@@ -661,8 +661,8 @@ impl TaskRuns<'_> {
             .iter()
             .map(|&(i, _, y0)| (&self.models[i], y0))
             .collect();
-        let firsts = if crate::lanes::lanes_apply(&opts.sim) {
-            crate::lanes::simulate_lanes(&runs, &opts.sim)
+        let firsts = if let Ok(lane) = crate::lanes::LaneSim::new(&opts.sim) {
+            crate::lanes::simulate_lanes(&runs, &lane)
         } else {
             runs.par_iter()
                 .map(|&(m, y0)| crate::simulate::simulate(m, y0, &opts.sim))

@@ -179,15 +179,16 @@ pub fn attractors_of<S: Recordable<N>, const N: usize>(
     let mut assignment = vec![-2i64; k];
     for (lo, hi) in [(0, first), (first, k)] {
         let snapshot = known.clone();
-        let lanes = sys.as_mesh().filter(|_| {
-            crate::lanes_identify::identify_lanes_apply(&id) && *slice == Slice::default()
-        });
-        let outs: Vec<Outcome<N>> = if let Some(model) = lanes {
+        let lanes = sys
+            .as_mesh()
+            .filter(|_| *slice == Slice::default())
+            .zip(crate::lanes_identify::LaneIdentify::new(&id));
+        let outs: Vec<Outcome<N>> = if let Some((model, lane)) = lanes {
             // fixed-step RK4: the initial states in lockstep lanes (the same outcomes; the
             // pair's lanes speak its own dimension, N = 2 here)
             let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
             let pair: Vec<Descriptor> = snapshot.iter().map(|d| d.clone().resized()).collect();
-            crate::lanes_identify::identify_lanes(model, &y0s, &pair, None, &id, |_, _| {})
+            crate::lanes_identify::identify_lanes(model, &y0s, &pair, None, lane, |_, _| {})
                 .into_iter()
                 .map(Outcome::resized)
                 .collect()

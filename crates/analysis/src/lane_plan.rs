@@ -12,11 +12,71 @@ use geardyn_model::MeshModel;
 pub const LANES: usize = 16;
 
 /// Whether [`crate::lanes::simulate_lanes`] can run these settings: fixed-step RK4 without a trajectory and
-/// with at least one period to integrate.
+/// with at least one period to integrate ([`LaneSim::new`] succeeds).
 pub fn lanes_apply(opts: &SimOptions) -> bool {
-    matches!(opts.method, Method::Rk4 { .. })
-        && !opts.trajectory
-        && opts.transient_periods + opts.record_periods > 0
+    LaneSim::new(opts).is_ok()
+}
+
+/// Simulation settings the lockstep lanes run: fixed-step RK4, no trajectory, at least one period
+/// to integrate. The lane analyses take this type, so that settings they cannot run are refused
+/// where they are built ([`LaneSim::new`]) and not found out inside a lane engine.
+///
+/// ```
+/// use geardyn_analysis::lanes::LaneSim;
+/// use geardyn_analysis::simulate::{Method, SimOptions};
+/// assert!(LaneSim::new(&SimOptions::rk4(256)).is_ok());
+/// let dp5 = SimOptions { method: Method::Dopri { rtol: 1e-9, atol: 1e-12 }, ..SimOptions::default() };
+/// assert!(LaneSim::new(&dp5).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneSim {
+    sim: SimOptions,
+    steps_per_cycle: u32,
+}
+
+/// Why settings cannot run in the lanes ([`LaneSim::new`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum NotInLanes {
+    /// The lanes step fixed-step RK4 only.
+    #[error("the lanes integrate with fixed-step RK4 only (integrator = \"rk4\")")]
+    Adaptive,
+    /// The lanes keep no trajectory.
+    #[error("the lanes keep no trajectory")]
+    Trajectory,
+    /// Nothing to integrate.
+    #[error("the lanes need at least one period to integrate (transient + record > 0)")]
+    NoPeriods,
+}
+
+impl LaneSim {
+    /// `opts` checked for the lanes.
+    pub fn new(opts: &SimOptions) -> Result<Self, NotInLanes> {
+        let Method::Rk4 { steps_per_cycle } = opts.method else {
+            return Err(NotInLanes::Adaptive);
+        };
+        if opts.trajectory {
+            return Err(NotInLanes::Trajectory);
+        }
+        if opts.transient_periods + opts.record_periods == 0 {
+            return Err(NotInLanes::NoPeriods);
+        }
+        Ok(Self {
+            sim: *opts,
+            steps_per_cycle: steps_per_cycle.max(1),
+        })
+    }
+
+    /// RK4 steps per mesh cycle (at least 1).
+    pub fn steps_per_cycle(&self) -> u32 {
+        self.steps_per_cycle
+    }
+}
+
+impl std::ops::Deref for LaneSim {
+    type Target = SimOptions;
+    fn deref(&self) -> &SimOptions {
+        &self.sim
+    }
 }
 
 /// Start time of the phase tables of a run starting at `t0` on a sweep whose runs start at

@@ -25,9 +25,9 @@
 
 use crate::driver::Observer;
 use crate::lane_plan::{chunk_len, table_time};
-pub use crate::lane_plan::{lanes_apply, lanes_cover_contact, LANES};
+pub use crate::lane_plan::{lanes_apply, lanes_cover_contact, LaneSim, NotInLanes, LANES};
 use crate::record::{crosses_level, extreme_middle, parabola_peak, Recorder};
-use crate::simulate::{Method, SimError, SimOptions, SimResult};
+use crate::simulate::{SimError, SimOptions, SimResult};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::dense::{hermite, nested_at};
 use geardyn_solvers::ensemble::{
@@ -548,10 +548,10 @@ pub(crate) fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> G
 }
 
 /// Simulates every `(model, y0)` as [`simulate`](crate::simulate::simulate) with `opts` would
-/// (fixed-step RK4; see [`lanes_apply`]), in lockstep lanes; results in input order.
+/// (the settings checked for the lanes: [`LaneSim`]), in lockstep lanes; results in input order.
 ///
 /// ```
-/// use geardyn_analysis::lanes::simulate_lanes;
+/// use geardyn_analysis::lanes::{simulate_lanes, LaneSim};
 /// use geardyn_analysis::simulate::{simulate, Method, SimOptions};
 /// let m = geardyn_model::MeshModel::new(&geardyn_model::presets::classic()).unwrap();
 /// let opts = SimOptions {
@@ -560,14 +560,14 @@ pub(crate) fn group<'s>(runs: &[Item<'s>], steps_per_cycle: u32, tau0: f64) -> G
 ///     record_periods: 10,
 ///     ..Default::default()
 /// };
-/// let lanes = simulate_lanes(&[(&m, [0.0, 0.0]), (&m, [0.5, 0.1])], &opts);
+/// let lanes = simulate_lanes(&[(&m, [0.0, 0.0]), (&m, [0.5, 0.1])], &LaneSim::new(&opts).unwrap());
 /// let scalar = simulate(&m, [0.5, 0.1], &opts).unwrap();
 /// let s = &lanes[1].as_ref().unwrap().strobe;
 /// assert!((s[9][1] - scalar.strobe[9][1]).abs() < 1e-12);
 /// ```
 pub fn simulate_lanes(
     runs: &[(&MeshModel, [f64; 2])],
-    opts: &SimOptions,
+    opts: &LaneSim,
 ) -> Vec<Result<SimResult, SimError>> {
     simulate_lanes_on::<LANES>(runs, opts, Dispatch::Auto)
 }
@@ -577,7 +577,7 @@ pub fn simulate_lanes(
 #[doc(hidden)]
 pub fn simulate_lanes_dispatch(
     runs: &[(&MeshModel, [f64; 2])],
-    opts: &SimOptions,
+    opts: &LaneSim,
     how: Dispatch,
 ) -> Vec<Result<SimResult, SimError>> {
     simulate_lanes_on::<LANES>(runs, opts, how)
@@ -590,7 +590,7 @@ pub fn simulate_lanes_dispatch(
 pub fn simulate_lane(
     model: &MeshModel,
     y0: [f64; 2],
-    opts: &SimOptions,
+    opts: &LaneSim,
 ) -> Result<SimResult, SimError> {
     simulate_lane_grid(model, y0, opts, opts.tau0)
 }
@@ -602,7 +602,7 @@ pub fn simulate_lane(
 pub fn simulate_lane_grid(
     model: &MeshModel,
     y0: [f64; 2],
-    opts: &SimOptions,
+    opts: &LaneSim,
     grid_tau0: f64,
 ) -> Result<SimResult, SimError> {
     simulate_items(
@@ -618,7 +618,7 @@ pub fn simulate_lane_grid(
 
 fn simulate_lanes_on<const L: usize>(
     runs: &[(&MeshModel, [f64; 2])],
-    opts: &SimOptions,
+    opts: &LaneSim,
     how: Dispatch,
 ) -> Vec<Result<SimResult, SimError>> {
     let items: Vec<Item<'_>> = runs
@@ -638,16 +638,12 @@ fn simulate_lanes_on<const L: usize>(
 /// one-lane engines (the same results: a run's result depends on nothing but the run).
 pub(crate) fn simulate_items(
     items: &[Item<'_>],
-    opts: &SimOptions,
+    opts: &LaneSim,
     tau0: f64,
     how: Dispatch,
     lone: usize,
 ) -> Vec<Result<SimResult, SimError>> {
-    let Method::Rk4 { steps_per_cycle } = opts.method else {
-        panic!("simulate_lanes needs the RK4 method");
-    };
-    assert!(!opts.trajectory, "simulate_lanes keeps no trajectory");
-    let n = steps_per_cycle.max(1);
+    let n = opts.steps_per_cycle();
     let groups = group(items, n, tau0);
     let mut work: Vec<(&MeshLanes, &[Item<'_>], bool)> = Vec::new();
     for (table, items) in &groups {

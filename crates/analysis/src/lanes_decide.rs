@@ -7,7 +7,7 @@
 #![allow(clippy::needless_range_loop, clippy::manual_memcpy)]
 
 use crate::classify::{Decide, Decision, Need};
-use crate::lane_plan::{lanes_apply, lanes_cover_contact};
+use crate::lane_plan::{lanes_apply, lanes_cover_contact, LaneSim};
 use crate::lanes::{simulate_items, simulate_lane_grid, simulate_lanes, Item};
 use crate::lanes_tle::tles_of;
 use crate::simulate::{summarize, Method, SimError, SimOptions, SimResult, Summary};
@@ -167,10 +167,9 @@ fn decide_alone(d: &mut Decision<'_>, opts: &SimOptions) {
     loop {
         match d.need() {
             Need::Sim { y0, opts: o } => {
-                let r = if lanes_apply(&o) {
-                    simulate_lane_grid(d.model(), y0, &o, opts.tau0)
-                } else {
-                    crate::simulate::simulate(d.model(), y0, &o)
+                let r = match LaneSim::new(&o) {
+                    Ok(lane) => simulate_lane_grid(d.model(), y0, &lane, opts.tau0),
+                    Err(_) => crate::simulate::simulate(d.model(), y0, &o),
                 };
                 d.simulated(r);
             }
@@ -199,15 +198,12 @@ fn decide_alone(d: &mut Decision<'_>, opts: &SimOptions) {
 /// [`crate::classify::follow_method`]), with the phase tables of the sweep's `tau0`; the others
 /// (the adaptive integrator's records) one by one, in parallel.
 fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult, SimError>> {
-    let in_lanes = |(_, o): &(Item<'_>, SimOptions)| lanes_apply(o);
-    let mut steps: Vec<u32> = sims
+    let lanes: Vec<(Item<'_>, LaneSim)> = sims
         .iter()
-        .filter(|s| in_lanes(s))
-        .filter_map(|(_, o)| match o.method {
-            Method::Rk4 { steps_per_cycle } => Some(steps_per_cycle),
-            Method::Dopri { .. } => None,
-        })
+        .filter_map(|(it, o)| LaneSim::new(o).ok().map(|l| (*it, l)))
         .collect();
+    let in_lanes = |(_, o): &(Item<'_>, SimOptions)| LaneSim::new(o).is_ok();
+    let mut steps: Vec<u32> = lanes.iter().map(|(_, l)| l.steps_per_cycle()).collect();
     steps.sort_unstable();
     steps.dedup();
     let lone = LONE_RUNS * rayon::current_num_threads().max(1);
@@ -219,9 +215,9 @@ fn run_needs(sims: &[(Item<'_>, SimOptions)], tau0: f64) -> Vec<Result<SimResult
             steps
                 .par_iter()
                 .map(|&n| {
-                    let mut items: Vec<(Item<'_>, SimOptions)> = sims
+                    let mut items: Vec<(Item<'_>, LaneSim)> = lanes
                         .iter()
-                        .filter(|s| in_lanes(s) && s.1.method == Method::Rk4 { steps_per_cycle: n })
+                        .filter(|(_, l)| l.steps_per_cycle() == n)
                         .copied()
                         .collect();
                     // longest first, so that the lanes of a chunk retire together (the results
@@ -323,8 +319,8 @@ pub fn decide_lane_runs(
 }
 
 /// [`simulate_decided`](crate::classify::simulate_decided) of every `(model, y0)` with
-/// fixed-step RK4 ([`lanes_apply`]): the first runs in lockstep lanes, then
+/// fixed-step RK4 ([`LaneSim`]): the first runs in lockstep lanes, then
 /// [`decide_lane_runs`]. Results in input order, the same for any thread count.
-pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<Decided> {
+pub fn simulate_decided_lanes(runs: &[(&MeshModel, [f64; 2])], opts: &LaneSim) -> Vec<Decided> {
     decide_lane_runs(runs, simulate_lanes(runs, opts), opts)
 }

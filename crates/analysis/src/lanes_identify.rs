@@ -9,10 +9,10 @@ use crate::attractor::{Descriptor, IdentifyOptions, Outcome};
 use crate::driver::Observer;
 use crate::identify::{Capture, CellLabels};
 use crate::lane_plan::chunk_len;
-use crate::lane_plan::{lanes_apply, LANES};
+use crate::lane_plan::{LaneSim, LANES};
 use crate::lanes::{recording_hooks, Acc, PairRecorder};
 use crate::record::Recorder;
-use crate::simulate::{summarize, Method, SimOptions};
+use crate::simulate::{summarize, SimOptions};
 use geardyn_model::{MeshLaneBlock, MeshLanes, MeshMode, MeshModel};
 use geardyn_solvers::ensemble::{run_lanes, End, LaneDriver, LaneStep, Next, Start};
 use geardyn_solvers::{Step, Stop};
@@ -180,28 +180,52 @@ where
     }
 }
 
-/// Whether [`identify_lanes`] can run these settings: fixed-step RK4 without a trajectory, and
-/// a transient and a record of at least one period each.
+/// Whether [`identify_lanes`] can run these settings ([`LaneIdentify::new`] succeeds).
 pub fn identify_lanes_apply(opts: &IdentifyOptions) -> bool {
-    lanes_apply(&opts.sim) && opts.sim.transient_periods > 0 && opts.sim.record_periods > 0
+    LaneIdentify::new(opts).is_some()
 }
 
-/// [`identify`](crate::identify::identify) of `model` from every initial state of `y0s` (see
-/// [`identify_lanes_apply`]), in lockstep lanes, also captured by the labelled `cells` of a basin
-/// grid when given ([`crate::identify::identify_in`]: the same outcomes); outcomes in input
-/// order. `on_done(i, outcome)` receives each outcome as soon as it is known (from any thread).
+/// Identification settings the lanes run: those of [`LaneSim`] with a transient and a record of at
+/// least one period each. [`identify_lanes`] takes this type, so that settings it cannot run are
+/// refused where they are built.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneIdentify<'a> {
+    opts: &'a IdentifyOptions,
+    steps_per_cycle: u32,
+}
+
+impl<'a> LaneIdentify<'a> {
+    /// `opts` checked for the lanes, or `None`.
+    pub fn new(opts: &'a IdentifyOptions) -> Option<Self> {
+        let lane = LaneSim::new(&opts.sim).ok()?;
+        (opts.sim.transient_periods > 0 && opts.sim.record_periods > 0).then_some(Self {
+            opts,
+            steps_per_cycle: lane.steps_per_cycle(),
+        })
+    }
+
+    /// The identification settings.
+    pub fn options(&self) -> &'a IdentifyOptions {
+        self.opts
+    }
+}
+
+/// [`identify`](crate::identify::identify) of `model` from every initial state of `y0s`, in
+/// lockstep lanes, also captured by the labelled `cells` of a basin grid when given
+/// ([`crate::identify::identify_in`]: the same outcomes); outcomes in input order.
+/// `on_done(i, outcome)` receives each outcome as soon as it is known (from any thread).
 pub fn identify_lanes<F>(
     model: &MeshModel,
     y0s: &[[f64; 2]],
     known: &[Descriptor],
     cells: Option<&CellLabels>,
-    opts: &IdentifyOptions,
+    lane: LaneIdentify<'_>,
     on_done: F,
 ) -> Vec<Outcome>
 where
     F: Fn(usize, &Outcome) + Sync,
 {
-    identify_lanes_in_dyn(model, y0s, known, cells, opts, &on_done)
+    identify_lanes_in_dyn(model, y0s, known, cells, lane, &on_done)
 }
 
 /// [`identify_lanes`], compiled once (not generic over the callback: the lanes engine it
@@ -211,13 +235,11 @@ fn identify_lanes_in_dyn(
     y0s: &[[f64; 2]],
     known: &[Descriptor],
     cells: Option<&CellLabels>,
-    opts: &IdentifyOptions,
+    lane: LaneIdentify<'_>,
     on_done: &(dyn Fn(usize, &Outcome) + Sync),
 ) -> Vec<Outcome> {
-    let Method::Rk4 { steps_per_cycle } = opts.sim.method else {
-        panic!("identify_lanes needs the RK4 method");
-    };
-    let n = steps_per_cycle.max(1);
+    let opts = lane.opts;
+    let n = lane.steps_per_cycle;
     let table = MeshLanes::new(model, n, opts.sim.tau0);
     let items: Vec<(usize, [f64; 2])> = y0s.iter().copied().enumerate().collect();
     let parts: Vec<Vec<(usize, Outcome)>> = items

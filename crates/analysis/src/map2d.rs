@@ -286,7 +286,7 @@ fn map_cells(
     };
     let nx = o.x_values.len();
     let value = |index: usize| (o.x_values[index % nx], o.y_values[index / nx]);
-    if crate::lanes::lanes_apply(&o.sim) {
+    if let Ok(lane) = crate::lanes::LaneSim::new(&o.sim) {
         // fixed-step RK4: the cells' runs in lockstep lanes and their decisions batched
         // (crate::lanes_decide::simulate_decided_lanes), in batches so that an interruption loses at
         // most one batch
@@ -304,8 +304,7 @@ fn map_cells(
                 .iter()
                 .filter_map(|m| m.as_ref().ok().map(|m| (m, o.y0)))
                 .collect();
-            let mut decided =
-                crate::lanes_decide::simulate_decided_lanes(&runs, &o.sim).into_iter();
+            let mut decided = crate::lanes_decide::simulate_decided_lanes(&runs, &lane).into_iter();
             let pairs: Vec<(usize, Result<&MeshModel, &ScenarioError>, Option<Decided>)> = chunk
                 .iter()
                 .zip(&models)

@@ -125,6 +125,10 @@ pub fn escape_of(
             strobe_only: true,
             ..*opts
         };
+        let Ok(o) = crate::lanes::LaneSim::new(&o) else {
+            // nothing to integrate: no copy moves
+            return (copies.iter().map(|_| None).collect(), 0);
+        };
         let items: Vec<crate::lanes::Item<'_>> = copies
             .iter()
             .enumerate()
@@ -191,13 +195,11 @@ impl Engine<2> for MeshModel {
         o: &SimOptions,
         requested: &SimOptions,
     ) -> Result<SimResult, SimError> {
-        if o.method != requested.method
-            && crate::lanes::lanes_apply(o)
-            && crate::lanes::lanes_cover_contact(self)
-        {
-            crate::lanes::simulate_lane_grid(self, y0, o, requested.tau0)
-        } else {
-            simulate(self, y0, o)
+        match crate::lanes::LaneSim::new(o) {
+            Ok(lane) if o.method != requested.method && crate::lanes::lanes_cover_contact(self) => {
+                crate::lanes::simulate_lane_grid(self, y0, &lane, requested.tau0)
+            }
+            _ => simulate(self, y0, o),
         }
     }
 

@@ -15,7 +15,7 @@ use geardyn_analysis::bifurcation::{
     linspace, run_once, run_sweep, Section, SweepMode, SweepOptions,
 };
 use geardyn_analysis::driver::{run_periods, Discard};
-use geardyn_analysis::lanes::{simulate_lanes, LANES};
+use geardyn_analysis::lanes::{simulate_lanes, LaneSim, LANES};
 use geardyn_analysis::simulate::{Method, SimOptions};
 use geardyn_model::{presets, MeshModel};
 use geardyn_solvers::{Integrator, Scheme};
@@ -328,11 +328,12 @@ fn ensemble_figure(a: &BenchArgs, model: &MeshModel) -> Result<()> {
         record_periods: a.periods / 4,
         ..Default::default()
     };
+    let lane = LaneSim::new(&opts)?;
     let mut best = f64::INFINITY;
     let mut steps = 0;
     for _ in 0..a.repeat {
         let t = Instant::now();
-        let r = pool.install(|| simulate_lanes(&runs, &opts));
+        let r = pool.install(|| simulate_lanes(&runs, &lane));
         let el = t.elapsed().as_secs_f64();
         if el < best {
             best = el;
@@ -380,7 +381,7 @@ fn w1_figures(a: &BenchArgs, numba: &mut Numba, num: bool) -> Result<f64> {
         .collect::<Result<_, _>>()?;
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
     let t = Instant::now();
-    let r = simulate_lanes(&runs, &opts.sim);
+    let r = simulate_lanes(&runs, &LaneSim::new(&opts.sim)?);
     let el_sim = t.elapsed().as_secs_f64();
     let steps: u64 = r.iter().map(|x| x.as_ref().map_or(0, |s| s.steps)).sum();
     println!(
@@ -393,7 +394,7 @@ fn w1_figures(a: &BenchArgs, numba: &mut Numba, num: bool) -> Result<f64> {
         ..opts.sim
     };
     let t = Instant::now();
-    let r = simulate_lanes(&runs, &bare);
+    let r = simulate_lanes(&runs, &LaneSim::new(&bare)?);
     let el_bare = t.elapsed().as_secs_f64();
     let events: u64 = r
         .iter()
@@ -532,12 +533,13 @@ fn follow_figures(repeat: u32) -> Result<()> {
     };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let runs: Vec<(&MeshModel, [f64; 2])> = scen.iter().map(|s| (s.model(), [0.0, 0.0])).collect();
+    let lane = LaneSim::new(&opts)?;
     for n in [1, LANES] {
         let mut best = f64::INFINITY;
         let (mut steps, mut events) = (0, 0);
         for _ in 0..repeat {
             let t = Instant::now();
-            let r = pool.install(|| simulate_lanes(&runs[..n], &opts));
+            let r = pool.install(|| simulate_lanes(&runs[..n], &lane));
             let el = t.elapsed().as_secs_f64();
             if el < best {
                 best = el;

@@ -513,6 +513,26 @@ impl Ctx {
             rows,
         })
     }
+
+    /// A table declared by `spec`, written as CSV in `dir`.
+    pub fn declared_table(
+        &self,
+        dir: &Path,
+        spec: &TableSpec,
+        rows: Vec<Vec<String>>,
+    ) -> Result<Table> {
+        self.table(&dir.join(spec.file), spec.title, &hdr(spec.columns), rows)
+    }
+}
+
+/// A table's file name, title and columns, declared once beside the study that fills it.
+pub struct TableSpec {
+    /// The CSV file's name in the section's folder.
+    pub file: &'static str,
+    /// The title shown above the table.
+    pub title: &'static str,
+    /// The column headers.
+    pub columns: &'static [&'static str],
 }
 
 /// What a report checkpoint of a computation from `base` is keyed by besides its settings.

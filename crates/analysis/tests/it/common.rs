@@ -113,7 +113,7 @@ pub fn decided_lanes_on<T: Send>(
     ) -> T,
 ) -> Vec<T> {
     on_threads(threads, || {
-        geardyn_analysis::lanes_decide::simulate_decided_lanes(runs, opts)
+        geardyn_analysis::lanes_decide::simulate_decided_lanes(runs, &lane(opts))
     })
     .into_iter()
     .map(|d| {
@@ -145,4 +145,29 @@ pub fn identify_rk4(
         sim: geardyn_analysis::simulate::SimOptions::rk4(steps_per_cycle, transient, record),
         ..Default::default()
     }
+}
+
+/// The lifetime of a motion decided transient chaos by the escape test that then settles on the
+/// orbit of `period` labelled `label`; panics on any other verdict.
+pub fn transient_lifetime(
+    s: &geardyn_analysis::simulate::Summary,
+    period: usize,
+    label: &str,
+) -> f64 {
+    let geardyn_analysis::verdict::Motion::TransientChaos {
+        period: p,
+        lifetime,
+        ..
+    } = s.motion
+    else {
+        panic!("{:?}", s.motion)
+    };
+    assert_eq!((p, s.label.as_str()), (period, label));
+    assert_eq!(s.decided_by, geardyn_analysis::verdict::DecidedBy::Escape);
+    lifetime
+}
+
+/// `o` checked for the lanes (the tests' settings are fixed-step RK4).
+pub fn lane(o: &geardyn_analysis::simulate::SimOptions) -> geardyn_analysis::lanes::LaneSim {
+    geardyn_analysis::lanes::LaneSim::new(o).unwrap()
 }

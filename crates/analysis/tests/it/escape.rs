@@ -2,6 +2,7 @@
 //! chaotic saddle, a known chaotic attractor that no copy leaves, and the broken pair's chaotic
 //! transients that the test tells from chaos.
 
+use crate::common;
 use geardyn_analysis::classify::{simulate_decided, Decide, DecidedBy, Motion};
 use geardyn_analysis::escape::{escape_test, Advanced, Copy, EscapeSettings, Lifetime};
 use geardyn_analysis::simulate::SimOptions;
@@ -143,14 +144,7 @@ fn broken_pair_transient_chaos_settles_on_its_orbit() {
     let sc = spec.resolve().unwrap();
     let opts = SimOptions::default();
     let (_, s, _) = simulate_decided(sc.model(), [0.0, 0.0], &opts, Decide::default()).unwrap();
-    let Motion::TransientChaos {
-        period, lifetime, ..
-    } = s.motion
-    else {
-        panic!("{:?}", s.motion)
-    };
-    assert_eq!((period, s.label.as_str()), (1, "1-20-0"));
-    assert_eq!(s.decided_by, DecidedBy::Escape);
+    let lifetime = common::transient_lifetime(&s, 1, "1-20-0");
     assert!(s.healthy);
     // the single trajectory's 10 300 revolutions are one draw of the lifetime
     assert!((1000.0..50_000.0).contains(&lifetime), "{lifetime}");

@@ -3,6 +3,7 @@
 //! impacts) on case C1 and on the breakage preset.
 
 use crate::common;
+use crate::common::lane;
 
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};
@@ -14,7 +15,7 @@ type FirstRun<'m> = (
     (SimResult, geardyn_analysis::simulate::Summary),
 );
 fn first_runs<'m>(runs: &[(&'m MeshModel, [f64; 2])], opts: &SimOptions) -> Vec<FirstRun<'m>> {
-    simulate_lanes(runs, opts)
+    simulate_lanes(runs, &lane(opts))
         .into_iter()
         .zip(runs)
         .map(|(r, &(m, _))| {
@@ -173,7 +174,9 @@ fn lanes_strobe_points_match_an_independent_dop853_solution() {
         let last = rows.iter().map(|r| r.3).max().unwrap();
         let m = &c1_at(&[w])[0];
         let opts = SimOptions::rk4(512, first as u64 - 2, (last - first) as u64 + 4);
-        let res = simulate_lanes(&[(m, [x0, v0])], &opts).remove(0).unwrap();
+        let res = simulate_lanes(&[(m, [x0, v0])], &lane(&opts))
+            .remove(0)
+            .unwrap();
         let period = 2.0 * std::f64::consts::PI / w;
         for &&(_, _, _, j, x, v) in &rows {
             let p = res
@@ -208,7 +211,7 @@ fn c1_periodic_orbits_equal_the_scalar_rk4_path() {
     let opts = SimOptions::rk4(512, 300, 40);
     let ics = [[0.0, 0.0], [1.3, -0.4], [-1.2, 0.8]];
     let runs = crate::common::runs_from(&models, &ics);
-    let lanes = simulate_lanes(&runs, &opts);
+    let lanes = simulate_lanes(&runs, &lane(&opts));
     let mut worst = 0.0f64;
     for ((m, y0), r) in runs.iter().zip(&lanes) {
         let a = r.as_ref().unwrap();
@@ -258,7 +261,7 @@ fn breakage_preset_equals_the_scalar_rk4_path() {
         .iter()
         .flat_map(|m| [[0.0, 0.0], [0.9, -0.5]].map(move |y| (m, y)))
         .collect();
-    let lanes = simulate_lanes(&runs, &opts);
+    let lanes = simulate_lanes(&runs, &lane(&opts));
     let mut worst = 0.0f64;
     for ((m, y0), r) in runs.iter().zip(&lanes) {
         let a = r.as_ref().unwrap();
@@ -288,7 +291,8 @@ fn output_is_the_same_for_any_thread_count() {
         .collect();
     let opts = SimOptions::rk4(128, 30, 10);
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
-    let run = |threads: usize| crate::common::on_threads(threads, || simulate_lanes(&runs, &opts));
+    let run =
+        |threads: usize| crate::common::on_threads(threads, || simulate_lanes(&runs, &lane(&opts)));
     let key = |r: &Vec<Result<SimResult, geardyn_analysis::simulate::SimError>>| {
         serde_json::to_string(
             &r.iter()
@@ -304,7 +308,7 @@ fn output_is_the_same_for_any_thread_count() {
     // (no fused multiply-add anywhere in the lanes; `one` ran on the best copy this CPU has)
     use geardyn_solvers::ensemble::Dispatch;
     for how in [Dispatch::Baseline, Dispatch::Avx2] {
-        let copy = geardyn_analysis::lanes::simulate_lanes_dispatch(&runs, &opts, how);
+        let copy = geardyn_analysis::lanes::simulate_lanes_dispatch(&runs, &lane(&opts), how);
         assert_eq!(one, key(&copy), "{how:?}");
     }
 }
@@ -410,9 +414,9 @@ fn one_lane_engine_equals_the_lockstep_lanes() {
         };
         let ics = [[0.0, 0.0], [0.9, -0.5], [-1.1, 0.3]];
         let runs: Vec<(&MeshModel, [f64; 2])> = ics.iter().map(|&y| (&m, y)).collect();
-        let lanes = simulate_lanes(&runs, &opts);
+        let lanes = simulate_lanes(&runs, &lane(&opts));
         for (&(_, y0), r) in runs.iter().zip(&lanes) {
-            let one = simulate_lane(&m, y0, &opts).unwrap();
+            let one = simulate_lane(&m, y0, &lane(&opts)).unwrap();
             assert_eq!(
                 key(&one),
                 key(r.as_ref().unwrap()),
@@ -475,10 +479,12 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
                 }
                 // non-periodic: exactly the decision continued from the lanes' first run, the
                 // transient extensions on a one-lane engine with the sweep's phase tables
-                let first = simulate_lanes(&[(&m, y0)], &opts.sim).remove(0).unwrap();
+                let first = simulate_lanes(&[(&m, y0)], &lane(&opts.sim))
+                    .remove(0)
+                    .unwrap();
                 let sum = summarize(&m, &first, &opts.sim);
                 let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| {
-                    simulate_lane_grid(m, y, o, opts.sim.tau0)
+                    simulate_lane_grid(m, y, &lane(o), opts.sim.tau0)
                 };
                 let (res, d, used) =
                     simulate_decided_with(&m, (first, sum), &opts.sim, Decide::default(), grid)
@@ -521,7 +527,7 @@ fn a_long_exponent_look_in_the_lanes_equals_the_decision_of_the_run() {
     let runs: Vec<(&MeshModel, [f64; 2])> = models.iter().map(|m| (m, [0.0, 0.0])).collect();
     let firsts = first_runs(&runs, &opts);
     let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
-    let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, 0.0);
+    let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, &lane(o), 0.0);
     let mut motions = Vec::new();
     for ((m, first), b) in firsts.into_iter().zip(batched) {
         let (res, s, _) = simulate_decided_with(m, first, &opts, Decide::default(), grid).unwrap();
@@ -584,7 +590,8 @@ fn decisions_in_lanes_equal_the_decision_of_each_run() {
         let runs = crate::common::runs_from(&models, &ics);
         let firsts = first_runs(&runs, &opts);
         let batched = decide_lanes(firsts.clone(), &opts, Decide::default());
-        let grid = |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, o, tau0);
+        let grid =
+            |m: &MeshModel, y: [f64; 2], o: &SimOptions| simulate_lane_grid(m, y, &lane(o), tau0);
         for ((m, first), b) in firsts.into_iter().zip(batched) {
             let (res, s, used) =
                 simulate_decided_with(m, first, &opts, Decide::default(), grid).unwrap();
@@ -641,10 +648,13 @@ fn map_in_lanes_equals_the_scalar_decisions() {
         let m = s.model();
         // the decision continued from the lanes' first run, on a one-lane engine with the
         // map's phase tables: the cell to the last bit
-        let first = simulate_lanes(&[(m, o.y0)], &o.sim).remove(0).unwrap();
+        let first = simulate_lanes(&[(m, o.y0)], &lane(&o.sim))
+            .remove(0)
+            .unwrap();
         let sum = summarize(m, &first, &o.sim);
-        let grid =
-            |m: &MeshModel, y: [f64; 2], so: &SimOptions| simulate_lane_grid(m, y, so, o.sim.tau0);
+        let grid = |m: &MeshModel, y: [f64; 2], so: &SimOptions| {
+            simulate_lane_grid(m, y, &lane(so), o.sim.tau0)
+        };
         let (_, d, _) =
             simulate_decided_with(m, (first, sum), &o.sim, Decide::default(), grid).unwrap();
         assert_eq!(c.label, d.label, "{} {}", c.x, c.y);

@@ -2,6 +2,7 @@
 //! a decision): the same trajectory and the same points as a full record, scalar and in the
 //! lanes, and nothing else recorded.
 
+use crate::common::lane;
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, Method, SimOptions};
 use geardyn_model::{presets, MeshModel};
@@ -43,8 +44,8 @@ fn a_strobe_only_record_has_the_full_records_points_and_nothing_else() {
         steps_per_cycle: 256,
     };
     let runs: Vec<(&MeshModel, [f64; 2])> = (0..5).map(|i| (&m, [0.1 * i as f64, 0.0])).collect();
-    let full = simulate_lanes(&runs, &opts(rk4, false));
-    let cheap = simulate_lanes(&runs, &opts(rk4, true));
+    let full = simulate_lanes(&runs, &lane(&opts(rk4, false)));
+    let cheap = simulate_lanes(&runs, &lane(&opts(rk4, true)));
     for (a, b) in full.iter().zip(&cheap) {
         let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
         assert_eq!(a.strobe, b.strobe);

@@ -7,7 +7,7 @@ use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, ranges_text};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{Ctx, TableSpec};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
@@ -163,19 +163,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Resul
     )?;
     let csv = dir.join("load_omega_classes.csv");
     geardyn_io::output::write_csv(&csv, &["omega", "F", "class"], cells_csv)?;
-    let table = ctx.table(
-        &dir.join("load_sensitivity.csv"),
-        "The load sweep at neighbouring frequencies",
-        &hdr(&[
-            "omega",
-            "chip (mm removed)",
-            "largest F with impacts",
-            "chaotic F",
-            "motion at F = 0.15",
-            "F > 0.1 periodic without impact",
-        ]),
-        rows,
-    )?;
+    let table = ctx.declared_table(dir, &LOAD_SENSITIVITY_TABLE, rows)?;
     let axes = axes_table(ctx, dir, &AXES)?;
     Ok(Section {
         id: "load_sensitivity".into(),
@@ -218,3 +206,17 @@ fn class_legend() -> Vec<LegendEntry> {
         LegendEntry::dot("undecided / quasi-periodic", UNSETTLED),
     ]
 }
+
+/// The table of `load_sensitivity.csv`.
+const LOAD_SENSITIVITY_TABLE: TableSpec = TableSpec {
+    file: "load_sensitivity.csv",
+    title: "The load sweep at neighbouring frequencies",
+    columns: &[
+        "omega",
+        "chip (mm removed)",
+        "largest F with impacts",
+        "chaotic F",
+        "motion at F = 0.15",
+        "F > 0.1 periodic without impact",
+    ],
+};

@@ -3,7 +3,7 @@
 
 use super::OMEGA_LOAD;
 use crate::readings::f;
-use crate::runner::{hdr, Ctx};
+use crate::runner::{Ctx, TableSpec};
 use crate::shared::portrait_figure;
 use crate::Section;
 use anyhow::Result;
@@ -128,19 +128,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &PortraitsData) -> Result<Sect
             f(summary.max_force),
         ]);
     }
-    let table = ctx.table(
-        &dir.join("portraits.csv"),
-        "The four points",
-        &hdr(&[
-            "point",
-            "motion",
-            "period (mesh cycles)",
-            "impacts in the record",
-            "P_ID",
-            "max mesh force",
-        ]),
-        rows,
-    )?;
+    let table = ctx.declared_table(dir, &PORTRAITS_TABLE, rows)?;
     Ok(Section {
         id: "portraits".into(),
         title: "Phase portraits and Poincaré sections at representative loads and frequencies".into(),
@@ -155,3 +143,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &PortraitsData) -> Result<Sect
         seconds: 0.0,
     })
 }
+
+/// The table of `portraits.csv`.
+const PORTRAITS_TABLE: TableSpec = TableSpec {
+    file: "portraits.csv",
+    title: "The four points",
+    columns: &[
+        "point",
+        "motion",
+        "period (mesh cycles)",
+        "impacts in the record",
+        "P_ID",
+        "max mesh force",
+    ],
+};

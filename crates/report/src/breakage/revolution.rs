@@ -5,7 +5,7 @@
 use super::{healthy_sim, A000, A001, A002};
 use crate::claims::{Claim, Verdict};
 use crate::readings::{f, pct};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{Ctx, TableSpec};
 use crate::shared::{line_figure, Line};
 use crate::Section;
 use anyhow::{Context, Result};
@@ -214,19 +214,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         "Mesh force over one revolution after the transient, healthy and broken pair at omega = 0.3, F = 0.15 (the seed gives no operating point for this figure; at this point the broken cycle is in contact).",
         true,
     )?;
-    let table = ctx.table(
-        &dir.join("peak_force_grid.csv"),
-        "Largest mesh force, healthy and broken, over a small grid of operating points",
-        &hdr(&[
-            "omega",
-            "F",
-            "max F_m healthy",
-            "max F_m broken",
-            "change",
-            "separation (broken)",
-        ]),
-        rows,
-    )?;
+    let table = ctx.declared_table(dir, &PEAK_FORCE_GRID_TABLE, rows)?;
     Ok(Section {
         id: "revolution".into(),
         title: "Contact force over a pinion revolution: healthy versus broken".into(),
@@ -288,3 +276,17 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &RevolutionData) -> Result<Sec
         seconds: 0.0,
     })
 }
+
+/// The table of `peak_force_grid.csv`.
+const PEAK_FORCE_GRID_TABLE: TableSpec = TableSpec {
+    file: "peak_force_grid.csv",
+    title: "Largest mesh force, healthy and broken, over a small grid of operating points",
+    columns: &[
+        "omega",
+        "F",
+        "max F_m healthy",
+        "max F_m broken",
+        "change",
+        "separation (broken)",
+    ],
+};

@@ -9,7 +9,7 @@ use super::{chaos_ranges, fixed, multi, ranges_text, AXES, DD_SEED, DS_SEED};
 use crate::classes::{self, tolerant};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
 use crate::readings::{f, sequence};
-use crate::runner::{hdr, Ctx};
+use crate::runner::{Ctx, TableSpec};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
@@ -207,18 +207,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Secti
         ]);
     }
     let axes = axes_table(ctx, dir, &AXES)?;
-    let summary = ctx.table(
-        &dir.join("readings_summary.csv"),
-        "The load and xi sweeps under each reading",
-        &hdr(&[
-            "reading",
-            "c",
-            "D_d / D_s",
-            "F (omega 1.4, xi 0.09): motions of the first initial state",
-            "xi (omega 1.5, F 0.05): chaotic ranges",
-        ]),
-        rows,
-    )?;
+    let summary = ctx.declared_table(dir, &READINGS_SUMMARY_TABLE, rows)?;
     Ok(Section {
         id: "readings".into(),
         title: "The claims that depend on a reading of the text, under every reading".into(),
@@ -238,3 +227,16 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Secti
         seconds: 0.0,
     })
 }
+
+/// The table of `readings_summary.csv`.
+const READINGS_SUMMARY_TABLE: TableSpec = TableSpec {
+    file: "readings_summary.csv",
+    title: "The load and xi sweeps under each reading",
+    columns: &[
+        "reading",
+        "c",
+        "D_d / D_s",
+        "F (omega 1.4, xi 0.09): motions of the first initial state",
+        "xi (omega 1.5, F 0.05): chaotic ranges",
+    ],
+};
