@@ -24,7 +24,8 @@ pub fn lanes_apply(opts: &SimOptions) -> bool {
 /// ```
 /// use geardyn_analysis::lanes::LaneSim;
 /// use geardyn_analysis::simulate::{Method, SimOptions};
-/// assert!(LaneSim::new(&SimOptions::rk4(256)).is_ok());
+/// assert!(LaneSim::new(&SimOptions::rk4(256, 10, 10)).is_ok());
+/// assert!(LaneSim::new(&SimOptions::rk4(256, 0, 0)).is_err());
 /// let dp5 = SimOptions { method: Method::Dopri { rtol: 1e-9, atol: 1e-12 }, ..SimOptions::default() };
 /// assert!(LaneSim::new(&dp5).is_err());
 /// ```
