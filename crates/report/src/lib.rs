@@ -31,6 +31,7 @@ mod breakage;
 mod claims;
 mod classes;
 mod classic;
+mod coexisting;
 mod html;
 mod internal;
 mod interpretations;

@@ -211,13 +211,17 @@ impl Drawn {
                 .map(|p| p.len())
                 .sum();
             let r = if total < 20_000 { r.max(2) } else { r };
-            order
-                .iter()
-                .rev()
+            // a periodic attractor is a few points per value: drawn larger than the points of a
+            // chaotic band and over them, so that a coexisting orbit is not lost in the band
+            let (bands, orbits): (Vec<&String>, Vec<&String>) =
+                order.iter().rev().partition(|n| !periodic_name(n));
+            bands
+                .into_iter()
+                .chain(orbits)
                 .filter_map(|n| {
                     by_name(n).map(|pts| Layer {
                         points: pts,
-                        style: Style::Dots(r),
+                        style: Style::Dots(if periodic_name(n) { r + 2 } else { r }),
                         color: color_of[n],
                     })
                 })
@@ -319,12 +323,47 @@ pub fn sweep_figure(
         "motion",
     )?;
     let data = write_sweep_data(dir, name, param, results, panels, drawn)?;
-    Ok(ctx.fig(&stem, caption, &data))
+    Ok(ctx.fig(&stem, &with_entry_note(caption, sections), &data))
+}
+
+/// Whether a layer's name is a periodic motion's label (not a class word or a branch).
+fn periodic_name(n: &str) -> bool {
+    n.chars().next().is_some_and(|c| c.is_ascii_digit())
+}
+
+/// What a panel at `x = ±D_d` holds besides crossings, appended to a caption that draws one.
+const ENTRY_NOTE: &str = " The panels at ±D_d also hold the entries into contact where the backlash drops from D_s to D_d at a zone border and the contact surface passes x (x itself does not cross): there the velocity may have either sign. The n-p-q-r-s label counts them as crossings.";
+
+/// `caption`, with [`ENTRY_NOTE`] when `sections` draw a panel at `±D_d`.
+fn with_entry_note(caption: &str, sections: &[Sec]) -> String {
+    if sections
+        .iter()
+        .any(|s| matches!(s, Sec::DdUp | Sec::DdDown))
+    {
+        format!("{caption}{ENTRY_NOTE}")
+    } else {
+        caption.to_string()
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Labels are periodic names; class words and branches are not.
+    #[test]
+    fn periodic_layers_are_told_by_their_label() {
+        assert!(periodic_name("1-40-40") && periodic_name("3-60-0"));
+        assert!(!periodic_name("chaotic") && !periodic_name("sweep up") && !periodic_name(""));
+    }
+
+    /// A figure with a panel at ±D_d says why its velocities may have either sign; one without
+    /// keeps its caption.
+    #[test]
+    fn a_d_d_panel_explains_its_entries() {
+        assert!(with_entry_note("c.", &[Sec::Strobe, Sec::DdDown]).ends_with(ENTRY_NOTE));
+        assert_eq!(with_entry_note("c.", &[Sec::Strobe, Sec::DsUp]), "c.");
+    }
 
     #[test]
     fn a_legend_lists_every_mesh_period_of_a_label() {

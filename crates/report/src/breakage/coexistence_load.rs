@@ -131,7 +131,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &CoexistenceData) -> Result<Se
     let fig = sweep_figure(
         ctx, dir, "multi_F", "F", &data.multi, &[Sec::Strobe, Sec::Impact], &SweepPanels::default(),
         "Broken pair: multi-initial bifurcation over F (omega = 1.2)",
-        "Broken pair, omega = 1.2: runs from several random initial states per load, coloured by decided motion (label in revolutions, period in mesh cycles in the legend).",
+        "Broken pair, omega = 1.2: runs from several random initial states per load, coloured by decided motion (label in revolutions, period in mesh cycles in the legend); periodic motions drawn as larger squares over the points of the chaotic bands.",
     )?;
     let pts = classes::points(&data.multi, 0);
     let per_value: Vec<(f64, Vec<&Pt>)> = values

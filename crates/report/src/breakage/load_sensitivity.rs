@@ -2,7 +2,7 @@
 //! frequency of the sweep and the size of the chip; the claims of the load sweep under every
 //! reading. Checks seed A 000 ¶9 (the frequency of the load sweep is not given).
 
-use super::load_sweep::{broken_load_claims, HIGH_LOADS};
+use super::load_sweep::{attractor_sweep, broken_load_claims, HIGH_LOADS};
 use super::{sweep, with_chip, AXES, CHIP_MM, OMEGA_LOAD};
 use crate::classes::{self, tolerant, Class, Pt};
 use crate::interpretations::{axes_table, label_claims, Interpretation};
@@ -58,6 +58,9 @@ pub(super) struct LoadSensitivityData {
     by_omega: Vec<Vec<TaskResult>>,
     /// The sweep over F at [`OMEGA_LOAD`] for each other chip size (`CHIP_MM[1..]`).
     by_chip: Vec<Vec<TaskResult>>,
+    /// The multi-initial runs of each frequency reading other than [`OMEGA_LOAD`] (in the
+    /// order of `omegas`, that one empty), then of each other chip size.
+    attractors: Vec<Vec<TaskResult>>,
 }
 
 crate::runner::study!(LoadSensitivity { base: &'a Scenario } "load_sensitivity" LoadSensitivityData,
@@ -70,10 +73,16 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSens
     let fvals = linspace(0.0, 0.15, nf);
     let sim = ctx.sim((30, 80), (12, 30));
     let mut by_omega = Vec::new();
+    let mut attractors = Vec::new();
     for &w in &omegas {
         let b = base.with("omega", w)?;
         let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
         by_omega.push(ctx.sweep(dir, &format!("F sweep omega {w}"), &b, &o)?);
+        attractors.push(if w == OMEGA_LOAD {
+            Vec::new()
+        } else {
+            attractor_sweep(ctx, dir, &format!("multi-initial F omega {w}"), &b, sim)?
+        });
     }
     // the chip-size readings at the load sweep's frequency
     let mut by_chip = Vec::new();
@@ -81,6 +90,13 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSens
         let b = with_chip(base, mm)?.with("omega", OMEGA_LOAD)?;
         let o = sweep("F", fvals.clone(), SweepMode::Fixed, sim, vec![Sec::Impact]);
         by_chip.push(ctx.sweep(dir, &format!("F sweep chip {mm} mm"), &b, &o)?);
+        attractors.push(attractor_sweep(
+            ctx,
+            dir,
+            &format!("multi-initial F chip {mm} mm"),
+            &b,
+            sim,
+        )?);
     }
     Ok(LoadSensitivityData {
         omegas,
@@ -89,6 +105,7 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<LoadSens
         sim,
         by_omega,
         by_chip,
+        attractors,
     })
 }
 
@@ -100,7 +117,8 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Resul
     let mut rows = Vec::new();
     let mut alternatives = Vec::new();
     let mut ok_count = 0;
-    for (&w, r) in omegas.iter().zip(&data.by_omega) {
+    let multi = |i: usize| classes::points(&data.attractors[i], 0);
+    for (i, (&w, r)) in omegas.iter().zip(&data.by_omega).enumerate() {
         let pts = classes::fixed_points(r);
         for p in &pts {
             colors.push(class_color(p));
@@ -109,7 +127,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Resul
         let reading = format!("omega = {}", f(w));
         if let Some(k) = AXES[0].choices.iter().position(|c| *c == reading) {
             if k > 0 {
-                let mut cl = broken_load_claims(&pts, w);
+                let mut cl = broken_load_claims(&pts, &multi(i), w);
                 let it = Interpretation::with(&AXES, &[(AXES[0].name, k)]);
                 label_claims(&mut cl, &it.label(&AXES));
                 alternatives.extend(cl);
@@ -121,7 +139,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSensitivityData) -> Resul
     }
     for ((k, &mm), r) in CHIP_MM.iter().enumerate().skip(1).zip(&data.by_chip) {
         let pts = classes::fixed_points(r);
-        let mut cl = broken_load_claims(&pts, OMEGA_LOAD);
+        let mut cl = broken_load_claims(&pts, &multi(omegas.len() + k - 1), OMEGA_LOAD);
         let it = Interpretation::with(&AXES, &[(AXES[1].name, k)]);
         label_claims(&mut cl, &it.label(&AXES));
         alternatives.extend(cl);

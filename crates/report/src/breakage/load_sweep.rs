@@ -6,13 +6,14 @@
 use super::{healthy_sim, sweep, A000, A001, A002, OMEGA_LOAD};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
+use crate::coexisting;
 use crate::readings::{f, interval_header, interval_rows, pct, ranges_text, sequence};
 use crate::runner::Ctx;
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{
-    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
+    attractor_region, linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
 };
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
@@ -37,6 +38,44 @@ pub(super) struct LoadSweepData {
     broken: Vec<TaskResult>,
     /// The healthy twin's sweep over F (same physical time).
     healthy: Vec<TaskResult>,
+    /// The broken pair from several initial states per load ([`attractor_loads`]): every
+    /// attractor the claims are judged over.
+    multi: Vec<TaskResult>,
+}
+
+/// The loads and initial states per load of the multi-initial runs that find the coexisting
+/// attractors of a load sweep (coarser than the sweep: a claim over a range of loads is judged
+/// on them).
+pub(super) fn attractor_loads(ctx: &Ctx) -> (Vec<f64>, usize) {
+    (
+        ctx.n(vec![0.03, 0.06, 0.11, 0.14], linspace(0.01, 0.15, 15)),
+        ctx.n(4, 8),
+    )
+}
+
+/// The multi-initial runs of `b` over [`attractor_loads`] (initial states uniform in the
+/// attractor region of its half backlash, seeded).
+pub(super) fn attractor_sweep(
+    ctx: &Ctx,
+    dir: &Path,
+    name: &str,
+    b: &Scenario,
+    sim: SimOptions,
+) -> Result<Vec<TaskResult>> {
+    let (loads, ics) = attractor_loads(ctx);
+    let (x0_range, v0_range) = attractor_region(b.params().d_single);
+    let mode = SweepMode::Multi {
+        ics,
+        seed: 7,
+        x0_range,
+        v0_range,
+    };
+    ctx.sweep(
+        dir,
+        name,
+        b,
+        &sweep("F", loads, mode, sim, vec![Sec::Strobe]),
+    )
 }
 
 crate::runner::study!(LoadSweep { base: &'a Scenario, healthy: &'a Scenario, nf: usize } "load_sweep" LoadSweepData,
@@ -63,6 +102,7 @@ pub(super) fn compute(
         ..o.clone()
     };
     let healthy = ctx.sweep(dir, "healthy F sweep", &h, &oh)?;
+    let multi = attractor_sweep(ctx, dir, "multi-initial F", &b, sim)?;
     Ok(LoadSweepData {
         nf,
         sim,
@@ -70,6 +110,7 @@ pub(super) fn compute(
         secs,
         broken,
         healthy,
+        multi,
     })
 }
 
@@ -113,7 +154,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
     )?;
-    let mut claims = load_claims(&pb, &ph);
+    let mut claims = load_claims(&pb, &ph, &classes::points(&data.multi, 0));
     classes::note_transients(&mut claims, &pb, "F", "revolutions");
     Ok(Section {
             id: "load_sweep".into(),
@@ -150,8 +191,10 @@ const HIGH_LOAD_PERIODIC_PARTLY: f64 = 0.6;
 /// middle of the sweep).
 const IMPACT_SPLIT: f64 = 0.075;
 
-/// The claims of the load sweep that need only the broken pair's runs `pb` (at `omega`).
-pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
+/// The claims of the load sweep that need only the broken pair's runs: `pb` from rest (at
+/// `omega`) and `multi`, every run of the multi-initial sweep there ([`attractor_sweep`]): a
+/// claim about the motion at a load is judged over every attractor found, not from rest only.
+pub(super) fn broken_load_claims(pb: &[Pt], multi: &[Pt], omega: f64) -> Vec<Claim> {
     let tb = tolerant(pb);
     // shares and counts from the decided class of every value; the smoothed reading (`tb`,
     // `th`) only for ranges and sequences, where one value at a bifurcation point is noise
@@ -162,19 +205,31 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
     let hi_undecided = classes::share(&hi, |p| !p.class.periodic() && p.class != Class::Chaotic);
     // undecided values (no period within the extended transient, TLE not positive) do not
     // contradict "periodic"; impacts or chaos do
-    let hi_verdict = if hi_imp == 0.0 && hi_chaos == 0.0 && hi_ok >= HIGH_LOAD_PERIODIC {
+    let from_rest = if hi_imp == 0.0 && hi_chaos == 0.0 && hi_ok >= HIGH_LOAD_PERIODIC {
         Verdict::Reproduced
     } else if hi_ok >= HIGH_LOAD_PERIODIC_PARTLY {
         Verdict::Partly
     } else {
         Verdict::NotReproduced
     };
+    // every attractor found at the high loads: an impacting or chaotic one beside the periodic
+    // motion from rest makes the statement hold only on part of the state space
+    let hi_m: Vec<&Pt> = classes::within(multi, HIGH_LOADS.0, HIGH_LOADS.1);
+    let hi_m_bad = classes::share(&hi_m, |p| p.back || p.class == Class::Chaotic);
+    let hi_found = coexisting::found(&hi_m);
+    let bad_txt = coexisting::describe(&hi_found, |a| a.back || a.name == "chaotic", "F", 3);
+    let hi_verdict = if from_rest == Verdict::Reproduced && hi_m_bad > 0.0 {
+        Verdict::Partly
+    } else {
+        from_rest
+    };
     let hi_txt = format!(
-        "F in [0.1075, 0.1425] (the seed's F > 0.1 without its boundary): periodic without impacts at {}, undecided {}, chaotic {}, impacts at {} of values",
+        "F in [0.1075, 0.1425] (the seed's F > 0.1 without its boundary), from rest: periodic without impacts at {}, undecided {}, chaotic {}, impacts at {} of values; {}",
         pct(hi_ok),
         pct(hi_undecided),
         pct(hi_chaos),
-        pct(hi_imp)
+        pct(hi_imp),
+        every_attractor(&hi_m, hi_m_bad, &bad_txt),
     );
     let chaos = classes::ranges(&tb, |p| p.class == Class::Chaotic);
     let chaos_imp = chaos_with_impacts(pb);
@@ -193,6 +248,11 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
         classes::share(&lower, |p| p.back),
         classes::share(&upper, |p| p.back),
     );
+    // the same over every attractor: the share of all initial states that end impacting
+    let (ml, mu) = (
+        classes::share(&classes::within(multi, 0.0, IMPACT_SPLIT), |p| p.back),
+        classes::share(&classes::within(multi, IMPACT_SPLIT, 0.15), |p| p.back),
+    );
     vec![
         Claim::new(
             "At higher loads (F > 0.1) the motion is periodic without back-side impact",
@@ -200,7 +260,7 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
             "F > 0.1: periodic, no impact",
             format!("{hi_txt}; the last value with impacts is F = {} (seed's border 0.1)", f(largest_imp)),
             hi_verdict,
-            format!("Broken pair, omega = 1.2, F in [0.1075, 0.1425] (the interval trimmed by 15 % at each end); largest F with impacts {}. Undecided = no period within the extended transient and a TLE that is not significantly positive (slow transients between periodic branches); they do not contradict the statement.", f(largest_imp)),
+            format!("Broken pair, omega = {}, F in [0.1075, 0.1425]; largest F with impacts from rest {}. Judged over every attractor found: from rest only it would read {}. Undecided values (no period, TLE not significantly positive) do not contradict it.", f(omega), f(largest_imp), from_rest.word()),
         ),
         Claim::new(
             "High load: stable periodic motion without tooth-back impact",
@@ -208,7 +268,7 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
             "periodic, no impact",
             hi_txt.clone(),
             hi_verdict,
-            "Same sweep as the row above (the short version's restatement).",
+            "Same sweep and attractors as the row above (the short version's restatement).",
         ),
         Claim::new(
             "As F decreases, chaotic motion and period-doubling bifurcations occur, accompanied by back-side impact",
@@ -222,16 +282,16 @@ pub(super) fn broken_load_claims(pb: &[Pt], omega: f64) -> Vec<Claim> {
             "Larger loads inhibit back-side impact",
             format!("{A001} abstract and conclusions"),
             "impacts fewer at larger F",
-            format!("share of values with impacts: F < {} {}, F ≥ {} {}; largest F with impacts {}", f(IMPACT_SPLIT), pct(sl), f(IMPACT_SPLIT), pct(su), f(largest_imp)),
-            Verdict::of(sl > su),
-            format!("Broken pair, omega = {}.", f(omega)),
+            format!("from rest, share of values with impacts: F < {} {}, F ≥ {} {}; largest F with impacts {}; over every attractor, share of initial states ending with impacts: F < {} {}, F ≥ {} {}", f(IMPACT_SPLIT), pct(sl), f(IMPACT_SPLIT), pct(su), f(largest_imp), f(IMPACT_SPLIT), pct(ml), f(IMPACT_SPLIT), pct(mu)),
+            inhibit_verdict(sl > su, multi.is_empty() || ml > mu),
+            format!("Broken pair, omega = {}; fewer impacts at larger loads both from rest and over the initial states of the multi-initial runs gives reproduced, one of the two partly.", f(omega)),
         ),
     ]
 }
 
 /// The claims of the load sweep: [`broken_load_claims`] at [`OMEGA_LOAD`] and those that compare
 /// the broken pair `pb` with its healthy twin `ph`.
-fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
+fn load_claims(pb: &[Pt], ph: &[Pt], multi: &[Pt]) -> Vec<Claim> {
     let th = tolerant(ph);
     let chaos_imp = chaos_with_impacts(pb);
     let imp = |pts: &[Pt]| {
@@ -260,7 +320,7 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
         .zip(ph)
         .filter(|(b, h)| b.max_force < h.max_force * (1.0 - FORCE_TIE))
         .count();
-    let mut v = broken_load_claims(pb, OMEGA_LOAD);
+    let mut v = broken_load_claims(pb, multi, OMEGA_LOAD);
     v.extend([
         Claim::new(
             "With decreasing load a healthy pair goes from period 1 to period 2, a broken one becomes chaotic with back-side impact",
@@ -299,6 +359,32 @@ fn load_claims(pb: &[Pt], ph: &[Pt]) -> Vec<Claim> {
         ),
     ]);
     v
+}
+
+/// What the multi-initial runs `hi` at the high loads add to a claim of periodic motion without
+/// impact there: the share of initial states that end impacting or chaotic, and which.
+fn every_attractor(hi: &[&Pt], bad: f64, which: &str) -> String {
+    if hi.is_empty() {
+        return "no multi-initial runs at these loads: judged from rest only".into();
+    }
+    let k = hi.len();
+    if bad == 0.0 {
+        format!("every one of {k} runs from random initial states there is periodic without impact")
+    } else {
+        format!(
+            "over every attractor ({k} runs from random initial states there): {} end with back-side impacts or chaos: {which}",
+            pct(bad)
+        )
+    }
+}
+
+/// "Larger loads inhibit impact" from rest and over every attractor.
+fn inhibit_verdict(from_rest: bool, over_attractors: bool) -> Verdict {
+    match (from_rest, over_attractors) {
+        (true, true) => Verdict::Reproduced,
+        (false, false) => Verdict::NotReproduced,
+        _ => Verdict::Partly,
+    }
 }
 
 /// Chaotic values below F = 0.1 exist and all show back-side impacts.

@@ -190,9 +190,9 @@ fn low_claims(pts: &[Pt], bq: &[(String, BasinResult)], ics: usize) -> Vec<Claim
     claims.push(basin_claim(
         bq,
         &[
-            ("P1 (healthy period 1)", 0.49, &|a| {
-                a.period == 1 && a.healthy
-            }),
+            // matched by the seed's label only: another healthy period 1 (1-1-0-1-0) is
+            // another attractor, with a share of its own
+            ("P1 (1-0-0-1-0)", 0.49, &|a| a.label == "1-0-0-1-0"),
             ("Q1 (1-1-1-1-1)", 0.51, &|a| a.label == "1-1-1-1-1"),
         ],
         "At omega = 0.42 the healthy P1 holds 49 % of the basin, Q1 51 %",

@@ -157,6 +157,16 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
         .iter()
         .map(|p| ((p.tau - t0) / cyc, m.backlash_at(m.cycle_position(p.tau))))
         .collect();
+    // what the drawn window shows: the drive-side exits in each zone
+    let exits_in = |level: f64| {
+        r.mesh()
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::DriveExit && e.tau >= t0)
+            .filter(|e| (e.x - level).abs() < 1e-6)
+            .count()
+    };
+    let (drops_s, drops_d) = (exits_in(ds), exits_in(dd));
     let mut fig = line_figure(
         ctx,
         dir,
@@ -174,7 +184,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
             ("F_m".into(), vec![Line { label: "F_m".into(), points: fs, dots: false }]),
         ],
         &[0.0],
-        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x reaches D_s (single-tooth zone) or D_d (double-tooth zone).", sets(c)),
+        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x falls back to the backlash. In the two cycles drawn it drops to zero {} at D_s (single-tooth zone) and {} at D_d (double-tooth zone); over the last three periods (those with a trajectory) it leaves drive-side contact after a tensile force {ns} times at D_s and {nd} times at D_d.", sets(c), times(drops_s), times(drops_d)),
         false,
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
@@ -211,4 +221,14 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
         alternatives: vec![],
         seconds: 0.0,
     })
+}
+
+/// `n` as words: `once`, `twice`, `3 times`, `never`.
+fn times(n: usize) -> String {
+    match n {
+        0 => "never".into(),
+        1 => "once".into(),
+        2 => "twice".into(),
+        n => format!("{n} times"),
+    }
 }

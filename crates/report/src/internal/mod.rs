@@ -72,7 +72,7 @@ const AXES: [Axis; 4] = [
         name: "backlash",
         source: "seed B 004 §3.1, §4.1; 003 §2",
         text: "«time-varying backlash … D_s > D_d», derived from deformation, temperature and oil film; no value of D_d or D_s is printed",
-        choices: &["the pair's D_d/D_s", "nominal D_d = 0.9, D_s = 1", "swept D_d = D, D_s = D + 0.2"],
+        choices: &["the pair's D_d/D_s", "nominal D_d = 0.9, D_s = 1", "swept D_s = D, D_d = D - 0.2"],
         why: "the text derives D(t) from the pair; the xi sweep, the (xi, F) map and the mechanism take the nominal step (with the pair's levels, about 0.002 apart, their labels cannot occur), the backlash sweep varies D itself",
     },
     Axis {
@@ -205,4 +205,23 @@ fn interval_table(
         &interval_header(param),
         interval_rows(&classes::intervals(pts)),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The backlash reading's label states the levels the backlash sweep runs (D_s = D and
+    /// D_d = D - BACKLASH_STEP: the drive-side gap the smaller, as seed B's D_s > D_d).
+    #[test]
+    fn the_swept_backlash_reading_names_what_ran() {
+        let label = AXES[1].choices[2];
+        assert_eq!(
+            label,
+            format!(
+                "swept D_s = D, D_d = D - {}",
+                crate::readings::f(BACKLASH_STEP)
+            )
+        );
+    }
 }
