@@ -184,7 +184,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &MechanismData) -> Result<Sect
             ("F_m".into(), vec![Line { label: "F_m".into(), points: fs, dots: false }]),
         ],
         &[0.0],
-        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x falls back to the backlash. In the two cycles drawn it drops to zero {} at D_s (single-tooth zone) and {} at D_d (double-tooth zone); over the last three periods (those with a trajectory) it leaves drive-side contact after a tensile force {ns} times at D_s and {nd} times at D_d.", sets(c), times(drops_s), times(drops_d)),
+        &format!("Two mesh cycles at {} (linear contact law): the mesh force turns negative while x > D and drops to zero when x falls back to the backlash. In the two cycles drawn it drops to zero {} at D_s (single-tooth zone) and {} at D_d (double-tooth zone); over the last three periods (those with a trajectory) it leaves drive-side contact after a tensile force {} at D_s and {} at D_d.", sets(c), times(drops_s), times(drops_d), times(ns), times(nd)),
         false,
     )?;
     crate::shared::attach_trajectory(ctx, dir, &mut fig, "separation_mechanism", &win)?;
