@@ -229,12 +229,37 @@ fn share_of(
         .sum()
 }
 
+/// Whether an attractor is the one a seed names.
+type AttractorTest = dyn Fn(&geardyn_analysis::attractor::Descriptor) -> bool;
+
 /// A seed attractor of a basin: name, seed share, test.
-type BasinPart<'a> = (
-    &'a str,
-    f64,
-    &'a dyn Fn(&geardyn_analysis::attractor::Descriptor) -> bool,
-);
+type BasinPart<'a> = (&'a str, f64, &'a AttractorTest);
+
+/// [`basin_claim`] of attractors the seed names by label (`(name, label, seed share)`), each
+/// matched by its label only: another attractor of the same period and health is another
+/// attractor, with a share of its own.
+pub(super) fn labelled_basin_claim(
+    boxes: &[(String, BasinResult)],
+    named: &[(&str, &str, f64)],
+    claim: &str,
+    source: String,
+) -> Claim {
+    let names: Vec<String> = named.iter().map(|(n, l, _)| format!("{n} ({l})")).collect();
+    let tests: Vec<Box<AttractorTest>> = named
+        .iter()
+        .map(|&(_, l, _)| {
+            let l = l.to_string();
+            Box::new(move |a: &geardyn_analysis::attractor::Descriptor| a.label == l) as Box<_>
+        })
+        .collect();
+    let parts: Vec<BasinPart> = named
+        .iter()
+        .zip(&names)
+        .zip(&tests)
+        .map(|((&(_, _, share), n), t)| (n.as_str(), share, t.as_ref()))
+        .collect();
+    basin_claim(boxes, &parts, claim, source)
+}
 
 /// Boxes of initial states on which basin shares are read, besides the figure's box
 /// (`x0 ∈ ±2 D, x0' ∈ ±1.5`): the former multi-initial box (`±1.5 D, ±1`) and a wide one (`±3 D,

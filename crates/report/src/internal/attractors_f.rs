@@ -3,7 +3,9 @@
 //! tree, basins at F = 0.16, 0.11 and 0.104, the load cascade and chaos without back-side
 //! meshing. Checks seed B 003 §4.3 (Table 6) and 004 §5.4 (Figs. 5.6, 5.8, Table 5.2).
 
-use super::attractor_tables::{basin_claim, extra_boxes_text, sp, spl, table_row, AttractorsData};
+use super::attractor_tables::{
+    basin_claim, extra_boxes_text, labelled_basin_claim, sp, spl, table_row, AttractorsData,
+};
 use super::attractors::AttractorTable;
 use super::{B003, B004};
 use crate::claims::{Claim, Verdict};
@@ -104,12 +106,9 @@ fn table_claims(pts: &[Pt], basin_res: &[&[(String, BasinResult)]]) -> Vec<Claim
             format!("{t52}; {t6}; {B004} §5.4"),
             "P1 + Q2".into(),
         ),
-        basin_claim(
+        labelled_basin_claim(
             basin_res[0],
-            &[
-                ("P1 (1-1-0-1-0)", 0.78, &|a| a.label == "1-1-0-1-0"),
-                ("Q2 (2-1-0-1-0)", 0.22, &|a| a.label == "2-1-0-1-0"),
-            ],
+            &[("P1", "1-1-0-1-0", 0.78), ("Q2", "2-1-0-1-0", 0.22)],
             "At F = 0.16 P1 holds 78 % of the basin, Q2 22 %",
             format!("{B003} §4.3; {B004} §5.4 (Fig. 5.8g)"),
         ),

@@ -4,7 +4,8 @@
 //! (Figs. 5.3, 5.5, Table 5.1).
 
 use super::attractor_tables::{
-    basin_claim, extra_boxes_text, found_in, presence, sp, spl, table_row, AttractorsData, PRESENT,
+    extra_boxes_text, found_in, labelled_basin_claim, presence, sp, spl, table_row, AttractorsData,
+    PRESENT,
 };
 use super::attractors::AttractorTable;
 use super::{B003, B004};
@@ -187,14 +188,10 @@ fn low_claims(pts: &[Pt], bq: &[(String, BasinResult)], ics: usize) -> Vec<Claim
             "The thesis text gives 0.364, both tables and the summary 0.42: the row nearer to the measurement is reproduced, the other is a seed inconsistency. Multi-initial sweep with extra values at 0.364 and 0.42.",
         ));
     }
-    claims.push(basin_claim(
+    // by label: another healthy period 1 there (1-1-0-1-0) is not the seed's P1
+    claims.push(labelled_basin_claim(
         bq,
-        &[
-            // matched by the seed's label only: another healthy period 1 (1-1-0-1-0) is
-            // another attractor, with a share of its own
-            ("P1 (1-0-0-1-0)", 0.49, &|a| a.label == "1-0-0-1-0"),
-            ("Q1 (1-1-1-1-1)", 0.51, &|a| a.label == "1-1-1-1-1"),
-        ],
+        &[("P1", "1-0-0-1-0", 0.49), ("Q1", "1-1-1-1-1", 0.51)],
         "At omega = 0.42 the healthy P1 holds 49 % of the basin, Q1 51 %",
         format!("{B003} §4.3; {B004} §5.3 (Fig. 5.5b)"),
     ));
@@ -301,12 +298,9 @@ fn middle_claims(pts: &[Pt]) -> Vec<Claim> {
 fn high_claims(pts: &[Pt], b18: &[(String, BasinResult)]) -> Vec<Claim> {
     let (t51, t5) = tables();
     let mut claims = Vec::new();
-    claims.push(basin_claim(
+    claims.push(labelled_basin_claim(
         b18,
-        &[
-            ("P3 (3-1-1-1-1)", 0.84, &|a| a.label == "3-1-1-1-1"),
-            ("Q2 (2-1-0-2-0)", 0.16, &|a| a.label == "2-1-0-2-0"),
-        ],
+        &[("P3", "3-1-1-1-1", 0.84), ("Q2", "2-1-0-2-0", 0.16)],
         "At omega = 1.801 (G3) P3 = 3-1-1-1-1 holds 84 % of the basin and Q2 = 2-1-0-2-0 16 %",
         format!("{B004} §5.3 (Fig. 5.5f)"),
     ));
