@@ -91,9 +91,7 @@ fn largest_mesh_displacement<S: GearSystem<N>, const N: usize>(sys: &S, y: &[f64
         }
     })
 }
-/// A TLE (per unit dimensionless time) is significantly positive when it exceeds both this and
-/// three standard errors.
-pub const TLE_POSITIVE: f64 = 1e-3;
+pub use crate::verdict::TLE_POSITIVE;
 
 /// Classification effort.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -39,10 +39,13 @@ pub const FOLLOW_STEPS: u32 = 64;
 /// [`crate::simulate::SimOptions::follow_steps`] accepted besides 0: below 16 steps per natural period RK4 leaves
 /// its useful accuracy (and at about 2.2 its stability).
 pub const FOLLOW_STEPS_RANGE: std::ops::RangeInclusive<u32> = 16..=1_000_000;
+/// A TLE (per unit dimensionless time) is significantly positive when it exceeds both this and
+/// three standard errors.
+pub const TLE_POSITIVE: f64 = 1e-3;
 /// An exponent `tle` (standard error `se`) that is positive beyond doubt: above
-/// [`crate::classify::TLE_POSITIVE`] and three standard errors.
+/// [`TLE_POSITIVE`] and three standard errors.
 pub(crate) fn significantly_positive(tle: f64, se: f64) -> bool {
-    tle > crate::classify::TLE_POSITIVE && tle > 3.0 * se
+    tle > TLE_POSITIVE && tle > 3.0 * se
 }
 
 /// [`significantly_positive`] of `-tle`.

@@ -1,8 +1,12 @@
 //! Writers for simulation results: CSV tables and JSON summaries.
 
-use crate::schema::full;
 use geardyn_analysis::simulate::{SimResult, Summary};
 use std::path::Path;
+
+/// Every digit (shortest round-trip form): the CLI's number format.
+pub fn full(v: f64) -> String {
+    format!("{v}")
+}
 
 pub use crate::safe_write::OutputError;
 

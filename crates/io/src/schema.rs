@@ -116,10 +116,7 @@ impl Table {
 /// A number column taken from a record of type `T`: its name and how to read it.
 type NumberColumn<T> = (&'static str, fn(&T) -> f64);
 
-/// Every digit (shortest round-trip form): the CLI's number format.
-pub fn full(v: f64) -> String {
-    format!("{v}")
-}
+pub use crate::output::full;
 
 /// The exponent a run's class was decided on (chaotic: the significantly positive TLE after the
 /// persistence run; quasi-periodic and unsettled: the TLE measured, if any), so that a chaotic

@@ -111,59 +111,6 @@ impl Pt {
     }
 }
 
-/// Adds to the evidence of every claim about chaos the values of `pts` that are transient chaos
-/// ([`transient_note`]), as many of them as the evidence has room for.
-pub fn note_transients(claims: &mut [crate::claims::Claim], pts: &[Pt], param: &str, unit: &str) {
-    for c in claims {
-        if !c.claim.to_lowercase().contains("chao") {
-            continue;
-        }
-        let room = crate::claims::EVIDENCE_MAX.saturating_sub(c.evidence.chars().count() + 1);
-        let note = (0..=3)
-            .rev()
-            .filter_map(|n| transient_note(pts, param, unit, n))
-            .find(|n| n.chars().count() <= room);
-        if let Some(note) = note {
-            c.evidence = format!("{} {note}", c.evidence);
-        }
-    }
-}
-
-/// What a claim about chaos adds when some of the values it reads are transient chaos: where
-/// (with `param` = value; the first `items` of them named with their mean lifetime in `unit` and
-/// the orbit the motion settles on), `None` when no value is. An integration of a few hundred
-/// periods sees such a value as chaos: that explains a seed's "chaos" there rather than
-/// contradicting it.
-pub fn transient_note(pts: &[Pt], param: &str, unit: &str, items: usize) -> Option<String> {
-    let tr: Vec<&Pt> = pts.iter().filter(|p| p.lifetime.is_some()).collect();
-    if tr.is_empty() {
-        return None;
-    }
-    let named: Vec<String> = tr
-        .iter()
-        .take(items)
-        .map(|p| {
-            let (l, se) = p.lifetime.expect("filtered");
-            format!(
-                "{param} = {} ({} ± {} {unit}, then {})",
-                crate::readings::f(p.value),
-                crate::readings::f(l.round()),
-                crate::readings::f(se.round()),
-                p.name
-            )
-        })
-        .collect();
-    let rest = tr.len() - named.len();
-    let list = match (named.is_empty(), rest) {
-        (true, _) => format!("{rest} values"),
-        (false, 0) => named.join(", "),
-        (false, _) => format!("{} and {rest} more", named.join(", ")),
-    };
-    Some(format!(
-        "Transient chaos (escape test; mean lifetime, then the orbit) at {list}: chaos to a short integration."
-    ))
-}
-
 /// The runs of one branch (all initial states), sorted by value.
 pub fn points(results: &[TaskResult], branch: u8) -> Vec<Pt> {
     let mut v: Vec<Pt> = results
@@ -374,14 +321,13 @@ pub fn values_in(pts: &[Pt], lo: f64, hi: f64) -> Vec<f64> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn pt(v: f64, c: Class) -> Pt {
+impl Pt {
+    /// A point of `class` named `name` at `value`, nothing else set (for tests).
+    pub(crate) fn at(value: f64, class: Class, name: &str) -> Pt {
         Pt {
-            value: v,
-            name: format!("{c:?}"),
-            class: c,
+            value,
+            class,
+            name: name.into(),
             back: false,
             healthy: false,
             tle: None,
@@ -391,22 +337,15 @@ mod tests {
             lifetime: None,
         }
     }
+}
 
-    #[test]
-    fn transient_chaos_is_named_with_its_lifetime_and_orbit() {
-        let mut a = pt(1.725, Class::Periodic(1));
-        a.name = "1-20-0".into();
-        a.lifetime = Some((6783.2, 2261.1));
-        let pts = [pt(1.7, Class::Chaotic), a];
-        let note = transient_note(&pts, "omega", "revolutions", 3).unwrap();
-        assert!(
-            note.contains("omega = 1.725 (6783 ± 2261 revolutions, then 1-20-0)"),
-            "{note}"
-        );
-        assert!(transient_note(&pts[..1], "omega", "revolutions", 3).is_none());
-        assert!(transient_note(&pts, "omega", "revolutions", 0)
-            .unwrap()
-            .contains("at 1 values"));
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pt(v: f64, c: Class) -> Pt {
+        let name = format!("{c:?}");
+        Pt::at(v, c, &name)
     }
 
     #[test]

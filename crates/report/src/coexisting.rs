@@ -99,21 +99,16 @@ mod tests {
     use crate::classes::Class;
 
     fn pt(value: f64, name: &str, back: bool, max_force: f64) -> Pt {
+        let class = if name == "chaotic" {
+            Class::Chaotic
+        } else {
+            Class::Periodic(1)
+        };
         Pt {
-            value,
-            class: if name == "chaotic" {
-                Class::Chaotic
-            } else {
-                Class::Periodic(1)
-            },
-            name: name.into(),
             back,
             healthy: !back,
-            tle: None,
-            mesh_period: None,
             max_force,
-            min_force: 0.0,
-            lifetime: None,
+            ..Pt::at(value, class, name)
         }
     }
 

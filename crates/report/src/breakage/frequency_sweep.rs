@@ -208,7 +208,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         .collect();
     let sens = sensitivity_table(ctx, dir, fload, &st, &others)?;
     let mut claims = claims(fload, &st, &others);
-    classes::note_transients(&mut claims, &pts, "omega", "revolutions");
+    crate::readings::note_transients(&mut claims, &pts, "omega", "revolutions");
     Ok(Section {
         id: "frequency_sweep".into(),
         title: "Bifurcation over the mesh frequency omega (F = 0.1)".into(),

@@ -155,7 +155,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         "Healthy pair: motion over F",
     )?;
     let mut claims = load_claims(&pb, &ph, &classes::points(&data.multi, 0));
-    classes::note_transients(&mut claims, &pb, "F", "revolutions");
+    crate::readings::note_transients(&mut claims, &pb, "F", "revolutions");
     Ok(Section {
             id: "load_sweep".into(),
             title: "Bifurcation over the load F: broken versus healthy (omega = 1.2)".into(),

@@ -268,7 +268,7 @@ impl Study for ParamSweep<'_> {
             multi: classes::points(&data.multi, 0),
         };
         let mut claims = (self.table.claims)(&runs);
-        classes::note_transients(&mut claims, &runs.pts, self.table.param, "periods");
+        crate::readings::note_transients(&mut claims, &runs.pts, self.table.param, "periods");
         claims
     }
 }
