@@ -25,6 +25,15 @@ pub enum BifurcationKind {
     /// boundary, the map's Jacobian jumps, and the multipliers with it. Located when the
     /// stability changes there.
     CornerCollision,
+    /// A real multiplier passes through +1 while the branch goes on in the parameter (no fold)
+    /// and two new orbits of the same period branch off, one on each side of the old one along
+    /// the critical eigenvector ([`Bifurcation::branches`]): a pitchfork, the symmetry-breaking
+    /// of a map with a symmetry (on the single pair: the revolution map of an orbit whose mesh
+    /// clock doubles, the broken tooth's cycle apart).
+    Pitchfork,
+    /// As [`BifurcationKind::Pitchfork`] with one new orbit found: a transcritical branch point
+    /// (or a pitchfork whose other orbit the search missed).
+    BranchPoint,
     /// The stability changed between two branch points with no smooth bifurcation, grazing or
     /// corner collision between them (a border the detectors do not name): reported so that a
     /// change of stability is never silent.
@@ -33,12 +42,14 @@ pub enum BifurcationKind {
 
 impl BifurcationKind {
     /// Every kind, in the order outputs list them.
-    pub const ALL: [BifurcationKind; 6] = [
+    pub const ALL: [BifurcationKind; 8] = [
         BifurcationKind::PeriodDoubling,
         BifurcationKind::Fold,
         BifurcationKind::Grazing,
         BifurcationKind::Torus,
         BifurcationKind::CornerCollision,
+        BifurcationKind::Pitchfork,
+        BifurcationKind::BranchPoint,
         BifurcationKind::StabilityChange,
     ];
 
@@ -50,6 +61,8 @@ impl BifurcationKind {
             BifurcationKind::Torus => "torus",
             BifurcationKind::Grazing => "grazing",
             BifurcationKind::CornerCollision => "corner-collision",
+            BifurcationKind::Pitchfork => "pitchfork",
+            BifurcationKind::BranchPoint => "branch-point",
             BifurcationKind::StabilityChange => "stability-change",
         }
     }
@@ -76,6 +89,20 @@ pub struct Bifurcation {
     /// Parameter value.
     pub param: f64,
     /// The orbit there (on the side of the first of the two bracketing points).
+    pub orbit: Orbit,
+    /// The new orbits that branch off at a [`BifurcationKind::Pitchfork`] or
+    /// [`BifurcationKind::BranchPoint`] (empty for the other kinds).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub branches: Vec<BranchOff>,
+}
+
+/// An orbit that branches off at a bifurcation, found near it on the side where the old orbit is
+/// unstable.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BranchOff {
+    /// Parameter value where it was found.
+    pub param: f64,
+    /// The orbit.
     pub orbit: Orbit,
 }
 
@@ -475,6 +502,7 @@ fn follow(
                 branch,
                 param: b.param,
                 orbit: b.orbit,
+                branches: Vec::new(),
             };
             // a doubled branch turns at the doubling it was born from (the vertex of the
             // pitchfork of the twice-iterated map): that is the doubling, not a fold
@@ -529,7 +557,13 @@ fn follow(
             } else {
                 BifurcationKind::StabilityChange
             };
-            if let Some(b) = locate(prob, &cur, &next, kind) {
+            if let Some(mut b) = locate(prob, &cur, &next, kind) {
+                if kind == BifurcationKind::StabilityChange {
+                    // a real multiplier through +1 with the branch going on: look for the orbits
+                    // that branch off (the side where the old orbit is unstable)
+                    let unstable = if cur.orbit.stable { &next } else { &cur };
+                    branch_off(prob, &mut b, unstable);
+                }
                 if fresh(out, &b) {
                     out.bifurcations.push(b);
                 }
@@ -713,12 +747,17 @@ fn fresh(out: &Continuation, b: &Bifurcation) -> bool {
 
 /// The eigenvector of `m` for its multiplier nearest -1.
 fn flip_vector(m: &[[f64; 2]; 2]) -> [f64; 2] {
+    eigenvector_near(m, -1.0)
+}
+
+/// The unit eigenvector of `m` for its real multiplier nearest `target`.
+fn eigenvector_near(m: &[[f64; 2]; 2], target: f64) -> [f64; 2] {
     let mu = eigenvalues(m)
         .into_iter()
         .filter(|u| u.im == 0.0)
-        .min_by(|a, b| (a.re + 1.0).abs().total_cmp(&(b.re + 1.0).abs()))
+        .min_by(|a, b| (a.re - target).abs().total_cmp(&(b.re - target).abs()))
         .map(|u| u.re)
-        .unwrap_or(-1.0);
+        .unwrap_or(target);
     // (m - mu I) v = 0: v from the row of larger norm
     let a = [m[0][0] - mu, m[0][1]];
     let b = [m[1][0], m[1][1] - mu];
@@ -786,7 +825,61 @@ fn locate(
         branch: a.branch,
         param: 0.5 * (pa + pb),
         orbit: oa,
+        branches: Vec::new(),
     })
+}
+
+/// A multiplier within this distance of +1 makes a stability change a candidate branch point.
+const NEAR_ONE: f64 = 0.05;
+
+/// At a stability change `b` whose leading multiplier is real and near +1, the orbits of the same
+/// period that branch off: on the side where the old orbit is unstable, at its branch point
+/// `unstable` (the old orbit known there: Newton at fixed parameter is ill-conditioned next to a
+/// multiplier +1 and would not find it again), Newton from the old orbit displaced by `±eps`
+/// along its eigenvector of the unstable real multiplier. Each orbit found that is neither the
+/// old one nor another found one is kept; two (a symmetric pair, one on each side) make the
+/// point a [`BifurcationKind::Pitchfork`], one a [`BifurcationKind::BranchPoint`].
+fn branch_off(prob: &Problem<'_>, b: &mut Bifurcation, unstable: &BranchPoint) {
+    let mu = b.orbit.multipliers[0];
+    if mu.im != 0.0 || (mu.re - 1.0).abs() > NEAR_ONE {
+        return;
+    }
+    let old = &unstable.orbit;
+    let p = unstable.param;
+    let lead = old.multipliers[0];
+    if lead.im != 0.0 || lead.re <= 1.0 {
+        return;
+    }
+    let v = eigenvector_near(&old.monodromy, lead.re);
+    let scale = 1.0 + old.y[0].abs().max(old.y[1].abs());
+    let same =
+        |a: [f64; 2], c: [f64; 2]| (a[0] - c[0]).abs().max((a[1] - c[1]).abs()) <= 1e-6 * scale;
+    let mut found: Vec<BranchOff> = Vec::new();
+    for sign in [1.0, -1.0] {
+        for eps in [1e-3, 1e-2, 3e-2] {
+            let start = [old.y[0] + sign * eps * v[0], old.y[1] + sign * eps * v[1]];
+            let Ok(o) = prob.at(start, p, old.memory) else {
+                continue;
+            };
+            let near = (o.y[0] - old.y[0]).abs().max((o.y[1] - old.y[1]).abs()) <= 0.5 * scale;
+            if near
+                && o.period == old.period
+                && !same(o.y, old.y)
+                && !found.iter().any(|f| same(f.orbit.y, o.y))
+            {
+                found.push(BranchOff { param: p, orbit: o });
+                break;
+            }
+        }
+    }
+    if !found.is_empty() {
+        b.kind = if found.len() >= 2 {
+            BifurcationKind::Pitchfork
+        } else {
+            BifurcationKind::BranchPoint
+        };
+        b.branches = found;
+    }
 }
 
 /// The doubled orbit near a period doubling `(p, y)` with flip eigenvector `v`: Newton for twice

@@ -173,6 +173,15 @@ pub fn run(a: OrbitArgs, started: f64) -> Result<()> {
                     mu_text(b.orbit.multipliers[0]),
                     mu_text(b.orbit.multipliers[1])
                 );
+                for n in &b.branches {
+                    println!(
+                        "    an orbit branches off: at {p} = {} x = {} (multipliers {}, {})",
+                        n.param,
+                        n.orbit.y[0],
+                        mu_text(n.orbit.multipliers[0]),
+                        mu_text(n.orbit.multipliers[1])
+                    );
+                }
             }
             for e in &result.ends {
                 println!("  {e}");

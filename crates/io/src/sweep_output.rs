@@ -708,6 +708,8 @@ pub fn plot_orbits(
             BifurcationKind::Torus => RGBColor(128, 0, 160),
             BifurcationKind::Grazing => RGBColor(0, 140, 60),
             BifurcationKind::CornerCollision => RGBColor(230, 120, 0),
+            BifurcationKind::Pitchfork => RGBColor(0, 90, 200),
+            BifurcationKind::BranchPoint => RGBColor(120, 90, 200),
             BifurcationKind::StabilityChange => RGBColor(0, 150, 160),
         };
         let pts: Vec<(f64, f64)> = c

@@ -268,7 +268,7 @@ fn an_orbit_of_a_law_with_memory_is_the_simulated_attractor() {
 /// the multiplier at the located point near +1 and bracketed by the branch's stable and
 /// unstable points.
 #[test]
-fn a_stability_change_no_smooth_test_names_is_still_reported() {
+fn a_multiplier_through_plus_one_without_a_fold_is_a_pitchfork_with_its_two_orbits() {
     let sc = geardyn_scenario::ScenarioSpec::preset("breakage")
         .unwrap()
         .resolve()
@@ -301,8 +301,24 @@ fn a_stability_change_no_smooth_test_names_is_still_reported() {
                 c.bifurcations
             )
         });
-    assert_eq!(found.kind, BifurcationKind::StabilityChange);
     let mu = found.orbit.multipliers[0];
     assert!(mu.im == 0.0 && (mu.re - 1.0).abs() < 0.05, "{mu:?}");
     assert!((found.param - 0.07808).abs() < 5e-4, "{}", found.param);
+    // a real multiplier through +1 with no fold: two new stable orbits branch off on the
+    // unstable side, one on each side of the old orbit, with equal multipliers (images of each
+    // other under a symmetry of the map): a pitchfork
+    assert_eq!(found.kind, BifurcationKind::Pitchfork, "{found:?}");
+    let [a, b] = &found.branches[..] else {
+        panic!("{:?}", found.branches)
+    };
+    assert!(a.param < found.param && a.orbit.stable && b.orbit.stable);
+    let old = c
+        .points
+        .iter()
+        .find(|p| p.param == a.param)
+        .expect("the new orbits are sought at a branch point");
+    let (xa, xb, x0) = (a.orbit.y[0], b.orbit.y[0], old.orbit.y[0]);
+    assert!((xa - x0) * (xb - x0) < 0.0, "{xa} {xb} {x0}");
+    let (ma, mb) = (a.orbit.multipliers[0], b.orbit.multipliers[0]);
+    assert!((ma.re - mb.re).abs() < 1e-3 && (ma.im.abs() - mb.im.abs()).abs() < 1e-3);
 }

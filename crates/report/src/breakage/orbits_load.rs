@@ -10,6 +10,7 @@ use crate::runner::Ctx;
 use crate::Section;
 use anyhow::Result;
 use geardyn_analysis::orbit_branches::{BifurcationKind, Continuation};
+use geardyn_analysis::orbits::describe_orbit;
 use geardyn_analysis::orbits_request::OrbitsRequest;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -94,6 +95,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Sec
     if let (Some(s), Some(x)) = (stable_low, lost) {
         let mu = &x.orbit.multipliers;
         let how = match x.kind {
+            BifurcationKind::Pitchfork => pitchfork_text(b, x),
             BifurcationKind::StabilityChange if mu[0].im == 0.0 && (mu[0].re - 1.0).abs() < MULTIPLIER_ONE => {
                 "a real multiplier crosses +1 while the branch goes on in F (no fold turns it back, no contact event changes): a stability change none of the smooth tests names".to_string()
             }
@@ -122,4 +124,35 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Sec
         alternatives: vec![],
         seconds: 0.0,
     })
+}
+
+/// A pitchfork in words: the multiplier through +1 and the two orbits that branch off, with
+/// their labels and mesh periods (a symmetric pair: the mesh clock of the new orbits doubles
+/// where that of the old one does not).
+fn pitchfork_text(b: &Scenario, x: &geardyn_analysis::orbit_branches::Bifurcation) -> String {
+    let new: Vec<String> = x
+        .branches
+        .iter()
+        .map(|n| {
+            let what = b
+                .with("F", n.param)
+                .ok()
+                .and_then(|s| describe_orbit(s.model(), &n.orbit, 0.0).ok())
+                .map_or_else(String::new, |d| match d.mesh_period {
+                    Some(m) => format!(" {} ({m} mesh cycles)", d.label),
+                    None => format!(" {}", d.label),
+                });
+            format!(
+                "x = {}{what} ({}, |multiplier| {})",
+                f(n.orbit.y[0]),
+                if n.orbit.stable { "stable" } else { "unstable" },
+                f(n.orbit.multipliers[0].abs())
+            )
+        })
+        .collect();
+    format!(
+        "a pitchfork: a real multiplier crosses +1 while the branch goes on in F (no fold, no contact event changes) and two new orbits of the same period branch off at F = {}, one on each side of the old one with equal multipliers (a symmetric pair): {}",
+        f(x.branches.first().map_or(x.param, |n| n.param)),
+        new.join(" and ")
+    )
 }
