@@ -18,6 +18,8 @@ pub struct Found {
     pub name: String,
     /// Share of the value's initial states that reach it, in [0, 1].
     pub share: f64,
+    /// Periodic (its name a label).
+    pub periodic: bool,
     /// With back-side contact or impact.
     pub back: bool,
     /// Largest mesh force over its runs (dimensionless).
@@ -46,6 +48,7 @@ pub fn found(pts: &[&Pt]) -> Vec<Found> {
                     value: v,
                     name: p.name.clone(),
                     share: 1.0,
+                    periodic: p.class.periodic(),
                     back: p.back,
                     max_force: p.max_force,
                 }),

@@ -10,6 +10,7 @@ use crate::shared::{
 use crate::Figure;
 use anyhow::Result;
 use geardyn_analysis::bifurcation::{Run, Section as Sec, TaskResult};
+use geardyn_analysis::classify::Motion;
 use geardyn_io::figure::RGBColor as PlotColor;
 use geardyn_io::figure::{categorical, Layer, LegendEntry, Panel, Style, OTHER};
 use geardyn_io::output::write_csv;
@@ -68,6 +69,8 @@ struct Drawn {
     counts: HashMap<String, usize>,
     /// Per name: healthy, its periods in mesh cycles, periodic.
     info: HashMap<String, (bool, BTreeSet<usize>, bool)>,
+    /// Per name: the runs that reached it after transient chaos (the escape test's verdict).
+    transients: HashMap<String, usize>,
     /// Values of the extra panels (`tle`, `max_force`, `p_id`, `impact`) per name.
     extra: BTreeMap<&'static str, ByName>,
     /// Rows of `name_points.csv`.
@@ -84,6 +87,9 @@ impl Drawn {
             for run in &r.runs {
                 let nm = classes::name(run);
                 *d.counts.entry(nm.clone()).or_default() += 1;
+                if matches!(run.motion, Motion::TransientChaos { .. }) {
+                    *d.transients.entry(nm.clone()).or_default() += 1;
+                }
                 let entry = d.info.entry(nm.clone()).or_insert((
                     run.healthy,
                     BTreeSet::new(),
@@ -188,7 +194,12 @@ impl Drawn {
             .map(|(n, c, _)| {
                 let empty = (false, BTreeSet::new(), false);
                 let (h, mp, per) = self.info.get(n).unwrap_or(&empty);
-                LegendEntry::dot(legend_text(n, *h, mp, *per), *c)
+                let k = self.transients.get(n).copied().unwrap_or(0);
+                let after = match k {
+                    0 => String::new(),
+                    k => format!(", {k} after transient chaos"),
+                };
+                LegendEntry::dot(format!("{}{after}", legend_text(n, *h, mp, *per)), *c)
             })
             .collect();
         (order, color_of, legend)

@@ -33,7 +33,16 @@ pub(super) struct OrbitsXiData {
     start: Option<[f64; 2]>,
     /// The period-1 branch from rest, merged with the period-2 branch.
     branches: Continuation,
+    /// The branch of the period-3 orbit reached from rest at [`P3_AT`], followed over
+    /// [`P3_RANGE`] (none: no period-3 orbit reached there).
+    p3: Option<Continuation>,
 }
+
+/// Where the period-3 orbit of the large error amplitudes (the seed's final stable period 3) is
+/// reached from rest ...
+const P3_AT: f64 = 0.14;
+/// ... and the range it is followed over: down through the seed's chaotic band (0.044, 0.126).
+const P3_RANGE: (f64, f64) = (0.044, 0.15);
 
 crate::runner::study!(OrbitsXi { lin: &'a Scenario } "orbits_xi" OrbitsXiData,
     |s, ctx, dir| compute(s.lin), |data| render(ctx, dir, data));
@@ -93,11 +102,38 @@ pub(super) fn compute(lin: &Scenario) -> Result<OrbitsXiData> {
             &req,
         )?);
     }
+    // the period-3 orbit of the large amplitudes, followed down into the chaotic band: where it
+    // stays stable, it coexists with the chaos there
+    let p3_start = run_orbits(&b.with("xi", P3_AT)?, &OrbitsRequest::default(), &|_| {})
+        .ok()
+        .and_then(|c| {
+            c.points
+                .first()
+                .filter(|p| p.orbit.period == 3)
+                .map(|p| p.orbit.y)
+        });
+    let p3 = match p3_start {
+        Some(y0) => Some(crate::shared::branch_both_ways(
+            &b,
+            "xi",
+            P3_AT,
+            P3_RANGE,
+            &OrbitsRequest {
+                period: Some(3),
+                transient: 0,
+                y0,
+                ds: ORBIT_DS,
+                ..Default::default()
+            },
+        )?),
+        None => None,
+    };
     Ok(OrbitsXiData {
         scenario: b,
         range: (lo, hi),
         start,
         branches: c,
+        p3,
     })
 }
 
@@ -194,6 +230,12 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsXiData) -> Result<Secti
             p1_end.map_or("the end of the range".into(), f)
         ));
     }
+    readings.push(p3_reading(data.p3.as_ref()));
+    if let Some(p3) = &data.p3 {
+        let rows = geardyn_io::schema::orbit_rows(b, Some("xi"), &p3.points, 0.0);
+        geardyn_io::schema::orbit_branch_table(Some("xi"), &rows)
+            .write_csv(&dir.join("branch_p3.csv"), geardyn_io::schema::full)?;
+    }
     let claim = Claim::new(
         "At the incomplete bifurcation the old period-1 solution stays stable while a new period-2 motion appears beside it",
         format!("{B003} §4 (xi study); {B004} §4.4 (point A)"),
@@ -221,4 +263,51 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsXiData) -> Result<Secti
         alternatives: vec![],
         seconds: 0.0,
     })
+}
+
+/// Where the period-3 branch is stable, in words: the intervals of xi of consecutive stable
+/// orbits, and what that means inside the seed's chaotic band.
+fn p3_reading(p3: Option<&Continuation>) -> String {
+    let Some(c) = p3 else {
+        return format!(
+            "No period-3 orbit is reached from rest at xi = {}.",
+            f(P3_AT)
+        );
+    };
+    let mut pts: Vec<(f64, bool)> = c
+        .points
+        .iter()
+        .filter(|p| p.orbit.period == 3)
+        .map(|p| (p.param, p.orbit.stable))
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut stable: Vec<(f64, f64)> = Vec::new();
+    let mut open = false;
+    for &(x, s) in &pts {
+        match (s, open, stable.last_mut()) {
+            (true, true, Some(r)) => r.1 = x,
+            (true, _, _) => stable.push((x, x)),
+            _ => {}
+        }
+        open = s;
+    }
+    let text: Vec<String> = stable
+        .iter()
+        .map(|(a, b)| format!("{}–{}", f(*a), f(*b)))
+        .collect();
+    let low = stable.first().map(|r| r.0);
+    format!(
+        "The period-3 orbit reached from rest at xi = {}, followed over xi in [{}, {}] by continuation, is stable for xi in {}{}",
+        f(P3_AT),
+        f(P3_RANGE.0),
+        f(P3_RANGE.1),
+        if text.is_empty() { "no interval".to_string() } else { text.join(", ") },
+        match low {
+            Some(l) if l < 0.126 => format!(
+                ": inside the seed's chaotic band (0.044, 0.126) it coexists with the chaotic attractor from xi = {} up (the multi-initial sweep of the xi study reaches both).",
+                f(l)
+            ),
+            _ => ".".into(),
+        }
+    )
 }

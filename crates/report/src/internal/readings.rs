@@ -193,7 +193,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &ReadingsData) -> Result<Secti
         }
         if let Some(r) = &runs.xi {
             let pts = classes::fixed_points(r);
-            let mut cl = vec![xi_band_claim(&pts)];
+            let mut cl = vec![xi_band_claim(&pts, &[])];
             label_claims(&mut cl, &label);
             alternatives.extend(cl);
             xi_chaos = ranges_text(&chaos_ranges(&pts));

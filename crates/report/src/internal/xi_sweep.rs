@@ -7,6 +7,7 @@ use super::param_sweep::{Case, Runs, SweepData, SweepTable, Texts};
 use super::{chaos_ranges, has_name, ranges_text, tle_agreement, B003, B004, DD_SEED, DS_SEED};
 use crate::claims::{Claim, Verdict};
 use crate::classes::{self, tolerant, Class, Pt};
+use crate::coexisting;
 use crate::readings::{f, sequence};
 use anyhow::Result;
 use geardyn_scenario::Scenario;
@@ -148,7 +149,7 @@ fn claims(runs: &Runs) -> Vec<Claim> {
         Claim::new("An incomplete bifurcation (A): 1-0-0-1-0 coexists with 2-1-0-1-0", format!("{B004} §4.4 (point A); {B003} §3.4"), "1-0-0-1-0 + 2-1-0-1-0", match (inc_a, inc_a_any) { (Some(v), _) => format!("both at xi = {}", f(v)), (None, Some(v)) => format!("1-0-0-1-0 with another period 2 at xi = {}", f(v)), _ => "no coexistence found".into() }, if inc_a.is_some() { Verdict::Reproduced } else if inc_a_any.is_some() { Verdict::Partly } else { Verdict::NotReproduced }, "Multi-initial sweep (second figure): both labels at one xi; 1-0-0-1-0 beside a period 2 of another label counts as partly."),
         Claim::new("A second incomplete bifurcation (B): period-2 motions coexist with 3-1-0-1-0", format!("{B004} §4.4 (point B)"), "P2 + P2 + 3-1-0-1-0", inc_b.map_or("no period 2 beside a period 3".into(), |v| format!("period 2 beside period 3 at xi = {}", f(v))), if inc_b.is_some() { Verdict::Reproduced } else { Verdict::NotReproduced }, "Multi-initial sweep: a value of xi where a period 2 and a period 3 are both reached is what the row needs."),
         Claim::new("A complete bifurcation (C) to 4-2-0-2-0", format!("{B004} §4.4 (point C)"), "4-2-0-2-0", c4.map_or("not found".into(), |v| format!("at xi = {}", f(v))), Verdict::of(c4.is_some()), "The label 4-2-0-2-0 among the runs of the fixed and multi-initial sweeps over xi."),
-        xi_band_claim(pts),
+        xi_band_claim(pts, mp),
         Claim::new("Then a period-3 window, a period-doubling cascade to chaos, and finally a stable period 3", format!("{B003} §3.4"), "P3 window, cascade, chaos, P3", format!("after the main chaos: period 3 {p3_window}, period 6/12 {cascade}, chaos again {chaos_again}, period 3 at xi = 0.3 {ends_p3}"), Verdict::of_parts(&[p3_window, cascade || chaos_again, ends_p3]), format!("Sequence: {seq}.")),
         Claim::new("The TLE confirms the chaotic regions", format!("{B003} §3.4"), "TLE > 0 where chaotic", format!("TLE > 0 at {pos_chaos} chaotic values; sign agrees with the class at {agree} of {with_tle}"), Verdict::of(with_tle > 0 && agree * 10 >= with_tle * TLE_AGREE_TENTHS), "TLE over the recorded periods."),
         Claim::new("The error amplitude triggers back-side contact and tooth separation", format!("{B003} §3.4; {B004} §4.4"), "back-side contact appears with xi", back_first.map_or("no back-side contact".into(), |v| format!("back-side contact from xi = {}", f(v))), Verdict::of(back_first.is_some()), "Back-side contact = crossings of -D_s or -D_d."),
@@ -163,15 +164,28 @@ const XI_BAND_TOLERANCE: (f64, f64) = (0.015, 0.02);
 
 /// The chaotic band of the xi sweep (004 §4.4: chaos and complex motion for xi in (0.044, 0.126)),
 /// from the runs `pts` of one initial state.
-pub(super) fn xi_band_claim(pts: &[Pt]) -> Claim {
+///
+/// `multi` (the runs of a multi-initial sweep, empty for none) adds the periodic attractors that
+/// coexist with the chaos inside the band, with their shares of the initial states: the chaos
+/// there holds on part of the state space only.
+pub(super) fn xi_band_claim(pts: &[Pt], multi: &[Pt]) -> Claim {
     let chaos = chaos_ranges(pts);
     let main = chaos.iter().max_by_key(|c| c.2).copied();
     let ends = main.map(|m| ((m.0 - XI_BAND.0).abs(), (m.1 - XI_BAND.1).abs()));
+    let in_band: Vec<&Pt> = main.map_or(vec![], |m| classes::within(multi, m.0, m.1));
+    let beside = coexisting::describe(&coexisting::found(&in_band), |a| a.periodic, "xi", 4);
+    let every = match (in_band.is_empty(), beside.is_empty()) {
+        (true, _) => String::new(),
+        (false, true) => "; every run from random initial states inside it is chaotic".into(),
+        (false, false) => format!(
+            "; over every attractor (runs from random initial states inside it), periodic attractors coexist with the chaos: {beside}"
+        ),
+    };
     Claim::new(
         "Chaos and complex motion for xi in (0.044, 0.126)",
         format!("{B004} §4.4, §4.5, §6(3)"),
         "(0.044, 0.126)",
-        format!("chaos for xi in {}", ranges_text(&chaos)),
+        format!("chaos from rest for xi in {}{every}", ranges_text(&chaos)),
         match ends {
             Some((a, b)) if a <= XI_BAND_TOLERANCE.0 && b <= XI_BAND_TOLERANCE.1 => {
                 Verdict::Reproduced
