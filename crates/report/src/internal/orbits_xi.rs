@@ -274,23 +274,31 @@ fn p3_reading(p3: Option<&Continuation>) -> String {
             f(P3_AT)
         );
     };
-    let mut pts: Vec<(f64, bool)> = c
-        .points
-        .iter()
-        .filter(|p| p.orbit.period == 3)
-        .map(|p| (p.param, p.orbit.stable))
-        .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // stable stretches along each branch, in the order followed (a branch that turns back
+    // passes a value twice, stable once and unstable once), then merged where they overlap
     let mut stable: Vec<(f64, f64)> = Vec::new();
-    let mut open = false;
-    for &(x, s) in &pts {
-        match (s, open, stable.last_mut()) {
-            (true, true, Some(r)) => r.1 = x,
-            (true, _, _) => stable.push((x, x)),
-            _ => {}
-        }
-        open = s;
+    let mut open: Option<(usize, f64, f64)> = None;
+    for p in c.points.iter().filter(|p| p.orbit.period == 3) {
+        open = match (open, p.orbit.stable) {
+            (Some((b, lo, hi)), true) if b == p.branch => {
+                Some((b, lo.min(p.param), hi.max(p.param)))
+            }
+            (prev, s) => {
+                stable.extend(prev.map(|(_, lo, hi)| (lo, hi)));
+                s.then_some((p.branch, p.param, p.param))
+            }
+        };
     }
+    stable.extend(open.map(|(_, lo, hi)| (lo, hi)));
+    stable.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut merged: Vec<(f64, f64)> = Vec::new();
+    for (lo, hi) in stable {
+        match merged.last_mut() {
+            Some(m) if lo <= m.1 => m.1 = m.1.max(hi),
+            _ => merged.push((lo, hi)),
+        }
+    }
+    let stable = merged;
     let text: Vec<String> = stable
         .iter()
         .map(|(a, b)| format!("{}–{}", f(*a), f(*b)))
@@ -304,8 +312,14 @@ fn p3_reading(p3: Option<&Continuation>) -> String {
         if text.is_empty() { "no interval".to_string() } else { text.join(", ") },
         match low {
             Some(l) if l < 0.126 => format!(
-                ": inside the seed's chaotic band (0.044, 0.126) it coexists with the chaotic attractor from xi = {} up (the multi-initial sweep of the xi study reaches both).",
-                f(l)
+                ": inside the seed's chaotic band (0.044, 0.126) it coexists with the chaotic attractor from xi = {} up{} (the multi-initial sweep of the xi study reaches both where its basin is large enough to be hit).",
+                f(l),
+                c.bifurcations
+                    .iter()
+                    .filter(|b| b.orbit.period == 3 && (b.param - l).abs() < 1e-3)
+                    .map(|b| format!(" (its stable branch begins there, at a {})", b.kind.name()))
+                    .next()
+                    .unwrap_or_default()
             ),
             _ => ".".into(),
         }
