@@ -282,6 +282,21 @@ pub fn bands(
     out
 }
 
+/// Values whose verdict (label or class word) differs between two sweeps of the same values, `a`
+/// and its twin `b` with another integrator and transient ([`crate::runner::twin_sim`]): next to
+/// a crisis or a bifurcation the verdict there depends on how it was computed, so it is flagged
+/// and not counted as decided.
+pub fn fragile(a: &[Pt], b: &[Pt]) -> Vec<f64> {
+    a.iter()
+        .filter(|p| {
+            b.iter()
+                .find(|q| q.value == p.value)
+                .is_some_and(|q| q.name != p.name)
+        })
+        .map(|p| p.value)
+        .collect()
+}
+
 /// Points with values in `[lo, hi]`.
 pub fn within(pts: &[Pt], lo: f64, hi: f64) -> Vec<&Pt> {
     pts.iter()
@@ -346,6 +361,18 @@ mod tests {
     fn pt(v: f64, c: Class) -> Pt {
         let name = format!("{c:?}");
         Pt::at(v, c, &name)
+    }
+
+    /// A value whose twin ends elsewhere is fragile; one missing from the twin is not judged.
+    #[test]
+    fn a_verdict_that_changes_with_the_integrator_is_fragile() {
+        let a = [
+            pt(0.1, Class::Chaotic),
+            pt(0.2, Class::Periodic(1)),
+            pt(0.3, Class::Chaotic),
+        ];
+        let b = [pt(0.1, Class::Periodic(1)), pt(0.2, Class::Periodic(1))];
+        assert_eq!(fragile(&a, &b), vec![0.1]);
     }
 
     #[test]

@@ -567,6 +567,26 @@ pub fn sweep_options(
     }
 }
 
+/// RK4 steps per mesh cycle of a twin run ([`twin_sim`]) of an adaptive one.
+pub const TWIN_RK4_STEPS: u32 = 256;
+
+/// The settings of the twin that checks a verdict: the other integrator (fixed-step RK4 of
+/// [`TWIN_RK4_STEPS`] steps per mesh cycle for Dormand–Prince, Dormand–Prince for RK4) and twice
+/// the transient.
+pub fn twin_sim(sim: SimOptions) -> SimOptions {
+    use geardyn_analysis::simulate::Method;
+    SimOptions {
+        method: match sim.method {
+            Method::Dopri { .. } => Method::Rk4 {
+                steps_per_cycle: TWIN_RK4_STEPS,
+            },
+            Method::Rk4 { .. } => Method::default(),
+        },
+        transient_periods: 2 * sim.transient_periods,
+        ..sim
+    }
+}
+
 /// Header strings.
 pub fn hdr(h: &[&str]) -> Vec<String> {
     h.iter().map(|s| s.to_string()).collect()

@@ -41,6 +41,9 @@ pub(super) struct LoadSweepData {
     /// The broken pair from several initial states per load ([`attractor_loads`]): every
     /// attractor the claims are judged over.
     multi: Vec<TaskResult>,
+    /// The broken pair's sweep again with the other integrator and twice the transient
+    /// ([`crate::runner::twin_sim`]): values whose verdict changes are not counted as decided.
+    twin: Vec<TaskResult>,
 }
 
 /// The loads and initial states per load of the multi-initial runs that find the coexisting
@@ -103,6 +106,12 @@ pub(super) fn compute(
     };
     let healthy = ctx.sweep(dir, "healthy F sweep", &h, &oh)?;
     let multi = attractor_sweep(ctx, dir, "multi-initial F", &b, sim)?;
+    let ot = SweepOptions {
+        sim: crate::runner::twin_sim(sim),
+        sections: vec![Sec::Strobe],
+        ..o.clone()
+    };
+    let twin = ctx.sweep(dir, "broken F sweep, twin", &b, &ot)?;
     Ok(LoadSweepData {
         nf,
         sim,
@@ -111,6 +120,7 @@ pub(super) fn compute(
         broken,
         healthy,
         multi,
+        twin,
     })
 }
 
@@ -154,7 +164,8 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
     )?;
-    let mut claims = load_claims(&pb, &ph, &classes::points(&data.multi, 0));
+    let fragile = classes::fragile(&pb, &classes::fixed_points(&data.twin));
+    let mut claims = load_claims(&pb, &ph, &classes::points(&data.multi, 0), &fragile);
     crate::readings::note_transients(&mut claims, &pb, "F", "revolutions");
     Ok(Section {
             id: "load_sweep".into(),
@@ -164,12 +175,13 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
                 "F in [0, 0.15] ({nf} values), omega = 1.2 (the seed does not give the frequency of its load sweep; chosen where seed 000 places periodic motion, sensitivity in the next section), xi = 0.05, c = 0.01, R = 0.85, mu = 0.15; initial state (0, 0)"
             ),
             method: format!(
-                "Dormand–Prince 5(4), {} + {} revolutions (each {cycles} mesh cycles) per value; the healthy twin integrates the same time; each value classified (period test, TLE, extended transient when undecided).",
+                "Dormand–Prince 5(4), {} + {} revolutions (each {cycles} mesh cycles) per value; the healthy twin integrates the same time; each value classified (period test, TLE, extended transient when undecided); a twin sweep with the other integrator (RK4 with 256 steps per mesh cycle for Dormand–Prince) and twice the transient flags the values whose verdict changes; 4–8 random initial states per load at 4–15 loads for every attractor.",
                 sim.transient_periods, sim.record_periods
             ),
             figures: vec![fig_b, fig_h],
             readings: vec![
                 format!("Broken: {}.", sequence(&classes::intervals(&tolerant(&pb)), 2)),
+                fragile_reading(&fragile, pb.len()),
                 format!("Healthy: {}.", sequence(&classes::intervals(&tolerant(&ph)), 2)),
             ],
             tables: vec![table, table_h],
@@ -291,7 +303,7 @@ pub(super) fn broken_load_claims(pb: &[Pt], multi: &[Pt], omega: f64) -> Vec<Cla
 
 /// The claims of the load sweep: [`broken_load_claims`] at [`OMEGA_LOAD`] and those that compare
 /// the broken pair `pb` with its healthy twin `ph`.
-fn load_claims(pb: &[Pt], ph: &[Pt], multi: &[Pt]) -> Vec<Claim> {
+fn load_claims(pb: &[Pt], ph: &[Pt], multi: &[Pt], fragile: &[f64]) -> Vec<Claim> {
     let th = tolerant(ph);
     let chaos_imp = chaos_with_impacts(pb);
     let imp = |pts: &[Pt]| {
@@ -320,7 +332,25 @@ fn load_claims(pb: &[Pt], ph: &[Pt], multi: &[Pt]) -> Vec<Claim> {
         .zip(ph)
         .filter(|(b, h)| b.max_force < h.max_force * (1.0 - FORCE_TIE))
         .count();
-    let mut v = broken_load_claims(pb, multi, OMEGA_LOAD);
+    // the claims on the broken pair alone count only the values decided alike by the twin
+    let decided: Vec<Pt> = pb
+        .iter()
+        .filter(|p| !fragile.contains(&p.value))
+        .cloned()
+        .collect();
+    let mut v = broken_load_claims(&decided, multi, OMEGA_LOAD);
+    if !fragile.is_empty() {
+        let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
+        let note = format!(
+            "Not counted: F = {} (the verdict changes with the integrator and a doubled transient).",
+            list.join(", ")
+        );
+        for c in &mut v {
+            if c.evidence.chars().count() + note.chars().count() < crate::claims::EVIDENCE_MAX {
+                c.evidence = format!("{} {note}", c.evidence);
+            }
+        }
+    }
     v.extend([
         Claim::new(
             "With decreasing load a healthy pair goes from period 1 to period 2, a broken one becomes chaotic with back-side impact",
@@ -395,4 +425,17 @@ fn chaos_with_impacts(pb: &[Pt]) -> bool {
         .filter(|p| p.class == Class::Chaotic)
         .all(|p| p.back)
         && !chaos.is_empty()
+}
+
+/// The values whose verdict the twin sweep does not confirm, in words.
+fn fragile_reading(fragile: &[f64], n: usize) -> String {
+    if fragile.is_empty() {
+        return format!("Every one of the {n} verdicts is the same with the other integrator and twice the transient.");
+    }
+    let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
+    format!(
+        "{} of {n} verdicts change with the other integrator and twice the transient (next to a crisis or a bifurcation), at F = {}: they are flagged, not counted as decided, in the claims on the broken pair.",
+        fragile.len(),
+        list.join(", ")
+    )
 }
