@@ -170,6 +170,40 @@ pub fn transient_note(
     ))
 }
 
+/// The values whose verdict the twin sweep does not confirm ([`crate::classes::fragile`]), in
+/// words, of `n` values of `param`.
+pub fn fragile_reading(fragile: &[f64], n: usize, param: &str) -> String {
+    if fragile.is_empty() {
+        return format!(
+            "Every one of the {n} verdicts is the same with the other integrator and twice the transient."
+        );
+    }
+    let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
+    format!(
+        "{} of {n} verdicts change with the other integrator and twice the transient (next to a crisis or a bifurcation), at {param} = {}: they are flagged, not counted as decided, in the claims.",
+        fragile.len(),
+        list.join(", ")
+    )
+}
+
+/// Adds to the evidence of `claims` the values of `param` not counted as decided (`fragile`), where
+/// the evidence has room.
+pub fn note_fragile(claims: &mut [crate::claims::Claim], fragile: &[f64], param: &str) {
+    if fragile.is_empty() {
+        return;
+    }
+    let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
+    let note = format!(
+        "Not counted: {param} = {} (the verdict changes with the integrator and a doubled transient).",
+        list.join(", ")
+    );
+    for c in claims {
+        if c.evidence.chars().count() + 1 + note.chars().count() <= crate::claims::EVIDENCE_MAX {
+            c.evidence = format!("{} {note}", c.evidence);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     /// A periodic value (`lifetime` given: transient chaos first) or a chaotic one.

@@ -10,7 +10,9 @@ use crate::runner::{hdr, Ctx};
 use crate::shared::{sweep_figure, SweepPanels};
 use crate::{Section, Table};
 use anyhow::Result;
-use geardyn_analysis::bifurcation::{linspace, Section as Sec, SweepMode, TaskResult};
+use geardyn_analysis::bifurcation::{
+    linspace, Section as Sec, SweepMode, SweepOptions, TaskResult,
+};
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_scenario::Scenario;
 use std::path::Path;
@@ -145,6 +147,9 @@ pub(super) struct FrequencyData {
     main: Vec<TaskResult>,
     /// The coarser sweeps at the other loads: (F, runs).
     others: Vec<(f64, Vec<TaskResult>)>,
+    /// The main sweep again with the other integrator and twice the transient
+    /// ([`crate::runner::twin_sim`]): values whose verdict changes are not counted as decided.
+    twin: Vec<TaskResult>,
 }
 
 crate::runner::study!(FrequencySweep { base: &'a Scenario } "frequency_sweep" FrequencyData,
@@ -158,6 +163,12 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Frequenc
     let secs = vec![Sec::Strobe, Sec::Impact];
     let o = sweep("omega", values.clone(), SweepMode::Fixed, sim, secs.clone());
     let main = ctx.sweep(dir, "broken omega sweep", base, &o)?;
+    let ot = SweepOptions {
+        sim: crate::runner::twin_sim(sim),
+        sections: vec![Sec::Strobe],
+        ..o.clone()
+    };
+    let twin = ctx.sweep(dir, "broken omega sweep, twin", base, &ot)?;
     // the seed does not state the load: the same sweep, coarser, at two other loads
     let mut others = Vec::new();
     let ns = ctx.n(8, 40);
@@ -180,6 +191,7 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Frequenc
         load: base.params().load,
         main,
         others,
+        twin,
     })
 }
 
@@ -200,7 +212,13 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         &interval_header("omega"),
         interval_rows(&classes::intervals(&pts)),
     )?;
-    let st = FreqStats::of(&pts);
+    let fragile = classes::fragile(&pts, &classes::fixed_points(&data.twin));
+    let decided: Vec<Pt> = pts
+        .iter()
+        .filter(|p| !fragile.contains(&p.value))
+        .cloned()
+        .collect();
+    let st = FreqStats::of(&decided);
     let others: Vec<(f64, FreqStats)> = data
         .others
         .iter()
@@ -209,14 +227,18 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
     let sens = sensitivity_table(ctx, dir, fload, &st, &others)?;
     let mut claims = claims(fload, &st, &others);
     crate::readings::note_transients(&mut claims, &pts, "omega", "revolutions");
+    crate::readings::note_fragile(&mut claims, &fragile, "omega");
     Ok(Section {
         id: "frequency_sweep".into(),
         title: "Bifurcation over the mesh frequency omega (F = 0.1)".into(),
         seed_ref: "000 ¶10; 001 §3 (bifurcation over the meshing frequency); 002 §5.3 (table)".into(),
         parameters: format!("omega in [0.1, 3] ({nw} values), F = {} (the preset's load; the seed does not state it — the statements are also checked at F = 0.05 and 0.15 with {ns} values), xi = 0.05, initial state (0, 0)", f(fload)),
-        method: format!("Dormand–Prince 5(4), {} + {} revolutions per value, decided classification.", sim.transient_periods, sim.record_periods),
+        method: format!("Dormand–Prince 5(4), {} + {} revolutions per value, decided classification; a twin sweep with the other integrator (RK4 with 256 steps per mesh cycle for Dormand–Prince) and twice the transient flags the values whose verdict changes.", sim.transient_periods, sim.record_periods),
         figures: vec![fig],
-        readings: vec![format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2))],
+        readings: vec![
+            format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2)),
+            crate::readings::fragile_reading(&fragile, pts.len(), "omega"),
+        ],
         tables: vec![table, sens],
         claims,
         alternatives: vec![],

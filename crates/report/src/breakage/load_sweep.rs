@@ -181,7 +181,7 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
             figures: vec![fig_b, fig_h],
             readings: vec![
                 format!("Broken: {}.", sequence(&classes::intervals(&tolerant(&pb)), 2)),
-                fragile_reading(&fragile, pb.len()),
+                crate::readings::fragile_reading(&fragile, pb.len(), "F"),
                 format!("Healthy: {}.", sequence(&classes::intervals(&tolerant(&ph)), 2)),
             ],
             tables: vec![table, table_h],
@@ -339,18 +339,7 @@ fn load_claims(pb: &[Pt], ph: &[Pt], multi: &[Pt], fragile: &[f64]) -> Vec<Claim
         .cloned()
         .collect();
     let mut v = broken_load_claims(&decided, multi, OMEGA_LOAD);
-    if !fragile.is_empty() {
-        let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
-        let note = format!(
-            "Not counted: F = {} (the verdict changes with the integrator and a doubled transient).",
-            list.join(", ")
-        );
-        for c in &mut v {
-            if c.evidence.chars().count() + note.chars().count() < crate::claims::EVIDENCE_MAX {
-                c.evidence = format!("{} {note}", c.evidence);
-            }
-        }
-    }
+    crate::readings::note_fragile(&mut v, fragile, "F");
     v.extend([
         Claim::new(
             "With decreasing load a healthy pair goes from period 1 to period 2, a broken one becomes chaotic with back-side impact",
@@ -425,17 +414,4 @@ fn chaos_with_impacts(pb: &[Pt]) -> bool {
         .filter(|p| p.class == Class::Chaotic)
         .all(|p| p.back)
         && !chaos.is_empty()
-}
-
-/// The values whose verdict the twin sweep does not confirm, in words.
-fn fragile_reading(fragile: &[f64], n: usize) -> String {
-    if fragile.is_empty() {
-        return format!("Every one of the {n} verdicts is the same with the other integrator and twice the transient.");
-    }
-    let list: Vec<String> = fragile.iter().map(|&x| f(x)).collect();
-    format!(
-        "{} of {n} verdicts change with the other integrator and twice the transient (next to a crisis or a bifurcation), at F = {}: they are flagged, not counted as decided, in the claims on the broken pair.",
-        fragile.len(),
-        list.join(", ")
-    )
 }
