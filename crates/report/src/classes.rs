@@ -352,6 +352,16 @@ impl Pt {
             lifetime: None,
         }
     }
+
+    /// [`Pt::at`] of a period 1 named `name`, or chaotic when `name` is `chaotic` (for tests).
+    pub(crate) fn named(value: f64, name: &str) -> Pt {
+        let class = if name == "chaotic" {
+            Class::Chaotic
+        } else {
+            Class::Periodic(1)
+        };
+        Pt::at(value, class, name)
+    }
 }
 
 #[cfg(test)]

@@ -99,19 +99,13 @@ pub fn describe(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::classes::Class;
 
     fn pt(value: f64, name: &str, back: bool, max_force: f64) -> Pt {
-        let class = if name == "chaotic" {
-            Class::Chaotic
-        } else {
-            Class::Periodic(1)
-        };
         Pt {
             back,
             healthy: !back,
             max_force,
-            ..Pt::at(value, class, name)
+            ..Pt::named(value, name)
         }
     }
 

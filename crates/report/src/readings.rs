@@ -208,15 +208,9 @@ pub fn note_fragile(claims: &mut [crate::claims::Claim], fragile: &[f64], param:
 mod tests {
     /// A periodic value (`lifetime` given: transient chaos first) or a chaotic one.
     fn run_at(value: f64, name: &str, lifetime: Option<(f64, f64)>) -> crate::classes::Pt {
-        use crate::classes::{Class, Pt};
-        let class = if name == "chaotic" {
-            Class::Chaotic
-        } else {
-            Class::Periodic(1)
-        };
-        Pt {
+        crate::classes::Pt {
             lifetime,
-            ..Pt::at(value, class, name)
+            ..crate::classes::Pt::named(value, name)
         }
     }
 
