@@ -1,29 +1,45 @@
-//! Records the git commit of the build (for `run.json`), when the source is a git checkout.
-fn main() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    // (a worktree or a source tarball has no .git directory: then only this script counts,
-    // since a missing path would make cargo rerun it on every build)
-    let mut watched = false;
-    for p in ["../../.git/HEAD", "../../.git/refs/heads"] {
-        if std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join(p)
-            .exists()
-        {
-            println!("cargo:rerun-if-changed={p}");
-            watched = true;
-        }
-    }
-    if !watched {
-        println!("cargo:rerun-if-changed=build.rs");
-    }
-    if let Ok(out) = std::process::Command::new("git")
-        .args(["rev-parse", "HEAD"])
-        .current_dir(&dir)
+//! Records the git commit of the build (for `run.json`), when the source is a git checkout (a
+//! worktree too: git itself says where its HEAD and refs are).
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn git(dir: &Path, args: &[&str]) -> Option<String> {
+    let out = Command::new("git")
+        .args(args)
+        .current_dir(dir)
         .output()
-    {
-        if out.status.success() {
-            let commit = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            println!("cargo:rustc-env=GEARDYN_GIT_COMMIT={commit}");
+        .ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+fn main() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    println!("cargo:rerun-if-changed=build.rs");
+    // HEAD of this checkout, and the branch refs (loose or packed) of its repository; only paths
+    // that exist (a missing one would make cargo rerun this on every build)
+    let abs = |p: String| -> PathBuf {
+        let p = PathBuf::from(p);
+        if p.is_absolute() {
+            p
+        } else {
+            dir.join(p)
         }
+    };
+    let mut watch: Vec<PathBuf> = Vec::new();
+    if let Some(d) = git(&dir, &["rev-parse", "--git-dir"]) {
+        watch.push(abs(d).join("HEAD"));
+    }
+    if let Some(c) = git(&dir, &["rev-parse", "--git-common-dir"]) {
+        let c = abs(c);
+        watch.push(c.join("refs").join("heads"));
+        watch.push(c.join("packed-refs"));
+    }
+    for p in watch.iter().filter(|p| p.exists()) {
+        println!("cargo:rerun-if-changed={}", p.display());
+    }
+    if let Some(commit) = git(&dir, &["rev-parse", "HEAD"]) {
+        println!("cargo:rustc-env=GEARDYN_GIT_COMMIT={commit}");
     }
 }

@@ -856,7 +856,7 @@ fn branch_off(prob: &Problem<'_>, b: &mut Bifurcation, unstable: &BranchPoint) {
         |a: [f64; 2], c: [f64; 2]| (a[0] - c[0]).abs().max((a[1] - c[1]).abs()) <= 1e-6 * scale;
     let mut found: Vec<BranchOff> = Vec::new();
     for sign in [1.0, -1.0] {
-        for eps in [1e-3, 1e-2, 3e-2] {
+        for eps in [1e-3, 1e-2, 3e-2, 1e-1] {
             let start = [old.y[0] + sign * eps * v[0], old.y[1] + sign * eps * v[1]];
             let Ok(o) = prob.at(start, p, old.memory) else {
                 continue;

@@ -366,3 +366,24 @@ fn a_report_folder_and_another_commands_folder_never_mix() {
     assert_ne!(code, 0);
     assert!(err.contains("is a file, not a folder"), "{err}");
 }
+
+/// `run.json` names the commit the binary was built from: in a git checkout, the checkout's
+/// HEAD (a build stamp once stayed at the commit of a build made elsewhere for 122 commits).
+#[test]
+fn the_run_record_names_the_commit_of_the_build() {
+    let head = Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output();
+    let Some(head) = head
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    else {
+        return; // not a git checkout: nothing to compare with
+    };
+    let (_d, out) = simulated_folder("commit");
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["git_commit"].as_str(), Some(head.as_str()));
+}

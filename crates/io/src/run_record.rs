@@ -9,6 +9,10 @@ use geardyn_scenario::{ResolvedRecord, Scenario};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// The git commit the library was built from (`run.json`'s `git_commit`, a shard plan's), when
+/// it was built from a git checkout.
+pub const GIT_COMMIT: Option<&str> = option_env!("GEARDYN_GIT_COMMIT");
+
 /// The record of one run (`run.json`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunRecord {
@@ -443,7 +447,7 @@ impl RunRecord {
         RunRecord {
             swept: swept.to_vec(),
             version: env!("CARGO_PKG_VERSION").to_string(),
-            git_commit: option_env!("GEARDYN_GIT_COMMIT").map(String::from),
+            git_commit: GIT_COMMIT.map(String::from),
             kind: kind.to_string(),
             command: std::env::args().collect(),
             config: serde_json::to_value(cfg.to_value()).unwrap_or(serde_json::Value::Null),

@@ -34,7 +34,7 @@ pub fn plan(store: &Path, request: Request, shards: usize) -> Result<Planned, Sh
     let p = Plan {
         format: FORMAT.into(),
         version: env!("CARGO_PKG_VERSION").into(),
-        git_commit: option_env!("GEARDYN_GIT_COMMIT").map(String::from),
+        git_commit: geardyn_io::run_record::GIT_COMMIT.map(String::from),
         config_hash: request_hash(&request),
         dims,
         shape,

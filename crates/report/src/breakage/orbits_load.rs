@@ -126,33 +126,65 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &OrbitsLoadData) -> Result<Sec
     })
 }
 
+/// Two summaries alike to this relative difference (largest mesh force, P_ID) describe one
+/// motion.
+const SAME_MOTION: f64 = 1e-6;
+
 /// A pitchfork in words: the multiplier through +1 and the two orbits that branch off, with
-/// their labels and mesh periods (a symmetric pair: the mesh clock of the new orbits doubles
-/// where that of the old one does not).
+/// their labels and mesh periods. On the broken pair the two are one motion seen at two phases
+/// of the mesh clock (equal label, forces and P_ID; the referee shifted one by two mesh cycles
+/// onto the other): the mesh-cycle motion doubles its period, which the revolution map, with its
+/// even number of mesh cycles, sees as a pitchfork.
 fn pitchfork_text(b: &Scenario, x: &geardyn_analysis::orbit_branches::Bifurcation) -> String {
-    let new: Vec<String> = x
+    let at = |p: f64, o: &geardyn_analysis::orbits::Orbit| {
+        b.with("F", p)
+            .ok()
+            .and_then(|s| describe_orbit(s.model(), o, 0.0).ok())
+    };
+    let old = at(x.param, &x.orbit);
+    let new: Vec<_> = x
         .branches
         .iter()
-        .map(|n| {
-            let what = b
-                .with("F", n.param)
-                .ok()
-                .and_then(|s| describe_orbit(s.model(), &n.orbit, 0.0).ok())
-                .map_or_else(String::new, |d| match d.mesh_period {
-                    Some(m) => format!(" {} ({m} mesh cycles)", d.label),
-                    None => format!(" {}", d.label),
-                });
+        .map(|n| (n, at(n.param, &n.orbit)))
+        .collect();
+    let mesh = |d: &Option<geardyn_analysis::simulate::Summary>| {
+        d.as_ref()
+            .and_then(|d| d.mesh_period)
+            .map_or(String::new(), |m| format!(" ({m} mesh cycles)"))
+    };
+    let listed: Vec<String> = new
+        .iter()
+        .map(|(n, d)| {
             format!(
-                "x = {}{what} ({}, |multiplier| {})",
+                "x = {}{}{} ({}, |multiplier| {})",
                 f(n.orbit.y[0]),
+                d.as_ref()
+                    .map_or(String::new(), |d| format!(" {}", d.label)),
+                mesh(d),
                 if n.orbit.stable { "stable" } else { "unstable" },
                 f(n.orbit.multipliers[0].abs())
             )
         })
         .collect();
+    let alike = match &new[..] {
+        [(_, Some(a)), (_, Some(c))] => {
+            let close =
+                |u: f64, v: f64| (u - v).abs() <= SAME_MOTION * u.abs().max(v.abs()).max(1.0);
+            a.label == c.label && close(a.max_force, c.max_force) && close(a.p_id, c.p_id)
+        }
+        _ => false,
+    };
+    let what = if alike {
+        format!(
+            "one motion at two phases of the mesh clock (equal label, largest mesh force and P_ID): the mesh-cycle motion of the old orbit{} doubles its period, which the revolution map sees as a pitchfork",
+            mesh(&old)
+        )
+    } else {
+        "a symmetric pair (equal multipliers)".to_string()
+    };
     format!(
-        "a pitchfork: a real multiplier crosses +1 while the branch goes on in F (no fold, no contact event changes) and two new orbits of the same period branch off at F = {}, one on each side of the old one with equal multipliers (a symmetric pair): {}",
+        "a pitchfork of the revolution map: a real multiplier crosses +1 while the branch goes on in F (no fold, no contact event changes) and two new orbits of the same period branch off at F = {}, one on each side of the old one: {}; {what}",
         f(x.branches.first().map_or(x.param, |n| n.param)),
-        new.join(" and ")
+        listed.join(" and ")
     )
 }
