@@ -16,6 +16,7 @@ pub mod geometry;
 pub mod lubrication;
 pub mod mesh_stiffness;
 pub mod pair;
+pub mod planetary;
 pub mod presets;
 pub mod tooth;
 
