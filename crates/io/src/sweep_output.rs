@@ -146,6 +146,8 @@ pub fn plot_bifurcation(
     let mut groups: BTreeMap<String, BTreeMap<Section, Vec<(f64, f64)>>> = BTreeMap::new();
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut tle: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    // runs per name that reached it after transient chaos (the legend counts them)
+    let mut transients: BTreeMap<String, usize> = BTreeMap::new();
     for r in results {
         for run in &r.runs {
             let key = if sweep {
@@ -154,6 +156,12 @@ pub fn plot_bifurcation(
                 run_name(run)
             };
             *counts.entry(key.clone()).or_default() += 1;
+            if matches!(
+                run.motion,
+                geardyn_analysis::classify::Motion::TransientChaos { .. }
+            ) {
+                *transients.entry(key.clone()).or_default() += 1;
+            }
             let g = groups.entry(key.clone()).or_default();
             for &(sec, x, v) in &run.points {
                 let y = if sec == Section::Strobe { x } else { v };
@@ -226,7 +234,10 @@ pub fn plot_bifurcation(
     }
     let legend = colored
         .iter()
-        .map(|(n, c, _)| LegendEntry::dot(n.clone(), *c))
+        .map(|(n, c, _)| match transients.get(n) {
+            Some(k) => LegendEntry::dot(format!("{n}, {k} after transient chaos"), *c),
+            None => LegendEntry::dot(n.clone(), *c),
+        })
         .collect();
     let legend_title = if sweep { "branch" } else { "motion" };
     write_sweep_figure(stem, title, param, results, panels, legend, legend_title)
