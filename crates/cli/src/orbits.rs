@@ -215,8 +215,11 @@ fn parse_two(s: &str) -> Result<(f64, f64)> {
     }
     let lo: f64 = parts[0].trim().parse().map_err(|_| bad())?;
     let hi: f64 = parts[1].trim().parse().map_err(|_| bad())?;
-    if !(lo.is_finite() && hi.is_finite()) || lo == hi {
+    if !(lo.is_finite() && hi.is_finite()) {
         return Err(bad());
+    }
+    if lo == hi {
+        anyhow::bail!("bad --range {s:?}: START and STOP are equal; a continuation needs two different values");
     }
     Ok((lo, hi))
 }
