@@ -32,6 +32,7 @@ mod claims;
 mod classes;
 mod classic;
 mod coexisting;
+mod deep_escape;
 mod html;
 mod internal;
 mod interpretations;

@@ -152,6 +152,36 @@ fn broken_pair_transient_chaos_settles_on_its_orbit() {
     assert!(e.escaped >= 1 && e.orbits[0].period == 1, "{e:?}");
 }
 
+/// The broken pair at F = 0.1, omega = 2.025, from rest: its own trajectory settles on `1-20-0`
+/// after about 39 300 revolutions (issue 48). The saddle's lifetime is of order 10^5 revolutions
+/// (three escapes in 3.9e5 copy-revolutions over two ensembles, 2026-11-29), beyond what the
+/// default test's 20 000 copy-revolutions can see (it reports chaos with lifetimes below 6 700
+/// excluded, which is true); a test of 64 copies at a 100 000-period horizon (the report's
+/// deeper test) sees copies leak: transient chaos, then `1-20-0`.
+#[test]
+fn broken_pair_long_transient_at_2_025_leaks_to_its_orbit_under_a_deeper_test() {
+    let mut spec = ScenarioSpec::preset("breakage").unwrap();
+    spec.set("omega", 2.025).unwrap();
+    spec.set("F", 0.1).unwrap();
+    let sc = spec.resolve().unwrap();
+    let opts = SimOptions {
+        decision_periods: 100_000,
+        decision_budget: 4_000_000_000,
+        escape: EscapeSettings {
+            copies: 64,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(sc.model(), [0.0, 0.0], &opts, Decide::default()).unwrap();
+    let lifetime = common::transient_lifetime(&s, 1, "1-20-0");
+    // one escape in 64 x 3 128 copy-revolutions: the estimate is the exposure, +-100 %
+    assert!((2.0e4..1.0e6).contains(&lifetime), "{lifetime}");
+    let e = s.escape.unwrap();
+    assert!(e.escaped >= 1 && e.orbits[0].period == 1, "{e:?}");
+    assert!(s.healthy);
+}
+
 /// Without the test (`copies` = 0) the decision follows the run to the horizon as before.
 #[test]
 fn escape_test_off_follows_to_the_horizon() {

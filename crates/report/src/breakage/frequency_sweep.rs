@@ -150,6 +150,10 @@ pub(super) struct FrequencyData {
     /// The main sweep again with the other integrator and twice the transient
     /// ([`crate::runner::twin_sim`]): values whose verdict changes are not counted as decided.
     twin: Vec<TaskResult>,
+    /// Some chaotic values of the main sweep decided again by a deeper escape test
+    /// ([`crate::deep_escape`]): their verdict replaces the main sweep's.
+    #[serde(default)]
+    deep: Vec<TaskResult>,
 }
 
 crate::runner::study!(FrequencySweep { base: &'a Scenario } "frequency_sweep" FrequencyData,
@@ -169,6 +173,8 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Frequenc
         ..o.clone()
     };
     let twin = ctx.sweep(dir, "broken omega sweep, twin", base, &ot)?;
+    let deep =
+        crate::deep_escape::recheck(ctx, dir, "broken omega sweep", base, &o, &main, ctx.n(2, 6))?;
     // the seed does not state the load: the same sweep, coarser, at two other loads
     let mut others = Vec::new();
     let ns = ctx.n(8, 40);
@@ -192,13 +198,16 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Frequenc
         main,
         others,
         twin,
+        deep,
     })
 }
 
 /// The diagram, the tables and the seed's frequency statements at the three loads.
 pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Section> {
     let (nw, ns, sim, secs, fload) = (data.nw, data.ns, data.sim, &data.secs, data.load);
-    let r = &data.main;
+    // the figure and the claims read the deeper decisions where there are some; the twin's
+    // comparison is between the two ordinary decisions
+    let r = &crate::deep_escape::substituted(&data.main, &data.deep);
     let fig = sweep_figure(
         ctx, dir, "bif_omega", "omega", r, secs,
         &SweepPanels { impact_force: true, ..Default::default() },
@@ -212,7 +221,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         &interval_header("omega"),
         interval_rows(&classes::intervals(&pts)),
     )?;
-    let fragile = classes::fragile(&pts, &classes::fixed_points(&data.twin));
+    let fragile = classes::fragile(
+        &classes::fixed_points(&data.main),
+        &classes::fixed_points(&data.twin),
+    );
     let decided: Vec<Pt> = pts
         .iter()
         .filter(|p| !fragile.contains(&p.value))
@@ -238,7 +250,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &FrequencyData) -> Result<Sect
         readings: vec![
             format!("Sequence: {}.", sequence(&classes::intervals(&tolerant(&pts)), 2)),
             crate::readings::fragile_reading(&fragile, pts.len(), "omega"),
-        ],
+        ]
+        .into_iter()
+        .chain(crate::deep_escape::reading(&data.deep, "omega", "revolutions"))
+        .collect(),
         tables: vec![table, sens],
         claims,
         alternatives: vec![],

@@ -44,6 +44,10 @@ pub(super) struct LoadSweepData {
     /// The broken pair's sweep again with the other integrator and twice the transient
     /// ([`crate::runner::twin_sim`]): values whose verdict changes are not counted as decided.
     twin: Vec<TaskResult>,
+    /// Some chaotic values of the broken pair's sweep decided again by a deeper escape test
+    /// ([`crate::deep_escape`]): their verdict replaces the sweep's.
+    #[serde(default)]
+    deep: Vec<TaskResult>,
 }
 
 /// The loads and initial states per load of the multi-initial runs that find the coexisting
@@ -112,6 +116,8 @@ pub(super) fn compute(
         ..o.clone()
     };
     let twin = ctx.sweep(dir, "broken F sweep, twin", &b, &ot)?;
+    let deep =
+        crate::deep_escape::recheck(ctx, dir, "broken F sweep", &b, &o, &broken, ctx.n(2, 6))?;
     Ok(LoadSweepData {
         nf,
         sim,
@@ -121,13 +127,17 @@ pub(super) fn compute(
         healthy,
         multi,
         twin,
+        deep,
     })
 }
 
 /// The figures, interval tables, readings and claims of the load sweeps.
 pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Section> {
     let (nf, sim, cycles, secs) = (data.nf, data.sim, data.cycles, &data.secs);
-    let (rb, rh) = (&data.broken, &data.healthy);
+    // the figure and the claims read the deeper decisions where there are some; the twin's
+    // comparison is between the two ordinary decisions
+    let rb = &crate::deep_escape::substituted(&data.broken, &data.deep);
+    let rh = &data.healthy;
     let panels = SweepPanels {
         impact_force: true,
         max_force: true,
@@ -164,7 +174,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
         "intervals_F_healthy.csv",
         "Healthy pair: motion over F",
     )?;
-    let fragile = classes::fragile(&pb, &classes::fixed_points(&data.twin));
+    let fragile = classes::fragile(
+        &classes::fixed_points(&data.broken),
+        &classes::fixed_points(&data.twin),
+    );
     let mut claims = load_claims(&pb, &ph, &classes::points(&data.multi, 0), &fragile);
     crate::readings::note_transients(&mut claims, &pb, "F", "revolutions");
     Ok(Section {
@@ -183,7 +196,10 @@ pub(super) fn render(ctx: &Ctx, dir: &Path, data: &LoadSweepData) -> Result<Sect
                 format!("Broken: {}.", sequence(&classes::intervals(&tolerant(&pb)), 2)),
                 crate::readings::fragile_reading(&fragile, pb.len(), "F"),
                 format!("Healthy: {}.", sequence(&classes::intervals(&tolerant(&ph)), 2)),
-            ],
+            ]
+            .into_iter()
+            .chain(crate::deep_escape::reading(&data.deep, "F", "revolutions"))
+            .collect(),
             tables: vec![table, table_h],
             claims,
             alternatives: vec![],
