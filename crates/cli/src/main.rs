@@ -4,6 +4,7 @@ mod bench;
 mod bifurcation;
 mod global;
 mod lyapunov;
+mod modes;
 mod orbits;
 mod report;
 mod run_config;
@@ -74,6 +75,11 @@ enum Command {
     // negative values after a space (`--phase -0.1`) are values, not flags
     #[command(allow_negative_numbers = true)]
     Map2d(global::MapArgs),
+    /// Natural frequencies, mode shapes (rigid-body, rotational, planet modes with their
+    /// multiplicity) and Campbell resonances of a gear train: --preset planetary (default),
+    /// two-stage or pair, or --system FILE.
+    #[command(allow_negative_numbers = true)]
+    Modes(modes::ModesArgs),
     /// Measure integrator and sweep speed on case C1 and print the figures.
     Bench(bench::BenchArgs),
     /// Plan a map2d or bifurcation in shards over a Zarr store, to run on many machines
@@ -134,6 +140,7 @@ fn main() {
         Command::Orbits(args) => orbits::run(args, started),
         Command::Signals(args) => signals::run(args, started),
         Command::Map2d(args) => global::map_cmd(args, started),
+        Command::Modes(args) => modes::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Plan(args) => shard::plan(args),
         Command::RunShard(args) => shard::run_shard(args),

@@ -34,6 +34,12 @@ impl ConfigArgs {
     pub fn config(&self) -> Result<Config> {
         let mut c = match (&self.preset, &self.config) {
             (_, Some(path)) => Config::from_file(path)?,
+            (Some(name), None)
+                if geardyn_train::presets::NAMES.contains(&name.as_str())
+                    && Config::preset(name).is_err() =>
+            {
+                anyhow::bail!("--preset {name} is a gear train: `geardyn modes --preset {name}` computes its modes and Campbell diagram; its nonlinear analyses (this command) are not available for trains yet")
+            }
             (Some(name), None) => Config::preset(name)?,
             (None, None) => Config::preset("classic")?,
         };
