@@ -81,9 +81,13 @@ fn runaway_scale<S: GearSystem<N>, const N: usize>(sys: &S) -> f64 {
 }
 
 /// The largest mesh displacement `|x_k|` of state `y` (NaN if any is).
-fn largest_mesh_displacement<S: GearSystem<N>, const N: usize>(sys: &S, y: &[f64; N]) -> f64 {
+fn largest_mesh_displacement<S: GearSystem<N>, const N: usize>(
+    sys: &S,
+    t: f64,
+    y: &[f64; N],
+) -> f64 {
     (0..sys.mesh_count()).fold(0.0, |m: f64, k| {
-        let x = sys.mesh_state(y, k)[0].abs();
+        let x = sys.mesh_state(t, y, k)[0].abs();
         if x.is_nan() || m.is_nan() {
             f64::NAN
         } else {
@@ -345,7 +349,8 @@ impl<'m, S: Engine<N>, const N: usize> Decision<'m, S, N> {
         let strict = opts.method.period_tol();
         match self.wait {
             Wait::Follow { k, record, last } => {
-                let x = largest_mesh_displacement(self.model, &res2.final_state.1);
+                let x =
+                    largest_mesh_displacement(self.model, res2.final_state.0, &res2.final_state.1);
                 let scale = runaway_scale(self.model);
                 // (NaN counts as runaway too)
                 if x.is_nan() || x > DIVERGED_SCALES * scale {

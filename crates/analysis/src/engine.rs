@@ -83,3 +83,9 @@ pub trait Engine<const N: usize>: GearSystem<N> + TangentSpace<N> {
 }
 
 impl Engine<4> for geardyn_model::reference::TwoMassClearance {}
+
+/// A gear train's dynamic model runs every analysis on the default engine (no lanes yet).
+impl<const N: usize> Engine<N> for geardyn_train::dynamics::TrainModel<N> where
+    geardyn_train::dynamics::TrainModel<N>: TangentSpace<N>
+{
+}

@@ -751,7 +751,8 @@ where
         }
         y = std::array::from_fn(|i| y[i] + dy[i]);
     }
-    let [x, v] = sys.mesh_state(&y, 0);
+    // (the orbit's map starts at tau = 0)
+    let [x, v] = sys.mesh_state(0.0, &y, 0);
     Err(OrbitError::NoConvergence {
         period: o.period,
         x,

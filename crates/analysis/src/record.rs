@@ -424,7 +424,7 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
                     res.strobe
                         .iter()
                         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                            let x = self.sys.mesh_state(&p.y, k)[0];
+                            let x = self.sys.mesh_state(p.tau, &p.y, k)[0];
                             (lo.min(x), hi.max(x))
                         });
             }
@@ -454,7 +454,7 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
 
     fn push_traj(&mut self, k: usize, tau: f64, y: &[f64; N], f: f64, mode: &S::Mode) {
         if self.traj_on() {
-            let [x, v] = self.sys.mesh_state(y, k);
+            let [x, v] = self.sys.mesh_state(tau, y, k);
             let state = self.sys.contact(mode, k).code();
             self.res.meshes[k].trajectory.push(TrajectoryPoint {
                 tau,
@@ -485,7 +485,7 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
         let mut xs = [0.0; 5];
         let mut fs = [0.0; 5];
         for (j, &th) in ths.iter().enumerate() {
-            xs[j] = self.sys.mesh_state(&ys[j], k)[0];
+            xs[j] = self.sys.mesh_state(t0 + th * dt, &ys[j], k)[0];
             if contact {
                 // the start of a step continues the end of the previous one (same mode, no reset)
                 fs[j] = match self.last_end {
@@ -522,8 +522,8 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
     /// Level crossings of mesh `k` on a step (its `x` is continuous within it).
     fn count_crossings(&mut self, k: usize, step: &Step<N>) {
         let (t0, t1) = (step.t0, step.t1);
-        let x0 = self.sys.mesh_state(&step.y0(), k)[0];
-        let x1 = self.sys.mesh_state(&step.y1(), k)[0];
+        let x0 = self.sys.mesh_state(t0, &step.y0(), k)[0];
+        let x1 = self.sys.mesh_state(t1, &step.y1(), k)[0];
         let lv = self.levels[k];
         for (i, &level) in lv.levels.iter().enumerate() {
             if !lv.count[i] {
@@ -535,7 +535,7 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
                 // locate on the interpolant for the section point
                 let sys = &self.sys;
                 let br = geardyn_solvers::root::illinois(
-                    |t| sys.mesh_state(&step.interpolate(t), k)[0] - level,
+                    |t| sys.mesh_state(t, &step.interpolate(t), k)[0] - level,
                     t0,
                     x0 - level,
                     t1,
@@ -543,7 +543,7 @@ impl<S: GearSystem<N>, const N: usize> Recorder<S, N> {
                     1e-13 * t1.abs().max(1.0),
                     |g| if up { g > 0.0 } else { g < 0.0 },
                 );
-                let v = self.sys.mesh_state(&step.interpolate(br.b), k)[1];
+                let v = self.sys.mesh_state(br.b, &step.interpolate(br.b), k)[1];
                 self.res.meshes[k].crossings.push(Crossing {
                     level: Level::ALL[i],
                     tau: br.b,
@@ -646,7 +646,7 @@ impl<S: GearSystem<N>, const N: usize> Observer<S, N> for Recorder<S, N> {
         }
         if let Stop::Event { index } = stop {
             let (k, kind) = self.sys.event(before, after, index);
-            let [x, v_before] = self.sys.mesh_state(&y1, k);
+            let [x, v_before] = self.sys.mesh_state(t1, &y1, k);
             let peak = if kind == EventKind::Impact {
                 self.res.meshes[k].impacts += 1;
                 let p = self.sys.impact_peak_force(k, v_before);
@@ -656,7 +656,7 @@ impl<S: GearSystem<N>, const N: usize> Observer<S, N> for Recorder<S, N> {
                 0.0
             };
             let u = self.sys.cycle_position(t1);
-            let v_after = self.sys.mesh_state(y_after, k)[1];
+            let v_after = self.sys.mesh_state(t1, y_after, k)[1];
             self.res.meshes[k].events.push(EventRecord {
                 tau: t1,
                 cycle_position: u,
@@ -692,7 +692,7 @@ impl<S: GearSystem<N>, const N: usize> Observer<S, N> for Recorder<S, N> {
                         side
                     };
                     self.counts[k][i] += 1;
-                    let [x, v] = self.sys.mesh_state(&y1, k);
+                    let [x, v] = self.sys.mesh_state(t1, &y1, k);
                     self.res.meshes[k].crossings.push(Crossing {
                         level: Level::ALL[i],
                         tau: t1,

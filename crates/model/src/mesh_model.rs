@@ -916,7 +916,7 @@ impl crate::system::GearSystem<2> for MeshModel {
         2.0 * PI / self.peak_stiffness().max(1.0).sqrt()
     }
     #[inline(always)]
-    fn mesh_state(&self, y: &[f64; 2], _k: usize) -> [f64; 2] {
+    fn mesh_state(&self, _t: f64, y: &[f64; 2], _k: usize) -> [f64; 2] {
         *y
     }
     #[inline(always)]

@@ -387,7 +387,7 @@ impl crate::system::GearSystem<4> for TwoMassClearance {
         2.0 * std::f64::consts::PI / self.natural_frequencies()[1]
     }
     #[inline(always)]
-    fn mesh_state(&self, y: &[f64; 4], k: usize) -> [f64; 2] {
+    fn mesh_state(&self, _t: f64, y: &[f64; 4], k: usize) -> [f64; 2] {
         let (u, v) = Self::rel(y, k);
         [u, v]
     }

@@ -72,7 +72,7 @@ use geardyn_solvers::Variational;
 /// impl GearSystem<2> for Backlash {
 ///     fn excitation_period(&self) -> f64 { std::f64::consts::TAU }
 ///     fn natural_period(&self) -> f64 { std::f64::consts::TAU }
-///     fn mesh_state(&self, y: &[f64; 2], _k: usize) -> [f64; 2] { *y }
+///     fn mesh_state(&self, _t: f64, y: &[f64; 2], _k: usize) -> [f64; 2] { *y }
 ///     fn mesh_force(&self, _t: f64, y: &[f64; 2], m: &ContactState, _k: usize) -> f64 {
 ///         match m { ContactState::Drive => y[0] - 1.0, ContactState::Back => y[0] + 1.0, _ => 0.0 }
 ///     }
@@ -130,9 +130,10 @@ pub trait GearSystem<const N: usize>: Variational<N> + Clone + Sync {
     /// a drawn trajectory samples it finely enough. `f64::INFINITY` if unknown.
     fn natural_period(&self) -> f64;
 
-    /// Relative displacement and velocity `[x_k, x_k']` of mesh `k` along its line of action
-    /// (units `b_c`, `b_c omega_n`; drive-side contact at `x_k >= D`).
-    fn mesh_state(&self, y: &[f64; N], k: usize) -> [f64; 2];
+    /// Relative displacement and velocity `[x_k, x_k']` of mesh `k` along its line of action at
+    /// time `t` (units `b_c`, `b_c omega_n`; drive-side contact at `x_k >= D`): the deflection of
+    /// the mesh, which depends on time where a transmission error excites it.
+    fn mesh_state(&self, t: f64, y: &[f64; N], k: usize) -> [f64; 2];
 
     /// Dynamic mesh force of mesh `k` in `mode` (units `k_av b_c`; 0 when separated).
     fn mesh_force(&self, t: f64, y: &[f64; N], mode: &Self::Mode, k: usize) -> f64;
@@ -172,7 +173,7 @@ impl<S: GearSystem<N>, const N: usize> GearSystem<N> for &S {
         fn mesh_cycle_time(&self) -> f64;
         fn cycle_position(&self, t: f64) -> f64;
         fn natural_period(&self) -> f64;
-        fn mesh_state(&self, y: &[f64; N], k: usize) -> [f64; 2];
+        fn mesh_state(&self, t: f64, y: &[f64; N], k: usize) -> [f64; 2];
         fn mesh_force(&self, t: f64, y: &[f64; N], mode: &S::Mode, k: usize) -> f64;
         fn contact(&self, mode: &S::Mode, k: usize) -> ContactState;
         fn backlash_levels(&self, k: usize) -> (f64, f64);

@@ -16,8 +16,10 @@
 
 use core::fmt::Debug;
 
-/// Most guard functions one mode may arm (stack buffers in the integrator are this long).
-pub const MAX_GUARDS: usize = 4;
+/// Most guard functions one mode may arm (stack buffers in the integrator are this long): a gear
+/// train of 24 meshes, all separated, arms two each. The integrator reuses its two buffers by
+/// index, so the length costs no time per step.
+pub const MAX_GUARDS: usize = 48;
 
 /// Crossing direction in which a guard fires.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -95,6 +95,10 @@ pub struct Mesh {
     pub base_radii_mm: [f64; 2],
     /// Mean mesh stiffness (N/m).
     pub stiffness_n_per_m: f64,
+    /// Contact ratio in `[1, 2)`: the double-tooth part of a mesh cycle is `contact_ratio - 1`
+    /// (the rectangular stiffness of the dynamic model).
+    #[serde(default = "default_contact_ratio")]
+    pub contact_ratio: f64,
     /// The carrier whose rotation carries the gears' axes (a planet's carrier), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub carrier: Option<String>,
@@ -137,6 +141,10 @@ pub struct Load {
     pub output: String,
     /// Input torque (N m).
     pub input_torque_nm: f64,
+}
+
+fn default_contact_ratio() -> f64 {
+    1.6
 }
 
 fn finite_positive(field: String, v: f64, unit: &str) -> Result<(), TrainError> {
@@ -275,6 +283,13 @@ impl TrainSpec {
                 m.stiffness_n_per_m,
                 "N/m",
             )?;
+            if !(m.contact_ratio.is_finite() && (1.0..2.0).contains(&m.contact_ratio)) {
+                return Err(invalid(
+                    format!("mesh[{i}].contact_ratio"),
+                    m.contact_ratio,
+                    "[1, 2)",
+                ));
+            }
             if !(0.0..1.0).contains(&m.phase) {
                 return Err(invalid(
                     format!("mesh[{i}].phase"),

@@ -24,6 +24,7 @@
 
 pub mod campbell;
 pub mod description;
+pub mod dynamics;
 pub mod error;
 pub mod kinematics;
 pub mod linear;

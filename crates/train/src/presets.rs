@@ -246,6 +246,7 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             teeth: [p.sun, p.planet],
             base_radii_mm: [sp.geom.rb1 * 1e3, sp.geom.rb2 * 1e3],
             stiffness_n_per_m: sp.k_av,
+            contact_ratio: sp.geom.eps,
             carrier: Some("carrier".into()),
             phase: stage.sun_planet_phase(n),
         });
@@ -256,6 +257,7 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             teeth: [p.planet, p.ring],
             base_radii_mm: [rp.geom.rb1 * 1e3, rp.geom.rb2 * 1e3],
             stiffness_n_per_m: rp.k_av,
+            contact_ratio: rp.geom.eps,
             carrier: Some("carrier".into()),
             phase: stage.ring_planet_phase(n),
         });
@@ -403,6 +405,7 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
         teeth: z,
         base_radii_mm: [m.geom.rb1 * 1e3, m.geom.rb2 * 1e3],
         stiffness_n_per_m: m.k_av,
+        contact_ratio: m.geom.eps,
         carrier: None,
         phase: 0.0,
     };
@@ -457,6 +460,7 @@ pub fn single_pair() -> Result<TrainSpec, TrainError> {
             teeth: [s.z1, s.z2],
             base_radii_mm: [m.geom.rb1 * 1e3, m.geom.rb2 * 1e3],
             stiffness_n_per_m: m.k_av,
+            contact_ratio: m.geom.eps,
             carrier: None,
             phase: 0.0,
         }],

@@ -25,3 +25,4 @@ mod orbits_system;
 mod shards;
 mod strobe_only;
 mod system;
+mod trains;

@@ -341,7 +341,7 @@ fn a_decision_needs_a_record_and_a_run_needs_a_mesh() {
         fn natural_period(&self) -> f64 {
             f64::INFINITY
         }
-        fn mesh_state(&self, y: &[f64; 1], _k: usize) -> [f64; 2] {
+        fn mesh_state(&self, _t: f64, y: &[f64; 1], _k: usize) -> [f64; 2] {
             [y[0], 0.0]
         }
         fn mesh_force(&self, _t: f64, _y: &[f64; 1], _m: &(), _k: usize) -> f64 {

@@ -1,0 +1,212 @@
+//! Gear trains through the analyses (issue 49): the single pair written as a train against the
+//! pair model, energy conservation of the undamped train, the planetary stage's static load
+//! sharing and cyclic symmetry, and its linearisation against its modes.
+
+use geardyn_analysis::classify::{simulate_decided, Decide};
+use geardyn_analysis::simulate::{simulate, Method, SimOptions};
+use geardyn_model::{presets, GearSystem, MeshModel};
+use geardyn_solvers::HybridSystem;
+use geardyn_train::dynamics::{MeshStiffness, TrainModel, TrainOperating};
+use geardyn_train::presets as trains;
+use geardyn_train::{ModeKind, Modes};
+
+/// Case C1 (the `classic` preset: harmonic stiffness 0.2, `xi = 0.2`, `c = 0.1`, `D = 1`,
+/// `F = 0.1`) as the operating point of a one-mesh train.
+fn c1(omega: f64) -> TrainOperating {
+    TrainOperating {
+        omega,
+        load: 0.1,
+        xi: 0.2,
+        c: 0.1,
+        d: 1.0,
+        stiffness: MeshStiffness::Harmonic { kappa: 0.2 },
+    }
+}
+
+/// The train's state whose mesh deflection is `[x, v]` at `t = 0` (one mesh: `b = +-1`).
+fn train_state(m: &TrainModel<2>, x: f64, v: f64) -> [f64; 2] {
+    let e = m.mesh_state(0.0, &[0.0, 0.0], 0);
+    let b = m.mesh_state(0.0, &[1.0, 0.0], 0)[0] - e[0];
+    [(x - e[0]) / b, (v - e[1]) / b]
+}
+
+/// The single pair written as a train (its own coordinates, its own mesh law in matrix form)
+/// gives the pair model's stroboscopic points, mesh forces and labels at the same operating
+/// point (the acceptance of issue 49), periodic and with back-side contacts.
+#[test]
+fn the_pair_as_a_train_reproduces_the_pair_model() {
+    let spec = trains::single_pair().unwrap();
+    let opts = SimOptions::default();
+    for omega in [0.8, 1.0, 2.6] {
+        let mut p = presets::classic();
+        p.omega = omega;
+        let pair = MeshModel::new(&p).unwrap();
+        let train = TrainModel::<2>::new(&spec, &c1(omega)).unwrap();
+        assert_eq!(train.excitation_period(), pair.excitation_period());
+        let (rp, sp, _) = simulate_decided(&pair, [0.0, 0.0], &opts, Decide::default()).unwrap();
+        let y0 = train_state(&train, 0.0, 0.0);
+        let (rt, st, _) = simulate_decided(&train, y0, &opts, Decide::default()).unwrap();
+        assert_eq!(st.label, sp.label, "omega {omega}");
+        // (force extremes are located on samples of each step, and the pair limits its steps
+        // where the train does not: to 1e-4; the stroboscopic points below to 1e-6)
+        assert!(
+            (st.max_force - sp.max_force).abs() < 1e-4 * sp.max_force,
+            "omega {omega}: {} {} {} {}",
+            st.max_force,
+            sp.max_force,
+            st.label,
+            sp.motion.describe()
+        );
+        assert!((st.min_force - sp.min_force).abs() < 1e-4 * sp.max_force);
+        let n = rp.strobe.len().min(rt.strobe.len());
+        assert!(n > 10);
+        for (a, b) in rp.strobe[rp.strobe.len() - n..]
+            .iter()
+            .zip(&rt.strobe[rt.strobe.len() - n..])
+        {
+            let d = train.mesh_state(b.tau, &b.y, 0);
+            assert!((a.tau - b.tau).abs() < 1e-9 * a.tau.max(1.0));
+            assert!(
+                (a.y[0] - d[0]).abs() < 1e-6 && (a.y[1] - d[1]).abs() < 1e-6,
+                "omega {omega}: {:?} {d:?}",
+                a.y
+            );
+        }
+    }
+}
+
+/// Without damping, stiffness variation, transmission error or load, the train's energy is
+/// constant along a motion through contacts and separations of every mesh: to the integrator's
+/// tolerance.
+#[test]
+fn an_undamped_constant_stiffness_train_conserves_energy() {
+    let spec = trains::planetary(&trains::PlanetaryParams::default()).unwrap();
+    let op = TrainOperating {
+        omega: 1.0,
+        load: 0.0,
+        xi: 0.0,
+        c: 0.0,
+        d: 0.5,
+        stiffness: MeshStiffness::Harmonic { kappa: 0.0 },
+    };
+    let m = TrainModel::<8>::new(&spec, &op).unwrap();
+    let opts = SimOptions {
+        method: Method::Dopri {
+            rtol: 1e-11,
+            atol: 1e-13,
+        },
+        transient_periods: 0,
+        record_periods: 200,
+        ..Default::default()
+    };
+    let mut y0 = [0.0; 8];
+    y0[0] = 3.0;
+    y0[1] = -2.0;
+    y0[3] = 1.5;
+    let r = simulate(&m, y0, &opts).unwrap();
+    let energy = |t: f64, y: &[f64; 8]| {
+        let mut y = *y;
+        let mode = m.initial_mode(t, &mut y);
+        m.energy(t, &y, &mode)
+    };
+    let e0 = energy(0.0, &y0);
+    let events: usize = r.meshes.iter().map(|x| x.events.len()).sum();
+    assert!(
+        events > 100,
+        "the meshes separate and close: {events} events"
+    );
+    for s in &r.strobe {
+        let e = energy(s.tau, &s.y);
+        assert!((e - e0).abs() < 1e-7 * e0, "{e} {e0}");
+    }
+}
+
+/// Equal planets share the load equally at mean stiffness, every mesh on its drive flank; the
+/// sun–planet and ring–planet meshes of one planet carry the same force (the planet's torque
+/// balance, equal base radii).
+#[test]
+fn the_planets_share_the_static_load_equally() {
+    let spec = trains::planetary(&trains::PlanetaryParams::default()).unwrap();
+    let m = TrainModel::<8>::new(&spec, &TrainOperating::default()).unwrap();
+    let f = m.static_forces();
+    assert_eq!(f.len(), 6);
+    for x in f {
+        assert!((x - 0.1).abs() < 1e-9, "{f:?}");
+    }
+    assert!(m.input_rpm() > 0.0);
+}
+
+/// The linearised train's natural frequencies are the modes' (a second computation: the dynamic
+/// model's elastic coordinates against the modal analysis of the bodies' rotations).
+#[test]
+fn the_dynamic_model_linearises_to_the_modes() {
+    for (spec, dof) in [
+        (
+            trains::planetary(&trains::PlanetaryParams::default()).unwrap(),
+            4,
+        ),
+        (
+            trains::two_stage(&trains::TwoStageParams::default()).unwrap(),
+            3,
+        ),
+    ] {
+        let modes = Modes::of(&spec);
+        let hz: Vec<f64> = modes
+            .modes
+            .iter()
+            .filter(|x| x.kind != ModeKind::RigidBody)
+            .map(|x| x.frequency_hz)
+            .collect();
+        assert_eq!(hz.len(), dof);
+        let w = if dof == 4 {
+            let m = TrainModel::<8>::new(&spec, &TrainOperating::default()).unwrap();
+            m.frequencies()
+                .iter()
+                .map(|f| f * m.omega_ref() / std::f64::consts::TAU)
+                .collect::<Vec<_>>()
+        } else {
+            let m = TrainModel::<6>::new(&spec, &TrainOperating::default()).unwrap();
+            m.frequencies()
+                .iter()
+                .map(|f| f * m.omega_ref() / std::f64::consts::TAU)
+                .collect::<Vec<_>>()
+        };
+        let mut w = w;
+        w.sort_by(f64::total_cmp);
+        for (a, b) in w.iter().zip(&hz) {
+            assert!((a - b).abs() < 1e-8 * b, "{w:?} {hz:?}");
+        }
+    }
+}
+
+/// Sequentially phased equal planets: each planet's meshes see the same stiffness shifted by a
+/// third of a mesh cycle, so on a periodic motion of one mesh cycle every planet's mesh force
+/// reaches the same extremes (cyclic symmetry), while each mesh's force varies.
+#[test]
+fn a_phased_planetary_stage_is_cyclically_symmetric() {
+    let spec = trains::planetary(&trains::PlanetaryParams::default()).unwrap();
+    let op = TrainOperating {
+        omega: 0.5,
+        ..TrainOperating::default()
+    };
+    let m = TrainModel::<8>::new(&spec, &op).unwrap();
+    assert_eq!(m.cycles_per_period(), 1);
+    let opts = SimOptions {
+        transient_periods: 300,
+        record_periods: 30,
+        ..Default::default()
+    };
+    let (_, s, _) = simulate_decided(&m, [0.0; 8], &opts, Decide::default()).unwrap();
+    assert_eq!(s.period, 1, "{}", s.label);
+    assert_eq!(s.meshes.len(), 6);
+    let sun: Vec<f64> = (0..3).map(|n| s.meshes[2 * n].max_force).collect();
+    let ring: Vec<f64> = (0..3).map(|n| s.meshes[2 * n + 1].max_force).collect();
+    for v in [&sun, &ring] {
+        // (each extreme is located on samples of its steps: to 1e-4 of its size)
+        assert!(
+            (v[1] - v[0]).abs() < 1e-4 * v[0] && (v[2] - v[0]).abs() < 1e-4 * v[0],
+            "{v:?}"
+        );
+        assert!(v[0] > 0.1, "{v:?}");
+    }
+}

@@ -1,0 +1,842 @@
+//! The nonlinear dynamic model of a train: every mesh with its backlash, time-varying stiffness
+//! and contact state, in the train's elastic coordinates, as a [`GearSystem`] every analysis of
+//! geardyn runs on.
+//!
+//! **Coordinates.** The bodies' rotations are `q = Omega t + P z`: the kinematic rotation at
+//! constant input speed plus the deflection `z`, expanded on the elastic modes of the
+//! mean-stiffness train ([`crate::modes`]), normalised so that `Pᵀ M P = m_ref I`. The rigid-body
+//! motion drops out exactly: no mesh, shaft or support deflects along it and the input and
+//! output torques do no net work on it (power balance), so it is not a coordinate. `m_ref` is
+//! the equivalent mass of mesh 0 (`1 / sum_j a_0j² / I_j`), `k_ref` its mean stiffness; time is
+//! `tau = omega_ref t`, `omega_ref = sqrt(k_ref / m_ref)`, and lengths are in units of `b_c`.
+//! For a single pair this is exactly the pair model of `geardyn_model` (docs/model.md).
+//!
+//! **Equations** (dimensionless; state `y = [x, x']`, `x` of the train's elastic degrees of
+//! freedom):
+//!
+//! `x'' + C_s x' + K_s x + sum_k b_k f_k = F`,
+//!
+//! with, per mesh `k`: the deflection `delta_k = b_k · x - e_k(tau)` (`b_k = Pᵀ a_k`, `a_k` the
+//! mesh's coefficients, [`crate::linear::mesh_coefficients`]; `e_k = xi cos(theta_k)` the static
+//! transmission error), the phase `theta_k = omega_k tau + 2 pi phi_k` (`omega_k` the mesh's
+//! frequency, `phi_k` its phase from the geometry), the contact force `f_k = kappa_k k_k(tau)
+//! g(delta_k) + c sqrt(kappa_k) delta_k'` in drive-side (`delta_k >= D`, `g = delta_k - D`) or
+//! back-side contact (`delta_k <= -D`, `g = delta_k + D`) and 0 when separated; `kappa_k` the
+//! mesh's mean stiffness over `k_ref`; `k_k(tau)` its relative stiffness (mean 1):
+//! `1 + kappa cos(theta_k)` or a rectangular wave of its contact ratio `eps_k` (`k_double` on
+//! the double-tooth part `[0, eps_k - 1)` of each mesh cycle, `k_double / k_single` given).
+//! Shafts and elastic supports: `K_s = Pᵀ K_shafts P / k_ref`, damped in proportion,
+//! `C_s = c K_s`. The load `F = Pᵀ T / (k_ref b_c)` is scaled so that mesh 0 carries the
+//! static force `load` (units `k_ref b_c`) at mean stiffness.
+//!
+//! **Not in this model** (the single pair's model has them): back-side impacts with
+//! restitution (trains use the continuous back-side contact), friction, nonlinear Hertz laws,
+//! tooth breakage and the pair's potential-energy stiffness tables (trains take a harmonic or
+//! rectangular stiffness of each mesh's contact ratio).
+
+use crate::description::TrainSpec;
+use crate::kinematics::Kinematics;
+use crate::linear::{mesh_coefficients, LinearModel};
+use crate::TrainError;
+use geardyn_model::{ContactState, EventKind, GearSystem};
+use geardyn_solvers::{Direction, EventAction, Guards, HybridSystem, Variational};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// Distance to its surface (relative to `max(D, 1)`) at which a mesh crosses together with the
+/// mesh whose event is being handled.
+const SIMULTANEOUS: f64 = 1e-9;
+/// Most meshes a train's dynamic model holds (11 planets: 22 meshes).
+pub const MAX_MESHES: usize = 24;
+/// Longest excitation period in mesh-0 cycles: the meshes' frequencies must have a common period
+/// within it.
+pub const MAX_CYCLES: u32 = 1000;
+
+/// Relative stiffness of each mesh over its mesh cycle (mean 1).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "form", rename_all = "snake_case")]
+pub enum MeshStiffness {
+    /// `1 + kappa cos(theta_k)`.
+    Harmonic {
+        /// Relative amplitude in `[0, 1)`.
+        kappa: f64,
+    },
+    /// Rectangular wave of the mesh's contact ratio, `ratio = k_double / k_single >= 1`.
+    Rectangular {
+        /// Double- to single-tooth stiffness.
+        ratio: f64,
+    },
+}
+
+/// The dimensionless operating point of a train (the pair model's parameters, per mesh).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrainOperating {
+    /// Mesh frequency of mesh 0 over `omega_ref` (`omega`).
+    pub omega: f64,
+    /// Static force of mesh 0 (`F`, units `k_ref b_c`).
+    pub load: f64,
+    /// Static transmission error amplitude of every mesh (`xi`, units `b_c`).
+    pub xi: f64,
+    /// Mesh damping (`c = 2 zeta` for mesh 0).
+    pub c: f64,
+    /// Half backlash of every mesh (`D`, units `b_c`).
+    pub d: f64,
+    /// Stiffness variation of every mesh.
+    pub stiffness: MeshStiffness,
+}
+
+impl Default for TrainOperating {
+    /// `omega = 1`, `F = 0.1`, `xi = 0`, `c = 0.1`, `D = 1`, rectangular stiffness of ratio 1.5
+    /// (the seeds' pair values; no transmission error, the meshes excite each other through
+    /// their stiffness).
+    fn default() -> Self {
+        TrainOperating {
+            omega: 1.0,
+            load: 0.1,
+            xi: 0.0,
+            c: 0.1,
+            d: 1.0,
+            stiffness: MeshStiffness::Rectangular { ratio: 1.5 },
+        }
+    }
+}
+
+impl TrainOperating {
+    /// The fields `set` knows.
+    pub const FIELDS: [&'static str; 7] = ["omega", "F", "xi", "c", "D", "kappa", "ratio"];
+
+    /// Set a field by its name (`kappa`: harmonic stiffness of that amplitude; `ratio`:
+    /// rectangular stiffness of that double- to single-tooth ratio), checked.
+    pub fn set(&mut self, field: &str, v: f64) -> Result<(), TrainError> {
+        match field {
+            "omega" => self.omega = v,
+            "F" => self.load = v,
+            "xi" => self.xi = v,
+            "c" => self.c = v,
+            "D" => self.d = v,
+            "kappa" => self.stiffness = MeshStiffness::Harmonic { kappa: v },
+            "ratio" => self.stiffness = MeshStiffness::Rectangular { ratio: v },
+            _ => {
+                return Err(crate::error::invalid(
+                    "--set",
+                    field,
+                    "one of omega, F, xi, c, D, kappa (harmonic stiffness), ratio (rectangular)",
+                ))
+            }
+        }
+        self.validate()
+    }
+
+    /// Ranges: `omega` in (0, 100], `F` in [0, 100], `xi` in [0, 100], `c` in [0, 10], `D` in
+    /// [0, 1e3], `kappa` in [0, 1), `ratio` in [1, 10].
+    pub fn validate(&self) -> Result<(), TrainError> {
+        let check = |f: &str, v: f64, ok: bool, allowed: &str| {
+            if v.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(crate::error::invalid(f, v, allowed))
+            }
+        };
+        check(
+            "omega",
+            self.omega,
+            self.omega > 0.0 && self.omega <= 100.0,
+            "(0, 100]",
+        )?;
+        check(
+            "F",
+            self.load,
+            (0.0..=100.0).contains(&self.load),
+            "[0, 100]",
+        )?;
+        check("xi", self.xi, (0.0..=100.0).contains(&self.xi), "[0, 100]")?;
+        check("c", self.c, (0.0..=10.0).contains(&self.c), "[0, 10]")?;
+        check("D", self.d, (0.0..=1e3).contains(&self.d), "[0, 1000]")?;
+        match self.stiffness {
+            MeshStiffness::Harmonic { kappa } => {
+                check("kappa", kappa, (0.0..1.0).contains(&kappa), "[0, 1)")
+            }
+            MeshStiffness::Rectangular { ratio } => {
+                check("ratio", ratio, (1.0..=10.0).contains(&ratio), "[1, 10]")
+            }
+        }
+    }
+}
+
+/// Per-mesh constants.
+#[derive(Clone, Debug)]
+struct MeshDyn {
+    /// `b_k` (length `dof`).
+    b: Vec<f64>,
+    /// Mean stiffness over `k_ref`.
+    kappa: f64,
+    /// Damping `c sqrt(kappa_k)`.
+    damping: f64,
+    /// Frequency over mesh 0's.
+    rate: f64,
+    /// Phase (mesh cycles).
+    phase: f64,
+    /// Double-tooth part of a cycle, `eps_k - 1`.
+    double: f64,
+}
+
+/// The discrete state: each mesh's contact, which meshes are in their double-tooth part, and
+/// the start of the current time piece.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrainMode {
+    contact: [ContactState; MAX_MESHES],
+    double: u32,
+    piece_start: f64,
+}
+
+/// Per mesh `cos` and `sin` of its phase `theta_k` at one time.
+#[derive(Clone, Copy, Debug)]
+pub struct TrainTime {
+    cos: [f64; MAX_MESHES],
+    sin: [f64; MAX_MESHES],
+}
+
+/// A train's dynamic model of state dimension `N` (twice its elastic degrees of freedom).
+#[derive(Clone, Debug)]
+pub struct TrainModel<const N: usize> {
+    names: Vec<String>,
+    meshes: Vec<MeshDyn>,
+    op: TrainOperating,
+    /// `K_s` and `C_s` (row-major, `dof x dof`).
+    k_s: Vec<f64>,
+    c_s: Vec<f64>,
+    /// `F` (length `dof`).
+    force: Vec<f64>,
+    /// Mesh-0 cycles per excitation period.
+    cycles: u32,
+    /// Shortest natural period (dimensionless).
+    natural_period: f64,
+    /// `omega_ref` (rad/s) and mesh 0's tooth passes per input revolution: the physical speed.
+    omega_ref: f64,
+    order0: f64,
+    /// The elastic modes' natural frequencies over `omega_ref`.
+    frequencies: Vec<f64>,
+    /// Static mesh forces at mean stiffness (units `k_ref b_c`).
+    static_forces: Vec<f64>,
+}
+
+/// Elastic degrees of freedom of a train (its coordinates less its rigid-body motions).
+pub fn elastic_dof(spec: &TrainSpec) -> usize {
+    crate::Modes::of(spec)
+        .modes
+        .iter()
+        .filter(|m| m.kind != crate::ModeKind::RigidBody)
+        .count()
+}
+
+/// The common period of the rates `r` in cycles of rate 1: the least `p <= MAX_CYCLES` with every
+/// `p r_k` whole.
+fn common_cycles(rates: &[f64]) -> Option<u32> {
+    (1..=MAX_CYCLES).find(|&p| {
+        rates.iter().all(|r| {
+            let x = f64::from(p) * r;
+            (x - x.round()).abs() <= 1e-9 * x.abs().max(1.0)
+        })
+    })
+}
+
+impl<const N: usize> TrainModel<N> {
+    /// The model of a validated train at `op` (`N` must be twice [`elastic_dof`]).
+    pub fn new(spec: &TrainSpec, op: &TrainOperating) -> Result<Self, TrainError> {
+        op.validate()?;
+        let kin = Kinematics::of(spec)?;
+        let lin = LinearModel::of(spec);
+        let n = lin.len();
+        let nm = spec.meshes.len();
+        if nm > MAX_MESHES {
+            return Err(crate::error::invalid(
+                "mesh",
+                nm,
+                format!("at most {MAX_MESHES} meshes"),
+            ));
+        }
+        // mass-normalised elastic modes of the mean-stiffness train
+        let inv_sqrt: Vec<f64> = lin.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
+        let a = nalgebra::DMatrix::from_fn(n, n, |i, j| {
+            lin.stiffness[(i, j)] * inv_sqrt[i] * inv_sqrt[j]
+        });
+        let a = (&a + a.transpose()) * 0.5;
+        let eig = a.symmetric_eigen();
+        let top = eig.eigenvalues.iter().cloned().fold(0.0_f64, f64::max);
+        let mut elastic: Vec<usize> = (0..n)
+            .filter(|&i| eig.eigenvalues[i] > crate::modes::FREQUENCY_TOL * top)
+            .collect();
+        elastic.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+        let dof = elastic.len();
+        if 2 * dof != N {
+            return Err(crate::error::invalid(
+                "state dimension",
+                N,
+                format!("2 x {dof} (the train's elastic degrees of freedom)"),
+            ));
+        }
+        // a_k over the coordinates
+        let coords = |m: &crate::Mesh| -> Vec<f64> {
+            let mut v = vec![0.0; n];
+            for (b, c) in mesh_coefficients(spec, m) {
+                if let Some(d) = lin.bodies.iter().position(|&x| x == b) {
+                    v[d] += c;
+                }
+            }
+            v
+        };
+        let a0 = coords(&spec.meshes[0]);
+        let m_ref = 1.0 / (0..n).map(|i| a0[i] * a0[i] / lin.mass[i]).sum::<f64>();
+        let k_ref = spec.meshes[0].stiffness_n_per_m;
+        let omega_ref = (k_ref / m_ref).sqrt();
+        // P = M^(-1/2) V_e sqrt(m_ref): column j of elastic mode j
+        let p = |i: usize, j: usize| inv_sqrt[i] * eig.eigenvectors[(i, elastic[j])] * m_ref.sqrt();
+        let project = |v: &[f64]| -> Vec<f64> {
+            (0..dof)
+                .map(|j| (0..n).map(|i| p(i, j) * v[i]).sum())
+                .collect()
+        };
+        let eps_of = |m: &crate::Mesh| m.contact_ratio;
+        let order0 = kin.mesh_orders[0];
+        let meshes: Vec<MeshDyn> = spec
+            .meshes
+            .iter()
+            .zip(&kin.mesh_orders)
+            .map(|(m, &order)| {
+                let kappa = m.stiffness_n_per_m / k_ref;
+                MeshDyn {
+                    b: project(&coords(m)),
+                    kappa,
+                    damping: op.c * kappa.sqrt(),
+                    rate: order / order0,
+                    phase: m.phase,
+                    double: eps_of(m) - 1.0,
+                }
+            })
+            .collect();
+        let rates: Vec<f64> = meshes.iter().map(|m| m.rate).collect();
+        let cycles = common_cycles(&rates).ok_or_else(|| {
+            crate::error::invalid(
+                "mesh",
+                format!("{rates:?}"),
+                format!("mesh frequencies with a common period of at most {MAX_CYCLES} cycles of mesh 0 (their tooth counts' ratios)"),
+            )
+        })?;
+        // shafts and elastic supports: K_s = Pᵀ K_shafts P / k_ref
+        let mut ks_full = lin.stiffness.clone();
+        for m in &spec.meshes {
+            let a = coords(m);
+            for i in 0..n {
+                for j in 0..n {
+                    ks_full[(i, j)] -= m.stiffness_n_per_m * a[i] * a[j];
+                }
+            }
+        }
+        let mut k_s = vec![0.0; dof * dof];
+        for r in 0..dof {
+            for s in 0..dof {
+                let mut acc = 0.0;
+                for i in 0..n {
+                    for j in 0..n {
+                        acc += p(i, r) * ks_full[(i, j)] * p(j, s);
+                    }
+                }
+                k_s[r * dof + s] = acc / k_ref;
+            }
+        }
+        let c_s: Vec<f64> = k_s.iter().map(|k| op.c * k).collect();
+        // the load: input torque +1, output torque balancing its power
+        let input = spec.body_index(&spec.load.input).expect("validated");
+        let output = spec.body_index(&spec.load.output).expect("validated");
+        let mut torque = vec![0.0; n];
+        for (d, &b) in lin.bodies.iter().enumerate() {
+            if b == input {
+                torque[d] = 1.0;
+            } else if b == output {
+                torque[d] = -1.0 / kin.ratios[output];
+            }
+        }
+        let f_unit = project(&torque);
+        // static deflection at mean stiffness: (sum kappa b bᵀ + K_s) x = f_unit
+        let k_mean = nalgebra::DMatrix::from_fn(dof, dof, |r, s| {
+            k_s[r * dof + s]
+                + meshes
+                    .iter()
+                    .map(|m| m.kappa * m.b[r] * m.b[s])
+                    .sum::<f64>()
+        });
+        let x_s = k_mean
+            .clone()
+            .lu()
+            .solve(&nalgebra::DVector::from_vec(f_unit.clone()))
+            .ok_or_else(|| TrainError::Kinematics("the mean-stiffness train is singular".into()))?;
+        let f0: f64 = meshes[0].kappa * (0..dof).map(|j| meshes[0].b[j] * x_s[j]).sum::<f64>();
+        if !(f0.abs() > 0.0 && f0.is_finite()) {
+            return Err(TrainError::Kinematics(
+                "no load path: the input torque loads no mesh 0".into(),
+            ));
+        }
+        let force: Vec<f64> = f_unit.iter().map(|f| f * op.load / f0).collect();
+        let static_forces: Vec<f64> = meshes
+            .iter()
+            .map(|m| m.kappa * (0..dof).map(|j| m.b[j] * x_s[j]).sum::<f64>() * op.load / f0)
+            .collect();
+        let frequencies: Vec<f64> = k_mean
+            .symmetric_eigen()
+            .eigenvalues
+            .iter()
+            .map(|l| l.max(0.0).sqrt())
+            .collect();
+        let stiffest = match op.stiffness {
+            MeshStiffness::Harmonic { kappa } => 1.0 + kappa,
+            MeshStiffness::Rectangular { ratio } => ratio,
+        };
+        let wmax = frequencies.iter().cloned().fold(0.0, f64::max) * stiffest.sqrt();
+        Ok(TrainModel {
+            names: spec.meshes.iter().map(|m| m.name.clone()).collect(),
+            meshes,
+            op: *op,
+            k_s,
+            c_s,
+            force,
+            cycles,
+            natural_period: if wmax > 0.0 {
+                TAU / wmax
+            } else {
+                f64::INFINITY
+            },
+            omega_ref,
+            order0,
+            frequencies,
+            static_forces,
+        })
+    }
+
+    /// Elastic degrees of freedom.
+    pub fn dof(&self) -> usize {
+        N / 2
+    }
+
+    /// `omega_ref` (rad/s): the dimensionless time's unit.
+    pub fn omega_ref(&self) -> f64 {
+        self.omega_ref
+    }
+
+    /// Input speed (rpm) of the operating point.
+    pub fn input_rpm(&self) -> f64 {
+        60.0 * self.op.omega * self.omega_ref / (TAU * self.order0)
+    }
+
+    /// Natural frequencies of the mean-stiffness train over `omega_ref`, ascending.
+    pub fn frequencies(&self) -> &[f64] {
+        &self.frequencies
+    }
+
+    /// Static force of each mesh at mean stiffness (units `k_ref b_c`; mesh 0 carries `F`): the
+    /// load sharing of the train without backlash or stiffness variation.
+    pub fn static_forces(&self) -> &[f64] {
+        &self.static_forces
+    }
+
+    /// Mechanical energy `|x'|² / 2 + xᵀ K_s x / 2 + sum_k kappa_k k_k g(delta_k)² / 2 - F · x`
+    /// in `mode`: constant along a motion of the undamped train (`c = 0`) of constant stiffness
+    /// (`kappa = 0`) without transmission error (`xi = 0`) — an invariant for tests.
+    pub fn energy(&self, t: f64, y: &[f64; N], mode: &TrainMode) -> f64 {
+        let dof = N / 2;
+        let (x, v) = (&y[..dof], &y[dof..]);
+        let mut e = 0.5 * v.iter().map(|v| v * v).sum::<f64>();
+        for i in 0..dof {
+            e -= self.force[i] * x[i];
+            for j in 0..dof {
+                e += 0.5 * x[i] * self.k_s[i * dof + j] * x[j];
+            }
+        }
+        let tt = self.time_terms(t);
+        for k in 0..self.meshes.len() {
+            let dl = self.deflection(k, y, tt.cos[k], tt.sin[k])[0];
+            let g = match mode.contact[k] {
+                ContactState::Drive => dl - self.op.d,
+                ContactState::Back => dl + self.op.d,
+                _ => 0.0,
+            };
+            e += 0.5 * self.meshes[k].kappa * self.stiffness(k, tt.cos[k], mode) * g * g;
+        }
+        e
+    }
+
+    /// The operating point.
+    pub fn operating(&self) -> &TrainOperating {
+        &self.op
+    }
+
+    /// `omega_k` of mesh `k`.
+    #[inline(always)]
+    fn omega_k(&self, k: usize) -> f64 {
+        self.op.omega * self.meshes[k].rate
+    }
+
+    /// `theta_k / 2 pi` at `t` (mesh cycles of mesh `k`).
+    #[inline(always)]
+    fn cycles_at(&self, k: usize, t: f64) -> f64 {
+        self.omega_k(k) * t / TAU + self.meshes[k].phase
+    }
+
+    #[inline(always)]
+    fn dot(&self, k: usize, x: &[f64]) -> f64 {
+        self.meshes[k].b.iter().zip(x).map(|(b, x)| b * x).sum()
+    }
+
+    /// `[delta_k, delta_k']` at `t` with the phase's `cos`, `sin`.
+    #[inline(always)]
+    fn deflection(&self, k: usize, y: &[f64; N], cos: f64, sin: f64) -> [f64; 2] {
+        let dof = N / 2;
+        let xi = self.op.xi;
+        [
+            self.dot(k, &y[..dof]) - xi * cos,
+            self.dot(k, &y[dof..]) + xi * self.omega_k(k) * sin,
+        ]
+    }
+
+    /// Relative stiffness of mesh `k` (mean 1) with the phase's `cos` and the mode's zone.
+    #[inline(always)]
+    fn stiffness(&self, k: usize, cos: f64, mode: &TrainMode) -> f64 {
+        match self.op.stiffness {
+            MeshStiffness::Harmonic { kappa } => 1.0 + kappa * cos,
+            MeshStiffness::Rectangular { ratio } => {
+                let e = self.meshes[k].double;
+                let single = 1.0 / (ratio * e + (1.0 - e));
+                if mode.double & (1 << k) != 0 {
+                    ratio * single
+                } else {
+                    single
+                }
+            }
+        }
+    }
+
+    /// Contact force of mesh `k` (units `k_ref b_c`).
+    #[inline(always)]
+    fn force_of(&self, k: usize, c: ContactState, kk: f64, dl: [f64; 2]) -> f64 {
+        let d = self.op.d;
+        let m = &self.meshes[k];
+        match c {
+            ContactState::Drive => m.kappa * kk * (dl[0] - d) + m.damping * dl[1],
+            ContactState::Back => m.kappa * kk * (dl[0] + d) + m.damping * dl[1],
+            _ => 0.0,
+        }
+    }
+
+    fn contact_of(&self, dl: [f64; 2]) -> ContactState {
+        let d = self.op.d;
+        if dl[0] > d || (dl[0] == d && dl[1] > 0.0) {
+            ContactState::Drive
+        } else if dl[0] < -d || (dl[0] == -d && dl[1] < 0.0) {
+            ContactState::Back
+        } else {
+            ContactState::Separated
+        }
+    }
+
+    /// Next zone border of any mesh strictly after `t0` (rectangular stiffness).
+    fn next_border(&self, t0: f64) -> f64 {
+        let mut next = f64::INFINITY;
+        for k in 0..self.meshes.len() {
+            let w = self.omega_k(k);
+            let s0 = self.cycles_at(k, t0);
+            let tol = 1e-9 * s0.abs().max(1.0);
+            let n = s0.floor();
+            let e = self.meshes[k].double;
+            for b in [n + e, n + 1.0, n + 1.0 + e] {
+                if b > s0 + tol {
+                    let t = (b - self.meshes[k].phase) * TAU / w;
+                    next = next.min(t);
+                    break;
+                }
+            }
+        }
+        next
+    }
+
+    /// The zones in force on the piece starting at `t0` (judged at its middle).
+    fn zones(&self, t0: f64) -> u32 {
+        let t1 = self.next_border(t0);
+        let tm = if t1.is_finite() { 0.5 * (t0 + t1) } else { t0 };
+        let mut z = 0;
+        for k in 0..self.meshes.len() {
+            let s = self.cycles_at(k, tm);
+            if s - s.floor() < self.meshes[k].double {
+                z |= 1 << k;
+            }
+        }
+        z
+    }
+
+    /// Mesh and local guard (0: drive surface, 1: back surface) of guard `index`.
+    fn which(&self, mode: &TrainMode, index: usize) -> (usize, usize) {
+        let mut i = index;
+        for k in 0..self.meshes.len() {
+            match mode.contact[k] {
+                ContactState::Separated => {
+                    if i < 2 {
+                        return (k, i);
+                    }
+                    i -= 2;
+                }
+                c => {
+                    if i == 0 {
+                        return (k, if c == ContactState::Drive { 0 } else { 1 });
+                    }
+                    i -= 1;
+                }
+            }
+        }
+        (self.meshes.len(), 0)
+    }
+
+    fn rectangular(&self) -> bool {
+        matches!(self.op.stiffness, MeshStiffness::Rectangular { .. })
+    }
+}
+
+impl<const N: usize> HybridSystem<N> for TrainModel<N> {
+    type Mode = TrainMode;
+    type TimeTerms = TrainTime;
+
+    fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> TrainMode {
+        let tt = self.time_terms(t);
+        let mut contact = [ContactState::Separated; MAX_MESHES];
+        for (k, c) in contact.iter_mut().enumerate().take(self.meshes.len()) {
+            *c = self.contact_of(self.deflection(k, y, tt.cos[k], tt.sin[k]));
+        }
+        TrainMode {
+            contact,
+            double: if self.rectangular() { self.zones(t) } else { 0 },
+            piece_start: t,
+        }
+    }
+
+    #[inline(always)]
+    fn time_terms(&self, t: f64) -> TrainTime {
+        let mut tt = TrainTime {
+            cos: [0.0; MAX_MESHES],
+            sin: [0.0; MAX_MESHES],
+        };
+        for k in 0..self.meshes.len() {
+            let s = self.cycles_at(k, t);
+            let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
+            tt.cos[k] = cs;
+            tt.sin[k] = sn;
+        }
+        tt
+    }
+
+    #[inline(always)]
+    fn rhs(&self, _t: f64, tt: &TrainTime, y: &[f64; N], mode: &TrainMode, dy: &mut [f64; N]) {
+        let dof = N / 2;
+        for i in 0..dof {
+            dy[i] = y[dof + i];
+            let mut acc = self.force[i];
+            for j in 0..dof {
+                acc -= self.k_s[i * dof + j] * y[j] + self.c_s[i * dof + j] * y[dof + j];
+            }
+            dy[dof + i] = acc;
+        }
+        for k in 0..self.meshes.len() {
+            let c = mode.contact[k];
+            if !matches!(c, ContactState::Drive | ContactState::Back) {
+                continue;
+            }
+            let dl = self.deflection(k, y, tt.cos[k], tt.sin[k]);
+            let f = self.force_of(k, c, self.stiffness(k, tt.cos[k], mode), dl);
+            for (i, b) in self.meshes[k].b.iter().enumerate() {
+                dy[dof + i] -= b * f;
+            }
+        }
+    }
+
+    fn guards(&self, t: f64, y: &[f64; N], mode: &TrainMode, g: &mut Guards) {
+        let tt = self.time_terms(t);
+        let d = self.op.d;
+        for k in 0..self.meshes.len() {
+            let x = self.deflection(k, y, tt.cos[k], tt.sin[k])[0];
+            match mode.contact[k] {
+                ContactState::Separated => {
+                    g.push(x - d, Direction::Rising);
+                    g.push(x + d, Direction::Falling);
+                }
+                ContactState::Drive => g.push(x - d, Direction::Falling),
+                _ => g.push(x + d, Direction::Rising),
+            }
+        }
+    }
+
+    fn on_event(
+        &self,
+        t: f64,
+        y: &mut [f64; N],
+        mode: &mut TrainMode,
+        index: usize,
+    ) -> EventAction {
+        let (k, local) = self.which(mode, index);
+        if k < self.meshes.len() {
+            mode.contact[k] = match (mode.contact[k], local) {
+                (ContactState::Separated, 0) => ContactState::Drive,
+                (ContactState::Separated, _) => ContactState::Back,
+                _ => ContactState::Separated,
+            };
+        }
+        // meshes crossing at the same instant (equal planets move alike until their phases part
+        // them): the event search reports one, the others sit on their surface and would go
+        // through it unseen; each switches here as its own event would switch it
+        let tol = SIMULTANEOUS * self.op.d.max(1.0);
+        let tt = self.time_terms(t);
+        let d = self.op.d;
+        for j in (0..self.meshes.len()).filter(|&j| j != k) {
+            let [x, v] = self.deflection(j, y, tt.cos[j], tt.sin[j]);
+            mode.contact[j] = match mode.contact[j] {
+                ContactState::Separated if x >= d - tol && v > 0.0 => ContactState::Drive,
+                ContactState::Separated if x <= -d + tol && v < 0.0 => ContactState::Back,
+                ContactState::Drive if x <= d + tol && v < 0.0 => ContactState::Separated,
+                ContactState::Back if x >= -d - tol && v > 0.0 => ContactState::Separated,
+                c => c,
+            };
+        }
+        EventAction::Continue
+    }
+
+    fn next_breakpoint(&self, _t: f64, mode: &TrainMode) -> f64 {
+        if self.rectangular() {
+            self.next_border(mode.piece_start)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut TrainMode) {
+        mode.piece_start = t;
+        mode.double = self.zones(t);
+        // a stiffness jump does not move the state: the contacts stay as they are unless a
+        // deflection sits exactly on its surface (then re-judged as at a start)
+        let tt = self.time_terms(t);
+        for k in 0..self.meshes.len() {
+            let dl = self.deflection(k, y, tt.cos[k], tt.sin[k]);
+            if dl[0].abs() == self.op.d {
+                mode.contact[k] = self.contact_of(dl);
+            }
+        }
+    }
+}
+
+impl<const N: usize> Variational<N> for TrainModel<N> {
+    fn jacobian(
+        &self,
+        _t: f64,
+        tt: &TrainTime,
+        _y: &[f64; N],
+        mode: &TrainMode,
+        j: &mut [[f64; N]; N],
+    ) {
+        let dof = N / 2;
+        *j = [[0.0; N]; N];
+        for i in 0..dof {
+            j[i][dof + i] = 1.0;
+            for c in 0..dof {
+                j[dof + i][c] = -self.k_s[i * dof + c];
+                j[dof + i][dof + c] = -self.c_s[i * dof + c];
+            }
+        }
+        for k in 0..self.meshes.len() {
+            if !matches!(mode.contact[k], ContactState::Drive | ContactState::Back) {
+                continue;
+            }
+            let m = &self.meshes[k];
+            let kk = m.kappa * self.stiffness(k, tt.cos[k], mode);
+            for i in 0..dof {
+                for c in 0..dof {
+                    j[dof + i][c] -= kk * m.b[i] * m.b[c];
+                    j[dof + i][dof + c] -= m.damping * m.b[i] * m.b[c];
+                }
+            }
+        }
+    }
+
+    fn guard_gradient(
+        &self,
+        t: f64,
+        _y: &[f64; N],
+        mode: &TrainMode,
+        index: usize,
+    ) -> ([f64; N], f64) {
+        let (k, _) = self.which(mode, index);
+        let mut g = [0.0; N];
+        if k >= self.meshes.len() {
+            return (g, 0.0);
+        }
+        for (i, b) in self.meshes[k].b.iter().enumerate() {
+            g[i] = *b;
+        }
+        let s = self.cycles_at(k, t);
+        let sin = (TAU * (s - s.floor())).sin();
+        (g, self.op.xi * self.omega_k(k) * sin)
+    }
+}
+
+impl<const N: usize> GearSystem<N> for TrainModel<N> {
+    fn mesh_count(&self) -> usize {
+        self.meshes.len()
+    }
+
+    fn mesh_name(&self, k: usize) -> String {
+        self.names[k].clone()
+    }
+
+    fn excitation_period(&self) -> f64 {
+        f64::from(self.cycles) * TAU / self.op.omega
+    }
+
+    fn cycles_per_period(&self) -> u32 {
+        self.cycles
+    }
+
+    fn natural_period(&self) -> f64 {
+        self.natural_period
+    }
+
+    #[inline(always)]
+    fn mesh_state(&self, t: f64, y: &[f64; N], k: usize) -> [f64; 2] {
+        let s = self.cycles_at(k, t);
+        let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
+        self.deflection(k, y, cs, sn)
+    }
+
+    fn mesh_force(&self, t: f64, y: &[f64; N], mode: &TrainMode, k: usize) -> f64 {
+        let s = self.cycles_at(k, t);
+        let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
+        let dl = self.deflection(k, y, cs, sn);
+        self.force_of(k, mode.contact[k], self.stiffness(k, cs, mode), dl)
+    }
+
+    fn contact(&self, mode: &TrainMode, k: usize) -> ContactState {
+        mode.contact[k]
+    }
+
+    fn backlash_levels(&self, _k: usize) -> (f64, f64) {
+        (self.op.d, self.op.d)
+    }
+
+    fn event(&self, before: &TrainMode, _after: &TrainMode, index: usize) -> (usize, EventKind) {
+        let (k, local) = self.which(before, index);
+        let kind = match (before.contact[k.min(MAX_MESHES - 1)], local) {
+            (ContactState::Separated, 0) => EventKind::DriveEnter,
+            (ContactState::Separated, _) => EventKind::BackEnter,
+            (ContactState::Drive, _) => EventKind::DriveExit,
+            _ => EventKind::BackExit,
+        };
+        (k.min(self.meshes.len() - 1), kind)
+    }
+
+    fn segment(&self, mode: &TrainMode) -> u32 {
+        mode.double
+    }
+}
