@@ -64,6 +64,16 @@ impl BifurcationArgs {
 }
 
 pub fn run(a: BifurcationArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
+        return crate::train::bifurcation(
+            &t,
+            &a.run.sim,
+            &a.param,
+            &parse_range(&a.range)?,
+            &a.mode,
+            &a.out,
+        );
+    }
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let n = opts.values.len();

@@ -13,6 +13,7 @@ mod signals;
 mod simulate;
 mod stiffness;
 mod sweep;
+mod train;
 
 use clap::{Parser, Subcommand};
 

@@ -16,6 +16,11 @@ pub struct ConfigArgs {
     /// TOML configuration file (as printed by `geardyn show`).
     #[arg(long)]
     pub config: Option<PathBuf>,
+    /// A gear train's description (TOML, as `geardyn modes` writes it to system.toml): simulate
+    /// and bifurcation run its dynamic model (built-in trains: --preset planetary, two-stage,
+    /// pair).
+    #[arg(long, conflicts_with_all = ["config", "preset"])]
+    pub system: Option<PathBuf>,
     /// Override a parameter: NAME=VALUE (repeatable), e.g. --set omega=1.3 --set F=0.05, or a
     /// field of the physical pair, e.g. --set pair.mu=0.1. On a pair with a physical operating
     /// point, omega/F/xi/c/D set here take precedence and are recorded.
@@ -34,11 +39,14 @@ impl ConfigArgs {
     pub fn config(&self) -> Result<Config> {
         let mut c = match (&self.preset, &self.config) {
             (_, Some(path)) => Config::from_file(path)?,
+            _ if self.system.is_some() => {
+                anyhow::bail!("--system names a gear train: `geardyn simulate`, `geardyn bifurcation` and `geardyn modes` run trains; this command runs the single pair's model")
+            }
             (Some(name), None)
                 if geardyn_train::presets::NAMES.contains(&name.as_str())
                     && Config::preset(name).is_err() =>
             {
-                anyhow::bail!("--preset {name} is a gear train: `geardyn modes --preset {name}` computes its modes and Campbell diagram; its nonlinear analyses (this command) are not available for trains yet")
+                anyhow::bail!("--preset {name} is a gear train: `geardyn simulate`, `geardyn bifurcation` and `geardyn modes` run trains; this command runs the single pair's model")
             }
             (Some(name), None) => Config::preset(name)?,
             (None, None) => Config::preset("classic")?,

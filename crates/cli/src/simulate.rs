@@ -26,6 +26,9 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&args.cfg)? {
+        return crate::train::simulate(&t, &args.sim, &args.out);
+    }
     let mut cfg = args.cfg.config()?;
     args.sim.apply(&mut cfg, &args.cfg.sets)?;
     let out = &args.out;

@@ -219,6 +219,8 @@ pub struct TrainModel<const N: usize> {
     frequencies: Vec<f64>,
     /// Static mesh forces at mean stiffness (units `k_ref b_c`).
     static_forces: Vec<f64>,
+    /// The static deflection with every mesh in drive contact at mean stiffness.
+    static_x: Vec<f64>,
 }
 
 /// Elastic degrees of freedom of a train (its coordinates less its rigid-body motions).
@@ -371,6 +373,16 @@ impl<const N: usize> TrainModel<N> {
             .lu()
             .solve(&nalgebra::DVector::from_vec(f_unit.clone()))
             .ok_or_else(|| TrainError::Kinematics("the mean-stiffness train is singular".into()))?;
+        // each mesh's drive flank is the one the input torque loads: a mesh loaded on the other
+        // side under the description's sign convention (the second stage of a drive turns the
+        // other way) is turned round
+        let mut meshes = meshes;
+        for m in &mut meshes {
+            let f: f64 = (0..dof).map(|j| m.b[j] * x_s[j]).sum();
+            if f < 0.0 {
+                m.b.iter_mut().for_each(|b| *b = -*b);
+            }
+        }
         let f0: f64 = meshes[0].kappa * (0..dof).map(|j| meshes[0].b[j] * x_s[j]).sum::<f64>();
         if !(f0.abs() > 0.0 && f0.is_finite()) {
             return Err(TrainError::Kinematics(
@@ -382,6 +394,15 @@ impl<const N: usize> TrainModel<N> {
             .iter()
             .map(|m| m.kappa * (0..dof).map(|j| m.b[j] * x_s[j]).sum::<f64>() * op.load / f0)
             .collect();
+        // static equilibrium in drive contact: sum kappa b (b·x - D) + K_s x = F
+        let rhs = nalgebra::DVector::from_fn(dof, |r, _| {
+            force[r] + op.d * meshes.iter().map(|m| m.kappa * m.b[r]).sum::<f64>()
+        });
+        let static_x: Vec<f64> = k_mean
+            .clone()
+            .lu()
+            .solve(&rhs)
+            .map_or(vec![0.0; dof], |v| v.iter().copied().collect());
         let frequencies: Vec<f64> = k_mean
             .symmetric_eigen()
             .eigenvalues
@@ -410,6 +431,7 @@ impl<const N: usize> TrainModel<N> {
             order0,
             frequencies,
             static_forces,
+            static_x,
         })
     }
 
@@ -437,6 +459,14 @@ impl<const N: usize> TrainModel<N> {
     /// load sharing of the train without backlash or stiffness variation.
     pub fn static_forces(&self) -> &[f64] {
         &self.static_forces
+    }
+
+    /// The state at rest in the static deflection of the mean-stiffness train with every mesh
+    /// on its drive flank (the start of a train's runs).
+    pub fn static_state(&self) -> [f64; N] {
+        let mut y = [0.0; N];
+        y[..N / 2].copy_from_slice(&self.static_x);
+        y
     }
 
     /// Mechanical energy `|x'|² / 2 + xᵀ K_s x / 2 + sum_k kappa_k k_k g(delta_k)² / 2 - F · x`
