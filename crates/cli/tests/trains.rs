@@ -1,0 +1,191 @@
+//! Gear trains on the command line: `modes`, `simulate` and `bifurcation` with the train presets
+//! and a description file, and the errors of bad trains and of commands that run only the pair.
+
+mod common;
+use common::{geardyn, geardyn_ok, s};
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    common::tmp("trn", name)
+}
+
+fn csv_rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn modes_of_every_train_preset_with_their_multiplicities() {
+    for (preset, coords, planet) in [("planetary", 5, 2), ("two-stage", 4, 0), ("pair", 2, 0)] {
+        let out = tmp(&format!("modes-{preset}"));
+        let text = geardyn_ok(&["modes", "--preset", preset, "--out", s(&out)]);
+        assert!(text.contains("rigid-body"), "{text}");
+        let rows = csv_rows(&out.join("modes.csv"));
+        assert_eq!(rows.len(), coords, "{preset}");
+        assert_eq!(rows.iter().filter(|r| r[2] == "planet").count(), planet);
+        for f in ["system.toml", "modes.json", "campbell.csv", "campbell.png"] {
+            assert!(out.join(f).exists(), "{preset}: {f}");
+        }
+    }
+    // four planets: three planet modes of one frequency
+    let out = tmp("modes-4");
+    geardyn_ok(&["modes", "--set", "stage.planets=4", "--out", s(&out)]);
+    let rows = csv_rows(&out.join("modes.csv"));
+    let planet: Vec<&Vec<String>> = rows.iter().filter(|r| r[2] == "planet").collect();
+    assert_eq!(planet.len(), 3);
+    let f0: f64 = planet[0][1].parse().unwrap();
+    for r in &planet {
+        let f: f64 = r[1].parse().unwrap();
+        assert!(r[3] == "3" && (f - f0).abs() < 1e-9 * f0, "{r:?}");
+    }
+}
+
+#[test]
+fn a_written_description_runs_again_and_bad_ones_name_their_field() {
+    let out = tmp("desc");
+    geardyn_ok(&["modes", "--preset", "two-stage", "--out", s(&out)]);
+    let file = out.join("system.toml");
+    let again = tmp("desc-again");
+    geardyn_ok(&["modes", "--system", s(&file), "--out", s(&again)]);
+    assert_eq!(
+        std::fs::read_to_string(out.join("modes.csv")).unwrap(),
+        std::fs::read_to_string(again.join("modes.csv")).unwrap()
+    );
+    let text = std::fs::read_to_string(&file).unwrap();
+    let bad = tmp("bad.toml");
+    std::fs::create_dir_all(bad.parent().unwrap()).unwrap();
+    for (edit, want) in [
+        (
+            text.replacen("\"wheel 1\"", "\"wheel 9\"", 1),
+            "mesh[0].gears = \"wheel 1\"",
+        ),
+        (
+            text.replace(
+                "gears = [\"pinion 2\", \"output wheel\"]",
+                "gears = [\"pinion 2\", \"nowhere\"]",
+            ),
+            "mesh[1].gears",
+        ),
+        (
+            text.replacen("stiffness_n_per_m = ", "stiffness_n_per_m = -", 1),
+            "mesh[0].stiffness_n_per_m",
+        ),
+        (
+            text.replacen("contact_ratio = ", "contact_ratio = 2", 1),
+            "mesh[0].contact_ratio",
+        ),
+        (format!("{text}\nbogus = 1\n"), "bogus"),
+    ] {
+        std::fs::write(&bad, edit).unwrap();
+        let (code, _, err) = geardyn(&["modes", "--system", s(&bad), "--out", s(&tmp("bad-out"))]);
+        assert_eq!(code, 2, "{err}");
+        assert!(
+            err.contains(want) && !err.contains("panicked"),
+            "{want}: {err}"
+        );
+    }
+}
+
+#[test]
+fn bad_planetary_stages_are_refused() {
+    for (set, want) in [
+        ("stage.planets=7", "stage.planets = 7"),
+        ("stage.planets=5", "interfere"),
+        ("stage.ring_teeth=96", "stage.ring_teeth = 96"),
+        ("stage.sun_teeth=nan", "stage.sun_teeth"),
+        ("stage.module_mm=0", "stage.module_mm = 0"),
+        ("omega=-1", "omega = -1"),
+    ] {
+        for cmd in ["modes", "simulate"] {
+            let (code, _, err) = geardyn(&[
+                cmd,
+                "--preset",
+                "planetary",
+                "--set",
+                set,
+                "--out",
+                s(&tmp("bad-stage")),
+            ]);
+            if cmd == "modes" && set.starts_with("omega") {
+                continue;
+            }
+            assert_eq!(code, 2, "{cmd} {set}: {err}");
+            assert!(
+                err.contains(want) && !err.contains("panicked"),
+                "{cmd} {set}: {err}"
+            );
+        }
+    }
+    // the pair's commands say that they do not run trains
+    let (code, _, err) = geardyn(&["lyapunov", "--preset", "planetary"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("gear train") && err.contains("geardyn simulate"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_planetary_stage_simulates_and_sweeps_with_one_label_per_mesh() {
+    let out = tmp("sim");
+    let text = geardyn_ok(&[
+        "simulate",
+        "--preset",
+        "planetary",
+        "--periods",
+        "20",
+        "--transient",
+        "200",
+        "--out",
+        s(&out),
+    ]);
+    assert!(text.contains("load sharing sun-planet 1"), "{text}");
+    let rows = csv_rows(&out.join("meshes.csv"));
+    assert_eq!(rows.len(), 6);
+    for r in &rows {
+        // equal planets, periodic motion: every mesh carries the static force 0.1 on average
+        assert!((r[4].parse::<f64>().unwrap() - 0.1).abs() < 1e-12, "{r:?}");
+        assert!(r[5].parse::<f64>().unwrap() > 1.0);
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for l in summary["load_sharing"].as_array().unwrap() {
+        assert!((l["factor"].as_f64().unwrap() - 1.0).abs() < 1e-4, "{l}");
+    }
+    let out = tmp("bif");
+    let text = geardyn_ok(&[
+        "bifurcation",
+        "--preset",
+        "planetary",
+        "--param",
+        "omega",
+        "--range",
+        "0.5:1.5:6",
+        "--periods",
+        "10",
+        "--transient",
+        "100",
+        "--out",
+        s(&out),
+    ]);
+    assert!(text.contains("6 values"), "{text}");
+    assert_eq!(csv_rows(&out.join("runs.csv")).len(), 6);
+    assert!(out.join("bifurcation.png").exists());
+    let (code, _, err) = geardyn(&[
+        "bifurcation",
+        "--preset",
+        "planetary",
+        "--param",
+        "mu",
+        "--out",
+        s(&tmp("bif-mu")),
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--param mu") && err.contains("omega, F"),
+        "{err}"
+    );
+}
