@@ -63,7 +63,11 @@ pub struct BenchArgs {
     /// ns per lane-step on a one-lane engine and on a full engine, one thread.
     #[arg(long)]
     follow: bool,
-    /// Everything: --bifurcation --basins --follow --numba.
+    /// Also time the gear trains: cost per mesh cycle of the planetary stage, the two-stage drive
+    /// and the pair written as a train, beside the pair model's (DP5 and RK4).
+    #[arg(long)]
+    trains: bool,
+    /// Everything: --bifurcation --basins --follow --trains --numba.
     #[arg(long)]
     all: bool,
     /// Run the numba yardstick in this command and print ratios.
@@ -250,6 +254,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
     ensemble_figure(&a, &model)?;
     if a.follow || a.all {
         follow_figures(a.repeat)?;
+    }
+    if a.trains || a.all {
+        crate::bench_trains::figures(a.repeat.min(3))?;
     }
     let w1_ens = if bif {
         Some(w1_figures(&a, &mut numba, num)?)

@@ -1,6 +1,7 @@
 //! `geardyn`: nonlinear dynamics of spur gear pairs from the command line.
 
 mod bench;
+mod bench_trains;
 mod bifurcation;
 mod global;
 mod lyapunov;

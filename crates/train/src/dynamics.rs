@@ -221,6 +221,11 @@ pub struct TrainModel<const N: usize> {
     static_forces: Vec<f64>,
     /// The static deflection with every mesh in drive contact at mean stiffness.
     static_x: Vec<f64>,
+    /// Whether the meshes' phases enter the field (a transmission error or a harmonic
+    /// stiffness): else no trigonometry is evaluated.
+    needs_phase: bool,
+    /// Whether shafts or supports add stiffness.
+    has_shafts: bool,
 }
 
 /// Elastic degrees of freedom of a train (its coordinates less its rigid-body motions).
@@ -418,8 +423,6 @@ impl<const N: usize> TrainModel<N> {
             names: spec.meshes.iter().map(|m| m.name.clone()).collect(),
             meshes,
             op: *op,
-            k_s,
-            c_s,
             force,
             cycles,
             natural_period: if wmax > 0.0 {
@@ -432,6 +435,10 @@ impl<const N: usize> TrainModel<N> {
             frequencies,
             static_forces,
             static_x,
+            needs_phase: op.xi != 0.0 || matches!(op.stiffness, MeshStiffness::Harmonic { .. }),
+            has_shafts: k_s.iter().any(|&k| k != 0.0),
+            k_s,
+            c_s,
         })
     }
 
@@ -504,6 +511,16 @@ impl<const N: usize> TrainModel<N> {
     #[inline(always)]
     fn omega_k(&self, k: usize) -> f64 {
         self.op.omega * self.meshes[k].rate
+    }
+
+    /// `(sin, cos)` of mesh `k`'s phase at `t` (zeros where the phases do not enter).
+    #[inline(always)]
+    fn phase(&self, k: usize, t: f64) -> (f64, f64) {
+        if !self.needs_phase {
+            return (0.0, 0.0);
+        }
+        let s = self.cycles_at(k, t);
+        (TAU * (s - s.floor())).sin_cos()
     }
 
     /// `theta_k / 2 pi` at `t` (mesh cycles of mesh `k`).
@@ -652,6 +669,9 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
             cos: [0.0; MAX_MESHES],
             sin: [0.0; MAX_MESHES],
         };
+        if !self.needs_phase {
+            return tt;
+        }
         for k in 0..self.meshes.len() {
             let s = self.cycles_at(k, t);
             let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
@@ -667,8 +687,10 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
         for i in 0..dof {
             dy[i] = y[dof + i];
             let mut acc = self.force[i];
-            for j in 0..dof {
-                acc -= self.k_s[i * dof + j] * y[j] + self.c_s[i * dof + j] * y[dof + j];
+            if self.has_shafts {
+                for j in 0..dof {
+                    acc -= self.k_s[i * dof + j] * y[j] + self.c_s[i * dof + j] * y[dof + j];
+                }
             }
             dy[dof + i] = acc;
         }
@@ -806,8 +828,7 @@ impl<const N: usize> Variational<N> for TrainModel<N> {
         for (i, b) in self.meshes[k].b.iter().enumerate() {
             g[i] = *b;
         }
-        let s = self.cycles_at(k, t);
-        let sin = (TAU * (s - s.floor())).sin();
+        let (sin, _) = self.phase(k, t);
         (g, self.op.xi * self.omega_k(k) * sin)
     }
 }
@@ -835,14 +856,12 @@ impl<const N: usize> GearSystem<N> for TrainModel<N> {
 
     #[inline(always)]
     fn mesh_state(&self, t: f64, y: &[f64; N], k: usize) -> [f64; 2] {
-        let s = self.cycles_at(k, t);
-        let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
+        let (sn, cs) = self.phase(k, t);
         self.deflection(k, y, cs, sn)
     }
 
     fn mesh_force(&self, t: f64, y: &[f64; N], mode: &TrainMode, k: usize) -> f64 {
-        let s = self.cycles_at(k, t);
-        let (sn, cs) = (TAU * (s - s.floor())).sin_cos();
+        let (sn, cs) = self.phase(k, t);
         let dl = self.deflection(k, y, cs, sn);
         self.force_of(k, mode.contact[k], self.stiffness(k, cs, mode), dl)
     }
