@@ -24,6 +24,33 @@ pub fn per_period(model: &MeshModel, method: &Method) -> f64 {
     }
 }
 
+/// Right-hand-side evaluations of one excitation period of any gear system (a train): as
+/// [`per_period`], Dormand–Prince's steps scaled to the system's shortest natural period (a
+/// stiff shaft makes every period dear).
+pub fn per_period_system<S: geardyn_model::GearSystem<N>, const N: usize>(
+    sys: &S,
+    method: &Method,
+) -> f64 {
+    let cycles = f64::from(sys.cycles_per_period().max(1));
+    match method {
+        Method::Rk4 { steps_per_cycle } => 4.0 * f64::from(*steps_per_cycle) * cycles,
+        Method::Dopri { .. } => {
+            let scale = (std::f64::consts::TAU / sys.natural_period()).max(1.0);
+            6.0 * (DOPRI_STEPS_PER_TIME * scale * sys.excitation_period()).max(20.0 * cycles)
+        }
+    }
+}
+
+/// Estimated work of one decided run of any gear system with `opts` (see [`per_run`]).
+pub fn per_run_system<S: geardyn_model::GearSystem<N>, const N: usize>(
+    sys: &S,
+    opts: &SimOptions,
+) -> f64 {
+    let p = per_period_system(sys, &opts.method);
+    (opts.transient_periods + opts.record_periods) as f64 * p
+        + (opts.decision_periods as f64 * p).min(opts.decision_budget as f64)
+}
+
 /// Estimated work of one run with `opts`: its transient and record and, when the run is
 /// decided (`decided`), the decision's worst case (followed to the horizon
 /// `decision_periods`, at most `decision_budget`).

@@ -70,7 +70,7 @@ pub fn run(a: BifurcationArgs, started: f64) -> Result<()> {
             &a.run.sim,
             &a.param,
             &parse_range(&a.range)?,
-            &a.mode,
+            (&a.mode, &a.sections, a.lyapunov),
             &a.out,
         );
     }

@@ -125,6 +125,14 @@ fn main() {
             for (name, what) in geardyn_model::presets::PRESETS {
                 println!("{name:<10} {what}");
             }
+            println!("gear trains (geardyn modes, simulate, bifurcation):");
+            for (name, what) in [
+                ("planetary", "sun 25 / planets 35 / ring 95, 3 equally spaced planets, m = 3 mm: sun input, carrier output, ring fixed"),
+                ("two-stage", "20/50 then 22/61 teeth on an elastic intermediate shaft (40 mm x 150 mm steel)"),
+                ("pair", "the seed-A 40/40 pair (healthy) written as a train"),
+            ] {
+                println!("{name:<10} {what}");
+            }
             Ok(())
         }
         Command::Show(args) => args.resolve().and_then(|(c, s)| {

@@ -108,11 +108,11 @@ pub fn run(a: ModesArgs) -> Result<()> {
         csv.push('\n');
     }
     write_text(&a.out.join("modes.csv"), &csv)?;
-    let mut cc = String::from("meshes,harmonic,frequency_hz,multiplicity,kind,input_rpm\n");
+    let mut cc = String::from("meshes,harmonic,frequency_hz,multiplicity,kind,input_rpm,excited\n");
     for c in &cross {
         cc += &format!(
-            "\"{}\",{},{},{},{},{}\n",
-            c.meshes, c.harmonic, c.frequency_hz, c.multiplicity, c.kind, c.input_rpm
+            "\"{}\",{},{},{},{},{},{}\n",
+            c.meshes, c.harmonic, c.frequency_hz, c.multiplicity, c.kind, c.input_rpm, c.excited
         );
     }
     write_text(&a.out.join("campbell.csv"), &cc)?;
@@ -130,13 +130,19 @@ pub fn run(a: ModesArgs) -> Result<()> {
         &serde_json::to_string_pretty(&json)?,
     )?;
     campbell_figure(&a, &t, &modes, &fams, max_rpm, &cross)?;
+    let ratio = 1.0 / kin.ratios[t.body_index(&t.load.output).expect("validated")];
     println!(
-        "{}: {} coordinates, input {} -> output {} (input/output speed ratio {:.6}; negative: the output turns the other way)",
+        "{}: {} coordinates, input {} -> output {} (input/output speed ratio {:.6}{})",
         t.name,
         modes.modes.len(),
         t.load.input,
         t.load.output,
-        1.0 / kin.ratios[t.body_index(&t.load.output).expect("validated")]
+        ratio,
+        if ratio < 0.0 {
+            ": the output turns the other way"
+        } else {
+            ""
+        }
     );
     println!("  mode  frequency (Hz)  type        multiplicity");
     for (i, m) in modes.modes.iter().enumerate() {
@@ -196,19 +202,34 @@ fn campbell_figure(
             ));
         }
     }
-    let pts: Vec<(f64, f64)> = cross
-        .iter()
-        .map(|c| (c.input_rpm, c.frequency_hz))
-        .collect();
-    layers.push(Layer {
-        points: pts,
-        style: Style::Dots(4),
-        color: plotters::style::RGBColor(0, 0, 0),
-    });
-    legend.push(LegendEntry::dot(
-        "resonance: a harmonic on a natural frequency",
-        plotters::style::RGBColor(0, 0, 0),
-    ));
+    for (excited, grey, text) in [
+        (
+            true,
+            0,
+            "resonance: a harmonic on a natural frequency it excites",
+        ),
+        (
+            false,
+            170,
+            "crossing cancelled by the planet phasing (Parker 2000)",
+        ),
+    ] {
+        let pts: Vec<(f64, f64)> = cross
+            .iter()
+            .filter(|c| c.excited == excited)
+            .map(|c| (c.input_rpm, c.frequency_hz))
+            .collect();
+        if pts.is_empty() {
+            continue;
+        }
+        let color = plotters::style::RGBColor(grey, grey, grey);
+        layers.push(Layer {
+            points: pts,
+            style: Style::Dots(if excited { 5 } else { 3 }),
+            color,
+        });
+        legend.push(LegendEntry::dot(text, color));
+    }
     write_figure(
         &a.out.join("campbell"),
         &Figure {

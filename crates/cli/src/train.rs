@@ -37,7 +37,7 @@ pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
         return Ok(None);
     }
     if cfg.contact.is_some() {
-        bail!("--contact applies to the pair model; a train's meshes use the linear law with backlash (docs/model.md, gear trains)");
+        bail!("--contact applies to the pair model; a train's meshes use the linear law with backlash (docs/model.md, section Gear trains)");
     }
     let mut op = TrainOperating::default();
     let mut stage = Vec::new();
@@ -78,11 +78,24 @@ pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
     Ok(Some(TrainRun { spec, op, source }))
 }
 
-/// The integration settings of a train's run: the defaults with the command's flags.
-pub fn sim_options(sim: &SimArgs) -> Result<SimOptions> {
+/// The integration settings of a train's run (the defaults with the command's flags) and the
+/// cap on the command's work.
+pub fn sim_options(sim: &SimArgs) -> Result<(SimOptions, f64)> {
     let mut cfg = geardyn_io::Config::preset("classic")?;
     sim.apply(&mut cfg, &[])?;
-    Ok(cfg.sim_options()?)
+    Ok((cfg.sim_options()?, cfg.simulation.max_work))
+}
+
+/// Refuses `runs` decided runs of `m` above the work cap.
+fn check_work<const N: usize>(
+    m: &TrainModel<N>,
+    opts: &SimOptions,
+    runs: usize,
+    cap: f64,
+) -> Result<()> {
+    let per_run = geardyn_analysis::work::per_run_system(m, opts);
+    geardyn_analysis::work::check(runs, per_run, cap).map_err(|e| anyhow::anyhow!(e))?;
+    Ok(())
 }
 
 /// Runs `$body` with `$m` bound to the train's model of its state dimension.
@@ -155,10 +168,13 @@ fn load_sharing(spec: &TrainSpec, s: &Summary) -> Vec<(String, String, f64)> {
 
 /// `geardyn simulate` of a train.
 pub fn simulate(t: &TrainRun, sim: &SimArgs, out: &Path) -> Result<()> {
-    let mut opts = sim_options(sim)?;
+    let (mut opts, cap) = sim_options(sim)?;
     opts.trajectory = true;
     opts.trajectory_periods = opts.trajectory_periods.clamp(1, 5);
-    with_model!(&t.spec, &t.op, |m| simulate_model(t, &m, &opts, out))
+    with_model!(&t.spec, &t.op, |m| {
+        check_work(&m, &opts, 1, cap)?;
+        simulate_model(t, &m, &opts, out)
+    })
 }
 
 fn simulate_model<const N: usize>(
@@ -350,7 +366,7 @@ pub fn bifurcation(
     sim: &SimArgs,
     param: &str,
     values: &[f64],
-    mode: &str,
+    (mode, sections, lyapunov): (&str, &str, bool),
     out: &Path,
 ) -> Result<()> {
     if !TrainOperating::FIELDS.contains(&param) {
@@ -360,6 +376,8 @@ pub fn bifurcation(
         );
     }
     let continuation = match mode {
+        _ if lyapunov => bail!("--lyapunov: a train's sweep decides each value (its exponent is in the verdict: `chaotic (TLE ...)` in runs.csv); the per-value exponent column is the pair's"),
+        _ if sections != "strobe" => bail!("--sections {sections}: a train's sweep records the stroboscopic section only"),
         "fixed" => false,
         "sweep" => true,
         _ => bail!("--mode {mode}: a train sweeps with fixed (one initial state) or sweep (continuation, upward)"),
@@ -368,29 +386,25 @@ pub fn bifurcation(
         let mut op = t.op;
         op.set(param, v)?;
     }
-    let opts = sim_options(sim)?;
+    let (opts, cap) = sim_options(sim)?;
     let fam = Swept {
         spec: &t.spec,
         op: t.op,
         param,
     };
-    with_model!(&t.spec, &t.op, |m| sweep_model(
-        t,
-        &fam,
-        &m,
-        param,
-        values,
-        continuation,
-        &opts,
-        out
-    ))
+    with_model!(&t.spec, &t.op, |m| {
+        // (the work per value is nearly the same over an operating parameter: the first's)
+        check_work(&m, &opts, values.len(), cap)?;
+        sweep_model(t, &fam, &m, param, values, continuation, &opts, out)
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
 fn sweep_model<const N: usize>(
     t: &TrainRun,
     fam: &Swept<'_>,
-    first: &TrainModel<N>,
+    // (fixes the state dimension)
+    _first: &TrainModel<N>,
     param: &str,
     values: &[f64],
     continuation: bool,
@@ -404,7 +418,6 @@ where
     let started = std::time::Instant::now();
     let _lock = run_record::prepare_folder(out, "bifurcation", None, false)?;
     let y0 = <Swept<'_> as Family<N>>::at(fam, values[0]).static_state();
-    let _ = first;
     let pts = decided_sweep(fam, values, y0, opts, Decide::default(), continuation);
     write_text(&out.join("system.toml"), &t.spec.to_toml())?;
     let nm = t.spec.meshes.len();
@@ -448,7 +461,11 @@ where
             );
             force_layers[k].push((p.value, mx));
         }
-        runs += &format!(",{lsf},\n");
+        if lsf.is_finite() {
+            runs += &format!(",{lsf},\n");
+        } else {
+            runs += ",,\n";
+        }
         if lsf.is_finite() {
             lsf_layer.push((p.value, lsf));
         }

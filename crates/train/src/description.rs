@@ -330,6 +330,25 @@ impl TrainSpec {
                 finite_positive(format!("support[{i}].stiffness_nm_per_rad"), k, "N m/rad")?;
             }
         }
+        // every body takes part: a body no mesh, shaft, support or carried body names turns
+        // freely (a second free motion)
+        for (i, b) in self.bodies.iter().enumerate() {
+            let n = b.name.as_str();
+            let used = self
+                .meshes
+                .iter()
+                .any(|m| m.gears.iter().any(|g| g == n) || m.carrier.as_deref() == Some(n))
+                || self.shafts.iter().any(|s| s.bodies.iter().any(|x| x == n))
+                || self.supports.iter().any(|s| s.body == n)
+                || self.bodies.iter().any(|x| x.carrier.as_deref() == Some(n));
+            if !used {
+                return Err(invalid(
+                    format!("body[{i}].name"),
+                    format!("{n:?}"),
+                    "a body some mesh, shaft, support or carried body names (this one is joined to nothing)",
+                ));
+            }
+        }
         let input = known("load.input".into(), &self.load.input)?;
         let output = known("load.output".into(), &self.load.output)?;
         if input == output {
@@ -346,12 +365,14 @@ impl TrainSpec {
                 "a finite torque (N m)",
             ));
         }
-        if self.is_fixed(input) || self.is_fixed(output) {
-            return Err(invalid(
-                "support",
-                format!("{:?}", self.load.input),
-                "no fixed support on the input or the output body",
-            ));
+        for (field, body) in [("load.input", input), ("load.output", output)] {
+            if self.is_fixed(body) {
+                return Err(invalid(
+                    field,
+                    format!("{:?}", self.bodies[body].name),
+                    "a body without a fixed support",
+                ));
+            }
         }
         if !self.connected(input, output) {
             return Err(TrainError::Kinematics(format!(

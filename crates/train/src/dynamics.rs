@@ -270,11 +270,10 @@ impl<const N: usize> TrainModel<N> {
         });
         let a = (&a + a.transpose()) * 0.5;
         let eig = a.symmetric_eigen();
-        let top = eig.eigenvalues.iter().cloned().fold(0.0_f64, f64::max);
-        let mut elastic: Vec<usize> = (0..n)
-            .filter(|&i| eig.eigenvalues[i] > crate::modes::FREQUENCY_TOL * top)
-            .collect();
+        let mut elastic: Vec<usize> = (0..n).collect();
         elastic.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+        let rigid = crate::modes::rigid_modes(spec, eig.eigenvalues.as_slice());
+        let elastic: Vec<usize> = elastic.split_off(rigid.min(n));
         let dof = elastic.len();
         if 2 * dof != N {
             return Err(crate::error::invalid(

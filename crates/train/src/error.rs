@@ -14,13 +14,13 @@ pub enum TrainError {
         /// What the field may be.
         allowed: String,
     },
-    /// The pair physics refused a mesh's gear pair (the message names the pair field).
-    #[error("{mesh}: {source}")]
+    /// The pair physics refused a mesh's gear pair (the message names the pair).
+    #[error("{mesh}: {error}")]
     Pair {
         /// The mesh or preset field group, e.g. `sun-planet pair`.
         mesh: String,
-        /// The pair's error.
-        source: geardyn_physics::PhysicsError,
+        /// The pair's error (printed here, not chained: it would print twice).
+        error: geardyn_physics::PhysicsError,
     },
     /// The bodies, meshes and shafts do not make a train that turns with one input: the input
     /// does not reach the output, or the train has free or locked motions.

@@ -58,6 +58,21 @@ pub struct Mode {
     pub energy: Vec<f64>,
 }
 
+/// Rigid-body modes of a train: its kinematic free motions (one, for a train that turns with
+/// one input: [`crate::kinematics::Kinematics`]), else the eigenvalues `lambda` (of
+/// `M^(-1/2) K M^(-1/2)`) below [`FREQUENCY_TOL`] times the largest. (A relative threshold
+/// alone would call a real mode rigid in a train of very unequal stiffnesses: a shaft 1e8 times
+/// stiffer than a mesh.)
+pub fn rigid_modes(spec: &TrainSpec, lambda: &[f64]) -> usize {
+    match crate::kinematics::Kinematics::of(spec) {
+        Ok(_) => 1,
+        Err(_) => {
+            let top = lambda.iter().cloned().fold(0.0_f64, f64::max);
+            lambda.iter().filter(|&&l| l <= FREQUENCY_TOL * top).count()
+        }
+    }
+}
+
 /// The modes of a train, lowest frequency first.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Modes {
@@ -91,14 +106,15 @@ impl Modes {
         let eig = a.symmetric_eigen();
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-        let top = eig.eigenvalues.iter().cloned().fold(0.0_f64, f64::max);
+        let rigid_n = rigid_modes(spec, eig.eigenvalues.as_slice());
         let carried: Vec<bool> = spec.bodies.iter().map(|b| b.carrier.is_some()).collect();
         let nb = spec.bodies.len();
         let mut modes: Vec<Mode> = order
             .iter()
-            .map(|&k| {
+            .enumerate()
+            .map(|(rank, &k)| {
                 let lambda = eig.eigenvalues[k];
-                let rigid = lambda <= FREQUENCY_TOL * top;
+                let rigid = rank < rigid_n;
                 let mut shape = vec![0.0; nb];
                 let mut energy = vec![0.0; nb];
                 for (d, &b) in lin.bodies.iter().enumerate() {

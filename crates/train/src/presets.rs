@@ -23,11 +23,11 @@ const STEEL_SHEAR: f64 = 80e9;
 /// physics; `field` names the preset's fields in an error.
 fn pair(
     kind: PairKind,
-    z1: u32,
-    z2: u32,
+    [z1, z2]: [u32; 2],
     module_mm: f64,
     face_mm: f64,
-    field: &str,
+    group: &str,
+    names: &[(&str, &str)],
 ) -> Result<PairModel, TrainError> {
     let spec = PairSpec {
         kind,
@@ -39,9 +39,27 @@ fn pair(
         mu: 0.0,
         ..geardyn_physics::presets::breakage()
     };
-    spec.build().map_err(|source| TrainError::Pair {
-        mesh: format!("{field} pair ({z1}/{z2} teeth, {kind:?})").to_lowercase(),
-        source,
+    spec.build().map_err(|error| match error {
+        // a field of the preset: its own name (`stage1.z1`, not the pair's `pair.z1`)
+        geardyn_physics::PhysicsError::Invalid {
+            field,
+            value,
+            allowed,
+        } => match names.iter().find(|n| n.0 == field) {
+            Some((_, own)) => invalid(*own, value, allowed),
+            None => TrainError::Pair {
+                mesh: format!("{group} pair ({z1}/{z2} teeth)"),
+                error: geardyn_physics::PhysicsError::Invalid {
+                    field,
+                    value,
+                    allowed,
+                },
+            },
+        },
+        error => TrainError::Pair {
+            mesh: format!("{group} pair ({z1}/{z2} teeth)"),
+            error,
+        },
     })
 }
 
@@ -69,7 +87,8 @@ pub struct PlanetaryParams {
     /// Carrier inertia without the planets (`stage.carrier_inertia_kgm2`, kg m²); 0: a steel
     /// disc of the planets' orbit radius and the face width.
     pub carrier_inertia_kgm2: f64,
-    /// Input torque on the sun (`stage.input_torque_nm`, N m).
+    /// Nominal input torque on the sun (`stage.input_torque_nm`, N m), recorded in the
+    /// description (the dynamic model's load is its dimensionless `F`).
     pub input_torque_nm: f64,
 }
 
@@ -131,13 +150,36 @@ impl PlanetaryParams {
 }
 
 fn unknown(field: &str, known: &[&str]) -> TrainError {
-    invalid("--set", field, format!("one of {}", known.join(", ")))
+    let operating = "the operating point's omega, F, xi, c, D, kappa, ratio";
+    if known.is_empty() {
+        invalid(
+            "--set",
+            field,
+            format!("{operating} (this train has no fields of its own)"),
+        )
+    } else {
+        invalid(
+            "--set",
+            field,
+            format!("one of {}, or {operating}", known.join(", ")),
+        )
+    }
+}
+
+/// A module in the range of real gears, [0.05, 100] mm.
+fn check_module(m: f64) -> Result<(), TrainError> {
+    if m.is_finite() && (0.05..=100.0).contains(&m) {
+        Ok(())
+    } else {
+        Err(invalid("stage.module_mm", m, "[0.05, 100] mm"))
+    }
 }
 
 /// A planetary stage: sun (input), carrier (output), fixed ring, `N` equally spaced planets;
 /// sun–planet (external) and ring–planet (internal) meshes of the pair physics' mean stiffness,
 /// their phases from the planet positions (Parker & Lin 2004).
 pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
+    check_module(p.module_mm)?;
     let stage = PlanetaryStage::new(p.sun, p.planet, p.ring, p.planets, p.module_mm * 1e-3)
         .map_err(|e| match e {
             geardyn_physics::PhysicsError::Invalid {
@@ -155,7 +197,7 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             ),
             other => TrainError::Pair {
                 mesh: "stage".into(),
-                source: other,
+                error: other,
             },
         })?;
     if !(p.face_width_mm.is_finite() && (0.1..=2000.0).contains(&p.face_width_mm)) {
@@ -179,21 +221,35 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             "a finite torque (N m)",
         ));
     }
+    let stage_names = [
+        ("module", "stage.module_mm"),
+        ("face_width_mm", "stage.face_width_mm"),
+    ];
     let sp = pair(
         PairKind::External,
-        p.sun,
-        p.planet,
+        [p.sun, p.planet],
         p.module_mm,
         p.face_width_mm,
         "sun-planet",
+        &[
+            ("z1", "stage.sun_teeth"),
+            ("z2", "stage.planet_teeth"),
+            stage_names[0],
+            stage_names[1],
+        ],
     )?;
     let rp = pair(
         PairKind::Internal,
-        p.planet,
-        p.ring,
+        [p.planet, p.ring],
         p.module_mm,
         p.face_width_mm,
         "ring-planet",
+        &[
+            ("z1", "stage.planet_teeth"),
+            ("z2", "stage.ring_teeth"),
+            stage_names[0],
+            stage_names[1],
+        ],
     )?;
     let b = p.face_width_mm * 1e-3;
     let a = stage.centre_distance();
@@ -296,7 +352,8 @@ pub struct TwoStageParams {
     pub face_width_mm: f64,
     /// Intermediate shaft: diameter and length (`shaft.diameter_mm`, `shaft.length_mm`), steel.
     pub shaft_mm: [f64; 2],
-    /// Input torque (`stage.input_torque_nm`, N m).
+    /// Nominal input torque (`stage.input_torque_nm`, N m), recorded in the description (the
+    /// dynamic model's load is its dimensionless `F`).
     pub input_torque_nm: f64,
 }
 
@@ -316,7 +373,7 @@ impl Default for TwoStageParams {
 
 impl TwoStageParams {
     /// The fields `set` knows.
-    pub const FIELDS: [&'static str; 8] = [
+    pub const FIELDS: [&'static str; 9] = [
         "stage1.z1",
         "stage1.z2",
         "stage2.z1",
@@ -325,6 +382,7 @@ impl TwoStageParams {
         "stage.face_width_mm",
         "shaft.diameter_mm",
         "shaft.length_mm",
+        "stage.input_torque_nm",
     ];
 
     /// Set a field (checked when the train is built).
@@ -354,6 +412,7 @@ impl TwoStageParams {
 /// A two-stage drive: input pinion, stage-1 wheel and stage-2 pinion on an intermediate shaft
 /// of finite torsional stiffness, output wheel.
 pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
+    check_module(p.module_mm)?;
     for (k, f) in [(0, "shaft.diameter_mm"), (1, "shaft.length_mm")] {
         if !(p.shaft_mm[k].is_finite() && (1.0..=10_000.0).contains(&p.shaft_mm[k])) {
             return Err(invalid(f, p.shaft_mm[k], "[1, 10000] mm"));
@@ -374,21 +433,35 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
         ));
     }
     let [z1, z2, z3, z4] = p.teeth;
+    let common = [
+        ("module", "stage.module_mm"),
+        ("face_width_mm", "stage.face_width_mm"),
+    ];
     let s1 = pair(
         PairKind::External,
-        z1,
-        z2,
+        [z1, z2],
         p.module_mm,
         p.face_width_mm,
         "stage1",
+        &[
+            ("z1", "stage1.z1"),
+            ("z2", "stage1.z2"),
+            common[0],
+            common[1],
+        ],
     )?;
     let s2 = pair(
         PairKind::External,
-        z3,
-        z4,
+        [z3, z4],
         p.module_mm,
         p.face_width_mm,
         "stage2",
+        &[
+            ("z1", "stage2.z1"),
+            ("z2", "stage2.z2"),
+            common[0],
+            common[1],
+        ],
     )?;
     let body = |name: &str, i: f64| Body {
         name: name.into(),
@@ -441,7 +514,14 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
 /// one mesh.
 pub fn single_pair() -> Result<TrainSpec, TrainError> {
     let s = geardyn_physics::presets::breakage();
-    let m = pair(s.kind, s.z1, s.z2, s.module_mm, s.face_width_mm, "pair")?;
+    let m = pair(
+        s.kind,
+        [s.z1, s.z2],
+        s.module_mm,
+        s.face_width_mm,
+        "pair",
+        &[],
+    )?;
     let body = |name: &str, i: f64| Body {
         name: name.into(),
         inertia_kgm2: i,

@@ -280,11 +280,27 @@ fn bad_trains_are_refused_naming_the_field() {
         e.contains("mesh[0].gears = \"wheel\"") && e.contains("pinion, gear"),
         "{e}"
     );
-    // no load path: the output is a body no mesh reaches
-    let e = err(
-        &format!("{pair}\n[[body]]\nname = \"idler\"\ninertia_kgm2 = 1.0\n")
-            .replace("output = \"gear\"", "output = \"idler\""),
+    // a body joined to nothing
+    let e = err(&format!(
+        "{pair}\n[[body]]\nname = \"idler\"\ninertia_kgm2 = 1.0\n"
+    ));
+    assert!(
+        e.contains("body[2].name = \"idler\"") && e.contains("joined to nothing"),
+        "{e}"
     );
+    // no load path: the output meshes with a third body only
+    let mut t = presets::single_pair().unwrap();
+    let mut idler = t.bodies[1].clone();
+    idler.name = "idler".into();
+    let mut wheel = idler.clone();
+    wheel.name = "wheel".into();
+    t.bodies.extend([idler, wheel]);
+    let mut m = t.meshes[0].clone();
+    m.name = "idler mesh".into();
+    m.gears = ["idler".into(), "wheel".into()];
+    t.meshes.push(m);
+    t.load.output = "wheel".into();
+    let e = t.validate().unwrap_err().to_string();
     assert!(e.contains("no load path"), "{e}");
     // a differential: the planetary stage with its ring let go
     let mut t = planetary(3);
@@ -304,4 +320,66 @@ fn bad_trains_are_refused_naming_the_field() {
     assert!(err("name = 1").contains("invalid type"));
     let e = err(&pair.replace("stiffness_n_per_m = ", "stiffness_n_per_m = -"));
     assert!(e.contains("mesh[0].stiffness_n_per_m"), "{e}");
+}
+
+/// Planet phasing (Parker 2000, J. Sound Vib. 236:561–573, rotational model): harmonic `h` of
+/// the mesh frequency of `N` equally spaced planets around `Z` sun teeth excites the rotational
+/// modes when `h Z / N` is whole and the planet modes otherwise. 25 sun teeth and 3 planets:
+/// harmonics 1 and 2 excite only the planet modes, harmonic 3 only the rotational ones; 24 sun
+/// teeth and 4 planets (in phase): every harmonic excites only the rotational modes.
+#[test]
+fn planet_phasing_decides_which_crossings_excite_their_modes() {
+    let check = |t: &TrainSpec, rule: &dyn Fn(u32, ModeKind) -> bool| {
+        let k = Kinematics::of(t).unwrap();
+        let m = Modes::of(t);
+        let c = crossings(t, &k, &m, 4, 1e9);
+        assert_eq!(c.len(), 4 * m.distinct().len());
+        for x in &c {
+            let kind = if x.kind == "planet" {
+                ModeKind::Planet
+            } else {
+                ModeKind::Rotational
+            };
+            assert_eq!(x.excited, rule(x.harmonic, kind), "{x:?}");
+        }
+    };
+    check(&planetary(3), &|h, kind| {
+        if h % 3 == 0 {
+            kind == ModeKind::Rotational
+        } else {
+            kind == ModeKind::Planet
+        }
+    });
+    let in_phase = presets::planetary(&PlanetaryParams {
+        sun: 24,
+        planet: 36,
+        ring: 96,
+        planets: 4,
+        ..Default::default()
+    })
+    .unwrap();
+    check(&in_phase, &|_, kind| kind == ModeKind::Rotational);
+    // a drive without planets: every crossing counts
+    let t = presets::two_stage(&TwoStageParams::default()).unwrap();
+    let k = Kinematics::of(&t).unwrap();
+    assert!(crossings(&t, &k, &Modes::of(&t), 2, 1e9)
+        .iter()
+        .all(|x| x.excited));
+}
+
+/// A shaft far stiffer than the meshes (2 m in diameter) leaves one rigid-body mode: the others
+/// are real, however small beside the shaft's (a relative threshold called them rigid).
+#[test]
+fn a_stiff_shaft_does_not_make_modes_rigid() {
+    let t = presets::two_stage(&TwoStageParams {
+        shaft_mm: [2000.0, 150.0],
+        ..Default::default()
+    })
+    .unwrap();
+    let m = Modes::of(&t);
+    assert_eq!(m.count(ModeKind::RigidBody), 1);
+    assert!(m.modes[1].frequency_hz > 100.0, "{:?}", m.modes[1]);
+    // the shaft's mode is rigid in the limit: the rest is the lumped three-body drive
+    let soft = Modes::of(&presets::two_stage(&TwoStageParams::default()).unwrap());
+    assert!(m.modes[1].frequency_hz > soft.modes[1].frequency_hz);
 }
