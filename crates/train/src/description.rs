@@ -217,18 +217,26 @@ impl TrainSpec {
                 ));
             }
         }
-        let known = |field: String, name: &str| -> Result<usize, TrainError> {
-            self.body_index(name).ok_or_else(|| {
-                invalid(
-                    field,
-                    format!("{name:?}"),
-                    format!("the name of a body ({})", self.body_list()),
-                )
-            })
-        };
+        self.validate_meshes()?;
+        self.validate_links()
+    }
+
+    /// The index of the body `name`, or an error naming `field`.
+    fn known(&self, field: String, name: &str) -> Result<usize, TrainError> {
+        self.body_index(name).ok_or_else(|| {
+            invalid(
+                field,
+                format!("{name:?}"),
+                format!("the name of a body ({})", self.body_list()),
+            )
+        })
+    }
+
+    /// Carriers of bodies: bodies, not carried themselves, with an orbit radius.
+    fn validate_carriers(&self) -> Result<(), TrainError> {
         for (i, b) in self.bodies.iter().enumerate() {
             if let Some(c) = &b.carrier {
-                let ci = known(format!("body[{i}].carrier"), c)?;
+                let ci = self.known(format!("body[{i}].carrier"), c)?;
                 if ci == i || self.bodies[ci].carrier.is_some() {
                     return Err(invalid(
                         format!("body[{i}].carrier"),
@@ -243,6 +251,12 @@ impl TrainSpec {
                 )?;
             }
         }
+        Ok(())
+    }
+
+    /// Meshes: names, gears, radii, teeth, stiffness, contact ratio, phase, carrier.
+    fn validate_meshes(&self) -> Result<(), TrainError> {
+        self.validate_carriers()?;
         let mut mesh_names = BTreeSet::new();
         for (i, m) in self.meshes.iter().enumerate() {
             if m.name.trim().is_empty() || !mesh_names.insert(m.name.as_str()) {
@@ -252,8 +266,8 @@ impl TrainSpec {
                     "a non-empty name no other mesh has",
                 ));
             }
-            let a = known(format!("mesh[{i}].gears"), &m.gears[0])?;
-            let b = known(format!("mesh[{i}].gears"), &m.gears[1])?;
+            let a = self.known(format!("mesh[{i}].gears"), &m.gears[0])?;
+            let b = self.known(format!("mesh[{i}].gears"), &m.gears[1])?;
             if a == b {
                 return Err(invalid(
                     format!("mesh[{i}].gears"),
@@ -298,7 +312,7 @@ impl TrainSpec {
                 ));
             }
             if let Some(c) = &m.carrier {
-                let ci = known(format!("mesh[{i}].carrier"), c)?;
+                let ci = self.known(format!("mesh[{i}].carrier"), c)?;
                 if ci == a || ci == b {
                     return Err(invalid(
                         format!("mesh[{i}].carrier"),
@@ -308,9 +322,14 @@ impl TrainSpec {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Shafts, supports, every body joined to the train, the load path.
+    fn validate_links(&self) -> Result<(), TrainError> {
         for (i, s) in self.shafts.iter().enumerate() {
-            let a = known(format!("shaft[{i}].bodies"), &s.bodies[0])?;
-            let b = known(format!("shaft[{i}].bodies"), &s.bodies[1])?;
+            let a = self.known(format!("shaft[{i}].bodies"), &s.bodies[0])?;
+            let b = self.known(format!("shaft[{i}].bodies"), &s.bodies[1])?;
             if a == b {
                 return Err(invalid(
                     format!("shaft[{i}].bodies"),
@@ -325,7 +344,7 @@ impl TrainSpec {
             )?;
         }
         for (i, s) in self.supports.iter().enumerate() {
-            known(format!("support[{i}].body"), &s.body)?;
+            self.known(format!("support[{i}].body"), &s.body)?;
             if let Some(k) = s.stiffness_nm_per_rad {
                 finite_positive(format!("support[{i}].stiffness_nm_per_rad"), k, "N m/rad")?;
             }
@@ -349,8 +368,8 @@ impl TrainSpec {
                 ));
             }
         }
-        let input = known("load.input".into(), &self.load.input)?;
-        let output = known("load.output".into(), &self.load.output)?;
+        let input = self.known("load.input".into(), &self.load.input)?;
+        let output = self.known("load.output".into(), &self.load.output)?;
         if input == output {
             return Err(invalid(
                 "load.output",

@@ -248,6 +248,82 @@ fn common_cycles(rates: &[f64]) -> Option<u32> {
     })
 }
 
+/// The elastic basis of a train: `P` (coordinates x elastic modes of the mean-stiffness train,
+/// lowest first) with `Pᵀ M P = m_ref I`, `m_ref` the equivalent mass of mesh 1 and `k_ref` its
+/// mean stiffness. `state` must be twice the number of elastic modes.
+struct Basis {
+    p: nalgebra::DMatrix<f64>,
+    m_ref: f64,
+    k_ref: f64,
+}
+
+fn elastic_basis(spec: &TrainSpec, lin: &LinearModel, state: usize) -> Result<Basis, TrainError> {
+    let n = lin.len();
+    let inv_sqrt: Vec<f64> = lin.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
+    let a = nalgebra::DMatrix::from_fn(n, n, |i, j| {
+        lin.stiffness[(i, j)] * inv_sqrt[i] * inv_sqrt[j]
+    });
+    let a = (&a + a.transpose()) * 0.5;
+    let eig = a.symmetric_eigen();
+    let mut elastic: Vec<usize> = (0..n).collect();
+    elastic.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let rigid = crate::modes::rigid_modes(spec, eig.eigenvalues.as_slice());
+    let elastic: Vec<usize> = elastic.split_off(rigid.min(n));
+    let dof = elastic.len();
+    if 2 * dof != state {
+        return Err(crate::error::invalid(
+            "state dimension",
+            state,
+            format!("2 x {dof} (the train's elastic degrees of freedom)"),
+        ));
+    }
+    let a0 = mesh_coords(spec, lin, &spec.meshes[0]);
+    let m_ref = 1.0 / (0..n).map(|i| a0[i] * a0[i] / lin.mass[i]).sum::<f64>();
+    let p = nalgebra::DMatrix::from_fn(n, dof, |i, j| {
+        inv_sqrt[i] * eig.eigenvectors[(i, elastic[j])] * m_ref.sqrt()
+    });
+    Ok(Basis {
+        p,
+        m_ref,
+        k_ref: spec.meshes[0].stiffness_n_per_m,
+    })
+}
+
+/// A mesh's deflection coefficients over the linear model's coordinates (m/rad).
+fn mesh_coords(spec: &TrainSpec, lin: &LinearModel, m: &crate::Mesh) -> Vec<f64> {
+    let mut v = vec![0.0; lin.len()];
+    for (b, c) in mesh_coefficients(spec, m) {
+        if let Some(d) = lin.bodies.iter().position(|&x| x == b) {
+            v[d] += c;
+        }
+    }
+    v
+}
+
+/// Shafts and elastic supports in the elastic coordinates, `K_s = Pᵀ K_shafts P / k_ref`
+/// (row-major): the mean stiffness less the meshes'.
+fn shaft_matrix(spec: &TrainSpec, lin: &LinearModel, basis: &Basis) -> Vec<f64> {
+    let n = lin.len();
+    let mut ks_full = lin.stiffness.clone();
+    for m in &spec.meshes {
+        let a = mesh_coords(spec, lin, m);
+        for i in 0..n {
+            for j in 0..n {
+                ks_full[(i, j)] -= m.stiffness_n_per_m * a[i] * a[j];
+            }
+        }
+    }
+    let projected = basis.p.transpose() * ks_full * &basis.p / basis.k_ref;
+    let dof = basis.p.ncols();
+    let mut k_s = vec![0.0; dof * dof];
+    for r in 0..dof {
+        for c in 0..dof {
+            k_s[r * dof + c] = projected[(r, c)];
+        }
+    }
+    k_s
+}
+
 impl<const N: usize> TrainModel<N> {
     /// The model of a validated train at `op` (`N` must be twice [`elastic_dof`]).
     pub fn new(spec: &TrainSpec, op: &TrainOperating) -> Result<Self, TrainError> {
@@ -263,41 +339,11 @@ impl<const N: usize> TrainModel<N> {
                 format!("at most {MAX_MESHES} meshes"),
             ));
         }
-        // mass-normalised elastic modes of the mean-stiffness train
-        let inv_sqrt: Vec<f64> = lin.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
-        let a = nalgebra::DMatrix::from_fn(n, n, |i, j| {
-            lin.stiffness[(i, j)] * inv_sqrt[i] * inv_sqrt[j]
-        });
-        let a = (&a + a.transpose()) * 0.5;
-        let eig = a.symmetric_eigen();
-        let mut elastic: Vec<usize> = (0..n).collect();
-        elastic.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-        let rigid = crate::modes::rigid_modes(spec, eig.eigenvalues.as_slice());
-        let elastic: Vec<usize> = elastic.split_off(rigid.min(n));
-        let dof = elastic.len();
-        if 2 * dof != N {
-            return Err(crate::error::invalid(
-                "state dimension",
-                N,
-                format!("2 x {dof} (the train's elastic degrees of freedom)"),
-            ));
-        }
-        // a_k over the coordinates
-        let coords = |m: &crate::Mesh| -> Vec<f64> {
-            let mut v = vec![0.0; n];
-            for (b, c) in mesh_coefficients(spec, m) {
-                if let Some(d) = lin.bodies.iter().position(|&x| x == b) {
-                    v[d] += c;
-                }
-            }
-            v
-        };
-        let a0 = coords(&spec.meshes[0]);
-        let m_ref = 1.0 / (0..n).map(|i| a0[i] * a0[i] / lin.mass[i]).sum::<f64>();
-        let k_ref = spec.meshes[0].stiffness_n_per_m;
+        let basis = elastic_basis(spec, &lin, N)?;
+        let (dof, m_ref, k_ref) = (basis.p.ncols(), basis.m_ref, basis.k_ref);
         let omega_ref = (k_ref / m_ref).sqrt();
-        // P = M^(-1/2) V_e sqrt(m_ref): column j of elastic mode j
-        let p = |i: usize, j: usize| inv_sqrt[i] * eig.eigenvectors[(i, elastic[j])] * m_ref.sqrt();
+        let coords = |m: &crate::Mesh| mesh_coords(spec, &lin, m);
+        let p = |i: usize, j: usize| basis.p[(i, j)];
         let project = |v: &[f64]| -> Vec<f64> {
             (0..dof)
                 .map(|j| (0..n).map(|i| p(i, j) * v[i]).sum())
@@ -329,28 +375,7 @@ impl<const N: usize> TrainModel<N> {
                 format!("mesh frequencies with a common period of at most {MAX_CYCLES} cycles of mesh 0 (their tooth counts' ratios)"),
             )
         })?;
-        // shafts and elastic supports: K_s = Pᵀ K_shafts P / k_ref
-        let mut ks_full = lin.stiffness.clone();
-        for m in &spec.meshes {
-            let a = coords(m);
-            for i in 0..n {
-                for j in 0..n {
-                    ks_full[(i, j)] -= m.stiffness_n_per_m * a[i] * a[j];
-                }
-            }
-        }
-        let mut k_s = vec![0.0; dof * dof];
-        for r in 0..dof {
-            for s in 0..dof {
-                let mut acc = 0.0;
-                for i in 0..n {
-                    for j in 0..n {
-                        acc += p(i, r) * ks_full[(i, j)] * p(j, s);
-                    }
-                }
-                k_s[r * dof + s] = acc / k_ref;
-            }
-        }
+        let k_s = shaft_matrix(spec, &lin, &basis);
         let c_s: Vec<f64> = k_s.iter().map(|k| op.c * k).collect();
         // the load: input torque +1, output torque balancing its power
         let input = spec.body_index(&spec.load.input).expect("validated");

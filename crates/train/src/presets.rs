@@ -284,6 +284,39 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             orbit_angle_deg: 0.0,
         },
     ];
+    let meshes = planets(&stage, p, (&sp, &rp), &mut bodies);
+    let t = TrainSpec {
+        name: format!(
+            "planetary {}/{}/{}, {} planets",
+            p.sun, p.planet, p.ring, p.planets
+        ),
+        bodies,
+        meshes,
+        shafts: vec![],
+        supports: vec![Support {
+            body: "ring".into(),
+            stiffness_nm_per_rad: None,
+        }],
+        load: Load {
+            input: "sun".into(),
+            output: "carrier".into(),
+            input_torque_nm: p.input_torque_nm,
+        },
+    };
+    t.validate()?;
+    Ok(t)
+}
+
+/// The planets of a stage (pushed onto `bodies`) and their sun–planet and ring–planet meshes,
+/// with the geometric phases.
+fn planets(
+    stage: &PlanetaryStage,
+    p: &PlanetaryParams,
+    (sp, rp): (&PairModel, &PairModel),
+    bodies: &mut Vec<Body>,
+) -> Vec<Mesh> {
+    let b = p.face_width_mm * 1e-3;
+    let a = stage.centre_distance();
     let mut meshes = Vec::new();
     for n in 0..p.planets {
         let name = format!("planet {}", n + 1);
@@ -318,26 +351,7 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             phase: stage.ring_planet_phase(n),
         });
     }
-    let t = TrainSpec {
-        name: format!(
-            "planetary {}/{}/{}, {} planets",
-            p.sun, p.planet, p.ring, p.planets
-        ),
-        bodies,
-        meshes,
-        shafts: vec![],
-        supports: vec![Support {
-            body: "ring".into(),
-            stiffness_nm_per_rad: None,
-        }],
-        load: Load {
-            input: "sun".into(),
-            output: "carrier".into(),
-            input_torque_nm: p.input_torque_nm,
-        },
-    };
-    t.validate()?;
-    Ok(t)
+    meshes
 }
 
 /// The two-stage drive's settings.
