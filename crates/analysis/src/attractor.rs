@@ -174,6 +174,7 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for StrobeOnly<S> {
         fn next_breakpoint(&self, t: f64, m: &S::Mode) -> f64;
         fn on_breakpoint(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode);
         fn max_step(&self) -> f64;
+        fn active_dim(&self) -> usize;
         fn guard_lipschitz(&self, m: &S::Mode) -> Option<f64>;
     }
 }

@@ -211,6 +211,14 @@ pub trait HybridSystem<const N: usize> {
         f64::INFINITY
     }
 
+    /// Components of the state that move: the adaptive integrator's error norm is the RMS over
+    /// this many (the others must stay exactly zero). A system of several sizes can then share
+    /// one larger `N` — padded with zeros — and step exactly as at its own size, which spares a
+    /// compiled copy of every analysis per size. Default: `N`.
+    fn active_dim(&self) -> usize {
+        N
+    }
+
     /// If every guard armed in `mode` depends on the state only (not on time) with
     /// `|g(y) - g(y')| <= L max_i |y_i - y'_i|`, return `Some(L)`. The integrator then skips the
     /// interior guard samples of a step whose interpolant provably stays farther from every
@@ -319,6 +327,7 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
         fn next_breakpoint(&self, t: f64, mode: &S::Mode) -> f64;
         fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode);
         fn max_step(&self) -> f64;
+        fn active_dim(&self) -> usize;
         fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64>;
         fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool;
         fn memory(&self, mode: &S::Mode) -> f64;

@@ -439,7 +439,8 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                     d0 += (self.y[i] / sc).powi(2);
                     d1 += (self.f0[i] / sc).powi(2);
                 }
-                let (d0, d1) = ((d0 / N as f64).sqrt(), (d1 / N as f64).sqrt());
+                let dim = self.sys.active_dim() as f64;
+                let (d0, d1) = ((d0 / dim).sqrt(), (d1 / dim).sqrt());
                 let h = if d0 < 1e-5 || d1 < 1e-5 {
                     1e-6
                 } else {
@@ -569,7 +570,7 @@ impl<S: HybridSystem<N>, const N: usize> Integrator<S, N> {
                             + D6 * k6[i]
                             + D7 * k7[i]);
                 }
-                let err = (err / N as f64).sqrt();
+                let err = (err / sys.active_dim() as f64).sqrt();
                 Trial {
                     y1,
                     f1: k7,

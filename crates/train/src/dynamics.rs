@@ -197,10 +197,21 @@ pub struct TrainTime {
     sin: [f64; MAX_MESHES],
 }
 
-/// A train's dynamic model of state dimension `N` (twice its elastic degrees of freedom).
+/// A train's dynamic model of state dimension `N`: `[x, x']` of its `dof` elastic coordinates,
+/// `x` in `y[..dof]` and `x'` in `y[N / 2..N / 2 + dof]`.
+///
+/// `N` may exceed `2 dof`: the components in between are padding that stays exactly zero (they
+/// decay at the train's fastest natural rate, so a tangent vector in them never dominates an
+/// exponent) and the integrator's error norm counts only the `2 dof` that move
+/// ([`HybridSystem::active_dim`]), so a padded model steps exactly as an unpadded one. A front end
+/// then compiles the analyses for a few sizes instead of one per train size.
 #[derive(Clone, Debug)]
 pub struct TrainModel<const N: usize> {
     names: Vec<String>,
+    /// Elastic degrees of freedom (`2 dof <= N`).
+    dof: usize,
+    /// Decay rate of the padding (the fastest natural frequency, dimensionless).
+    pad_rate: f64,
     meshes: Vec<MeshDyn>,
     op: TrainOperating,
     /// `K_s` and `C_s` (row-major, `dof x dof`).
@@ -270,11 +281,11 @@ fn elastic_basis(spec: &TrainSpec, lin: &LinearModel, state: usize) -> Result<Ba
     let rigid = crate::modes::rigid_modes(spec, eig.eigenvalues.as_slice());
     let elastic: Vec<usize> = elastic.split_off(rigid.min(n));
     let dof = elastic.len();
-    if 2 * dof != state {
+    if 2 * dof > state {
         return Err(crate::error::invalid(
             "state dimension",
             state,
-            format!("2 x {dof} (the train's elastic degrees of freedom)"),
+            format!("at least 2 x {dof} (the train's elastic degrees of freedom)"),
         ));
     }
     let a0 = mesh_coords(spec, lin, &spec.meshes[0]);
@@ -325,7 +336,7 @@ fn shaft_matrix(spec: &TrainSpec, lin: &LinearModel, basis: &Basis) -> Vec<f64> 
 }
 
 impl<const N: usize> TrainModel<N> {
-    /// The model of a validated train at `op` (`N` must be twice [`elastic_dof`]).
+    /// The model of a validated train at `op` (`N` at least twice [`elastic_dof`]).
     pub fn new(spec: &TrainSpec, op: &TrainOperating) -> Result<Self, TrainError> {
         op.validate()?;
         let kin = Kinematics::of(spec)?;
@@ -445,6 +456,8 @@ impl<const N: usize> TrainModel<N> {
         let wmax = frequencies.iter().cloned().fold(0.0, f64::max) * stiffest.sqrt();
         Ok(TrainModel {
             names: spec.meshes.iter().map(|m| m.name.clone()).collect(),
+            dof,
+            pad_rate: if wmax > 0.0 { wmax } else { 1.0 },
             meshes,
             op: *op,
             force,
@@ -468,7 +481,7 @@ impl<const N: usize> TrainModel<N> {
 
     /// Elastic degrees of freedom.
     pub fn dof(&self) -> usize {
-        N / 2
+        self.dof
     }
 
     /// `omega_ref` (rad/s): the dimensionless time's unit.
@@ -496,7 +509,7 @@ impl<const N: usize> TrainModel<N> {
     /// on its drive flank (the start of a train's runs).
     pub fn static_state(&self) -> [f64; N] {
         let mut y = [0.0; N];
-        y[..N / 2].copy_from_slice(&self.static_x);
+        y[..self.dof].copy_from_slice(&self.static_x);
         y
     }
 
@@ -504,8 +517,8 @@ impl<const N: usize> TrainModel<N> {
     /// in `mode`: constant along a motion of the undamped train (`c = 0`) of constant stiffness
     /// (`kappa = 0`) without transmission error (`xi = 0`) — an invariant for tests.
     pub fn energy(&self, t: f64, y: &[f64; N], mode: &TrainMode) -> f64 {
-        let dof = N / 2;
-        let (x, v) = (&y[..dof], &y[dof..]);
+        let dof = self.dof;
+        let (x, v) = (&y[..dof], &y[N / 2..N / 2 + dof]);
         let mut e = 0.5 * v.iter().map(|v| v * v).sum::<f64>();
         for i in 0..dof {
             e -= self.force[i] * x[i];
@@ -561,11 +574,11 @@ impl<const N: usize> TrainModel<N> {
     /// `[delta_k, delta_k']` at `t` with the phase's `cos`, `sin`.
     #[inline(always)]
     fn deflection(&self, k: usize, y: &[f64; N], cos: f64, sin: f64) -> [f64; 2] {
-        let dof = N / 2;
+        let (dof, h) = (self.dof, N / 2);
         let xi = self.op.xi;
         [
             self.dot(k, &y[..dof]) - xi * cos,
-            self.dot(k, &y[dof..]) + xi * self.omega_k(k) * sin,
+            self.dot(k, &y[h..h + dof]) + xi * self.omega_k(k) * sin,
         ]
     }
 
@@ -674,6 +687,10 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
     type Mode = TrainMode;
     type TimeTerms = TrainTime;
 
+    fn active_dim(&self) -> usize {
+        2 * self.dof
+    }
+
     fn initial_mode(&self, t: f64, y: &mut [f64; N]) -> TrainMode {
         let tt = self.time_terms(t);
         let mut contact = [ContactState::Separated; MAX_MESHES];
@@ -707,16 +724,20 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
 
     #[inline(always)]
     fn rhs(&self, _t: f64, tt: &TrainTime, y: &[f64; N], mode: &TrainMode, dy: &mut [f64; N]) {
-        let dof = N / 2;
+        let (dof, h) = (self.dof, N / 2);
         for i in 0..dof {
-            dy[i] = y[dof + i];
+            dy[i] = y[h + i];
             let mut acc = self.force[i];
             if self.has_shafts {
                 for j in 0..dof {
-                    acc -= self.k_s[i * dof + j] * y[j] + self.c_s[i * dof + j] * y[dof + j];
+                    acc -= self.k_s[i * dof + j] * y[j] + self.c_s[i * dof + j] * y[h + j];
                 }
             }
-            dy[dof + i] = acc;
+            dy[h + i] = acc;
+        }
+        for i in dof..h {
+            dy[i] = -self.pad_rate * y[i];
+            dy[h + i] = -self.pad_rate * y[h + i];
         }
         for k in 0..self.meshes.len() {
             let c = mode.contact[k];
@@ -726,7 +747,7 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
             let dl = self.deflection(k, y, tt.cos[k], tt.sin[k]);
             let f = self.force_of(k, c, self.stiffness(k, tt.cos[k], mode), dl);
             for (i, b) in self.meshes[k].b.iter().enumerate() {
-                dy[dof + i] -= b * f;
+                dy[h + i] -= b * f;
             }
         }
     }
@@ -813,14 +834,18 @@ impl<const N: usize> Variational<N> for TrainModel<N> {
         mode: &TrainMode,
         j: &mut [[f64; N]; N],
     ) {
-        let dof = N / 2;
+        let (dof, h) = (self.dof, N / 2);
         *j = [[0.0; N]; N];
         for i in 0..dof {
-            j[i][dof + i] = 1.0;
+            j[i][h + i] = 1.0;
             for c in 0..dof {
-                j[dof + i][c] = -self.k_s[i * dof + c];
-                j[dof + i][dof + c] = -self.c_s[i * dof + c];
+                j[h + i][c] = -self.k_s[i * dof + c];
+                j[h + i][h + c] = -self.c_s[i * dof + c];
             }
+        }
+        for i in dof..h {
+            j[i][i] = -self.pad_rate;
+            j[h + i][h + i] = -self.pad_rate;
         }
         for k in 0..self.meshes.len() {
             if !matches!(mode.contact[k], ContactState::Drive | ContactState::Back) {
@@ -830,8 +855,8 @@ impl<const N: usize> Variational<N> for TrainModel<N> {
             let kk = m.kappa * self.stiffness(k, tt.cos[k], mode);
             for i in 0..dof {
                 for c in 0..dof {
-                    j[dof + i][c] -= kk * m.b[i] * m.b[c];
-                    j[dof + i][dof + c] -= m.damping * m.b[i] * m.b[c];
+                    j[h + i][c] -= kk * m.b[i] * m.b[c];
+                    j[h + i][h + c] -= m.damping * m.b[i] * m.b[c];
                 }
             }
         }

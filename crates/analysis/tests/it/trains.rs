@@ -210,3 +210,46 @@ fn a_phased_planetary_stage_is_cyclically_symmetric() {
         assert!(v[0] > 0.1, "{v:?}");
     }
 }
+
+/// A train in a larger state padded with zeros steps exactly as in its own: the two-stage drive
+/// (3 elastic degrees of freedom) in 6 and in 8 components gives the same stroboscopic mesh
+/// states, forces and label to the last bit (the padding stays zero and the error norm counts
+/// the moving components only), with contact loss.
+#[test]
+fn a_padded_train_steps_as_its_own_size() {
+    let spec = trains::two_stage(&trains::TwoStageParams::default()).unwrap();
+    for omega in [0.6, 1.0] {
+        let op = TrainOperating {
+            omega,
+            ..TrainOperating::default()
+        };
+        let exact = TrainModel::<6>::new(&spec, &op).unwrap();
+        let padded = TrainModel::<8>::new(&spec, &op).unwrap();
+        assert_eq!(padded.dof(), 3);
+        assert_eq!(padded.active_dim(), 6);
+        let opts = SimOptions {
+            transient_periods: 50,
+            record_periods: 20,
+            ..Default::default()
+        };
+        let (re, se, _) =
+            simulate_decided(&exact, exact.static_state(), &opts, Decide::default()).unwrap();
+        let (rp, sp, _) =
+            simulate_decided(&padded, padded.static_state(), &opts, Decide::default()).unwrap();
+        assert_eq!(se.label, sp.label, "omega {omega}");
+        assert_eq!(se.max_force, sp.max_force);
+        assert_eq!(re.strobe.len(), rp.strobe.len());
+        for (a, b) in re.strobe.iter().zip(&rp.strobe) {
+            for k in 0..exact.mesh_count() {
+                assert_eq!(
+                    exact.mesh_state(a.tau, &a.y, k),
+                    padded.mesh_state(b.tau, &b.y, k)
+                );
+            }
+            assert!(b.y[3] == 0.0 && b.y[7] == 0.0);
+        }
+    }
+    // (a state too small for the train is refused, naming it)
+    let e = TrainModel::<4>::new(&spec, &TrainOperating::default()).unwrap_err();
+    assert!(e.to_string().contains("state dimension"), "{e}");
+}

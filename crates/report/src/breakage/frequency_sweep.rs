@@ -174,7 +174,7 @@ pub(super) fn compute(ctx: &Ctx, base: &Scenario, dir: &Path) -> Result<Frequenc
     };
     let twin = ctx.sweep(dir, "broken omega sweep, twin", base, &ot)?;
     let deep =
-        crate::deep_escape::recheck(ctx, dir, "broken omega sweep", base, &o, &main, ctx.n(2, 6))?;
+        crate::deep_escape::recheck(ctx, dir, "broken omega sweep", base, &o, &main, ctx.n(1, 6))?;
     // the seed does not state the load: the same sweep, coarser, at two other loads
     let mut others = Vec::new();
     let ns = ctx.n(8, 40);

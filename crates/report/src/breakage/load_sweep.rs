@@ -117,7 +117,7 @@ pub(super) fn compute(
     };
     let twin = ctx.sweep(dir, "broken F sweep, twin", &b, &ot)?;
     let deep =
-        crate::deep_escape::recheck(ctx, dir, "broken F sweep", &b, &o, &broken, ctx.n(2, 6))?;
+        crate::deep_escape::recheck(ctx, dir, "broken F sweep", &b, &o, &broken, ctx.n(0, 6))?;
     Ok(LoadSweepData {
         nf,
         sim,
