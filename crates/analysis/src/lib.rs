@@ -35,6 +35,7 @@ pub mod signals;
 pub mod simulate;
 pub mod simulation;
 pub mod spectrum;
+pub mod stage_signals;
 pub mod summary;
 mod sweep_settings;
 pub mod tle_convergence;

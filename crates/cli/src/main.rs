@@ -15,6 +15,7 @@ mod simulate;
 mod stiffness;
 mod sweep;
 mod train;
+mod train_signals;
 
 use clap::{Parser, Subcommand};
 

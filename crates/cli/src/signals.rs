@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use geardyn_analysis::indicators::ResidualKind;
 use geardyn_analysis::signals::{Na4Reference, SignalsRequest, SIGNAL_NAMES};
+use geardyn_analysis::stage_signals::StageSignalsRequest;
 use geardyn_exec::{execute, SignalsJob};
 use geardyn_io::output::{write_json, write_text};
 use geardyn_io::run_record;
@@ -54,6 +55,23 @@ pub struct SignalsArgs {
 }
 
 pub fn run(mut a: SignalsArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.cfg)? {
+        // (a train: --transient counts carrier revolutions, --revolutions records of whole
+        // carrier revolutions; the pair's defaults, left as they are, give the stage's own)
+        let (pair, stage) = (SignalsRequest::default(), StageSignalsRequest::default());
+        let own = |v: u64, p: u64, s: u64| if v == p { s } else { v };
+        let req = StageSignalsRequest {
+            transient_revolutions: own(a.transient, pair.transient, stage.transient_revolutions),
+            records: own(a.revolutions, pair.revolutions, stage.records),
+            samples_per_cycle: own(
+                a.samples_per_cycle.into(),
+                pair.samples_per_cycle.into(),
+                stage.samples_per_cycle.into(),
+            ) as u32,
+            ..stage
+        };
+        return crate::train_signals::signals(&t, &req, &a.out);
+    }
     // the default pair is the broken one (a command about a chipped tooth)
     if a.cfg.preset.is_none() && a.cfg.config.is_none() {
         a.cfg.preset = Some("breakage".into());

@@ -113,10 +113,11 @@ macro_rules! with_model {
                 let $m = TrainModel::<$n>::new($spec, $op)?;
                 $body
             })*
-            d => bail!("the train has {d} elastic degrees of freedom: geardyn integrates trains of 1 to 12"),
+            d => ::anyhow::bail!("the train has {d} elastic degrees of freedom: geardyn integrates trains of 1 to 12"),
         }
     };
 }
+pub(crate) use with_model;
 
 /// Per mesh: the static force at mean stiffness and the dynamic factor (peak over static).
 fn dynamic_factors<const N: usize>(m: &TrainModel<N>, s: &Summary) -> Vec<(f64, f64)> {

@@ -55,6 +55,9 @@ pub struct TrainSpec {
     pub supports: Vec<Support>,
     /// Input and output.
     pub load: Load,
+    /// A localized tooth fault (`[fault]`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fault: Option<crate::fault::ToothFault>,
 }
 
 /// A rigid body turning about its axis.
@@ -106,6 +109,13 @@ pub struct Mesh {
     /// of a mesh of phase 0 that much of a mesh period later).
     #[serde(default)]
     pub phase: f64,
+}
+
+impl Mesh {
+    /// Whether the mesh is internal (its second gear a ring).
+    pub fn is_internal(&self) -> bool {
+        self.kind == PairKind::Internal
+    }
 }
 
 /// A torsional shaft between two bodies.
@@ -218,7 +228,8 @@ impl TrainSpec {
             }
         }
         self.validate_meshes()?;
-        self.validate_links()
+        self.validate_links()?;
+        crate::fault::windows(self).map(|_| ())
     }
 
     /// The index of the body `name`, or an error naming `field`.

@@ -29,10 +29,14 @@
 //! `C_s = c K_s`. The load `F = Pᵀ T / (k_ref b_c)` is scaled so that mesh 0 carries the
 //! static force `load` (units `k_ref b_c`) at mean stiffness.
 //!
+//! A localized tooth fault (a chipped sun tooth, say) softens each mesh of its gear while the
+//! faulted tooth is in contact ([`crate::fault`]): more time breakpoints, and an excitation
+//! period of whole turns of that gear.
+//!
 //! **Not in this model** (the single pair's model has them): back-side impacts with
 //! restitution (trains use the continuous back-side contact), friction, nonlinear Hertz laws,
-//! tooth breakage and the pair's potential-energy stiffness tables (trains take a harmonic or
-//! rectangular stiffness of each mesh's contact ratio).
+//! and the pair's potential-energy stiffness tables (trains take a harmonic or rectangular
+//! stiffness of each mesh's contact ratio, and a fault's loss as a number).
 
 use crate::description::TrainSpec;
 use crate::kinematics::Kinematics;
@@ -179,6 +183,8 @@ struct MeshDyn {
     phase: f64,
     /// Double-tooth part of a cycle, `eps_k - 1`.
     double: f64,
+    /// When the faulted tooth is in contact, if the mesh has it.
+    fault: Option<crate::fault::FaultWindow>,
 }
 
 /// The discrete state: each mesh's contact, which meshes are in their double-tooth part, and
@@ -187,6 +193,9 @@ struct MeshDyn {
 pub struct TrainMode {
     contact: [ContactState; MAX_MESHES],
     double: u32,
+    /// Meshes whose faulted tooth carries the load alone, and those where it shares it.
+    chip_full: u32,
+    chip_half: u32,
     piece_start: f64,
 }
 
@@ -237,6 +246,8 @@ pub struct TrainModel<const N: usize> {
     needs_phase: bool,
     /// Whether shafts or supports add stiffness.
     has_shafts: bool,
+    /// The tooth fault's stiffness loss (0: none).
+    loss: f64,
 }
 
 /// Elastic degrees of freedom of a train (its coordinates less its rigid-body motions).
@@ -361,12 +372,14 @@ impl<const N: usize> TrainModel<N> {
                 .collect()
         };
         let eps_of = |m: &crate::Mesh| m.contact_ratio;
+        let windows = crate::fault::windows(spec)?;
         let order0 = kin.mesh_orders[0];
         let meshes: Vec<MeshDyn> = spec
             .meshes
             .iter()
             .zip(&kin.mesh_orders)
-            .map(|(m, &order)| {
+            .zip(&windows)
+            .map(|((m, &order), &fault)| {
                 let kappa = m.stiffness_n_per_m / k_ref;
                 MeshDyn {
                     b: project(&coords(m)),
@@ -375,10 +388,15 @@ impl<const N: usize> TrainModel<N> {
                     rate: order / order0,
                     phase: m.phase,
                     double: eps_of(m) - 1.0,
+                    fault,
                 }
             })
             .collect();
-        let rates: Vec<f64> = meshes.iter().map(|m| m.rate).collect();
+        // (a faulted mesh repeats after its gear's teeth: the period holds whole turns of it)
+        let rates: Vec<f64> = meshes
+            .iter()
+            .map(|m| m.rate / m.fault.map_or(1.0, |f| f.period))
+            .collect();
         let cycles = common_cycles(&rates).ok_or_else(|| {
             crate::error::invalid(
                 "mesh",
@@ -474,6 +492,7 @@ impl<const N: usize> TrainModel<N> {
             static_x,
             needs_phase: op.xi != 0.0 || matches!(op.stiffness, MeshStiffness::Harmonic { .. }),
             has_shafts: k_s.iter().any(|&k| k != 0.0),
+            loss: spec.fault.as_ref().map_or(0.0, |f| f.loss),
             k_s,
             c_s,
         })
@@ -585,7 +604,14 @@ impl<const N: usize> TrainModel<N> {
     /// Relative stiffness of mesh `k` (mean 1) with the phase's `cos` and the mode's zone.
     #[inline(always)]
     fn stiffness(&self, k: usize, cos: f64, mode: &TrainMode) -> f64 {
-        match self.op.stiffness {
+        let chip = if (mode.chip_full | mode.chip_half) & (1 << k) == 0 {
+            1.0
+        } else if mode.chip_full & (1 << k) != 0 {
+            1.0 - self.loss
+        } else {
+            1.0 - 0.5 * self.loss
+        };
+        chip * match self.op.stiffness {
             MeshStiffness::Harmonic { kappa } => 1.0 + kappa * cos,
             MeshStiffness::Rectangular { ratio } => {
                 let e = self.meshes[k].double;
@@ -631,29 +657,48 @@ impl<const N: usize> TrainModel<N> {
             let tol = 1e-9 * s0.abs().max(1.0);
             let n = s0.floor();
             let e = self.meshes[k].double;
-            for b in [n + e, n + 1.0, n + 1.0 + e] {
-                if b > s0 + tol {
-                    let t = (b - self.meshes[k].phase) * TAU / w;
-                    next = next.min(t);
-                    break;
+            let to_time = |b: f64| (b - self.meshes[k].phase) * TAU / w;
+            if self.rectangular() {
+                if let Some(b) = [n + e, n + 1.0, n + 1.0 + e]
+                    .into_iter()
+                    .find(|&b| b > s0 + tol)
+                {
+                    next = next.min(to_time(b));
                 }
+            }
+            if let Some(f) = self.meshes[k].fault {
+                next = next.min(to_time(f.next_border(s0, tol)));
             }
         }
         next
     }
 
-    /// The zones in force on the piece starting at `t0` (judged at its middle).
-    fn zones(&self, t0: f64) -> u32 {
+    /// The zones in force on the piece starting at `t0` (judged at its middle): double-tooth
+    /// meshes, and meshes whose faulted tooth carries the load alone or shares it.
+    fn zones(&self, t0: f64) -> [u32; 3] {
         let t1 = self.next_border(t0);
         let tm = if t1.is_finite() { 0.5 * (t0 + t1) } else { t0 };
-        let mut z = 0;
+        let mut z = [0; 3];
         for k in 0..self.meshes.len() {
             let s = self.cycles_at(k, tm);
-            if s - s.floor() < self.meshes[k].double {
-                z |= 1 << k;
+            if self.rectangular() && s - s.floor() < self.meshes[k].double {
+                z[0] |= 1 << k;
+            }
+            if let Some(f) = self.meshes[k].fault {
+                let w = f.weight(s);
+                if w == 1.0 {
+                    z[1] |= 1 << k;
+                } else if w > 0.0 {
+                    z[2] |= 1 << k;
+                }
             }
         }
         z
+    }
+
+    /// Whether the stiffness has time breakpoints (rectangular zones or a tooth fault).
+    fn piecewise(&self) -> bool {
+        self.rectangular() || self.loss != 0.0
     }
 
     /// Mesh and local guard (0: drive surface, 1: back surface) of guard `index`.
@@ -697,9 +742,16 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
         for (k, c) in contact.iter_mut().enumerate().take(self.meshes.len()) {
             *c = self.contact_of(self.deflection(k, y, tt.cos[k], tt.sin[k]));
         }
+        let [double, chip_full, chip_half] = if self.piecewise() {
+            self.zones(t)
+        } else {
+            [0; 3]
+        };
         TrainMode {
             contact,
-            double: if self.rectangular() { self.zones(t) } else { 0 },
+            double,
+            chip_full,
+            chip_half,
             piece_start: t,
         }
     }
@@ -803,7 +855,7 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
     }
 
     fn next_breakpoint(&self, _t: f64, mode: &TrainMode) -> f64 {
-        if self.rectangular() {
+        if self.piecewise() {
             self.next_border(mode.piece_start)
         } else {
             f64::INFINITY
@@ -812,7 +864,7 @@ impl<const N: usize> HybridSystem<N> for TrainModel<N> {
 
     fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut TrainMode) {
         mode.piece_start = t;
-        mode.double = self.zones(t);
+        [mode.double, mode.chip_full, mode.chip_half] = self.zones(t);
         // a stiffness jump does not move the state: the contacts stay as they are unless a
         // deflection sits exactly on its surface (then re-judged as at a start)
         let tt = self.time_terms(t);
@@ -935,6 +987,7 @@ impl<const N: usize> GearSystem<N> for TrainModel<N> {
     }
 
     fn segment(&self, mode: &TrainMode) -> u32 {
-        mode.double
+        // (a change of any one mask changes the label: rotations are bijective)
+        mode.double ^ mode.chip_full.rotate_left(8) ^ mode.chip_half.rotate_left(16)
     }
 }

@@ -26,6 +26,7 @@ pub mod campbell;
 pub mod description;
 pub mod dynamics;
 pub mod error;
+pub mod fault;
 pub mod kinematics;
 pub mod linear;
 pub mod modes;

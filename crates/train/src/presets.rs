@@ -90,6 +90,9 @@ pub struct PlanetaryParams {
     /// Nominal input torque on the sun (`stage.input_torque_nm`, N m), recorded in the
     /// description (the dynamic model's load is its dimensionless `F`).
     pub input_torque_nm: f64,
+    /// A chipped sun tooth's mesh stiffness loss (`stage.sun_chip`, [0, 1); 0: healthy): the
+    /// description's `[fault]` on the sun ([`crate::fault`]).
+    pub sun_chip: f64,
 }
 
 impl Default for PlanetaryParams {
@@ -106,6 +109,7 @@ impl Default for PlanetaryParams {
             face_width_mm: 25.0,
             carrier_inertia_kgm2: 0.0,
             input_torque_nm: 500.0,
+            sun_chip: 0.0,
         }
     }
 }
@@ -121,7 +125,7 @@ fn whole(field: &str, v: f64) -> Result<u32, TrainError> {
 
 impl PlanetaryParams {
     /// The fields `set` knows.
-    pub const FIELDS: [&'static str; 8] = [
+    pub const FIELDS: [&'static str; 9] = [
         "stage.sun_teeth",
         "stage.planet_teeth",
         "stage.ring_teeth",
@@ -130,6 +134,7 @@ impl PlanetaryParams {
         "stage.face_width_mm",
         "stage.carrier_inertia_kgm2",
         "stage.input_torque_nm",
+        "stage.sun_chip",
     ];
 
     /// Set a field (checked when the train is built).
@@ -143,6 +148,7 @@ impl PlanetaryParams {
             "stage.face_width_mm" => self.face_width_mm = v,
             "stage.carrier_inertia_kgm2" => self.carrier_inertia_kgm2 = v,
             "stage.input_torque_nm" => self.input_torque_nm = v,
+            "stage.sun_chip" => self.sun_chip = v,
             _ => return Err(unknown(field, &Self::FIELDS)),
         }
         Ok(())
@@ -212,6 +218,13 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             "stage.carrier_inertia_kgm2",
             p.carrier_inertia_kgm2,
             "a finite value >= 0 (kg m²; 0: a steel disc)",
+        ));
+    }
+    if !(p.sun_chip.is_finite() && (0.0..1.0).contains(&p.sun_chip)) {
+        return Err(invalid(
+            "stage.sun_chip",
+            p.sun_chip,
+            "[0, 1) (relative mesh stiffness loss of a chipped sun tooth; 0: healthy)",
         ));
     }
     if !p.input_torque_nm.is_finite() {
@@ -302,6 +315,10 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             output: "carrier".into(),
             input_torque_nm: p.input_torque_nm,
         },
+        fault: (p.sun_chip != 0.0).then(|| crate::fault::ToothFault {
+            gear: "sun".into(),
+            loss: p.sun_chip,
+        }),
     };
     t.validate()?;
     Ok(t)
@@ -519,6 +536,7 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
             output: "output wheel".into(),
             input_torque_nm: p.input_torque_nm,
         },
+        fault: None,
     };
     t.validate()?;
     Ok(t)
@@ -565,6 +583,7 @@ pub fn single_pair() -> Result<TrainSpec, TrainError> {
             output: "gear".into(),
             input_torque_nm: 100.0,
         },
+        fault: None,
     };
     t.validate()?;
     Ok(t)

@@ -383,3 +383,53 @@ fn a_stiff_shaft_does_not_make_modes_rigid() {
     let soft = Modes::of(&presets::two_stage(&TwoStageParams::default()).unwrap());
     assert!(m.modes[1].frequency_hz > soft.modes[1].frequency_hz);
 }
+
+/// A chipped sun tooth enters the sun–planet meshes at whole cycles of each (as every tooth
+/// does) and meets the planets in turn every `Z_s / N` cycles of mesh 1: 25/3 for the preset,
+/// the sun-fault frequency `N f_m / Z_s` of McFadden & Smith 1985; a planet's tooth fault and a
+/// loss outside [0, 1) are refused by name.
+#[test]
+fn a_chipped_sun_tooth_meets_the_planets_in_turn() {
+    use geardyn_train::fault::windows;
+    use geardyn_train::presets::{planetary, PlanetaryParams};
+    let mut spec = planetary(&PlanetaryParams {
+        sun_chip: 0.2,
+        ..Default::default()
+    })
+    .unwrap();
+    let w = windows(&spec).unwrap();
+    let mut arrivals: Vec<f64> = spec
+        .meshes
+        .iter()
+        .zip(&w)
+        .filter_map(|(m, w)| w.map(|w| (w.offset - m.phase).rem_euclid(25.0)))
+        .collect();
+    assert_eq!(arrivals.len(), 3);
+    arrivals.sort_by(f64::total_cmp);
+    for (a, b) in arrivals.iter().zip(&arrivals[1..]) {
+        assert!((b - a - 25.0 / 3.0).abs() < 1e-9, "{arrivals:?}");
+    }
+    for w in w.iter().flatten() {
+        assert_eq!(w.offset.fract(), 0.0);
+        assert_eq!(w.period, 25.0);
+        assert_eq!(
+            (
+                w.weight(w.offset + 0.5 * (w.length - 1.0)),
+                w.weight(w.offset + 0.99)
+            ),
+            (0.5, 1.0)
+        );
+        assert_eq!(w.weight(w.offset + w.length + 0.01), 0.0);
+    }
+    let f = spec.fault.as_mut().unwrap();
+    f.gear = "planet 2".into();
+    let e = spec.validate().unwrap_err().to_string();
+    assert!(e.contains("fault.gear") && e.contains("planet"), "{e}");
+    let e = planetary(&PlanetaryParams {
+        sun_chip: 1.0,
+        ..Default::default()
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("stage.sun_chip"), "{e}");
+}

@@ -253,3 +253,96 @@ fn a_padded_train_steps_as_its_own_size() {
     let e = TrainModel::<4>::new(&spec, &TrainOperating::default()).unwrap_err();
     assert!(e.to_string().contains("state dimension"), "{e}");
 }
+
+/// A fixed transducer on the ring of a cyclically symmetric stage sees only carrier orders that
+/// are multiples of the number of planets (McFadden & Smith 1985, "An explanation for the
+/// asymmetry of the modulation sidebands about the tooth meshing frequency in epicyclic gear
+/// vibration", Proc. IMechE C 199: the planets' windowed contributions cancel elsewhere), so
+/// the mesh order `Z_r = 95` of the 3-planet preset is absent and its neighbour 96 carries it;
+/// the sun torque keeps only the mesh harmonics `h` with `h Z_s / N` whole (Parker 2000's
+/// cancellation: `h = 3`, order 285).
+#[test]
+fn a_ring_transducer_sees_only_multiples_of_the_planet_count() {
+    use geardyn_analysis::stage_signals::{stage_signals, StageSignalsRequest};
+    let spec = trains::planetary(&trains::PlanetaryParams::default()).unwrap();
+    let op = TrainOperating {
+        omega: 0.5,
+        ..TrainOperating::default()
+    };
+    let m = TrainModel::<8>::new(&spec, &op).unwrap();
+    let s = stage_signals(
+        &spec,
+        &m,
+        (0.0, m.static_state()),
+        &StageSignalsRequest::default(),
+    )
+    .unwrap();
+    assert_eq!(s.carrier_revolutions, 1.0);
+    assert!((s.mesh_order - 95.0).abs() < 1e-9, "{}", s.mesh_order);
+    assert_eq!(s.planets, 3);
+    let a = &s.sensor_spectrum;
+    let top = a[1..].iter().cloned().fold(0.0, f64::max);
+    let off = (1..a.len())
+        .filter(|j| j % 3 != 0)
+        .map(|j| a[j])
+        .fold(0.0, f64::max);
+    assert!(
+        off < 1e-6 * top,
+        "largest order off the multiples of 3: {off:e} (top {top:e})"
+    );
+    let near = (90..=100).max_by(|&i, &j| a[i].total_cmp(&a[j])).unwrap();
+    assert_eq!(near, 96, "{:?}", &a[90..=100]);
+    assert!(a[96] > 1e-3 * top);
+    let t = &s.sun_spectrum;
+    let top = t[1..].iter().cloned().fold(0.0, f64::max);
+    let off = (1..t.len())
+        .filter(|j| j % 285 != 0)
+        .map(|j| t[j])
+        .fold(0.0, f64::max);
+    assert!(
+        off < 1e-6 * top,
+        "sun torque off the multiples of 285: {off:e} (top {top:e})"
+    );
+}
+
+/// A chipped sun tooth meets the three planets in turn, `N Z_r / Z_s = 11.4` times per carrier
+/// revolution: the sun torque of the faulted, otherwise symmetric stage holds lines on the
+/// multiples of that order only (the stage repeats itself, a planet on, every `Z_s / N` mesh
+/// cycles), the first of them clearly present; the record closes on 5 carrier revolutions
+/// (`lcm(25, 95)` mesh cycles).
+#[test]
+fn a_chipped_sun_tooth_shows_at_its_characteristic_order() {
+    use geardyn_analysis::stage_signals::{stage_signals, StageSignalsRequest};
+    let spec = trains::planetary(&trains::PlanetaryParams {
+        sun_chip: 0.3,
+        ..Default::default()
+    })
+    .unwrap();
+    let op = TrainOperating {
+        omega: 0.5,
+        ..TrainOperating::default()
+    };
+    let m = TrainModel::<8>::new(&spec, &op).unwrap();
+    assert_eq!(m.cycles_per_period(), 25);
+    let s = stage_signals(
+        &spec,
+        &m,
+        (0.0, m.static_state()),
+        &StageSignalsRequest::default(),
+    )
+    .unwrap();
+    assert_eq!(s.carrier_revolutions, 5.0);
+    let fo = s.fault_order.unwrap();
+    assert!((fo - 11.4).abs() < 1e-12, "{fo}");
+    let t = &s.sun_spectrum;
+    let top = t[1..].iter().cloned().fold(0.0, f64::max);
+    let off = (1..t.len())
+        .filter(|j| j % 57 != 0)
+        .map(|j| t[j])
+        .fold(0.0, f64::max);
+    assert!(
+        off < 1e-6 * top,
+        "off the fault order's multiples: {off:e} (top {top:e})"
+    );
+    assert!(t[57] > 1e-3 * top, "{:e} {top:e}", t[57]);
+}
