@@ -57,7 +57,18 @@ pub struct TrainSpec {
     pub load: Load,
     /// A localized tooth fault (`[fault]`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fault: Option<crate::fault::ToothFault>,
+    pub fault: Option<ToothFault>,
+}
+
+/// A localized fault of one tooth (`[fault]` of a description).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToothFault {
+    /// The faulted gear (a body's name).
+    pub gear: String,
+    /// Relative stiffness loss of a mesh while the faulted tooth carries the load alone, in
+    /// `[0, 1)` (half of it in the double-tooth zones).
+    pub loss: f64,
 }
 
 /// A rigid body turning about its axis.
@@ -229,7 +240,31 @@ impl TrainSpec {
         }
         self.validate_meshes()?;
         self.validate_links()?;
-        crate::fault::windows(self).map(|_| ())
+        self.validate_fault()
+    }
+
+    /// The fault's gear and loss (where its tooth meets each mesh is checked with the dynamic
+    /// model, `crate::fault::windows`).
+    fn validate_fault(&self) -> Result<(), TrainError> {
+        let Some(f) = &self.fault else {
+            return Ok(());
+        };
+        if !(f.loss.is_finite() && (0.0..1.0).contains(&f.loss)) {
+            return Err(invalid(
+                "fault.loss",
+                f.loss,
+                "[0, 1) (relative stiffness loss)",
+            ));
+        }
+        let g = self.known("fault.gear".into(), &f.gear)?;
+        if self.bodies[g].carrier.is_some() {
+            return Err(invalid(
+                "fault.gear",
+                format!("{:?}", f.gear),
+                "a gear that is not a planet (a planet's tooth meets the sun and the ring on opposite flanks: not modelled)",
+            ));
+        }
+        Ok(())
     }
 
     /// The index of the body `name`, or an error naming `field`.

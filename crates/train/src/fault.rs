@@ -29,21 +29,10 @@
 //! several fixed-axis meshes (their positions around it are not in a description) is refused:
 //! not modelled.
 
+pub use crate::description::ToothFault;
 use crate::description::TrainSpec;
 use crate::error::{invalid, TrainError};
-use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
-
-/// A localized fault of one tooth (`[fault]` of a description).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ToothFault {
-    /// The faulted gear (a body's name).
-    pub gear: String,
-    /// Relative stiffness loss of a mesh while the faulted tooth carries the load alone, in
-    /// `[0, 1)` (half of it in the double-tooth zones).
-    pub loss: f64,
-}
 
 /// When the faulted tooth is in contact in one mesh, in that mesh's cycle count.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,33 +72,14 @@ impl FaultWindow {
     }
 }
 
-/// Checks `spec.fault` and gives each mesh's window (`None` for meshes without the faulted gear).
+/// Each mesh's window of a validated train's fault (`None` for meshes without the faulted gear),
+/// or an error naming a mesh whose phase does not fit the planet positions.
 pub fn windows(spec: &TrainSpec) -> Result<Vec<Option<FaultWindow>>, TrainError> {
     let mut out = vec![None; spec.meshes.len()];
     let Some(f) = &spec.fault else {
         return Ok(out);
     };
-    if !(f.loss.is_finite() && (0.0..1.0).contains(&f.loss)) {
-        return Err(invalid(
-            "fault.loss",
-            f.loss,
-            "[0, 1) (relative stiffness loss)",
-        ));
-    }
-    let g = spec.body_index(&f.gear).ok_or_else(|| {
-        invalid(
-            "fault.gear",
-            format!("{:?}", f.gear),
-            "the name of a gear of the train",
-        )
-    })?;
-    if spec.bodies[g].carrier.is_some() {
-        return Err(invalid(
-            "fault.gear",
-            format!("{:?}", f.gear),
-            "a gear that is not a planet (a planet's tooth meets the sun and the ring on opposite flanks: not modelled)",
-        ));
-    }
+    // (the gear and the loss are checked with the description: `TrainSpec::validate`)
     let own: Vec<usize> = (0..spec.meshes.len())
         .filter(|&k| spec.meshes[k].gears.iter().any(|n| n == &f.gear))
         .collect();
