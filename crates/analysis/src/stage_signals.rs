@@ -56,6 +56,9 @@ pub struct StageSignalsRequest {
     pub samples_per_cycle: u32,
     /// Integrator.
     pub method: Method,
+    /// Period of the motion in excitation periods (from its decision; 1 when not periodic): the
+    /// record holds whole periods of it, so that its lines fall on the grid too.
+    pub motion_periods: u64,
 }
 
 impl Default for StageSignalsRequest {
@@ -67,6 +70,7 @@ impl Default for StageSignalsRequest {
             records: 1,
             samples_per_cycle: 0,
             method: Method::default(),
+            motion_periods: 1,
         }
     }
 }
@@ -199,6 +203,7 @@ where
     let per_rev = kin.mesh_orders[0] / r_c;
     let cycles = f64::from(model.cycles_per_period());
     let periods = (1..=MAX_RECORD_PERIODS)
+        .map(|p| p * req.motion_periods.max(1))
         .find(|&p| {
             let r = p as f64 * cycles / per_rev;
             (r - r.round()).abs() < 1e-9 * r.max(1.0)
@@ -210,12 +215,20 @@ where
     let n = lay.ring.len() as u64;
     let spc = match u64::from(req.samples_per_cycle) {
         0 => n * 16_u64.div_ceil(n),
-        s => s.max(2),
+        s if s >= 2 * n && s % n == 0 => s,
+        s => {
+            return Err(format!(
+                "--samples-per-cycle {s}: a multiple of the {n} planets from {} up (the planets' samples are then shifted copies of each other), or 0 for {}",
+                2 * n,
+                n * 16_u64.div_ceil(n)
+            ))
+        }
     };
     let count = periods * model.cycles_per_period() as u64 * spc;
     if count > MAX_SAMPLES {
         return Err(format!(
-            "samples_per_cycle = {spc}: the record of {periods} excitation periods would hold {count} samples (at most {MAX_SAMPLES})"
+            "--samples-per-cycle {spc}: the record of {periods} excitation periods would hold {count} samples (at most {MAX_SAMPLES}: up to {} per mesh cycle)",
+            MAX_SAMPLES / (periods * model.cycles_per_period() as u64)
         ));
     }
     let mut integ = Integrator::new(model, req.method.scheme(model), start.0, start.1)

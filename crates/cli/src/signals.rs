@@ -22,13 +22,16 @@ use std::path::PathBuf;
 pub struct SignalsArgs {
     #[command(flatten)]
     cfg: ConfigArgs,
-    /// Pinion revolutions recorded.
+    /// Pinion revolutions recorded (a planetary stage: records of whole carrier revolutions and
+    /// motion periods; default 1).
     #[arg(long, default_value_t = SignalsRequest::default().revolutions)]
     revolutions: u64,
-    /// Pinion revolutions discarded first.
+    /// Pinion revolutions discarded first (a planetary stage: its motion is decided first, from
+    /// rest; this many more carrier revolutions are then discarded, default 5).
     #[arg(long, default_value_t = SignalsRequest::default().transient)]
     transient: u64,
-    /// Samples per mesh cycle (z1 times that per revolution).
+    /// Samples per mesh cycle (z1 times that per revolution; a planetary stage: a multiple of
+    /// its planets, default the least from 16 up).
     #[arg(long, default_value_t = SignalsRequest::default().samples_per_cycle)]
     samples_per_cycle: u32,
     /// Revolutions per Welch segment of the spectra (order resolution 1 / this).
@@ -59,6 +62,25 @@ pub fn run(mut a: SignalsArgs, started: f64) -> Result<()> {
         // (a train: --transient counts carrier revolutions, --revolutions records of whole
         // carrier revolutions; the pair's defaults, left as they are, give the stage's own)
         let (pair, stage) = (SignalsRequest::default(), StageSignalsRequest::default());
+        let pair_only = [
+            (
+                "--segment-revolutions",
+                a.segment_revolutions != pair.segment_revolutions,
+            ),
+            ("--sidebands", a.sidebands != pair.sidebands),
+            ("--shaft-orders", a.shaft_orders != pair.shaft_orders),
+            ("--residual", a.residual != pair.residual.name()),
+            (
+                "--na4-reference",
+                a.na4_reference != pair.na4_reference.name(),
+            ),
+        ];
+        if let Some((flag, _)) = pair_only.iter().find(|(_, set)| *set) {
+            anyhow::bail!("{flag} applies to a pair's signals (its indicators and healthy twin); a planetary stage's signals take --revolutions, --transient and --samples-per-cycle");
+        }
+        if a.revolutions == 0 {
+            anyhow::bail!("--revolutions 0: at least 1 record");
+        }
         let own = |v: u64, p: u64, s: u64| if v == p { s } else { v };
         let req = StageSignalsRequest {
             transient_revolutions: own(a.transient, pair.transient, stage.transient_revolutions),

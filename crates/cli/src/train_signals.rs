@@ -5,6 +5,8 @@
 
 use crate::train::{with_model, TrainRun};
 use anyhow::{anyhow, Result};
+use geardyn_analysis::classify::{simulate_decided, Decide};
+use geardyn_analysis::simulate::SimOptions;
 use geardyn_analysis::stage_signals::{stage_signals, StageSignals, StageSignalsRequest};
 use geardyn_io::figure::{palette, write_figure, Figure, Layer, Panel, Style};
 use geardyn_io::output::write_text;
@@ -15,7 +17,7 @@ use std::path::Path;
 
 /// Runs the stage's signals into `out`.
 pub fn signals(t: &TrainRun, req: &StageSignalsRequest, out: &Path) -> Result<()> {
-    let s = with_model!(&t.spec, &t.op, |m| run(t, &m, req))?;
+    let (s, label) = with_model!(&t.spec, &t.op, |m| run(t, &m, req))?;
     let _lock = run_record::prepare_folder(out, "signals", None, false)?;
     write_text(&out.join("system.toml"), &t.spec.to_toml())?;
     let mut csv = String::from("tau,carrier_revolutions,sensor,sun_torque\n");
@@ -46,15 +48,16 @@ pub fn signals(t: &TrainRun, req: &StageSignalsRequest, out: &Path) -> Result<()
         "mesh_order": s.mesh_order,
         "fault": t.spec.fault,
         "fault_order": s.fault_order,
+        "motion": label,
         "units": "forces in k_ref b_c (dimensionless), orders per carrier revolution",
     });
     write_text(
         &out.join("summary.json"),
         &serde_json::to_string_pretty(&summary)?,
     )?;
-    spectrum_figure(t, &s, &out.join("spectrum"))?;
+    spectrum_figure(t, &s, &label, &out.join("spectrum"))?;
     println!(
-        "signals of {}: {} carrier revolutions; mesh order {:.4}{}; {}",
+        "signals of {} ({label}): {} carrier revolutions; mesh order {:.4}{}; {}",
         t.spec.name,
         s.carrier_revolutions,
         s.mesh_order,
@@ -65,40 +68,62 @@ pub fn signals(t: &TrainRun, req: &StageSignalsRequest, out: &Path) -> Result<()
     Ok(())
 }
 
+/// Decides the motion from rest (the model commands' defaults), then records from where the
+/// decision ended, whole periods of the motion at a time.
 fn run<const N: usize>(
     t: &TrainRun,
     m: &TrainModel<N>,
     req: &StageSignalsRequest,
-) -> Result<StageSignals>
+) -> Result<(StageSignals, String)>
 where
     TrainModel<N>: geardyn_analysis::engine::Engine<N>,
 {
-    stage_signals(&t.spec, m, (0.0, m.static_state()), req).map_err(|e| anyhow!(e))
+    let (res, summary, _) = simulate_decided(
+        m,
+        m.static_state(),
+        &SimOptions::default(),
+        Decide::default(),
+    )?;
+    let req = StageSignalsRequest {
+        motion_periods: summary.period.max(1) as u64,
+        ..*req
+    };
+    let s = stage_signals(&t.spec, m, res.final_state, &req).map_err(|e| anyhow!(e))?;
+    Ok((s, summary.label))
 }
 
-fn spectrum_figure(t: &TrainRun, s: &StageSignals, stem: &Path) -> Result<()> {
-    let top = 2.5 * s.mesh_order;
-    let layer = |a: &[f64], k: usize| Layer {
-        points: s
-            .orders
+/// Decibels below a spectrum's largest line (orders above 0), floored at [`FLOOR_DB`]: the
+/// cancelled orders sit at rounding level, far below the lines.
+const FLOOR_DB: f64 = -160.0;
+
+fn spectrum_figure(t: &TrainRun, s: &StageSignals, label: &str, stem: &Path) -> Result<()> {
+    let top = 3.2 * s.mesh_order;
+    let layer = |a: &[f64], k: usize| {
+        let peak = a
             .iter()
-            .zip(a)
             .skip(1)
-            .filter(|(o, _)| **o <= top)
-            .map(|(o, a)| (*o, *a))
-            .collect(),
-        style: Style::Line(1),
-        color: palette(k),
+            .cloned()
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        Layer {
+            points: s
+                .orders
+                .iter()
+                .zip(a)
+                .skip(1)
+                .filter(|(o, _)| **o <= top)
+                .map(|(o, a)| (*o, (20.0 * (a / peak).log10()).max(FLOOR_DB)))
+                .collect(),
+            style: Style::Line(1),
+            color: palette(k),
+        }
     };
     let title = match s.fault_order {
         Some(f) => format!(
-            "{}: spectra in carrier orders (mesh order {:.2}, fault order {f:.2})",
+            "{} ({label}): mesh order {:.2}, sun-tooth fault order {f:.2}",
             t.spec.name, s.mesh_order
         ),
-        None => format!(
-            "{}: spectra in carrier orders (mesh order {:.2})",
-            t.spec.name, s.mesh_order
-        ),
+        None => format!("{} ({label}): mesh order {:.2}", t.spec.name, s.mesh_order),
     };
     write_figure(
         stem,
@@ -107,12 +132,12 @@ fn spectrum_figure(t: &TrainRun, s: &StageSignals, stem: &Path) -> Result<()> {
             x_label: "order (per carrier revolution)".into(),
             panels: vec![
                 Panel {
-                    y_label: "ring transducer (k_ref b_c)".into(),
+                    y_label: "ring transducer (dB re its largest line)".into(),
                     layers: vec![layer(&s.sensor_spectrum, 0)],
                     ..Default::default()
                 },
                 Panel {
-                    y_label: "sun torque (k_ref b_c)".into(),
+                    y_label: "sun torque (dB re its largest line)".into(),
                     layers: vec![layer(&s.sun_spectrum, 1)],
                     ..Default::default()
                 },
