@@ -213,7 +213,8 @@ class BasinsResult(Result):
     ----------
     cells : ndarray, int64, shape (n_v, n_x)
         Attractor id of every initial state (rows: velocity, columns: displacement; as
-        basins.npy): index into ``attractors``, -1 divergent, -2 failed.
+        basins.npy): index into ``attractors``, -1 divergent, -2 failed, -3 inadmissible (behind
+        the rigid back stop of the impact law: not a state of the model, not integrated).
     x, v : ndarray, float64
         Cell centres of the displacement (length n_x) and velocity (length n_v) axes.
     attractors : list of dict
@@ -221,7 +222,9 @@ class BasinsResult(Result):
         ``points`` (float64 array (k, 2) of stroboscopic points), ``bbox``, ``max_force``,
         ``p_id``. Ids are canonical: healthy first, then by period and position.
     diverged, failed, boundary_fraction : float
-        Fractions of cells.
+        Fractions of the admissible cells (as every ``fraction``).
+    inadmissible : float
+        Fraction of the grid's cells behind the rigid back stop, left out of every share.
     captured_early : int
         Cells assigned early to a known attractor.
     """
@@ -233,6 +236,7 @@ class BasinsResult(Result):
         "attractors",
         "diverged",
         "failed",
+        "inadmissible",
         "boundary_fraction",
         "captured_early",
         "periods",
@@ -255,6 +259,7 @@ class BasinsResult(Result):
                 "labels": [a["label"] for a in self.attractors],
                 "diverged": -1,
                 "failed": -2,
+                "inadmissible": -3,
                 "phase": self.phase,
             },
         )

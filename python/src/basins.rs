@@ -30,7 +30,7 @@ pub struct BasinsArgs {
 
 /// The partial result of interrupted basins, as columns (a grid may hold millions of cells):
 /// `cell` (row-major index, `iv * nx + ix`), `kind` (0 captured by a known attractor, 1 recorded
-/// to the end, 2 diverged, 3 failed) and `attractor` (the capturing attractor's index among those
+/// to the end, 2 diverged, 3 failed, 4 inadmissible) and `attractor` (the capturing attractor's index among those
 /// known at that pass — not yet the final numbering —, else -1).
 fn kept_basins(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
     let mut kept: Vec<(usize, Outcome)> = ctl.take_kept();
@@ -44,6 +44,7 @@ fn kept_basins(py: Python<'_>, ctl: &util::Ctl) -> PyResult<Option<Py<PyAny>>> {
             Outcome::Recorded(_) => (1, -1),
             Outcome::Diverged => (2, -1),
             Outcome::Failed(_) => (3, -1),
+            Outcome::Inadmissible => (4, -1),
         })
         .unzip();
     c.i64("kind", kind)?;
@@ -93,6 +94,7 @@ pub fn run<'py>(py: Python<'py>, a: BasinsArgs, progress: bool) -> PyResult<Boun
     d.set_item("attractors", ser_to_py(py, &r.attractors)?)?;
     d.set_item("diverged", r.diverged)?;
     d.set_item("failed", r.failed)?;
+    d.set_item("inadmissible", r.inadmissible)?;
     d.set_item("boundary_fraction", r.boundary_fraction)?;
     d.set_item("captured_early", r.captured_early)?;
     d.set_item("periods", r.periods)?;

@@ -175,6 +175,7 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for StrobeOnly<S> {
         fn on_breakpoint(&self, t: f64, y: &mut [f64; N], m: &mut S::Mode);
         fn max_step(&self) -> f64;
         fn active_dim(&self) -> usize;
+        fn admissible(&self, t: f64, y: &[f64; N]) -> bool;
         fn guard_lipschitz(&self, m: &S::Mode) -> Option<f64>;
     }
 }
@@ -382,6 +383,10 @@ impl Default for IdentifyRequest {
     }
 }
 
+/// Cell code of an [`Outcome::Inadmissible`] initial state in a basin grid (beside -1 divergent,
+/// -2 failed).
+pub const INADMISSIBLE: i64 = -3;
+
 /// Outcome of one trajectory.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Outcome<const N: usize = 2> {
@@ -398,6 +403,9 @@ pub enum Outcome<const N: usize = 2> {
     Diverged,
     /// The integrator failed.
     Failed(String),
+    /// Not a state of the model (behind a rigid stop): not integrated
+    /// ([`geardyn_solvers::HybridSystem::admissible`]).
+    Inadmissible,
 }
 
 fn bbox<const N: usize>(points: &[[f64; N]]) -> Vec<f64> {
@@ -462,6 +470,7 @@ impl<const N: usize> Outcome<N> {
             Outcome::Recorded(d) => Outcome::Recorded(d.resized()),
             Outcome::Diverged => Outcome::Diverged,
             Outcome::Failed(e) => Outcome::Failed(e),
+            Outcome::Inadmissible => Outcome::Inadmissible,
         }
     }
 }

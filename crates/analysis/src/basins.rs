@@ -11,8 +11,13 @@
 //! merged: [`crate::identify::consolidate`]). Attractor ids are finally sorted by a canonical key (healthy first, then
 //! period, then position of the first point), so they do not depend on the order of discovery
 //! and stay the same under grid refinement. Divergent (`-1`) and failed (`-2`) cells are counted
-//! explicitly; fractions, with them, sum to one.
+//! explicitly; fractions, with them, sum to one over the admissible cells. A cell whose initial
+//! state is no state of the model (behind the rigid back stop of the impact law:
+//! [`geardyn_solvers::HybridSystem::admissible`]) is not integrated: it is marked
+//! [`INADMISSIBLE`] (`-3`) and left out of every share, since the model would start it from its
+//! projection onto the stop and count that state a second time.
 
+pub use crate::attractor::INADMISSIBLE;
 use crate::attractor::{Descriptor, IdentifyOptions, Outcome, Recordable};
 use crate::identify::{assign, consolidate, identify_in, CellLabels};
 use geardyn_model::MeshModel;
@@ -45,7 +50,7 @@ pub struct BasinAttractor<const N: usize = 2> {
     pub descriptor: Descriptor<N>,
     /// Number of cells.
     pub cells: usize,
-    /// Basin fraction.
+    /// Basin fraction (of the admissible cells).
     pub fraction: f64,
 }
 
@@ -57,15 +62,19 @@ pub struct BasinResult<const N: usize = 2> {
     /// Grid.
     pub v: Axis,
     /// Attractor id per cell, row-major with `v` rows (`cells[iv * nx + ix]`); -1 divergent,
-    /// -2 failed.
+    /// -2 failed, -3 ([`INADMISSIBLE`]) no state of the model.
     pub cells: Vec<i64>,
     /// Attractor table.
     pub attractors: Vec<BasinAttractor<N>>,
-    /// Fraction of divergent cells.
+    /// Fraction of divergent cells (of the admissible cells, as every share).
     pub diverged: f64,
     /// Fraction of failed cells.
     pub failed: f64,
-    /// Fraction of cells on a basin boundary (a neighbour belongs to another basin).
+    /// Fraction of the grid's cells that are no state of the model (behind a rigid stop), left
+    /// out of every other share.
+    pub inadmissible: f64,
+    /// Fraction of the admissible cells on a basin boundary (an admissible neighbour belongs to
+    /// another basin).
     pub boundary_fraction: f64,
     /// Cells captured early.
     pub captured_early: usize,
@@ -159,6 +168,14 @@ where
     let mut outcomes: Vec<Option<Outcome<N>>> = vec![None; total];
     let mut known: Vec<Descriptor<N>> = Vec::new();
     let mut assigned: Vec<i64> = vec![i64::MIN; total];
+    let t0 = opts.identify.sim.tau0;
+    for c in 0..total {
+        let y0 = opts.slice.state(opts.x.value(c % nx), opts.v.value(c / nx));
+        if !model.admissible(t0, &y0) {
+            outcomes[c] = Some(Outcome::Inadmissible);
+            assigned[c] = INADMISSIBLE;
+        }
+    }
     let mut prev_stride = 0usize;
     // halving the stride from pass to pass: each pass captures by a lattice twice as fine
     let mut first = 16usize;
@@ -311,14 +328,17 @@ fn tally<const N: usize>(
         .map(|&a| if a >= 0 { remap[a as usize] } else { a })
         .collect();
     let mut counts = vec![0usize; known.len()];
-    let (mut div, mut fail) = (0usize, 0usize);
+    let (mut div, mut fail, mut out) = (0usize, 0usize, 0usize);
     for &c in &cells {
         match c {
             -1 => div += 1,
             -2 => fail += 1,
+            INADMISSIBLE => out += 1,
             i => counts[i as usize] += 1,
         }
     }
+    // shares of the admissible cells (a grid wholly behind the stop: all shares 0)
+    let admissible = (total - out).max(1) as f64;
     let attractors = order
         .iter()
         .enumerate()
@@ -326,7 +346,7 @@ fn tally<const N: usize>(
             id: new,
             descriptor: known[old].clone(),
             cells: counts[new],
-            fraction: counts[new] as f64 / total as f64,
+            fraction: counts[new] as f64 / admissible,
         })
         .collect();
     let boundary = boundary_cells(&cells, nx, nv);
@@ -349,24 +369,28 @@ fn tally<const N: usize>(
         v: opts.v,
         cells,
         attractors,
-        diverged: div as f64 / total as f64,
-        failed: fail as f64 / total as f64,
-        boundary_fraction: boundary as f64 / total as f64,
+        diverged: div as f64 / admissible,
+        failed: fail as f64 / admissible,
+        inadmissible: out as f64 / total.max(1) as f64,
+        boundary_fraction: boundary as f64 / admissible,
         captured_early,
         periods,
     }
 }
 
-/// Cells with a neighbour (left, right, above, below) in another basin.
+/// Admissible cells with an admissible neighbour (left, right, above, below) in another basin
+/// (the edge of a rigid stop is no basin boundary).
 fn boundary_cells(cells: &[i64], nx: usize, nv: usize) -> usize {
     let mut boundary = 0usize;
     for iv in 0..nv {
         for ix in 0..nx {
             let c = cells[iv * nx + ix];
-            let differs = (ix + 1 < nx && cells[iv * nx + ix + 1] != c)
-                || (ix > 0 && cells[iv * nx + ix - 1] != c)
-                || (iv + 1 < nv && cells[(iv + 1) * nx + ix] != c)
-                || (iv > 0 && cells[(iv - 1) * nx + ix] != c);
+            let other = |n: i64| n != c && n != INADMISSIBLE;
+            let differs = c != INADMISSIBLE
+                && ((ix + 1 < nx && other(cells[iv * nx + ix + 1]))
+                    || (ix > 0 && other(cells[iv * nx + ix - 1]))
+                    || (iv + 1 < nv && other(cells[(iv + 1) * nx + ix]))
+                    || (iv > 0 && other(cells[(iv - 1) * nx + ix])));
             if differs {
                 boundary += 1;
             }

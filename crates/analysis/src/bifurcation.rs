@@ -17,7 +17,8 @@ pub use crate::sweep_settings::{
 };
 use geardyn_model::MeshModel;
 use geardyn_scenario::{ResolvedRecord, Scenario, ScenarioError};
-use rand::{Rng, SeedableRng};
+use geardyn_solvers::HybridSystem;
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -190,8 +191,15 @@ pub fn tasks(opts: &SweepOptions) -> Vec<Task> {
     }
 }
 
-/// Deterministic initial state `ic` of value `index` (independent of scheduling).
-pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) -> [f64; 2] {
+/// Deterministic initial state `ic` of value `index` (independent of scheduling); a random one
+/// is drawn among the states `admissible` accepts ([`crate::sweep_settings::draw_state`]).
+pub fn initial_state(
+    mode: &SweepMode,
+    y0: [f64; 2],
+    index: usize,
+    ic: usize,
+    admissible: impl Fn(&[f64; 2]) -> bool,
+) -> [f64; 2] {
     match *mode {
         SweepMode::Multi {
             seed,
@@ -202,10 +210,7 @@ pub fn initial_state(mode: &SweepMode, y0: [f64; 2], index: usize, ic: usize) ->
             let mut rng = ChaCha8Rng::seed_from_u64(
                 seed ^ ((index as u64) << 32) ^ (ic as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
             );
-            [
-                rng.gen_range(x0_range.0..=x0_range.1),
-                rng.gen_range(v0_range.0..=v0_range.1),
-            ]
+            crate::sweep_settings::draw_state(&mut rng, x0_range, v0_range, admissible)
         }
         _ => y0,
     }
@@ -602,8 +607,11 @@ impl TaskRuns<'_> {
                 let runs: Vec<Run> = (0..self.k)
                     .into_par_iter()
                     .map(|ic| {
-                        let y0 = initial_state(mode, opts.y0, t.index, ic);
-                        run_once(&self.models[t.index], y0, ic, opts)
+                        let m = &self.models[t.index];
+                        let y0 = initial_state(mode, opts.y0, t.index, ic, |y| {
+                            m.admissible(opts.sim.tau0, y)
+                        });
+                        run_once(m, y0, ic, opts)
                     })
                     .collect();
                 (self.finish)(t, runs)
@@ -654,7 +662,13 @@ impl TaskRuns<'_> {
         let items: Vec<(usize, usize, [f64; 2])> = tasks
             .iter()
             .flat_map(|t| {
-                (0..self.k).map(move |ic| (t.index, ic, initial_state(mode, opts.y0, t.index, ic)))
+                let m = &self.models[t.index];
+                (0..self.k).map(move |ic| {
+                    let y0 = initial_state(mode, opts.y0, t.index, ic, |y| {
+                        m.admissible(opts.sim.tau0, y)
+                    });
+                    (t.index, ic, y0)
+                })
             })
             .collect();
         let runs: Vec<(&MeshModel, [f64; 2])> = items

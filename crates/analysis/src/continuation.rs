@@ -18,7 +18,7 @@ use crate::basins::Slice;
 use crate::identify::{assign, consolidate, identify};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -136,14 +136,16 @@ pub struct ContinuationResult {
     pub lost: Vec<(f64, f64)>,
 }
 
-/// Initial state `ic` (the same set at every value, so basins can be compared).
-pub fn initial_state(opts: &ContinuationOptions, ic: usize) -> [f64; 2] {
+/// Initial state `ic` (the same set at every value, so basins can be compared), drawn among the
+/// states `admissible` accepts ([`crate::sweep_settings::draw_state`]).
+pub fn initial_state(
+    opts: &ContinuationOptions,
+    ic: usize,
+    admissible: impl Fn(&[f64; 2]) -> bool,
+) -> [f64; 2] {
     let mut rng =
         ChaCha8Rng::seed_from_u64(opts.seed ^ (ic as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    [
-        rng.gen_range(opts.x0_range.0..=opts.x0_range.1),
-        rng.gen_range(opts.v0_range.0..=opts.v0_range.1),
-    ]
+    crate::sweep_settings::draw_state(&mut rng, opts.x0_range, opts.v0_range, admissible)
 }
 
 /// Attractors at one value (first quarter of the initial states without, the rest with early
@@ -171,8 +173,11 @@ pub fn attractors_of<S: Recordable<N>, const N: usize>(
     let first = k.div_ceil(4);
     let mut id = opts.identify;
     id.sim.tau0 = opts.phase * sys.strobe_period();
+    let t0 = id.sim.tau0;
+    let plane =
+        |ic: usize| initial_state(opts, ic, |&[a, b]| sys.admissible(t0, &slice.state(a, b)));
     let start = |ic: usize| {
-        let [a, b] = initial_state(opts, ic);
+        let [a, b] = plane(ic);
         slice.state(a, b)
     };
     let mut known: Vec<Descriptor<N>> = Vec::new();
@@ -186,7 +191,7 @@ pub fn attractors_of<S: Recordable<N>, const N: usize>(
         let outs: Vec<Outcome<N>> = if let Some((model, lane)) = lanes {
             // fixed-step RK4: the initial states in lockstep lanes (the same outcomes; the
             // pair's lanes speak its own dimension, N = 2 here)
-            let y0s: Vec<[f64; 2]> = (lo..hi).map(|ic| initial_state(opts, ic)).collect();
+            let y0s: Vec<[f64; 2]> = (lo..hi).map(plane).collect();
             let pair: Vec<Descriptor> = snapshot.iter().map(|d| d.clone().resized()).collect();
             crate::lanes_identify::identify_lanes(model, &y0s, &pair, None, lane, |_, _| {})
                 .into_iter()

@@ -5,7 +5,7 @@
 //! decided, merged by their recurrent sets, non-periodic ones followed to confirm that they
 //! persist). What a descriptor is and when two match: [`crate::attractor`].
 
-use crate::attractor::{dist, Descriptor, IdentifyOptions, Outcome, Recordable};
+use crate::attractor::{dist, Descriptor, IdentifyOptions, Outcome, Recordable, INADMISSIBLE};
 use crate::driver::{run_periods, Discard, Observer};
 use crate::simulate::SimOptions;
 use geardyn_solvers::{HybridSystem, Integrator};
@@ -366,6 +366,7 @@ pub fn assign<const N: usize>(
             },
             Outcome::Diverged => -1,
             Outcome::Failed(_) => -2,
+            Outcome::Inadmissible => INADMISSIBLE,
         })
         .collect()
 }

@@ -3,6 +3,7 @@
 //! states: [`SweepMode`], [`InitialBox`]) and their checks.
 
 use crate::simulate::Level;
+use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 /// An unknown section name ([`Section::parse_list`]).
@@ -239,3 +240,31 @@ pub fn attractor_region(d_max: f64) -> ((f64, f64), (f64, f64)) {
     let l = 3.0 * d.max(1.0);
     ((-(d + l), d + l), (-l, l))
 }
+
+/// A random initial state in `x0_range` x `v0_range` that the model can start from
+/// (`admissible`, [`geardyn_solvers::HybridSystem::admissible`]): drawn again from the same
+/// stream while it lies behind a rigid stop. The states are then uniform over the admissible part
+/// of the box, and shares of initial states count each state once (a state behind the stop
+/// would start from its projection onto the stop: a line of states drawn with the weight of an
+/// area). After [`MAX_DRAWS`] refused draws (a box wholly behind the stop) the last one is kept.
+pub fn draw_state(
+    rng: &mut impl Rng,
+    x0_range: (f64, f64),
+    v0_range: (f64, f64),
+    admissible: impl Fn(&[f64; 2]) -> bool,
+) -> [f64; 2] {
+    let mut y = [0.0; 2];
+    for _ in 0..MAX_DRAWS {
+        y = [
+            rng.gen_range(x0_range.0..=x0_range.1),
+            rng.gen_range(v0_range.0..=v0_range.1),
+        ];
+        if admissible(&y) {
+            break;
+        }
+    }
+    y
+}
+
+/// Most draws of [`draw_state`].
+pub const MAX_DRAWS: usize = 1000;

@@ -161,7 +161,7 @@ pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
         );
     }
     println!(
-        "{}x{} cells in {:.2} s ({:.0} cells/s), {} captured early; divergent {:.4}, failed {:.4}, boundary {:.4} -> {}",
+        "{}x{} cells in {:.2} s ({:.0} cells/s), {} captured early; divergent {:.4}, failed {:.4}, boundary {:.4}{} -> {}",
         x.n,
         v.n,
         elapsed,
@@ -170,6 +170,14 @@ pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
         r.diverged,
         r.failed,
         r.boundary_fraction,
+        if r.inadmissible > 0.0 {
+            format!(
+                " (of the admissible cells; {:.4} of the grid lies behind the back stop and was not run)",
+                r.inadmissible
+            )
+        } else {
+            String::new()
+        },
         a.out.display()
     );
     Ok(())

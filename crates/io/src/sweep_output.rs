@@ -391,7 +391,9 @@ pub fn plot_response(
 /// (light brown). Equal-colour runs are merged.
 pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), FigureError> {
     let black = CHAOTIC;
-    let fixed = usize::from(r.diverged > 0.0) + usize::from(r.failed > 0.0);
+    let fixed = usize::from(r.diverged > 0.0)
+        + usize::from(r.failed > 0.0)
+        + usize::from(r.inadmissible > 0.0);
     let room = if r.attractors.len() + fixed <= LEGEND_MAX {
         r.attractors.len()
     } else {
@@ -417,6 +419,7 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
         .iter()
         .map(|&c| match c {
             -1 => black,
+            geardyn_analysis::basins::INADMISSIBLE => figure::INADMISSIBLE,
             i if i >= 0 => color_of_id.get(&(i as usize)).copied().unwrap_or(OTHER),
             _ => UNSETTLED,
         })
@@ -469,7 +472,9 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
 }
 
 /// The legend entries of the cells of `r` that reached no attractor, in `colors` (divergent,
-/// unresolved), each with its share (`label(what, percent)`); none for a share of 0.
+/// unresolved), each with its share (`label(what, percent)`), and of the cells behind the rigid
+/// back stop (their share of the grid; every other share is of the admissible cells); none for
+/// a share of 0.
 pub fn lost_cells_legend(
     r: &BasinResult,
     colors: (RGBColor, RGBColor),
@@ -478,6 +483,11 @@ pub fn lost_cells_legend(
     [
         ("divergent", r.diverged, colors.0),
         ("unresolved", r.failed, colors.1),
+        (
+            "behind the back stop, not a state (of the grid)",
+            r.inadmissible,
+            figure::INADMISSIBLE,
+        ),
     ]
     .into_iter()
     .filter(|e| e.1 > 0.0)

@@ -545,6 +545,18 @@ impl HybridSystem<2> for MeshModel {
     type Mode = MeshMode;
     type TimeTerms = f64;
 
+    /// Under the impact law a state behind the rigid back stop (`x < -D` of the zone at `t`) is
+    /// not a state of the model: a start there would be projected onto the stop.
+    fn admissible(&self, t: f64, y: &[f64; 2]) -> bool {
+        if self.impact.is_none() {
+            return true;
+        }
+        let s = self.omega * t / (2.0 * PI);
+        let pf = (s / self.cycles as f64).floor();
+        let seg = self.segment_index(s - self.period_start(pf as i64));
+        !(y[0] < -self.segs[seg].d)
+    }
+
     fn initial_mode(&self, t: f64, y: &mut [f64; 2]) -> MeshMode {
         let s = self.omega * t / (2.0 * PI);
         // the period start is computed in f64 (no wrapping product); a time whose period index

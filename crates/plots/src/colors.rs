@@ -14,6 +14,9 @@ pub const UNSETTLED: RGBColor = RGBColor(175, 175, 175);
 /// Colour of failed runs and of a remainder group ("N other labels"): a light brown, apart
 /// from the greys of [`QUASI`] and [`UNSETTLED`] and from the [`palette`].
 pub const OTHER: RGBColor = RGBColor(166, 118, 60);
+/// Initial states that are no state of the model (behind a rigid back stop): near-white, so the
+/// stop's edge reads as the edge of the drawn basins.
+pub const INADMISSIBLE: RGBColor = RGBColor(236, 236, 230);
 
 /// Most entries of a categorical legend: beyond it the rarest labels are drawn as one group
 /// "N other labels" in [`OTHER`].

@@ -26,7 +26,8 @@ use std::sync::Once;
 
 pub use crate::colors::{
     categorical, categorical_keyed, class_color, colormap, palette, Group, LabelColors,
-    BROKEN_PAIR, CHAOTIC, DISTINCT_COLORS, HEALTHY_PAIR, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
+    BROKEN_PAIR, CHAOTIC, DISTINCT_COLORS, HEALTHY_PAIR, INADMISSIBLE, LEGEND_MAX, OTHER, QUASI,
+    UNSETTLED,
 };
 pub use crate::raster::{write_raster, RasterFigure};
 

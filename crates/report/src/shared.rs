@@ -215,6 +215,7 @@ pub fn basin_render(
         .iter()
         .map(|&c| match c {
             -1 => black,
+            geardyn_analysis::basins::INADMISSIBLE => geardyn_io::figure::INADMISSIBLE,
             i if i >= 0 => cols.get(i as usize).copied().unwrap_or(OTHER),
             _ => OTHER,
         })

@@ -219,6 +219,14 @@ pub trait HybridSystem<const N: usize> {
         N
     }
 
+    /// Whether the model can start from `y` at `t` as it stands: `false` for a state that
+    /// [`HybridSystem::initial_mode`] would have to move (inside a rigid stop, say). Grids of
+    /// initial states (basins) leave such cells out rather than count the projected state.
+    /// Default: every state.
+    fn admissible(&self, _t: f64, _y: &[f64; N]) -> bool {
+        true
+    }
+
     /// If every guard armed in `mode` depends on the state only (not on time) with
     /// `|g(y) - g(y')| <= L max_i |y_i - y'_i|`, return `Some(L)`. The integrator then skips the
     /// interior guard samples of a step whose interpolant provably stays farther from every
@@ -328,6 +336,7 @@ impl<S: HybridSystem<N>, const N: usize> HybridSystem<N> for &S {
         fn on_breakpoint(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode);
         fn max_step(&self) -> f64;
         fn active_dim(&self) -> usize;
+        fn admissible(&self, t: f64, y: &[f64; N]) -> bool;
         fn guard_lipschitz(&self, mode: &S::Mode) -> Option<f64>;
         fn zeno_fallback(&self, t: f64, y: &mut [f64; N], mode: &mut S::Mode, index: usize) -> bool;
         fn memory(&self, mode: &S::Mode) -> f64;

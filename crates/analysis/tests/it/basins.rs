@@ -232,3 +232,77 @@ fn an_orbit_still_approaching_a_lower_period_is_not_a_second_attractor() {
         .collect();
     assert_eq!(labels, ["2-2-0-2-0"], "{:?}", r.attractors);
 }
+
+#[test]
+fn cells_behind_the_rigid_back_stop_are_left_out_of_the_shares() {
+    // the broken pair's back side is a rigid stop at x = -D = -1 (impact law): a start at
+    // x0 < -1 is no state of the model; counted, it would start from its projection onto the
+    // stop (referee of issue 48: 24 such cells of a box all went to the chaotic set)
+    let mut p = presets::breakage();
+    p.omega = 1.2;
+    p.load = 0.1;
+    let m = MeshModel::new(&p).unwrap();
+    let opts = BasinOptions {
+        slice: Default::default(),
+        x: Axis {
+            min: -2.0,
+            max: 2.0,
+            n: 9,
+        },
+        v: Axis {
+            min: -1.0,
+            max: 1.0,
+            n: 3,
+        },
+        identify: identify_periods(60, 8),
+    };
+    let r = basins(&m, &opts, &HashMap::new(), |c, _| {
+        assert!(opts.x.value(c % 9) >= -1.0, "cell {c} behind the stop was run")
+    });
+    let behind = |c: usize| opts.x.value(c % 9) < -1.0;
+    for (c, &id) in r.cells.iter().enumerate() {
+        assert_eq!(id == geardyn_analysis::basins::INADMISSIBLE, behind(c), "cell {c}: {id}");
+    }
+    // x = -2, -1.5 of 9 columns
+    assert!((r.inadmissible - 2.0 / 9.0).abs() < 1e-12, "{}", r.inadmissible);
+    let sum: f64 = r.attractors.iter().map(|a| a.fraction).sum::<f64>() + r.diverged + r.failed;
+    assert!((sum - 1.0).abs() < 1e-12, "shares of the admissible cells sum to {sum}");
+    let cells: usize = r.attractors.iter().map(|a| a.cells).sum();
+    assert_eq!(cells, 27 - 6);
+    // a model without a rigid stop admits every state
+    let c1 = MeshModel::new(&presets::classic()).unwrap();
+    let opts_c1 = BasinOptions {
+        identify: identify_periods(20, 4),
+        ..opts
+    };
+    let r1 = basins(&c1, &opts_c1, &HashMap::new(), |_, _| {});
+    assert_eq!(r1.inadmissible, 0.0);
+    assert!(r1.cells.iter().all(|&c| c >= 0));
+}
+
+#[test]
+fn random_initial_states_are_drawn_in_front_of_the_back_stop() {
+    use geardyn_analysis::continuation::{initial_state, ContinuationOptions};
+    use geardyn_solvers::HybridSystem;
+    let m = MeshModel::new(&presets::breakage()).unwrap();
+    let opts = ContinuationOptions {
+        param: "F".into(),
+        values: vec![0.1],
+        ics: 400,
+        seed: 7,
+        x0_range: (-4.0, 4.0),
+        v0_range: (-3.0, 3.0),
+        phase: 0.0,
+        identify: IdentifyOptions::default(),
+    };
+    let ys: Vec<[f64; 2]> = (0..400)
+        .map(|ic| initial_state(&opts, ic, |y| m.admissible(0.0, y)))
+        .collect();
+    assert!(ys.iter().all(|y| y[0] >= -1.0 && y[0] <= 4.0));
+    // uniform over the admissible part [-1, 4]: mean 1.5 (s.e. 5/sqrt(12 * 400) = 0.072)
+    let mean = ys.iter().map(|y| y[0]).sum::<f64>() / ys.len() as f64;
+    assert!((mean - 1.5).abs() < 0.3, "{mean}");
+    // the same draws without a stop: some lie behind it
+    let free: Vec<[f64; 2]> = (0..400).map(|ic| initial_state(&opts, ic, |_| true)).collect();
+    assert!(free.iter().filter(|y| y[0] < -1.0).count() > 100);
+}

@@ -8,6 +8,7 @@ use crate::common::lane;
 use geardyn_analysis::lanes::simulate_lanes;
 use geardyn_analysis::simulate::{simulate, summarize, Method, SimOptions, SimResult};
 use geardyn_model::{presets, MeshModel};
+use geardyn_solvers::HybridSystem;
 
 /// The first runs of a batch in the lanes with their summaries (what `decide_lanes` starts from).
 type FirstRun<'m> = (
@@ -464,7 +465,9 @@ fn rk4_sweep_in_lanes_equals_scalar_runs() {
             p.omega = r.value;
             let m = MeshModel::new(&p).unwrap();
             for run in &r.runs {
-                let y0 = initial_state(&mode, opts.y0, r.task.index, run.ic);
+                let y0 = initial_state(&mode, opts.y0, r.task.index, run.ic, |y| {
+                    m.admissible(opts.sim.tau0, y)
+                });
                 assert_eq!(run.y0, y0);
                 let s = run_once(&m, y0, run.ic, &opts);
                 assert_eq!(run.motion.word(), s.motion.word(), "omega {}", r.value);
