@@ -70,24 +70,42 @@ pub fn tle_converged<S>(
     y0: [f64; 2],
     opts: &LyapunovOptions,
     conv: &Convergence,
-    mut on_round: impl FnMut(&Round),
+    on_round: impl FnMut(&Round),
 ) -> Result<ConvergedTle, SolverError>
 where
     S: Variational<2> + Clone,
     crate::lyapunov::Tangent<S>: geardyn_solvers::HybridSystem<5>,
 {
+    converge_by_doubling(
+        conv,
+        |n| {
+            let o = LyapunovOptions {
+                periods: n,
+                ..*opts
+            };
+            tle_variational::<_, 2, 5>(sys.clone(), scheme, t0, y0, &o)
+        },
+        on_round,
+    )
+}
+
+/// The doubling of any exponent computation: `run(n)` computes the exponent over `n` excitation
+/// periods from one fixed start (its `history`, the running estimate, gives the value at half
+/// the run); the length doubles from [`Convergence::start_periods`] until the criterion of the
+/// module doc holds or [`Convergence::max_periods`] is reached. Each round goes to `on_round`.
+pub fn converge_by_doubling<E>(
+    conv: &Convergence,
+    mut run: impl FnMut(u64) -> Result<LyapunovResult, E>,
+    mut on_round: impl FnMut(&Round),
+) -> Result<ConvergedTle, E> {
     // (the cap bounds the first run too: a cap below the usual start is one run of the cap)
     let mut n = conv.start_periods.max(20).min(conv.max_periods.max(20));
     let mut rounds = Vec::new();
     loop {
-        let o = LyapunovOptions {
-            periods: n,
-            ..*opts
-        };
-        let r = tle_variational::<_, 2, 5>(sys.clone(), scheme, t0, y0, &o)?;
+        let r = run(n)?;
         let half = r
             .history
-            .get(r.history.len() / 2 - 1)
+            .get((r.history.len() / 2).saturating_sub(1))
             .copied()
             .unwrap_or(f64::NAN);
         let tol = conv.abs_tol.max(conv.rel_tol * r.tle.abs());

@@ -51,6 +51,17 @@ pub struct LyapunovArgs {
 }
 
 pub fn run(a: LyapunovArgs) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.cfg)? {
+        let periods = match a.sim.periods {
+            Some(p) if p.is_finite() && p >= 1.0 && p.fract() == 0.0 => Some(p as u64),
+            Some(p) => anyhow::bail!("--periods {p}: a whole number of excitation periods from 1"),
+            None => None,
+        };
+        if a.d0 != LyapunovRequest::default().d0 {
+            anyhow::bail!("--d0 is the two-trajectory method's: a train's exponent is variational");
+        }
+        return crate::train_lyapunov::run(&t, &a.sim, &a.method, periods, a.max_periods);
+    }
     let (cfg, scenario) = a.sim.resolve(&a.cfg)?;
     let sim = cfg.sim_options()?;
     let req = LyapunovRequest {

@@ -15,6 +15,7 @@ mod simulate;
 mod stiffness;
 mod sweep;
 mod train;
+mod train_lyapunov;
 mod train_signals;
 
 use clap::{Parser, Subcommand};
@@ -126,7 +127,7 @@ fn main() {
             for (name, what) in geardyn_model::presets::PRESETS {
                 println!("{name:<10} {what}");
             }
-            println!("gear trains (geardyn modes, simulate, bifurcation):");
+            println!("gear trains (geardyn modes, simulate, bifurcation, lyapunov, signals):");
             for (name, what) in [
                 ("planetary", "sun 25 / planets 35 / ring 95, 3 equally spaced planets, m = 3 mm: sun input, carrier output, ring fixed"),
                 ("two-stage", "20/50 then 22/61 teeth on an elastic intermediate shaft (40 mm x 150 mm steel)"),

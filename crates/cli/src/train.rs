@@ -87,7 +87,7 @@ pub fn sim_options(sim: &SimArgs) -> Result<(SimOptions, f64)> {
 }
 
 /// Refuses `runs` decided runs of `m` above the work cap.
-fn check_work<const N: usize>(
+pub(crate) fn check_work<const N: usize>(
     m: &TrainModel<N>,
     opts: &SimOptions,
     runs: usize,

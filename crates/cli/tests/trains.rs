@@ -120,7 +120,7 @@ fn bad_planetary_stages_are_refused() {
         }
     }
     // the pair's commands say that they do not run trains
-    let (code, _, err) = geardyn(&["lyapunov", "--preset", "planetary"]);
+    let (code, _, err) = geardyn(&["basins", "--preset", "planetary"]);
     assert_eq!(code, 2);
     assert!(
         err.contains("gear train") && err.contains("geardyn simulate"),
@@ -188,4 +188,80 @@ fn a_planetary_stage_simulates_and_sweeps_with_one_label_per_mesh() {
         err.contains("--param mu") && err.contains("omega, F"),
         "{err}"
     );
+}
+
+/// `lyapunov` of a train: the single pair written as a train at case C1's chaotic point
+/// (`omega` = 1.3: TLE 0.080 by the pair model, docs/analyses.md) gives the pair's exponent; the
+/// planetary stage's periodic motion a negative one; the pair's two-trajectory options refused.
+#[test]
+fn lyapunov_of_a_train_matches_the_pair_model_and_refuses_the_pair_options() {
+    let c1 = [
+        "--set",
+        "omega=1.3",
+        "--set",
+        "kappa=0.2",
+        "--set",
+        "xi=0.2",
+        "--set",
+        "c=0.1",
+    ];
+    let tle = |text: &str| -> f64 {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("TLE (variational"))
+            .unwrap_or_else(|| panic!("{text}"));
+        line.split_whitespace().nth(3).unwrap().parse().unwrap()
+    };
+    let mut args = vec!["lyapunov", "--preset", "pair", "--periods", "1600"];
+    args.extend(c1);
+    let pair_as_train = tle(&geardyn_ok(&args));
+    assert!((pair_as_train - 0.080).abs() < 0.006, "{pair_as_train}");
+    let stage = tle(&geardyn_ok(&["lyapunov", "--preset", "planetary"]));
+    assert!(stage < -0.01, "{stage}");
+    let (code, _, e) = geardyn(&[
+        "lyapunov",
+        "--preset",
+        "planetary",
+        "--method",
+        "two-trajectory",
+    ]);
+    assert!(code != 0 && e.contains("variational"), "{e}");
+    let (code, _, e) = geardyn(&["lyapunov", "--preset", "planetary", "--d0", "1e-4"]);
+    assert!(code != 0 && e.contains("--d0"), "{e}");
+}
+
+/// A planet pin error through the preset field: planet 1 unloads, the others share its load
+/// (the closed form is tested in the analysis crate); out of range refused by name.
+#[test]
+fn a_pin_error_unloads_its_planet() {
+    let out = tmp("pin-error");
+    geardyn_ok(&[
+        "simulate",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=0.04",
+        "--out",
+        s(&out),
+    ]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let f: Vec<f64> = json["static_forces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(f[0] < 0.09 && f[2] > 0.105, "{f:?}");
+    assert!(std::fs::read_to_string(out.join("system.toml"))
+        .unwrap()
+        .contains("pin_error = 0.04"));
+    let (code, _, e) = geardyn(&[
+        "simulate",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=-1e9",
+    ]);
+    assert!(code == 2 && e.contains("stage.pin_error"), "{e}");
 }

@@ -91,6 +91,32 @@ pub struct Body {
     /// Angle of this body's axis on its carrier (deg, counted in the carrier's sense).
     #[serde(default)]
     pub orbit_angle_deg: f64,
+    /// Tangential position error of this body's axis on its carrier (a planet's pin), ahead of
+    /// its nominal place in the carrier's positive sense, in the dynamic model's length unit
+    /// `b_c` (that of the backlash `D`); in `[-100, 100]`. For the planet's meshes it is a
+    /// carrier rotation of `pin_error / orbit_radius`: a pin ahead takes less load
+    /// (docs/model.md, planet load sharing).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub pin_error: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+impl Body {
+    /// A body on its own fixed axis (not carried), of polar inertia `inertia_kgm2`.
+    pub fn on_axis(name: &str, inertia_kgm2: f64) -> Body {
+        Body {
+            name: name.into(),
+            inertia_kgm2,
+            mass_kg: 0.0,
+            carrier: None,
+            orbit_radius_mm: 0.0,
+            orbit_angle_deg: 0.0,
+            pin_error: 0.0,
+        }
+    }
 }
 
 /// A spur mesh between two bodies.
@@ -295,6 +321,20 @@ impl TrainSpec {
                     b.orbit_radius_mm,
                     "mm",
                 )?;
+            }
+            let on_carrier = b.carrier.is_some();
+            if !(b.pin_error.is_finite() && b.pin_error.abs() <= 100.0)
+                || (b.pin_error != 0.0 && !on_carrier)
+            {
+                return Err(invalid(
+                    format!("body[{i}].pin_error"),
+                    b.pin_error,
+                    if on_carrier {
+                        "[-100, 100] (units b_c, the length unit of the backlash D)"
+                    } else {
+                        "0: a position error is that of a carried body's axis (a planet's pin)"
+                    },
+                ));
             }
         }
         Ok(())

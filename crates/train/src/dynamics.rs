@@ -185,6 +185,8 @@ struct MeshDyn {
     double: f64,
     /// When the faulted tooth is in contact, if the mesh has it.
     fault: Option<crate::fault::FaultWindow>,
+    /// Static offset of the deflection from a planet's pin error (units `b_c`; 0 without).
+    offset: f64,
 }
 
 /// The discrete state: each mesh's contact, which meshes are in their double-tooth part, and
@@ -346,6 +348,32 @@ fn shaft_matrix(spec: &TrainSpec, lin: &LinearModel, basis: &Basis) -> Vec<f64> 
     k_s
 }
 
+/// The deflection offset of mesh `m` (units `b_c`, the description's sign) from the pin error
+/// of the planet it meshes with: for that planet's meshes the error is a carrier rotation of
+/// `pin_error / orbit_radius`, so the offset is the mesh's carrier coefficient times it
+/// (`-cos alpha' pin_error` on a sun–planet mesh of operating pressure angle `alpha'`).
+fn pin_offset(spec: &TrainSpec, m: &crate::Mesh) -> f64 {
+    let Some(carrier) = &m.carrier else {
+        return 0.0;
+    };
+    let planet = m
+        .gears
+        .iter()
+        .filter_map(|g| spec.body_index(g).map(|i| &spec.bodies[i]))
+        .find(|b| b.carrier.as_ref() == Some(carrier));
+    let (Some(planet), Some(ci)) = (planet, spec.body_index(carrier)) else {
+        return 0.0;
+    };
+    if planet.pin_error == 0.0 {
+        return 0.0;
+    }
+    let coefficient = crate::linear::mesh_coefficients(spec, m)
+        .into_iter()
+        .find(|c| c.0 == ci)
+        .map_or(0.0, |c| c.1);
+    coefficient / (planet.orbit_radius_mm * 1e-3) * planet.pin_error
+}
+
 impl<const N: usize> TrainModel<N> {
     /// The model of a validated train at `op` (`N` at least twice [`elastic_dof`]).
     pub fn new(spec: &TrainSpec, op: &TrainOperating) -> Result<Self, TrainError> {
@@ -389,6 +417,7 @@ impl<const N: usize> TrainModel<N> {
                     phase: m.phase,
                     double: eps_of(m) - 1.0,
                     fault,
+                    offset: 0.0,
                 }
             })
             .collect();
@@ -435,11 +464,13 @@ impl<const N: usize> TrainModel<N> {
         // side under the description's sign convention (the second stage of a drive turns the
         // other way) is turned round
         let mut meshes = meshes;
-        for m in &mut meshes {
+        for (m, spec_mesh) in meshes.iter_mut().zip(&spec.meshes) {
             let f: f64 = (0..dof).map(|j| m.b[j] * x_s[j]).sum();
+            let sign = if f < 0.0 { -1.0 } else { 1.0 };
             if f < 0.0 {
                 m.b.iter_mut().for_each(|b| *b = -*b);
             }
+            m.offset = sign * pin_offset(spec, spec_mesh);
         }
         let f0: f64 = meshes[0].kappa * (0..dof).map(|j| meshes[0].b[j] * x_s[j]).sum::<f64>();
         if !(f0.abs() > 0.0 && f0.is_finite()) {
@@ -448,13 +479,31 @@ impl<const N: usize> TrainModel<N> {
             ));
         }
         let force: Vec<f64> = f_unit.iter().map(|f| f * op.load / f0).collect();
+        // pin errors: internal forces only, sum kappa b (b·x + s) + K_s x = 0
+        let x_pins = k_mean
+            .clone()
+            .lu()
+            .solve(&nalgebra::DVector::from_fn(dof, |r, _| {
+                -meshes
+                    .iter()
+                    .map(|m| m.kappa * m.b[r] * m.offset)
+                    .sum::<f64>()
+            }))
+            .ok_or_else(|| TrainError::Kinematics("the mean-stiffness train is singular".into()))?;
         let static_forces: Vec<f64> = meshes
             .iter()
-            .map(|m| m.kappa * (0..dof).map(|j| m.b[j] * x_s[j]).sum::<f64>() * op.load / f0)
+            .map(|m| {
+                let bx = |x: &nalgebra::DVector<f64>| (0..dof).map(|j| m.b[j] * x[j]).sum::<f64>();
+                m.kappa * (bx(&x_s) * op.load / f0 + bx(&x_pins) + m.offset)
+            })
             .collect();
-        // static equilibrium in drive contact: sum kappa b (b·x - D) + K_s x = F
+        // static equilibrium in drive contact: sum kappa b (b·x + s - D) + K_s x = F
         let rhs = nalgebra::DVector::from_fn(dof, |r, _| {
-            force[r] + op.d * meshes.iter().map(|m| m.kappa * m.b[r]).sum::<f64>()
+            force[r]
+                + meshes
+                    .iter()
+                    .map(|m| m.kappa * m.b[r] * (op.d - m.offset))
+                    .sum::<f64>()
         });
         let static_x: Vec<f64> = k_mean
             .clone()
@@ -596,7 +645,7 @@ impl<const N: usize> TrainModel<N> {
         let (dof, h) = (self.dof, N / 2);
         let xi = self.op.xi;
         [
-            self.dot(k, &y[..dof]) - xi * cos,
+            self.dot(k, &y[..dof]) - xi * cos + self.meshes[k].offset,
             self.dot(k, &y[h..h + dof]) + xi * self.omega_k(k) * sin,
         ]
     }

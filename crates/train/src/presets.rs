@@ -93,6 +93,9 @@ pub struct PlanetaryParams {
     /// A chipped sun tooth's mesh stiffness loss (`stage.sun_chip`, [0, 1); 0: healthy): the
     /// description's `[fault]` on the sun ([`crate::fault`]).
     pub sun_chip: f64,
+    /// Tangential position error of planet 1's pin (`stage.pin_error`, units `b_c` of the
+    /// dynamic model, [-100, 100]; ahead in the carrier's sense: that planet takes less load).
+    pub pin_error: f64,
 }
 
 impl Default for PlanetaryParams {
@@ -110,6 +113,7 @@ impl Default for PlanetaryParams {
             carrier_inertia_kgm2: 0.0,
             input_torque_nm: 500.0,
             sun_chip: 0.0,
+            pin_error: 0.0,
         }
     }
 }
@@ -125,7 +129,7 @@ fn whole(field: &str, v: f64) -> Result<u32, TrainError> {
 
 impl PlanetaryParams {
     /// The fields `set` knows.
-    pub const FIELDS: [&'static str; 9] = [
+    pub const FIELDS: [&'static str; 10] = [
         "stage.sun_teeth",
         "stage.planet_teeth",
         "stage.ring_teeth",
@@ -135,6 +139,7 @@ impl PlanetaryParams {
         "stage.carrier_inertia_kgm2",
         "stage.input_torque_nm",
         "stage.sun_chip",
+        "stage.pin_error",
     ];
 
     /// Set a field (checked when the train is built).
@@ -149,6 +154,7 @@ impl PlanetaryParams {
             "stage.carrier_inertia_kgm2" => self.carrier_inertia_kgm2 = v,
             "stage.input_torque_nm" => self.input_torque_nm = v,
             "stage.sun_chip" => self.sun_chip = v,
+            "stage.pin_error" => self.pin_error = v,
             _ => return Err(unknown(field, &Self::FIELDS)),
         }
         Ok(())
@@ -206,6 +212,13 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
                 error: other,
             },
         })?;
+    if !(p.pin_error.is_finite() && p.pin_error.abs() <= 100.0) {
+        return Err(invalid(
+            "stage.pin_error",
+            p.pin_error,
+            "[-100, 100] (units b_c, the length unit of the backlash D)",
+        ));
+    }
     if !(p.face_width_mm.is_finite() && (0.1..=2000.0).contains(&p.face_width_mm)) {
         return Err(invalid(
             "stage.face_width_mm",
@@ -272,30 +285,9 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
         STEEL * b * PI * a.powi(4) / 2.0
     };
     let mut bodies = vec![
-        Body {
-            name: "sun".into(),
-            inertia_kgm2: sp.i_p,
-            mass_kg: 0.0,
-            carrier: None,
-            orbit_radius_mm: 0.0,
-            orbit_angle_deg: 0.0,
-        },
-        Body {
-            name: "carrier".into(),
-            inertia_kgm2: carrier_i,
-            mass_kg: 0.0,
-            carrier: None,
-            orbit_radius_mm: 0.0,
-            orbit_angle_deg: 0.0,
-        },
-        Body {
-            name: "ring".into(),
-            inertia_kgm2: rp.i_g,
-            mass_kg: 0.0,
-            carrier: None,
-            orbit_radius_mm: 0.0,
-            orbit_angle_deg: 0.0,
-        },
+        Body::on_axis("sun", sp.i_p),
+        Body::on_axis("carrier", carrier_i),
+        Body::on_axis("ring", rp.i_g),
     ];
     let meshes = planets(&stage, p, (&sp, &rp), &mut bodies);
     let t = TrainSpec {
@@ -344,6 +336,7 @@ fn planets(
             carrier: Some("carrier".into()),
             orbit_radius_mm: a * 1e3,
             orbit_angle_deg: stage.planet_angle(n).to_degrees(),
+            pin_error: if n == 0 { p.pin_error } else { 0.0 },
         });
         meshes.push(Mesh {
             name: format!("sun-planet {}", n + 1),
@@ -494,14 +487,7 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
             common[1],
         ],
     )?;
-    let body = |name: &str, i: f64| Body {
-        name: name.into(),
-        inertia_kgm2: i,
-        mass_kg: 0.0,
-        carrier: None,
-        orbit_radius_mm: 0.0,
-        orbit_angle_deg: 0.0,
-    };
+    let body = Body::on_axis;
     let mesh = |name: &str, g: [&str; 2], z: [u32; 2], m: &PairModel| Mesh {
         name: name.into(),
         gears: [g[0].into(), g[1].into()],
@@ -554,14 +540,7 @@ pub fn single_pair() -> Result<TrainSpec, TrainError> {
         "pair",
         &[],
     )?;
-    let body = |name: &str, i: f64| Body {
-        name: name.into(),
-        inertia_kgm2: i,
-        mass_kg: 0.0,
-        carrier: None,
-        orbit_radius_mm: 0.0,
-        orbit_angle_deg: 0.0,
-    };
+    let body = Body::on_axis;
     let t = TrainSpec {
         name: format!("pair {}/{}", s.z1, s.z2),
         bodies: vec![body("pinion", m.i_p), body("gear", m.i_g)],

@@ -316,6 +316,24 @@ fn bad_trains_are_refused_naming_the_field() {
     });
     let e = Kinematics::of(&t).unwrap_err().to_string();
     assert!(e.contains("locked") || e.contains("0 free"), "{e}");
+    // a pin error out of range, or on a body no carrier carries
+    let e = planetary_err(&[("stage.pin_error", 200.0)]);
+    assert!(
+        e.contains("stage.pin_error = 200") && e.contains("[-100, 100]"),
+        "{e}"
+    );
+    let mut t = planetary(3);
+    t.bodies[0].pin_error = 0.1;
+    let e = t.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("body[0].pin_error") && e.contains("carried"),
+        "{e}"
+    );
+    let mut t = planetary(3);
+    let p = t.body_index("planet 2").unwrap();
+    t.bodies[p].pin_error = f64::NAN;
+    let e = t.validate().unwrap_err().to_string();
+    assert!(e.contains(&format!("body[{p}].pin_error")), "{e}");
     // unknown fields and NaN
     assert!(err("name = 1").contains("invalid type"));
     let e = err(&pair.replace("stiffness_n_per_m = ", "stiffness_n_per_m = -"));

@@ -257,16 +257,30 @@ fn cells_behind_the_rigid_back_stop_are_left_out_of_the_shares() {
         identify: identify_periods(60, 8),
     };
     let r = basins(&m, &opts, &HashMap::new(), |c, _| {
-        assert!(opts.x.value(c % 9) >= -1.0, "cell {c} behind the stop was run")
+        assert!(
+            opts.x.value(c % 9) >= -1.0,
+            "cell {c} behind the stop was run"
+        )
     });
     let behind = |c: usize| opts.x.value(c % 9) < -1.0;
     for (c, &id) in r.cells.iter().enumerate() {
-        assert_eq!(id == geardyn_analysis::basins::INADMISSIBLE, behind(c), "cell {c}: {id}");
+        assert_eq!(
+            id == geardyn_analysis::basins::INADMISSIBLE,
+            behind(c),
+            "cell {c}: {id}"
+        );
     }
     // x = -2, -1.5 of 9 columns
-    assert!((r.inadmissible - 2.0 / 9.0).abs() < 1e-12, "{}", r.inadmissible);
+    assert!(
+        (r.inadmissible - 2.0 / 9.0).abs() < 1e-12,
+        "{}",
+        r.inadmissible
+    );
     let sum: f64 = r.attractors.iter().map(|a| a.fraction).sum::<f64>() + r.diverged + r.failed;
-    assert!((sum - 1.0).abs() < 1e-12, "shares of the admissible cells sum to {sum}");
+    assert!(
+        (sum - 1.0).abs() < 1e-12,
+        "shares of the admissible cells sum to {sum}"
+    );
     let cells: usize = r.attractors.iter().map(|a| a.cells).sum();
     assert_eq!(cells, 27 - 6);
     // a model without a rigid stop admits every state
@@ -303,6 +317,8 @@ fn random_initial_states_are_drawn_in_front_of_the_back_stop() {
     let mean = ys.iter().map(|y| y[0]).sum::<f64>() / ys.len() as f64;
     assert!((mean - 1.5).abs() < 0.3, "{mean}");
     // the same draws without a stop: some lie behind it
-    let free: Vec<[f64; 2]> = (0..400).map(|ic| initial_state(&opts, ic, |_| true)).collect();
+    let free: Vec<[f64; 2]> = (0..400)
+        .map(|ic| initial_state(&opts, ic, |_| true))
+        .collect();
     assert!(free.iter().filter(|y| y[0] < -1.0).count() > 100);
 }

@@ -136,6 +136,71 @@ fn the_planets_share_the_static_load_equally() {
     assert!(m.input_rpm() > 0.0);
 }
 
+/// A tangential position error `e` of planet 1's pin (ahead in the carrier's sense): the sun and
+/// carrier rotations are common to all planets, and each planet is a path of its sun and ring
+/// meshes in series (its own rotation free, so both carry the same force `W_i`), which the error
+/// shortens by `cos(alpha')` e at each mesh (`alpha'` the operating pressure angle: `cos(alpha')
+/// = (r_bs + r_bp) / r_c`). With the total `sum W_i` fixed by the sun's torque,
+/// `W_i = W_mean - 2 cos(alpha') k_path (e_i - e_mean)`, `k_path = k_sp k_rp / (k_sp + k_rp)`
+/// (the torsional load-sharing model of Kahraman, "Load sharing characteristics of planetary
+/// transmissions", Mech. Mach. Theory 29, 1994). The dynamic model, damped at constant stiffness,
+/// settles on the same forces.
+#[test]
+fn a_planet_pin_error_shifts_its_load_to_the_other_planets() {
+    let e = 0.04;
+    let spec = trains::planetary(&trains::PlanetaryParams {
+        pin_error: e,
+        ..Default::default()
+    })
+    .unwrap();
+    let op = TrainOperating {
+        stiffness: MeshStiffness::Rectangular { ratio: 1.0 },
+        ..Default::default()
+    };
+    let m = TrainModel::<8>::new(&spec, &op).unwrap();
+    let f = m.static_forces();
+    let at = |name: &str| spec.meshes.iter().position(|x| x.name == name).unwrap();
+    let sun = spec.meshes[at("sun-planet 1")].clone();
+    let ring = spec.meshes[at("ring-planet 1")].clone();
+    let k_ref = spec.meshes[0].stiffness_n_per_m;
+    let k_path = sun.stiffness_n_per_m * ring.stiffness_n_per_m
+        / (sun.stiffness_n_per_m + ring.stiffness_n_per_m)
+        / k_ref;
+    let r_c = spec.bodies[spec.body_index("planet 1").unwrap()].orbit_radius_mm;
+    let cos_a = (sun.base_radii_mm[0] + sun.base_radii_mm[1]) / r_c;
+    assert!(cos_a > 0.85 && cos_a < 0.95, "{cos_a}");
+    let w: Vec<f64> = (1..=3).map(|p| f[at(&format!("sun-planet {p}"))]).collect();
+    for p in 1..=3 {
+        let (s, r) = (
+            f[at(&format!("sun-planet {p}"))],
+            f[at(&format!("ring-planet {p}"))],
+        );
+        assert!((s - r).abs() < 1e-12, "planet {p}: {s} vs {r}");
+    }
+    let mean = 0.1;
+    assert!((w.iter().sum::<f64>() - 3.0 * mean).abs() < 1e-12, "{w:?}");
+    let expect = |ei: f64| mean - 2.0 * cos_a * k_path * (ei - e / 3.0);
+    assert!((w[0] - expect(e)).abs() < 1e-12, "{w:?} vs {}", expect(e));
+    assert!((w[1] - expect(0.0)).abs() < 1e-12, "{w:?}");
+    assert!((w[2] - expect(0.0)).abs() < 1e-12, "{w:?}");
+    assert!(w[0] < w[1], "a pin ahead takes less load: {w:?}");
+    // the dynamics: damped, at constant stiffness and no transmission error, from the static
+    // state of the error-free train the motion settles on the same forces
+    let opts = SimOptions {
+        transient_periods: 400,
+        record_periods: 1,
+        ..Default::default()
+    };
+    let r = simulate(&m, [0.0; 8], &opts).unwrap();
+    let s = r.strobe.last().unwrap();
+    let mut y = s.y;
+    let mode = m.initial_mode(s.tau, &mut y);
+    for (k, fk) in f.iter().enumerate() {
+        let dynamic = m.mesh_force(s.tau, &y, &mode, k);
+        assert!((dynamic - fk).abs() < 1e-6, "mesh {k}: {dynamic} vs {fk}");
+    }
+}
+
 /// The linearised train's natural frequencies are the modes' (a second computation: the dynamic
 /// model's elastic coordinates against the modal analysis of the bodies' rotations).
 #[test]
