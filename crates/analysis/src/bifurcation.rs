@@ -177,6 +177,10 @@ pub enum SweepError {
     /// ([`run_sweep_tasks`]).
     #[error("{0}")]
     Tasks(String),
+    /// A box of initial states that holds no state of the model (wholly behind its rigid back
+    /// stop).
+    #[error("{0}")]
+    Box(String),
 }
 
 /// All tasks of a sweep, in output order.
@@ -428,6 +432,17 @@ fn sweep_tasks(
         .collect::<Result<Vec<_>, _>>()?
         .into_iter()
         .unzip();
+    if let SweepMode::Multi {
+        x0_range, v0_range, ..
+    } = opts.mode
+    {
+        for (m, v) in models.iter().zip(&opts.values) {
+            crate::sweep_settings::check_box(x0_range, v0_range, |y| {
+                m.admissible(opts.sim.tau0, y)
+            })
+            .map_err(|e| SweepError::Box(format!("{} = {}: {e}", opts.param, v)))?;
+        }
+    }
     let all = tasks(opts);
     let finish = |t: Task, runs: Vec<Run>| {
         let r = TaskResult {

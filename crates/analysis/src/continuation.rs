@@ -18,6 +18,7 @@ use crate::basins::Slice;
 use crate::identify::{assign, consolidate, identify};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
+use geardyn_solvers::HybridSystem;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -296,6 +297,14 @@ fn continuation_dyn(
         .iter()
         .map(|&v| base.with(&opts.param, v).map(|s| s.model().clone()))
         .collect::<Result<_, _>>()?;
+    for (m, v) in models.iter().zip(&opts.values) {
+        let t0 = opts.phase * m.excitation_period();
+        crate::sweep_settings::check_box(opts.x0_range, opts.v0_range, |y| m.admissible(t0, y))
+            .map_err(|reason| ScenarioError::Key {
+                key: "x0_range".into(),
+                reason: format!("at {} = {v}: {reason}", opts.param),
+            })?;
+    }
     let per_value: Vec<ValueAttractors> = (0..opts.values.len())
         .into_par_iter()
         .map(|i| {

@@ -266,5 +266,24 @@ pub fn draw_state(
     y
 }
 
+/// Refuses a box of initial states with no state of the model in it: its largest `x0` (the
+/// state of the box that leaves a rigid back stop last) must be `admissible`. Then
+/// [`draw_state`] finds one (a box whose admissible part is too thin for [`MAX_DRAWS`] draws
+/// keeps a draw behind the stop, which the model projects onto it).
+pub fn check_box(
+    x0_range: (f64, f64),
+    v0_range: (f64, f64),
+    admissible: impl Fn(&[f64; 2]) -> bool,
+) -> Result<(), String> {
+    if admissible(&[x0_range.1, v0_range.0]) || admissible(&[x0_range.1, v0_range.1]) {
+        Ok(())
+    } else {
+        Err(format!(
+            "x0_range [{}, {}] lies wholly behind the rigid back stop (x0 < -D): no initial state in it is a state of the model; give a range reaching in front of the stop",
+            x0_range.0, x0_range.1
+        ))
+    }
+}
+
 /// Most draws of [`draw_state`].
 pub const MAX_DRAWS: usize = 1000;

@@ -60,7 +60,15 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         if a.d0 != LyapunovRequest::default().d0 {
             anyhow::bail!("--d0 is the two-trajectory method's: a train's exponent is variational");
         }
-        return crate::train_lyapunov::run(&t, &a.sim, &a.method, periods, a.max_periods);
+        // the pair's checks of the method and the lengths
+        let req = LyapunovRequest {
+            method: TleMethod::from_name(&a.method)?,
+            periods,
+            max_periods: a.max_periods,
+            d0: a.d0,
+        };
+        req.check()?;
+        return crate::train_lyapunov::run(&t, &a.sim, &req);
     }
     let (cfg, scenario) = a.sim.resolve(&a.cfg)?;
     let sim = cfg.sim_options()?;

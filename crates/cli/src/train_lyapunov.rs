@@ -6,29 +6,21 @@ use crate::sweep::SimArgs;
 use crate::train::{check_work, sim_options, with_model, TrainRun};
 use anyhow::{bail, Result};
 use geardyn_analysis::lyapunov::{LyapunovOptions, TangentSpace};
+use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
 use geardyn_analysis::simulate::{simulate, SimOptions};
 use geardyn_analysis::tle_convergence::{converge_by_doubling, Convergence, Round};
 use geardyn_model::GearSystem;
 use geardyn_train::dynamics::{elastic_dof, TrainModel};
 
-/// The exponent of train `t` (`method`: `variational` or `both`, the default; `periods`: a run
-/// of exactly that many periods instead of the doubling up to `max_periods`).
-pub fn run(
-    t: &TrainRun,
-    sim: &SimArgs,
-    method: &str,
-    periods: Option<u64>,
-    max_periods: u64,
-) -> Result<()> {
-    match method {
-        "variational" | "both" => {}
-        "two-trajectory" => bail!("--method two-trajectory: a train's exponent is computed by the variational equation with saltation (--method variational)"),
-        m => bail!("--method {m}: expected variational, two-trajectory or both"),
+/// The exponent of train `t` as `req` asks (checked: its method, `periods` for a run of exactly
+/// that many periods, else the doubling up to `max_periods`).
+pub fn run(t: &TrainRun, sim: &SimArgs, req: &LyapunovRequest) -> Result<()> {
+    if req.method == TleMethod::TwoTrajectory {
+        bail!("--method two-trajectory: a train's exponent is computed by the variational equation with saltation (--method variational)");
     }
     let (opts, cap) = sim_options(sim)?;
     let conv = Convergence {
-        max_periods: periods.unwrap_or(max_periods).max(1),
-        start_periods: periods.unwrap_or(Convergence::default().start_periods),
+        max_periods: req.periods.unwrap_or(req.max_periods),
         ..Default::default()
     };
     with_model!(&t.spec, &t.op, |m| {
@@ -39,7 +31,7 @@ pub fn run(
             ..opts
         };
         check_work(&m, &whole, 1, cap)?;
-        tle_of(t, &m, &opts, &conv, periods.is_some())
+        tle_of(t, &m, &opts, &conv, req.periods)
     })
 }
 
@@ -48,7 +40,7 @@ fn tle_of<const N: usize>(
     m: &TrainModel<N>,
     opts: &SimOptions,
     conv: &Convergence,
-    fixed: bool,
+    fixed: Option<u64>,
 ) -> Result<()>
 where
     TrainModel<N>: TangentSpace<N>,
@@ -73,10 +65,10 @@ where
     };
     let r = simulate(m, m.static_state(), &transient)?;
     let (t0, y0) = r.final_state;
-    if fixed {
+    if let Some(n) = fixed {
         println!(
-            "variational TLE over {} transient + {} periods ...",
-            opts.transient_periods, conv.max_periods
+            "variational TLE over {} transient + {n} periods ...",
+            opts.transient_periods
         );
     } else {
         println!(
@@ -85,27 +77,28 @@ where
         );
     }
     let scheme = opts.method.scheme(m);
-    let c = converge_by_doubling(
-        conv,
-        |n| {
-            let lo = LyapunovOptions {
-                period: m.excitation_period(),
-                transient_periods: 0,
-                periods: n,
-                d0: 1e-6,
-            };
-            m.tle_variational_with(scheme, t0, y0, r.final_memory, &lo, true)
-        },
-        |r: &Round| {
-            if !fixed {
-                println!(
-                    "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-                    r.periods, r.tle, r.half, r.stderr
-                );
-            }
-        },
-    )?;
-    if !fixed {
+    let run = |n: u64| {
+        let lo = LyapunovOptions {
+            period: m.excitation_period(),
+            transient_periods: 0,
+            periods: n,
+            d0: 1e-6,
+        };
+        m.tle_variational_with(scheme, t0, y0, r.final_memory, &lo, true)
+    };
+    if let Some(n) = fixed {
+        // exactly the periods asked for (the doubling starts at 20)
+        let r = run(n)?;
+        print_tle(m, r.tle, r.spread, n);
+        return Ok(());
+    }
+    let c = converge_by_doubling(conv, run, |r: &Round| {
+        println!(
+            "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
+            r.periods, r.tle, r.half, r.stderr
+        );
+    })?;
+    {
         if c.converged {
             println!(
                 "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
@@ -118,17 +111,23 @@ where
             );
         }
     }
-    let spread = if c.result.spread.is_finite() {
-        format!("+- {:.6}", c.result.spread)
+    print_tle(
+        m,
+        c.result.tle,
+        c.result.spread,
+        c.rounds.last().map_or(0, |r| r.periods),
+    );
+    Ok(())
+}
+
+fn print_tle<const N: usize>(m: &TrainModel<N>, tle: f64, spread: f64, periods: u64) {
+    let spread = if spread.is_finite() {
+        format!("+- {spread:.6}")
     } else {
         "(no standard error: it needs at least 2 periods)".into()
     };
     println!(
-        "TLE (variational, saltation): {:.6} {} per unit tau over {} periods (a train's dimensionless time: tau = omega_ref t, omega_ref = {:.1} rad/s)",
-        c.result.tle,
-        spread,
-        c.rounds.last().map_or(0, |r| r.periods),
+        "TLE (variational, saltation): {tle:.6} {spread} per unit tau over {periods} periods (a train's dimensionless time: tau = omega_ref t, omega_ref = {:.1} rad/s)",
         m.omega_ref()
     );
-    Ok(())
 }

@@ -519,3 +519,31 @@ fn report_takes_the_decision_flags() {
     assert_ne!(code, 0);
     assert!(err.contains("given twice"), "{err}");
 }
+
+/// A box of random initial states wholly behind the broken pair's rigid back stop holds no state
+/// of the model: multi-initial sweeps and continuations refuse it up front.
+#[test]
+fn initial_states_wholly_behind_the_back_stop_are_refused() {
+    for cmd in [vec!["bifurcation", "--mode", "multi"], vec!["continuation"]] {
+        let out = tmp(&format!("behind-{}", cmd[0]));
+        let mut args = cmd.clone();
+        args.extend([
+            "--preset",
+            "breakage",
+            "--param",
+            "F",
+            "--range",
+            "0.05:0.1:2",
+            "--ics",
+            "2",
+            "--x0-range=-3:-2",
+            "--out",
+        ]);
+        args.push(out.to_str().unwrap());
+        let (code, _, err) = geardyn(&args);
+        assert!(
+            code != 0 && err.contains("behind the rigid back stop"),
+            "{cmd:?}: {err}"
+        );
+    }
+}

@@ -265,3 +265,40 @@ fn a_pin_error_unloads_its_planet() {
     ]);
     assert!(code == 2 && e.contains("stage.pin_error"), "{e}");
 }
+
+/// A pin error that unloads its planet: the static forces are those of the two other planets
+/// sharing the load (not the linear formula's negative one), the unloaded planet's dynamic factor
+/// is empty; an error that jams the planet is refused by name; lyapunov's lengths as for the pair.
+#[test]
+fn an_unloaded_planet_and_a_jammed_one() {
+    let out = tmp("pin-unloaded");
+    geardyn_ok(&[
+        "simulate",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=0.3",
+        "--out",
+        s(&out),
+    ]);
+    let rows = csv_rows(&out.join("meshes.csv"));
+    assert_eq!(rows[0][4], "0", "{rows:?}");
+    assert_eq!(rows[0][5], "", "{rows:?}");
+    let f: f64 = rows[2][4].parse().unwrap();
+    assert!((f - 0.15).abs() < 1e-9, "{rows:?}");
+    let (code, _, e) = geardyn(&[
+        "simulate",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=100",
+    ]);
+    assert!(
+        code == 2 && e.contains("pin_error") && e.contains("jams"),
+        "{e}"
+    );
+    let text = geardyn_ok(&["lyapunov", "--preset", "planetary", "--periods", "5"]);
+    assert!(text.contains("over 5 periods"), "{text}");
+    let (code, _, e) = geardyn(&["lyapunov", "--preset", "planetary", "--max-periods", "0"]);
+    assert!(code == 2 && e.contains("--max-periods"), "{e}");
+}

@@ -480,23 +480,30 @@ pub fn lost_cells_legend(
     colors: (RGBColor, RGBColor),
     label: impl Fn(&str, f64) -> String,
 ) -> Vec<LegendEntry> {
-    [
+    let mut entries: Vec<LegendEntry> = [
         ("divergent", r.diverged, colors.0),
         ("unresolved", r.failed, colors.1),
-        (
-            "behind the back stop, not a state (of the grid)",
-            r.inadmissible,
-            figure::INADMISSIBLE,
-        ),
     ]
     .into_iter()
     .filter(|e| e.1 > 0.0)
     .map(|(what, share, color)| LegendEntry::dot(label(what, 100.0 * share), color))
-    .collect()
+    .collect();
+    if r.inadmissible > 0.0 {
+        // (its share is of the grid, every other of the cells in front of the stop)
+        entries.push(LegendEntry::dot(
+            format!(
+                "behind the stop: {:.1} % of grid, not run",
+                100.0 * r.inadmissible
+            ),
+            figure::INADMISSIBLE,
+        ));
+    }
+    entries
 }
 
-/// Writes the basin image `stem` of `r` on the grid `x` × `v` (`(min, max, cells)` of each axis,
-/// cell centres at the ends): a colour per cell, `legend` beside the image, crosses at the
+/// Writes the basin image `stem` of `r` on the grid `x` × `v` (`(min, max, cells)` of each axis:
+/// the cells tile `[min, max]`, their centres at `min + (i + 1/2)(max - min)/cells` as
+/// [`geardyn_analysis::basins::Axis::value`] puts them): a colour per cell, `legend` beside the image, crosses at the
 /// attractors' stroboscopic points (up to 24 each) inside the grid.
 pub fn write_basin_raster(
     stem: &Path,
@@ -506,10 +513,6 @@ pub fn write_basin_raster(
     colors: Vec<RGBColor>,
     legend: Vec<LegendEntry>,
 ) -> Result<(), FigureError> {
-    let (dx, dv) = (
-        (x.1 - x.0) / (x.2 - 1).max(1) as f64,
-        (v.1 - v.0) / (v.2 - 1).max(1) as f64,
-    );
     let marks = r
         .attractors
         .iter()
@@ -522,11 +525,15 @@ pub fn write_basin_raster(
             title: title.into(),
             x_label: "x0".into(),
             y_label: "x0'".into(),
-            x: (x.0 - dx / 2.0, x.1 + dx / 2.0, x.2),
-            y: (v.0 - dv / 2.0, v.1 + dv / 2.0, v.2),
+            x: (x.0, x.1, x.2),
+            y: (v.0, v.1, v.2),
             colors,
             legend,
-            legend_title: "attractor (basin share)".into(),
+            legend_title: if r.inadmissible > 0.0 {
+                "attractor (share in front of the stop)".into()
+            } else {
+                "attractor (basin share)".into()
+            },
             colorbar: None,
             marks,
         },

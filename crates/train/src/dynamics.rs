@@ -348,6 +348,95 @@ fn shaft_matrix(spec: &TrainSpec, lin: &LinearModel, basis: &Basis) -> Vec<f64> 
     k_s
 }
 
+/// The static equilibrium at mean stiffness under the load `force` with half backlash `d`: the
+/// state and each mesh's force. Every mesh is on its drive flank or separated: a mesh whose
+/// force would be negative lets go and one whose gap closes takes load again (an active set,
+/// changed one mesh at a time until it holds). A separated mesh keeps `1e-9` of its stiffness, so
+/// that a body only separated meshes hold (an unloaded planet) sits where their deflections
+/// balance, between its flanks.
+fn static_equilibrium(
+    meshes: &[MeshDyn],
+    k_s: &[f64],
+    force: &[f64],
+    d: f64,
+) -> Result<(Vec<f64>, Vec<f64>), TrainError> {
+    let dof = force.len();
+    let mut active = vec![true; meshes.len()];
+    for _ in 0..=4 * meshes.len() + 4 {
+        let w = |k: usize| if active[k] { 1.0 } else { 1e-9 };
+        let k_mat = nalgebra::DMatrix::from_fn(dof, dof, |r, s| {
+            k_s[r * dof + s]
+                + meshes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| w(k) * m.kappa * m.b[r] * m.b[s])
+                    .sum::<f64>()
+        });
+        let rhs = nalgebra::DVector::from_fn(dof, |r, _| {
+            force[r]
+                + meshes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| w(k) * m.kappa * m.b[r] * (d - m.offset))
+                    .sum::<f64>()
+        });
+        let lu = k_mat.lu();
+        let mut x = lu
+            .solve(&rhs)
+            .ok_or_else(|| TrainError::Kinematics("the mean-stiffness train is singular".into()))?;
+        if active.iter().any(|a| !a) {
+            // the separated meshes' residual stiffness fixes only what nothing else holds: a few
+            // refinements take its force out of the equilibrium (to 1e-9 each)
+            for _ in 0..3 {
+                let held = nalgebra::DVector::from_fn(dof, |r, _| {
+                    rhs[r]
+                        + meshes
+                            .iter()
+                            .enumerate()
+                            .filter(|(k, _)| !active[*k])
+                            .map(|(_, m)| {
+                                let bx: f64 = m.b.iter().zip(x.iter()).map(|(b, x)| b * x).sum();
+                                1e-9 * m.kappa * m.b[r] * (bx - (d - m.offset))
+                            })
+                            .sum::<f64>()
+                });
+                x = lu.solve(&held).unwrap_or(x);
+            }
+        }
+        // each mesh's deflection beyond its drive flank
+        let gap: Vec<f64> = meshes
+            .iter()
+            .map(|m| m.b.iter().zip(x.iter()).map(|(b, x)| b * x).sum::<f64>() + m.offset - d)
+            .collect();
+        let scale = force
+            .iter()
+            .fold(d.abs(), |a, f| a.max(f.abs()))
+            .max(1e-300);
+        let tol = 1e-12 * scale;
+        let release = (0..meshes.len())
+            .filter(|&k| active[k] && gap[k] < -tol)
+            .min_by(|&a, &b| gap[a].total_cmp(&gap[b]));
+        let engage = (0..meshes.len())
+            .filter(|&k| !active[k] && gap[k] > tol)
+            .max_by(|&a, &b| gap[a].total_cmp(&gap[b]));
+        match (release, engage) {
+            (Some(k), _) => active[k] = false,
+            (None, Some(k)) => active[k] = true,
+            (None, None) => {
+                let forces = meshes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| if active[k] { m.kappa * gap[k] } else { 0.0 })
+                    .collect();
+                return Ok((x.iter().copied().collect(), forces));
+            }
+        }
+    }
+    Err(TrainError::Kinematics(
+        "no static equilibrium of the meshes' contacts was found".into(),
+    ))
+}
+
 /// The deflection offset of mesh `m` (units `b_c`, the description's sign) from the pin error
 /// of the planet it meshes with: for that planet's meshes the error is a carrier rotation of
 /// `pin_error / orbit_radius`, so the offset is the mesh's carrier coefficient times it
@@ -479,37 +568,33 @@ impl<const N: usize> TrainModel<N> {
             ));
         }
         let force: Vec<f64> = f_unit.iter().map(|f| f * op.load / f0).collect();
-        // pin errors: internal forces only, sum kappa b (b·x + s) + K_s x = 0
-        let x_pins = k_mean
-            .clone()
-            .lu()
-            .solve(&nalgebra::DVector::from_fn(dof, |r, _| {
-                -meshes
+        let (static_x, static_forces) = static_equilibrium(&meshes, &k_s, &force, op.d)?;
+        // a pin error the backlash cannot take up jams its planet: refused, not run
+        for (k, m) in meshes.iter().enumerate() {
+            let deflection: f64 =
+                m.b.iter().zip(&static_x).map(|(b, x)| b * x).sum::<f64>() + m.offset;
+            if deflection < -op.d - 1e-9 * op.d.max(1.0) {
+                let planet = spec.meshes[k]
+                    .gears
                     .iter()
-                    .map(|m| m.kappa * m.b[r] * m.offset)
-                    .sum::<f64>()
-            }))
-            .ok_or_else(|| TrainError::Kinematics("the mean-stiffness train is singular".into()))?;
-        let static_forces: Vec<f64> = meshes
-            .iter()
-            .map(|m| {
-                let bx = |x: &nalgebra::DVector<f64>| (0..dof).map(|j| m.b[j] * x[j]).sum::<f64>();
-                m.kappa * (bx(&x_s) * op.load / f0 + bx(&x_pins) + m.offset)
-            })
-            .collect();
-        // static equilibrium in drive contact: sum kappa b (b·x + s - D) + K_s x = F
-        let rhs = nalgebra::DVector::from_fn(dof, |r, _| {
-            force[r]
-                + meshes
-                    .iter()
-                    .map(|m| m.kappa * m.b[r] * (op.d - m.offset))
-                    .sum::<f64>()
-        });
-        let static_x: Vec<f64> = k_mean
-            .clone()
-            .lu()
-            .solve(&rhs)
-            .map_or(vec![0.0; dof], |v| v.iter().copied().collect());
+                    .filter_map(|g| spec.body_index(g))
+                    .find(|&i| spec.bodies[i].carrier.is_some());
+                return Err(match planet {
+                    Some(i) => crate::error::invalid(
+                        format!("body[{i}].pin_error ({})", spec.bodies[i].name),
+                        spec.bodies[i].pin_error,
+                        format!(
+                            "an error the backlash takes up: at D = {} and F = {} it puts mesh {:?} on its back flank in the static state (the planet jams)",
+                            op.d, op.load, spec.meshes[k].name
+                        ),
+                    ),
+                    None => TrainError::Kinematics(format!(
+                        "the static state puts mesh {:?} on its back flank",
+                        spec.meshes[k].name
+                    )),
+                });
+            }
+        }
         let frequencies: Vec<f64> = k_mean
             .symmetric_eigen()
             .eigenvalues

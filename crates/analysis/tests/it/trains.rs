@@ -199,6 +199,37 @@ fn a_planet_pin_error_shifts_its_load_to_the_other_planets() {
         let dynamic = m.mesh_force(s.tau, &y, &mode, k);
         assert!((dynamic - fk).abs() < 1e-6, "mesh {k}: {dynamic} vs {fk}");
     }
+    // an error the closed form would give a negative load: planet 1 lets go (both its meshes
+    // separate), the two others carry the sun's torque equally; the dynamics settle there too
+    let unloaded = |e: f64| {
+        let spec = trains::planetary(&trains::PlanetaryParams {
+            pin_error: e,
+            ..Default::default()
+        })
+        .unwrap();
+        TrainModel::<8>::new(&spec, &op)
+    };
+    assert!(expect(0.3) < 0.0);
+    let m = unloaded(0.3).unwrap();
+    let f = m.static_forces();
+    for p in 1..=3 {
+        let want = if p == 1 { 0.0 } else { 0.15 };
+        for mesh in ["sun", "ring"] {
+            let k = at(&format!("{mesh}-planet {p}"));
+            assert!((f[k] - want).abs() < 1e-12, "{mesh}-planet {p}: {f:?}");
+        }
+    }
+    let r = simulate(&m, m.static_state(), &opts).unwrap();
+    let s = r.strobe.last().unwrap();
+    let mut y = s.y;
+    let mode = m.initial_mode(s.tau, &mut y);
+    for (k, fk) in f.iter().enumerate() {
+        let dynamic = m.mesh_force(s.tau, &y, &mode, k);
+        assert!((dynamic - fk).abs() < 1e-6, "mesh {k}: {dynamic} vs {fk}");
+    }
+    // an error the backlash cannot take up jams the planet on its back flanks: refused by name
+    let e = unloaded(50.0).err().unwrap().to_string();
+    assert!(e.contains("pin_error") && e.contains("back flank"), "{e}");
 }
 
 /// The linearised train's natural frequencies are the modes' (a second computation: the dynamic
