@@ -22,13 +22,14 @@ pub const DECISION_PERIODS: u64 = 10_000;
 /// follows 10 000 revolutions in ~170 M evaluations with DP5 and ~820 M with RK4 at 512 steps per
 /// cycle, C1 10 000 periods in ~21 M with DP5 and ~3 M with the follow ([`crate::pair_engine::follow_method`]); the
 /// budget lies above them. Work per excitation period grows at low frequencies (the broken pair
-/// at `omega` = 0.1: ~233 000 per revolution, 14 times the cost at 1.2), where the budget ends the
-/// decision after ~4 300 revolutions (about a minute) instead of ten minutes per run: such a run is
-/// `unsettled` (decided by `budget`), never chaotic.
-pub const DECISION_BUDGET: u64 = 1_000_000_000;
-/// Largest [`crate::simulate::SimOptions::decision_budget`] accepted: a thousand times the default (about a day of
-/// one core per run).
-pub const MAX_DECISION_BUDGET: u64 = 1000 * DECISION_BUDGET;
+/// at `omega` = 0.1: ~120 000 per copy and revolution in the escape test's lanes), where the
+/// escape test needs ~2.4 10^9 (16 copies x 1 252 revolutions): the budget pays for it (the run is
+/// decided chaotic in ~30 s on 2 cores; at 10^9 it was `unsettled`) and still ends a decision
+/// that would take ten minutes: such a run is `unsettled` (decided by `budget`), never chaotic.
+pub const DECISION_BUDGET: u64 = 3_000_000_000;
+/// Largest [`crate::simulate::SimOptions::decision_budget`] accepted (about a day of one core per
+/// run).
+pub const MAX_DECISION_BUDGET: u64 = 1_000_000_000_000;
 
 /// Default [`crate::simulate::SimOptions::follow_steps`]: fixed-step RK4 steps per natural period (`2 pi` of
 /// dimensionless time) of a decision's follow. At `h <= 2 pi / 64` an RK4 step errs by about

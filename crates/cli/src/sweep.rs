@@ -49,7 +49,7 @@ pub struct DecisionArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub decision_periods: Option<f64>,
     /// Work budget of one run's decision in right-hand-side evaluations (4 per RK4 step, 6 per
-    /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 1000000000].
+    /// DP5 step); a run not periodic when it is spent is `unsettled` [default: 3000000000].
     #[arg(long, allow_hyphen_values = true)]
     pub decision_budget: Option<f64>,
     /// Resolution of a decision's follow (the long transients of a positive exponent's
