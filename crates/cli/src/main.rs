@@ -33,7 +33,9 @@ enum Command {
     Report(report::ReportArgs),
     /// List the built-in presets.
     Presets,
-    /// Print the full resolved configuration as TOML (ready to edit and pass to --config).
+    /// Print the full resolved configuration as TOML (ready to edit and pass to --config); of a
+    /// gear train (--preset planetary, two-stage, pair, or --system) its resolved description
+    /// (for --system), its speeds and static mesh forces.
     Show(run_config::ConfigArgs),
     /// Mesh stiffness, load shares, friction factors and backlash over the excitation period
     /// (healthy versus broken for a broken pair): stiffness.csv and plots.
@@ -137,11 +139,15 @@ fn main() {
             }
             Ok(())
         }
-        Command::Show(args) => args.resolve().and_then(|(c, s)| {
-            print!("{}", c.to_toml());
-            print!("{}", geardyn_io::describe::describe(&s)?);
-            Ok(())
-        }),
+        Command::Show(args) => match train::from_args(&args) {
+            Ok(Some(t)) => train::show(&t),
+            Err(e) => Err(e),
+            Ok(None) => args.resolve().and_then(|(c, s)| {
+                print!("{}", c.to_toml());
+                print!("{}", geardyn_io::describe::describe(&s)?);
+                Ok(())
+            }),
+        },
         Command::Stiffness(args) => stiffness::run(args, started),
         Command::Simulate(args) => simulate::run(args),
         Command::Bifurcation(args) => bifurcation::run(args, started),

@@ -136,6 +136,41 @@ fn dynamic_factors<const N: usize>(m: &TrainModel<N>, s: &Summary) -> Vec<(f64, 
         .collect()
 }
 
+/// `geardyn show` of a train: the resolved description (TOML, ready for `--system`), then as
+/// comments the operating point, the speeds and mesh orders per unit input speed, and each
+/// mesh's static force at mean stiffness (pin errors and separated meshes included).
+pub fn show(t: &TrainRun) -> Result<()> {
+    print!("{}", t.spec.to_toml());
+    let op = &t.op;
+    println!(
+        "\n# operating point (dimensionless; --set omega=, F=, xi=, c=, D=, kappa= or ratio=): omega = {}, F = {}, xi = {}, c = {}, D = {}, stiffness {}",
+        op.omega,
+        op.load,
+        op.xi,
+        op.c,
+        op.d,
+        serde_json::to_string(&op.stiffness)?
+    );
+    let kin = geardyn_train::kinematics::Kinematics::of(&t.spec)?;
+    println!(
+        "# speed per unit speed of the input ({}):",
+        t.spec.load.input
+    );
+    for (b, r) in t.spec.bodies.iter().zip(&kin.ratios) {
+        println!("#   {:<16} {r:.6}", b.name);
+    }
+    with_model!(&t.spec, &t.op, |m| {
+        println!(
+            "# per mesh: tooth passes per input revolution, static force at mean stiffness (units k_ref b_c; input {:.0} rpm at this omega):",
+            m.input_rpm()
+        );
+        for (k, (order, f)) in kin.mesh_orders.iter().zip(m.static_forces()).enumerate() {
+            println!("#   {:<16} {order:.6}  {f:.6}", m.mesh_name(k));
+        }
+        Ok(())
+    })
+}
+
 /// A number for a CSV cell, empty where it is undefined (a dynamic factor of a mesh without
 /// static load).
 fn finite_or_empty(v: f64) -> String {

@@ -302,3 +302,31 @@ fn an_unloaded_planet_and_a_jammed_one() {
     let (code, _, e) = geardyn(&["lyapunov", "--preset", "planetary", "--max-periods", "0"]);
     assert!(code == 2 && e.contains("--max-periods"), "{e}");
 }
+
+/// `show` of a train prints the resolved description, which runs again as `--system`, and as
+/// comments the operating point, the speeds and each mesh's static force.
+#[test]
+fn show_prints_a_train_resolved() {
+    let text = geardyn_ok(&[
+        "show",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=0.04",
+        "--set",
+        "F=0.2",
+    ]);
+    assert!(text.contains("pin_error = 0.04"), "{text}");
+    assert!(
+        text.contains("# operating point") && text.contains("F = 0.2"),
+        "{text}"
+    );
+    assert!(text.contains("#   carrier"), "{text}");
+    let file = tmp("show").with_extension("toml");
+    std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+    std::fs::write(&file, &text).unwrap();
+    let again = geardyn_ok(&["show", "--system", s(&file), "--set", "F=0.2"]);
+    assert_eq!(again, text);
+    let (code, _, e) = geardyn(&["show", "--preset", "planetary", "--set", "stage.planets=7"]);
+    assert!(code == 2 && e.contains("stage.planets"), "{e}");
+}
