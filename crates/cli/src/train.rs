@@ -28,6 +28,25 @@ pub struct TrainRun {
     pub source: String,
 }
 
+impl TrainRun {
+    /// The train's name for figure titles, with the pin errors of its planets if any
+    /// (`planetary 25/35/95, 3 planets; pin error planet 1 0.04`).
+    pub fn title_name(&self) -> String {
+        let errors: Vec<String> = self
+            .spec
+            .bodies
+            .iter()
+            .filter(|b| b.pin_error != 0.0)
+            .map(|b| format!("{} {}", b.name, b.pin_error))
+            .collect();
+        if errors.is_empty() {
+            self.spec.name.clone()
+        } else {
+            format!("{}; pin error {}", self.spec.name, errors.join(", "))
+        }
+    }
+}
+
 /// The train the arguments name, if they name one (`--system`, or `--preset` of a train).
 pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
     let preset = cfg.preset.as_deref().filter(|p| {
@@ -365,7 +384,9 @@ fn mesh_force_figure<const N: usize>(
         &Figure {
             title: format!(
                 "Mesh forces: {} (omega = {}, F = {})",
-                t.spec.name, t.op.omega, t.op.load
+                t.title_name(),
+                t.op.omega,
+                t.op.load
             ),
             x_label: "time (mesh cycles of mesh 1)".into(),
             panels: vec![Panel {
@@ -579,7 +600,11 @@ where
     write_figure(
         &out.join("bifurcation"),
         &Figure {
-            title: format!("{}: decided sweep over {param} ({})", t.spec.name, t.source),
+            title: format!(
+                "{}: decided sweep over {param} ({})",
+                t.title_name(),
+                t.source
+            ),
             x_label: param.into(),
             panels,
             legend: names

@@ -121,9 +121,14 @@ fn spectrum_figure(t: &TrainRun, s: &StageSignals, label: &str, stem: &Path) -> 
     let title = match s.fault_order {
         Some(f) => format!(
             "{} ({label}): mesh order {:.2}, sun-tooth fault order {f:.2}",
-            t.spec.name, s.mesh_order
+            t.title_name(),
+            s.mesh_order
         ),
-        None => format!("{} ({label}): mesh order {:.2}", t.spec.name, s.mesh_order),
+        None => format!(
+            "{} ({label}): mesh order {:.2}",
+            t.title_name(),
+            s.mesh_order
+        ),
     };
     write_figure(
         stem,
