@@ -104,7 +104,7 @@ impl Summary {
     pub fn describe(&self) -> String {
         match (&self.motion, self.decided_by) {
             (Motion::Unsettled { tle, stderr }, DecidedBy::Budget) => format!(
-                "unsettled: the work budget (decision_budget) ran out after {} periods, before a period appeared or the decision horizon (decision_periods) was reached; TLE {}",
+                "unsettled: the work budget (decision_budget) ran out, or could not pay for the escape test a chaotic verdict needs, after {} periods, before a period appeared or the decision horizon (decision_periods) was reached; TLE {}",
                 self.periods_integrated,
                 match (tle, stderr) {
                     (Some(t), Some(s)) => format!("{t:.4} ± {s:.4}"),

@@ -351,9 +351,10 @@ fn shaft_matrix(spec: &TrainSpec, lin: &LinearModel, basis: &Basis) -> Vec<f64> 
 /// The static equilibrium at mean stiffness under the load `force` with half backlash `d`: the
 /// state and each mesh's force. Every mesh is on its drive flank or separated: a mesh whose
 /// force would be negative lets go and one whose gap closes takes load again (an active set,
-/// changed one mesh at a time until it holds). A separated mesh keeps `1e-9` of its stiffness, so
-/// that a body only separated meshes hold (an unloaded planet) sits where their deflections
-/// balance, between its flanks.
+/// changed one mesh at a time until it holds). A separated mesh keeps a residual stiffness, the
+/// same for every mesh (`1e-9` of the mean), so that a body only separated meshes hold (an
+/// unloaded planet) sits in the middle of its free play, its meshes' gaps equal; the residual's
+/// force is refined away. Forces below `1e-12` of the largest are 0.
 fn static_equilibrium(
     meshes: &[MeshDyn],
     k_s: &[f64],
@@ -361,15 +362,23 @@ fn static_equilibrium(
     d: f64,
 ) -> Result<(Vec<f64>, Vec<f64>), TrainError> {
     let dof = force.len();
+    let soft = 1e-9 * meshes.iter().map(|m| m.kappa).sum::<f64>() / meshes.len().max(1) as f64;
     let mut active = vec![true; meshes.len()];
     for _ in 0..=4 * meshes.len() + 4 {
-        let w = |k: usize| if active[k] { 1.0 } else { 1e-9 };
+        // each mesh's stiffness in this active set
+        let w = |k: usize| {
+            if active[k] {
+                meshes[k].kappa
+            } else {
+                soft
+            }
+        };
         let k_mat = nalgebra::DMatrix::from_fn(dof, dof, |r, s| {
             k_s[r * dof + s]
                 + meshes
                     .iter()
                     .enumerate()
-                    .map(|(k, m)| w(k) * m.kappa * m.b[r] * m.b[s])
+                    .map(|(k, m)| w(k) * m.b[r] * m.b[s])
                     .sum::<f64>()
         });
         let rhs = nalgebra::DVector::from_fn(dof, |r, _| {
@@ -377,7 +386,7 @@ fn static_equilibrium(
                 + meshes
                     .iter()
                     .enumerate()
-                    .map(|(k, m)| w(k) * m.kappa * m.b[r] * (d - m.offset))
+                    .map(|(k, m)| w(k) * m.b[r] * (d - m.offset))
                     .sum::<f64>()
         });
         let lu = k_mat.lu();
@@ -396,7 +405,7 @@ fn static_equilibrium(
                             .filter(|(k, _)| !active[*k])
                             .map(|(_, m)| {
                                 let bx: f64 = m.b.iter().zip(x.iter()).map(|(b, x)| b * x).sum();
-                                1e-9 * m.kappa * m.b[r] * (bx - (d - m.offset))
+                                soft * m.b[r] * (bx - (d - m.offset))
                             })
                             .sum::<f64>()
                 });
@@ -412,22 +421,30 @@ fn static_equilibrium(
             .iter()
             .fold(d.abs(), |a, f| a.max(f.abs()))
             .max(1e-300);
-        let tol = 1e-12 * scale;
+        // (a mesh that touches without load lets go too: a planet only it would hold then floats
+        // to the middle of its free play; taking load again needs a clear overlap, so the set
+        // cannot cycle between the two)
         let release = (0..meshes.len())
-            .filter(|&k| active[k] && gap[k] < -tol)
+            .filter(|&k| active[k] && gap[k] < 1e-9 * scale)
             .min_by(|&a, &b| gap[a].total_cmp(&gap[b]));
         let engage = (0..meshes.len())
-            .filter(|&k| !active[k] && gap[k] > tol)
+            .filter(|&k| !active[k] && gap[k] > 1e-6 * scale)
             .max_by(|&a, &b| gap[a].total_cmp(&gap[b]));
         match (release, engage) {
             (Some(k), _) => active[k] = false,
             (None, Some(k)) => active[k] = true,
             (None, None) => {
-                let forces = meshes
+                let mut forces: Vec<f64> = meshes
                     .iter()
                     .enumerate()
                     .map(|(k, m)| if active[k] { m.kappa * gap[k] } else { 0.0 })
                     .collect();
+                // a mesh that touches without load (a planet that just lets go) carries 0
+                let largest = forces.iter().fold(0.0f64, |a, f| a.max(f.abs()));
+                forces
+                    .iter_mut()
+                    .filter(|f| f.abs() <= 1e-12 * largest)
+                    .for_each(|f| *f = 0.0);
                 return Ok((x.iter().copied().collect(), forces));
             }
         }

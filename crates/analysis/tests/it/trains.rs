@@ -227,7 +227,14 @@ fn a_planet_pin_error_shifts_its_load_to_the_other_planets() {
         let dynamic = m.mesh_force(s.tau, &y, &mode, k);
         assert!((dynamic - fk).abs() < 1e-6, "mesh {k}: {dynamic} vs {fk}");
     }
+    // the unloaded planet floats in the middle of its free play: both its meshes stay off their
+    // back flanks while the sum of their deflections is above -2D (about e < 2.27 here), and
+    // the meshes that let go carry exactly 0
+    let m = unloaded(2.0).unwrap();
+    assert_eq!(f.iter().filter(|x| **x == 0.0).count(), 2, "{f:?}");
+    assert!(m.static_forces().iter().filter(|x| **x == 0.0).count() == 2);
     // an error the backlash cannot take up jams the planet on its back flanks: refused by name
+    assert!(unloaded(2.4).is_err());
     let e = unloaded(50.0).err().unwrap().to_string();
     assert!(e.contains("pin_error") && e.contains("back flank"), "{e}");
 }
