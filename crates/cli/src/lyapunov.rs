@@ -18,6 +18,32 @@ fn spread_text(spread: f64) -> String {
     }
 }
 
+/// One round of the doubling, as it finishes.
+pub(crate) fn print_round(r: &Round) {
+    println!(
+        "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
+        r.periods, r.tle, r.half, r.stderr
+    );
+}
+
+/// Whether the doubling converged within `max_periods`.
+pub(crate) fn print_convergence(
+    c: &geardyn_analysis::tle_convergence::ConvergedTle,
+    max_periods: u64,
+) {
+    if c.converged {
+        println!(
+            "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
+            c.tol
+        );
+    } else {
+        println!(
+            "WARNING: not converged to {:.1e} within --max-periods {max_periods} (pass a larger cap, or --periods N for a fixed length)",
+            c.tol
+        );
+    }
+}
+
 fn print_variational(r: &LyapunovResult, periods: u64) {
     println!(
         "TLE (variational, saltation): {:.6} {} per unit tau over {} periods{}",
@@ -107,28 +133,9 @@ pub fn run(a: LyapunovArgs) -> Result<()> {
         y0,
         request: &req,
     };
-    let r = execute(
-        &job,
-        None,
-        &Each(|r: &Round| {
-            println!(
-                "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-                r.periods, r.tle, r.half, r.stderr
-            );
-        }),
-    )?;
+    let r = execute(&job, None, &Each(print_round))?;
     if let Some(c) = &r.convergence {
-        if c.converged {
-            println!(
-                "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
-                c.tol
-            );
-        } else {
-            println!(
-                "WARNING: not converged to {:.1e} within --max-periods {} (pass a larger cap, or --periods N for a fixed length)",
-                c.tol, a.max_periods
-            );
-        }
+        print_convergence(c, a.max_periods);
     }
     if let Some(v) = &r.variational {
         print_variational(v, r.periods);

@@ -8,7 +8,7 @@ use anyhow::{bail, Result};
 use geardyn_analysis::lyapunov::{LyapunovOptions, TangentSpace};
 use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
 use geardyn_analysis::simulate::{simulate, SimOptions};
-use geardyn_analysis::tle_convergence::{converge_by_doubling, Convergence, Round};
+use geardyn_analysis::tle_convergence::{converge_by_doubling, Convergence};
 use geardyn_model::GearSystem;
 use geardyn_train::dynamics::{elastic_dof, TrainModel};
 
@@ -92,25 +92,8 @@ where
         print_tle(m, r.tle, r.spread, n);
         return Ok(());
     }
-    let c = converge_by_doubling(conv, run, |r: &Round| {
-        println!(
-            "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-            r.periods, r.tle, r.half, r.stderr
-        );
-    })?;
-    {
-        if c.converged {
-            println!(
-                "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
-                c.tol
-            );
-        } else {
-            println!(
-                "WARNING: not converged to {:.1e} within --max-periods {} (pass a larger cap, or --periods N for a fixed length)",
-                c.tol, conv.max_periods
-            );
-        }
-    }
+    let c = converge_by_doubling(conv, run, crate::lyapunov::print_round)?;
+    crate::lyapunov::print_convergence(&c, conv.max_periods);
     print_tle(
         m,
         c.result.tle,
