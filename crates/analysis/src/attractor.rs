@@ -133,6 +133,26 @@ impl Recordable<4> for geardyn_model::reference::TwoMassClearance {
     }
 }
 
+/// A gear train's dynamic model, identified as any gear system (basins on a slice of its state,
+/// attractor continuation).
+impl<const N: usize> Recordable<N> for geardyn_train::dynamics::TrainModel<N>
+where
+    geardyn_train::dynamics::TrainModel<N>: Engine<N>,
+{
+    fn strobe_period(&self) -> f64 {
+        geardyn_model::GearSystem::excitation_period(self)
+    }
+    fn scheme(&self, sim: &SimOptions) -> Scheme {
+        sim.method.scheme(self)
+    }
+    fn decide(&self, d: &Descriptor<N>, sim: &SimOptions) -> Descriptor<N> {
+        decide_gear(self, d, sim)
+    }
+    fn describe(&self, t0: f64, y0: [f64; N], sim: &SimOptions) -> Result<Descriptor<N>, SimError> {
+        describe_gear(self, t0, y0, sim)
+    }
+}
+
 impl Recordable<2> for MeshModel {
     fn as_mesh(&self) -> Option<&MeshModel> {
         Some(self)

@@ -36,8 +36,9 @@ pub struct BasinOptions<const N: usize = 2> {
     pub v: Axis,
     /// Identification settings (`sim.tau0` sets the phase of the initial states).
     pub identify: IdentifyOptions,
-    /// The 2-D slice of the state the grid lies in (the pair: its whole state).
-    #[serde(skip)]
+    /// The 2-D slice of the state the grid lies in (the pair: its whole state; in the settings
+    /// only when it is another).
+    #[serde(skip_serializing_if = "Slice::is_default")]
     pub slice: Slice<N>,
 }
 

@@ -21,9 +21,11 @@ impl Axis {
     }
 }
 
-/// A plane of the state space: the grid's two axes are components [`Slice::axes`], every other
-/// component is that of [`Slice::base`]. Built by [`Slice::new`], which checks it (the default:
-/// the first two components, the others zero — the pair's whole state).
+/// A plane of the state space through [`Slice::base`]: the initial state at grid values `(a, b)`
+/// is `base + a dx + b dv`. Two kinds are built, each checked: [`Slice::new`], two state
+/// components (the grid's values replace them; the default: the first two components, the
+/// others zero — the pair's whole state), and [`Slice::along`], two directions (a gear train's
+/// mesh deflection and its rate, say).
 ///
 /// ```
 /// use geardyn_analysis::grid::Slice;
@@ -31,11 +33,24 @@ impl Axis {
 /// assert_eq!(s.state(1.0, 2.0), [1.0, 0.5, 2.0, 0.0]);
 /// assert!(Slice::new((1, 1), [0.0; 4]).unwrap_err().to_string().contains("distinct"));
 /// assert!(Slice::new((0, 4), [0.0; 4]).is_err());
+/// // a plane along directions: a = 1, b = 2 from base (1, 1, 0, 0)
+/// let d = Slice::along([1.0, 1.0, 0.0, 0.0], [0.5, 0.5, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0]).unwrap();
+/// assert_eq!(d.state(1.0, 2.0), [1.5, 1.5, 2.0, -2.0]);
+/// assert!(Slice::along([0.0; 4], [1.0, 0.0, 0.0, 0.0], [2.0, 0.0, 0.0, 0.0]).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slice<const N: usize> {
-    axes: (usize, usize),
+    plane: Plane<N>,
     base: [f64; N],
+}
+
+/// How the grid's values enter the state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Plane<const N: usize> {
+    /// They replace two components (exactly: no arithmetic on them).
+    Components(usize, usize),
+    /// `base + a dx + b dv`.
+    Directions([f64; N], [f64; N]),
 }
 
 /// A slice that is no plane of the state.
@@ -47,13 +62,16 @@ pub enum SliceError {
     /// A base component that is not finite.
     #[error("bad slice base: component {0} is {1}; allowed a finite number")]
     Base(usize, f64),
+    /// Directions that do not span a plane (zero, parallel or not finite).
+    #[error("bad slice directions: two finite, linearly independent vectors of the state")]
+    Directions,
 }
 
 impl<const N: usize> Default for Slice<N> {
     /// The first two components, the others zero (a state of at least two components).
     fn default() -> Self {
         Slice {
-            axes: (0, 1),
+            plane: Plane::Components(0, 1),
             base: [0.0; N],
         }
     }
@@ -73,15 +91,39 @@ impl<const N: usize> Slice<N> {
         {
             return Err(SliceError::Base(i, v));
         }
-        Ok(Slice { axes, base })
+        Ok(Slice {
+            plane: Plane::Components(axes.0, axes.1),
+            base,
+        })
     }
 
-    /// The state components of the grid's two axes.
-    pub fn axes(&self) -> (usize, usize) {
-        self.axes
+    /// The plane `base + a dx + b dv` (`a` on the grid's `x` axis, `b` on its `v` axis).
+    pub fn along(base: [f64; N], dx: [f64; N], dv: [f64; N]) -> Result<Self, SliceError> {
+        if let Some((i, &v)) = base.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(SliceError::Base(i, v));
+        }
+        let dot = |a: &[f64; N], b: &[f64; N]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+        let (xx, vv, xv) = (dot(&dx, &dx), dot(&dv, &dv), dot(&dx, &dv));
+        // (Gram determinant: zero for parallel or vanishing directions)
+        let gram = xx * vv - xv * xv;
+        if !(gram.is_finite() && gram > 1e-24 * xx * vv) {
+            return Err(SliceError::Directions);
+        }
+        Ok(Slice {
+            plane: Plane::Directions(dx, dv),
+            base,
+        })
     }
 
-    /// The other components of every initial state.
+    /// The state components of the grid's two axes (`None` for a plane along directions).
+    pub fn axes(&self) -> Option<(usize, usize)> {
+        match self.plane {
+            Plane::Components(i, j) => Some((i, j)),
+            Plane::Directions(..) => None,
+        }
+    }
+
+    /// The other components of every initial state (components slice), or the plane's origin.
     pub fn base(&self) -> &[f64; N] {
         &self.base
     }
@@ -89,8 +131,40 @@ impl<const N: usize> Slice<N> {
     /// The initial state at grid values `(a, b)`.
     pub fn state(&self, a: f64, b: f64) -> [f64; N] {
         let mut y = self.base;
-        y[self.axes.0] = a;
-        y[self.axes.1] = b;
+        match &self.plane {
+            Plane::Components(i, j) => {
+                y[*i] = a;
+                y[*j] = b;
+            }
+            Plane::Directions(dx, dv) => {
+                for ((y, dx), dv) in y.iter_mut().zip(dx).zip(dv) {
+                    *y += a * dx + b * dv;
+                }
+            }
+        }
         y
+    }
+
+    /// Whether this is the default slice (the first two components through zero).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// Written into a job's settings (a basin store made on another plane is not resumed):
+/// `{"axes": [i, j], "base": [...]}` or `{"dx": [...], "dv": [...], "base": [...]}`.
+impl<const N: usize> Serialize for Slice<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(3))?;
+        match &self.plane {
+            Plane::Components(i, j) => m.serialize_entry("axes", &[*i, *j])?,
+            Plane::Directions(dx, dv) => {
+                m.serialize_entry("dx", &dx[..])?;
+                m.serialize_entry("dv", &dv[..])?;
+            }
+        }
+        m.serialize_entry("base", &self.base[..])?;
+        m.end()
     }
 }

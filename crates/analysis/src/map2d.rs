@@ -3,7 +3,7 @@
 
 use crate::classify::{simulate_decided, Decide, DecidedBy, Motion};
 use crate::lanes_decide::Decided;
-use crate::simulate::SimOptions;
+use crate::simulate::{SimOptions, Summary};
 use geardyn_model::MeshModel;
 use geardyn_scenario::{Scenario, ScenarioError};
 use rayon::prelude::*;
@@ -67,6 +67,55 @@ pub struct MapCell {
 }
 
 impl MapCell {
+    /// A cell with no result yet (label empty, [`DecidedBy::Error`]).
+    pub fn empty(index: usize, (x, y): (f64, f64)) -> MapCell {
+        MapCell {
+            index,
+            x,
+            y,
+            label: String::new(),
+            period: 0,
+            healthy: false,
+            max_force: 0.0,
+            min_force: 0.0,
+            p_id: 0.0,
+            impacts: 0,
+            tle: None,
+            motion: Motion::default(),
+            periods_integrated: 0,
+            decided_by: DecidedBy::Error,
+        }
+    }
+
+    /// The cell of a decided run's summary (any gear system: a train's label is its meshes'
+    /// labels, its forces and P_ID the largest over its meshes).
+    pub fn of_summary(index: usize, xy: (f64, f64), s: Summary) -> MapCell {
+        MapCell {
+            label: s.label,
+            motion: s.motion,
+            period: s.period,
+            healthy: s.healthy,
+            max_force: s.max_force,
+            min_force: s.min_force,
+            p_id: s.p_id,
+            impacts: s.impacts,
+            periods_integrated: s.periods_integrated,
+            decided_by: s.decided_by,
+            ..MapCell::empty(index, xy)
+        }
+    }
+
+    /// The cell of a run that failed (`failed: ...`).
+    pub fn failed(index: usize, xy: (f64, f64), e: &impl std::fmt::Display) -> MapCell {
+        MapCell {
+            label: format!("failed: {e}"),
+            motion: Motion::Failed {
+                reason: e.to_string(),
+            },
+            ..MapCell::empty(index, xy)
+        }
+    }
+
     /// Value of a metric by name: `max_force`, `min_force`, `p_id`, `period`, `tle`,
     /// `healthy` (1/0), `class` (0 healthy periodic, 1 non-healthy periodic, 2 chaotic,
     /// 3 failed or diverged, 4 quasi-periodic, 5 unsettled, 6 transient chaos).
@@ -151,22 +200,7 @@ fn cell_of(
     decided: Option<Decided>,
     o: &MapOptions,
 ) -> MapCell {
-    let mut cell = MapCell {
-        index,
-        x,
-        y,
-        label: String::new(),
-        period: 0,
-        healthy: false,
-        max_force: 0.0,
-        min_force: 0.0,
-        p_id: 0.0,
-        impacts: 0,
-        tle: None,
-        motion: Motion::default(),
-        periods_integrated: 0,
-        decided_by: DecidedBy::Error,
-    };
+    let mut cell = MapCell::empty(index, (x, y));
     let m = match model {
         Err(e) => {
             cell.label = format!("invalid: {e}");
@@ -175,23 +209,9 @@ fn cell_of(
         Ok(m) => m,
     };
     match decided.expect("a decided run for every valid model") {
-        Err(e) => {
-            cell.label = format!("failed: {e}");
-            cell.motion = Motion::Failed {
-                reason: e.to_string(),
-            };
-        }
+        Err(e) => return MapCell::failed(index, (x, y), &e),
         Ok((r, s, _)) => {
-            cell.label = s.label;
-            cell.motion = s.motion;
-            cell.period = s.period;
-            cell.healthy = s.healthy;
-            cell.max_force = s.max_force;
-            cell.min_force = s.min_force;
-            cell.p_id = s.p_id;
-            cell.impacts = s.impacts;
-            cell.periods_integrated = s.periods_integrated;
-            cell.decided_by = s.decided_by;
+            cell = MapCell::of_summary(index, (x, y), s);
             if o.lyapunov {
                 let (t, y) = r.final_state;
                 let start = (m, t, y, r.final_memory);

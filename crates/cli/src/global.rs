@@ -4,7 +4,7 @@ use crate::sweep::{parse_range, progress, InitialStatesArgs, RunArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
-use geardyn_analysis::basins::BasinsRequest;
+use geardyn_analysis::basins::{Axis, BasinResult, BasinsRequest};
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
 use geardyn_exec::request::{ContinuationRequest, MapRequest};
 use geardyn_exec::{execute, BasinsJob, Checkpointed, ContinuationJob, MapJob};
@@ -13,7 +13,7 @@ use geardyn_io::output::{write_csv, write_json};
 use geardyn_io::schema::full;
 use geardyn_io::{npy, run_record, sweep_output, Config};
 use geardyn_scenario::Scenario;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Attractor-identification settings.
 #[derive(Args, Debug)]
@@ -32,7 +32,7 @@ pub struct IdentArgs {
 
 impl IdentArgs {
     /// The library's request (which checks it, as Python's).
-    fn request(&self) -> IdentifyRequest {
+    pub(crate) fn request(&self) -> IdentifyRequest {
         IdentifyRequest {
             capture_tol: self.capture_tol,
             ident_rtol: self.ident_rtol,
@@ -50,9 +50,9 @@ impl IdentArgs {
 #[derive(Args, Debug)]
 pub struct BasinArgs {
     #[command(flatten)]
-    run: RunArgs,
+    pub(crate) run: RunArgs,
     #[command(flatten)]
-    ident: IdentArgs,
+    pub(crate) ident: IdentArgs,
     /// Grid axes: `--grid x:MIN:MAX:N --grid v:MIN:MAX:N` (default 200 x 200 over ±2 D, ±1.5).
     #[arg(
         long = "grid",
@@ -62,10 +62,14 @@ pub struct BasinArgs {
     grid: Vec<String>,
     /// Phase of the initial states as a fraction of the excitation period, in [0, 1).
     #[arg(long, default_value_t = 0.0)]
-    phase: f64,
+    pub(crate) phase: f64,
+    /// Gear trains: the mesh whose deflection and deflection rate span the grid (its name, or
+    /// its number from 1; default the first mesh), the other coordinates in the static state.
+    #[arg(long)]
+    pub(crate) mesh: Option<String>,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/basins")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
 }
 
 /// Parses `x:MIN:MAX:N` or `v:MIN:MAX:N` (the limits are the library's: [`BasinsRequest`]).
@@ -82,35 +86,48 @@ fn parse_axis(s: &str) -> Result<(char, (f64, f64, usize))> {
     Ok((parts[0].chars().next().unwrap_or('x'), axis))
 }
 
+impl BasinArgs {
+    /// The grid as stated (`--grid`, `--phase`), before it is checked.
+    pub(crate) fn request(&self) -> Result<BasinsRequest> {
+        let mut req = BasinsRequest {
+            phase: self.phase,
+            ..Default::default()
+        };
+        for g in &self.grid {
+            let (name, ax) = parse_axis(g)?;
+            let slot = if name == 'x' { &mut req.x } else { &mut req.v };
+            if slot.is_some() {
+                bail!("--grid {name} given twice: give each axis once (x and v)");
+            }
+            *slot = Some(ax);
+        }
+        Ok(req)
+    }
+
+    /// One axis given: says what the other is, rather than silently running N x 200.
+    pub(crate) fn note_default_axis(&self, req: &BasinsRequest, x: Axis, v: Axis) {
+        if req.x.is_some() != req.v.is_some() {
+            let (name, ax) = if req.x.is_some() { ("v", v) } else { ("x", x) };
+            eprintln!(
+                "note: no --grid {name}: {name} takes its default, [{}, {}] in {} cells",
+                ax.min, ax.max, ax.n
+            );
+        }
+    }
+}
+
 pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
+        return crate::train_basins::basins(&t, &a);
+    }
+    if a.mesh.is_some() {
+        bail!("--mesh picks the mesh of a gear train's basin plane; the pair's grid is its whole state (x0, x0')");
+    }
     let (cfg, scenario) = a.run.resolve()?;
     let model = scenario.model();
-    let mut req = BasinsRequest {
-        phase: a.phase,
-        ..Default::default()
-    };
-    for g in &a.grid {
-        let (name, ax) = parse_axis(g)?;
-        let slot = if name == 'x' { &mut req.x } else { &mut req.v };
-        if slot.is_some() {
-            bail!("--grid {name} given twice: give each axis once (x and v)");
-        }
-        *slot = Some(ax);
-    }
+    let req = a.request()?;
     let opts = req.options(model, a.ident.options(&cfg)?)?;
-    let (x, v) = (opts.x, opts.v);
-    // one axis given: say what the other is, rather than silently running N x 200
-    if req.x.is_some() != req.v.is_some() {
-        let (name, ax) = if req.x.is_some() {
-            ("v", opts.v)
-        } else {
-            ("x", opts.x)
-        };
-        eprintln!(
-            "note: no --grid {name}: {name} takes its default, [{}, {}] in {} cells",
-            ax.min, ax.max, ax.n
-        );
-    }
+    a.note_default_axis(&req, opts.x, opts.v);
     cfg.check_work(model, &opts.identify.sim, opts.x.n * opts.v.n, false)?;
     let t = std::time::Instant::now();
     let r = execute(
@@ -120,8 +137,28 @@ pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
     )?;
     let elapsed = t.elapsed().as_secs_f64();
     run_record::write_config_and_record(&a.out, "basins", &cfg, &scenario, &[], started)?;
+    let title = format!(
+        "Basins of attraction (initial phase {}): {}",
+        a.phase,
+        sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[])
+    );
+    write_basins(&a.out, &r, &title, ("x0", "x0'"), serde_json::Map::new())?;
+    print_basins(&r, elapsed, &a.out);
+    Ok(())
+}
+
+/// Writes a basin result's files: basins.csv (`x0, v0, attractor`), basins.npy, attractors.json
+/// (the result without its cells, with `extra` fields) and the figure, its axes `labels`.
+pub(crate) fn write_basins(
+    out: &Path,
+    r: &BasinResult,
+    title: &str,
+    labels: (&str, &str),
+    extra: serde_json::Map<String, serde_json::Value>,
+) -> Result<()> {
+    let (x, v) = (r.x, r.v);
     write_csv(
-        &a.out.join("basins.csv"),
+        &out.join("basins.csv"),
         &["x0", "v0", "attractor"],
         (0..x.n * v.n).map(|c| {
             vec![
@@ -131,20 +168,22 @@ pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
             ]
         }),
     )?;
-    npy::write_i64(&a.out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
+    npy::write_i64(&out.join("basins.npy"), &[v.n, x.n], &r.cells)?;
     // the cells are in basins.npy and basins.csv: a third copy in JSON made a 1000 x 1000
     // basin's attractors.json 7 MB
-    let mut summary = serde_json::to_value(&r)?;
+    let mut summary = serde_json::to_value(r)?;
     if let Some(m) = summary.as_object_mut() {
         m.remove("cells");
+        m.extend(extra);
     }
-    write_json(&a.out.join("attractors.json"), &summary)?;
-    let title = format!(
-        "Basins of attraction (initial phase {}): {}",
-        a.phase,
-        sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[])
-    );
-    sweep_output::plot_basins(&a.out.join("basins"), &title, &r)?;
+    write_json(&out.join("attractors.json"), &summary)?;
+    sweep_output::plot_basins(&out.join("basins"), title, r, labels)?;
+    Ok(())
+}
+
+/// Prints the attractors and the grid's shares.
+pub(crate) fn print_basins(r: &BasinResult, elapsed: f64, out: &Path) {
+    let (x, v) = (r.x, r.v);
     for at in &r.attractors {
         println!(
             "attractor #{}: {}{}, {}, basin fraction {:.4}",
@@ -178,9 +217,8 @@ pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
         } else {
             String::new()
         },
-        a.out.display()
+        out.display()
     );
-    Ok(())
 }
 
 /// Arguments of `geardyn continuation`.
@@ -313,22 +351,23 @@ pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct MapArgs {
     #[command(flatten)]
-    run: RunArgs,
+    pub(crate) run: RunArgs,
     /// x axis: NAME:START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "xi:0.001:0.3:40")]
-    x: String,
+    pub(crate) x: String,
     /// y axis: NAME:START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "F:0.001:0.2:40")]
-    y: String,
-    /// Metric of the heatmap: max_force, min_force, p_id, period, tle, healthy, class.
+    pub(crate) y: String,
+    /// Metric of the heatmap: max_force, min_force, p_id, period, tle, healthy, class (gear
+    /// trains: also dynamic_factor, load_sharing; no tle).
     #[arg(long, default_value = MapRequest::DEFAULT_METRIC)]
-    metric: String,
+    pub(crate) metric: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/map2d")]
     pub out: PathBuf,
 }
 
-fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
+pub(crate) fn parse_param_axis(s: &str, what: &str) -> Result<(String, Vec<f64>)> {
     let (name, rest) = s
         .split_once(':')
         .with_context(|| format!("bad {what} '{s}': expected NAME:START:STOP:COUNT"))?;
@@ -358,6 +397,9 @@ impl MapArgs {
 }
 
 pub fn map_cmd(a: MapArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
+        return crate::train_map::map(&t, &a);
+    }
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());

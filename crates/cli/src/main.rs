@@ -15,7 +15,9 @@ mod simulate;
 mod stiffness;
 mod sweep;
 mod train;
+mod train_basins;
 mod train_lyapunov;
+mod train_map;
 mod train_signals;
 
 use clap::{Parser, Subcommand};
@@ -129,7 +131,7 @@ fn main() {
             for (name, what) in geardyn_model::presets::PRESETS {
                 println!("{name:<10} {what}");
             }
-            println!("gear trains (geardyn modes, simulate, bifurcation, lyapunov, signals):");
+            println!("gear trains (geardyn {}):", train::COMMANDS);
             for (name, what) in [
                 ("planetary", "sun 25 / planets 35 / ring 95, 3 equally spaced planets, m = 3 mm: sun input, carrier output, ring fixed"),
                 ("two-stage", "20/50 then 22/61 teeth on an elastic intermediate shaft (40 mm x 150 mm steel)"),

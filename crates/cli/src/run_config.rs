@@ -40,13 +40,13 @@ impl ConfigArgs {
         let mut c = match (&self.preset, &self.config) {
             (_, Some(path)) => Config::from_file(path)?,
             _ if self.system.is_some() => {
-                anyhow::bail!("--system names a gear train: `geardyn simulate`, `bifurcation`, `lyapunov`, `signals` and `modes` run trains; this command runs the single pair's model")
+                anyhow::bail!("--system names a gear train: geardyn {} run trains; this command runs the single pair's model", crate::train::COMMANDS)
             }
             (Some(name), None)
                 if geardyn_train::presets::NAMES.contains(&name.as_str())
                     && Config::preset(name).is_err() =>
             {
-                anyhow::bail!("--preset {name} is a gear train: `geardyn simulate`, `bifurcation`, `lyapunov`, `signals` and `modes` run trains; this command runs the single pair's model")
+                anyhow::bail!("--preset {name} is a gear train: geardyn {} run trains; this command runs the single pair's model", crate::train::COMMANDS)
             }
             (Some(name), None) => Config::preset(name)?,
             (None, None) => Config::preset("classic")?,

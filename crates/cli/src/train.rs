@@ -14,9 +14,12 @@ use geardyn_io::figure::{palette, write_figure, Figure, Layer, LegendEntry, Pane
 use geardyn_io::output::write_text;
 use geardyn_io::run_record;
 use geardyn_model::GearSystem;
-use geardyn_train::dynamics::{elastic_dof, TrainModel, TrainOperating};
+use geardyn_train::dynamics::{TrainModel, TrainOperating};
 use geardyn_train::TrainSpec;
 use std::path::Path;
+
+/// The commands that run gear trains (for messages and `geardyn presets`).
+pub const COMMANDS: &str = "modes, show, simulate, bifurcation, lyapunov, basins, map2d, signals";
 
 /// A train and its operating point, from the command line.
 pub struct TrainRun {
@@ -29,6 +32,29 @@ pub struct TrainRun {
 }
 
 impl TrainRun {
+    /// The operating point for a title, leaving out the parameters `swept`
+    /// (`omega = 1, F = 0.1, xi = 0, c = 0.1, D = 1, rectangular 1.5`).
+    pub fn op_text(&self, swept: &[&str]) -> String {
+        let op = &self.op;
+        let (form, value) = match op.stiffness {
+            geardyn_train::dynamics::MeshStiffness::Harmonic { kappa } => ("kappa", kappa),
+            geardyn_train::dynamics::MeshStiffness::Rectangular { ratio } => ("ratio", ratio),
+        };
+        [
+            ("omega", op.omega),
+            ("F", op.load),
+            ("xi", op.xi),
+            ("c", op.c),
+            ("D", op.d),
+            (form, value),
+        ]
+        .iter()
+        .filter(|(n, _)| !swept.contains(n))
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+    }
+
     /// The train's name for figure titles, with the pin errors of its planets if any
     /// (`planetary 25/35/95, 3 planets; pin error planet 1 0.04`).
     pub fn title_name(&self) -> String {
@@ -124,7 +150,7 @@ pub(crate) fn check_work<const N: usize>(
 /// grows; each `N` is a compiled copy of every analysis, about 36 s of this binary's build.
 macro_rules! with_model {
     ($spec:expr, $op:expr, |$m:ident| $body:expr) => {{
-        let dof = elastic_dof($spec);
+        let dof = ::geardyn_train::dynamics::elastic_dof($spec);
         with_model!(@arms dof, $spec, $op, $m, $body; 1..=4 => 8, 5..=8 => 16, 9..=12 => 24)
     }};
     (@arms $dof:ident, $spec:expr, $op:expr, $m:ident, $body:expr; $($d:pat => $n:literal),*) => {
@@ -140,7 +166,7 @@ macro_rules! with_model {
 pub(crate) use with_model;
 
 /// Per mesh: the static force at mean stiffness and the dynamic factor (peak over static).
-fn dynamic_factors<const N: usize>(m: &TrainModel<N>, s: &Summary) -> Vec<(f64, f64)> {
+pub(crate) fn dynamic_factors<const N: usize>(m: &TrainModel<N>, s: &Summary) -> Vec<(f64, f64)> {
     let mesh_max = |k: usize| {
         if s.meshes.is_empty() {
             s.max_force
@@ -202,7 +228,7 @@ fn finite_or_empty(v: f64) -> String {
 
 /// Load-sharing factors: for each group of meshes between one central gear and the planets
 /// (bodies on a carrier), `n F_max,j / sum F_max` of each planet `j` — 1 for equal sharing.
-fn load_sharing(spec: &TrainSpec, s: &Summary) -> Vec<(String, String, f64)> {
+pub(crate) fn load_sharing(spec: &TrainSpec, s: &Summary) -> Vec<(String, String, f64)> {
     let carried = |name: &str| {
         spec.body_index(name)
             .is_some_and(|i| spec.bodies[i].carrier.is_some())

@@ -11,7 +11,7 @@ use geardyn_analysis::stage_signals::{stage_signals, StageSignals, StageSignalsR
 use geardyn_io::figure::{palette, write_figure, Figure, Layer, Panel, Style};
 use geardyn_io::output::write_text;
 use geardyn_io::run_record;
-use geardyn_train::dynamics::{elastic_dof, TrainModel};
+use geardyn_train::dynamics::TrainModel;
 use std::fmt::Write as _;
 use std::path::Path;
 

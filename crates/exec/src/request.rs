@@ -15,9 +15,7 @@ use geardyn_analysis::bifurcation::{
 };
 use geardyn_analysis::continuation::ContinuationOptions;
 use geardyn_analysis::map2d::{MapCell, MapOptions};
-use geardyn_io::figure::{
-    colormap, write_raster, LabelColors, LegendEntry, RasterFigure, UNSETTLED,
-};
+use geardyn_io::figure::LabelColors;
 use geardyn_io::output::OutputError;
 use geardyn_io::ConfigError;
 use geardyn_io::{npy, run_record, schema, sweep_output, Config};
@@ -374,16 +372,6 @@ impl Request {
     }
 }
 
-/// The range of the finite values (`(inf, -inf)` when none).
-fn finite_range(vals: &[f64]) -> (f64, f64) {
-    vals.iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        })
-}
-
 impl MapRequest {
     /// Writes the folder of `geardyn map2d` into `out`: `config.toml`, `run.json`, `map.csv`
     /// ([`schema::map_table`]), `map.npy` (the metric, `ny x nx`) and the heatmap `map.png`/`.svg`.
@@ -412,26 +400,6 @@ impl MapRequest {
             .map(|c| c.metric(&self.metric).unwrap_or(f64::NAN))
             .collect();
         npy::write_f64(&out.join("map.npy"), &[yv.len(), xv.len()], &vals)?;
-        let (lo, hi) = finite_range(&vals);
-        let span = if hi > lo { hi - lo } else { 1.0 };
-        let colors: Vec<_> = vals
-            .iter()
-            .map(|v| {
-                if v.is_finite() {
-                    colormap((v - lo) / span)
-                } else {
-                    UNSETTLED
-                }
-            })
-            .collect();
-        let cell = |v: &[f64]| {
-            if v.len() > 1 {
-                (v[1] - v[0]).abs()
-            } else {
-                1.0
-            }
-        };
-        let (dx, dy) = (cell(xv), cell(yv));
         let title = format!(
             "{} over ({}, {}): {}",
             self.metric,
@@ -439,28 +407,13 @@ impl MapRequest {
             yp,
             sweep_output::operating_point(&self.source, scenario.params(), &[xp, yp])
         );
-        write_raster(
+        let (lo, hi) = sweep_output::plot_metric_map(
             &out.join("map"),
-            &RasterFigure {
-                title,
-                x_label: xp.to_string(),
-                y_label: yp.to_string(),
-                x: (xv[0] - dx / 2.0, xv[xv.len() - 1] + dx / 2.0, xv.len()),
-                y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
-                colors,
-                legend: if vals.iter().any(|v| !v.is_finite()) {
-                    vec![LegendEntry::dot("no value (failed run)", UNSETTLED)]
-                } else {
-                    vec![]
-                },
-                legend_title: String::new(),
-                colorbar: Some((
-                    if lo.is_finite() { lo } else { 0.0 },
-                    if hi.is_finite() { hi } else { 1.0 },
-                    self.metric.clone(),
-                )),
-                marks: vec![],
-            },
+            &title,
+            (xp, xv),
+            (yp, yv),
+            &vals,
+            &self.metric,
         )?;
         Ok((lo, hi))
     }

@@ -71,7 +71,8 @@ pub struct Table {
 }
 
 impl Table {
-    fn push(&mut self, name: &str, values: Values) {
+    /// Appends a column of measured numbers or labels.
+    pub fn push(&mut self, name: &str, values: Values) {
         self.columns.push(Column {
             name: name.into(),
             values,
@@ -79,7 +80,8 @@ impl Table {
         });
     }
 
-    fn push_exact(&mut self, name: &str, values: Values) {
+    /// Appends a column of inputs (written with every digit).
+    pub fn push_exact(&mut self, name: &str, values: Values) {
         self.push(name, values);
         if let Some(c) = self.columns.last_mut() {
             c.exact = true;

@@ -3,7 +3,7 @@
 //! pixel, many distinct colours).
 
 use crate::figure::{
-    self, palette, write_figure, write_raster, Figure, FigureError, LabelColors, Layer,
+    self, colormap, palette, write_figure, write_raster, Figure, FigureError, LabelColors, Layer,
     LegendEntry, Panel, RasterFigure, Style, CHAOTIC, LEGEND_MAX, OTHER, QUASI, UNSETTLED,
 };
 use crate::output::{write_csv, OutputError};
@@ -388,8 +388,13 @@ pub fn plot_response(
 /// grey, crosses at the attractors' stroboscopic points; the legend (beside the image) names each
 /// attractor with its label, health and basin share. At most [`LEGEND_MAX`] legend entries: the
 /// attractors of the smallest basins beyond that are drawn as one group "N other attractors"
-/// (light brown). Equal-colour runs are merged.
-pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), FigureError> {
+/// (light brown). Equal-colour runs are merged. `labels` name the axes (the pair: `x0`, `x0'`).
+pub fn plot_basins(
+    stem: &Path,
+    title: &str,
+    r: &BasinResult,
+    labels: (&str, &str),
+) -> Result<(), FigureError> {
     let black = CHAOTIC;
     let fixed = usize::from(r.diverged > 0.0)
         + usize::from(r.failed > 0.0)
@@ -468,7 +473,7 @@ pub fn plot_basins(stem: &Path, title: &str, r: &BasinResult) -> Result<(), Figu
     }));
     let x = (r.x.min, r.x.max, r.x.n.max(1));
     let v = (r.v.min, r.v.max, r.v.n.max(1));
-    write_basin_raster(stem, title, r, (x, v), colors, legend)
+    write_basin_raster(stem, title, r, (x, v), labels, colors, legend)
 }
 
 /// The legend entries of the cells of `r` that reached no attractor, in `colors` (divergent,
@@ -504,12 +509,13 @@ pub fn lost_cells_legend(
 /// Writes the basin image `stem` of `r` on the grid `x` × `v` (`(min, max, cells)` of each axis:
 /// the cells tile `[min, max]`, their centres at `min + (i + 1/2)(max - min)/cells` as
 /// [`geardyn_analysis::basins::Axis::value`] puts them): a colour per cell, `legend` beside the image, crosses at the
-/// attractors' stroboscopic points (up to 24 each) inside the grid.
+/// attractors' stroboscopic points (up to 24 each) inside the grid; `labels` name the axes.
 pub fn write_basin_raster(
     stem: &Path,
     title: &str,
     r: &BasinResult,
     (x, v): ((f64, f64, usize), (f64, f64, usize)),
+    labels: (&str, &str),
     colors: Vec<RGBColor>,
     legend: Vec<LegendEntry>,
 ) -> Result<(), FigureError> {
@@ -523,8 +529,8 @@ pub fn write_basin_raster(
         stem,
         &RasterFigure {
             title: title.into(),
-            x_label: "x0".into(),
-            y_label: "x0'".into(),
+            x_label: labels.0.into(),
+            y_label: labels.1.into(),
             x: (x.0, x.1, x.2),
             y: (v.0, v.1, v.2),
             colors,
@@ -798,4 +804,71 @@ mod tests {
         assert!(t.starts_with("preset classic, F = "), "{t}");
         assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
     }
+}
+
+/// The range of the finite values (`(inf, -inf)` when none).
+fn finite_range(vals: &[f64]) -> (f64, f64) {
+    vals.iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        })
+}
+
+/// Heatmap `stem` of a two-parameter map: `vals` row-major over `y` rows of the `x` values
+/// (`(name, values)` of each axis, evenly spaced), on the colour map between the finite values'
+/// extremes (a colour bar named `metric`), cells without a value grey. Returns the finite range.
+pub fn plot_metric_map(
+    stem: &Path,
+    title: &str,
+    (xp, xv): (&str, &[f64]),
+    (yp, yv): (&str, &[f64]),
+    vals: &[f64],
+    metric: &str,
+) -> Result<(f64, f64), FigureError> {
+    let (lo, hi) = finite_range(vals);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let colors: Vec<_> = vals
+        .iter()
+        .map(|v| {
+            if v.is_finite() {
+                colormap((v - lo) / span)
+            } else {
+                UNSETTLED
+            }
+        })
+        .collect();
+    let cell = |v: &[f64]| {
+        if v.len() > 1 {
+            (v[1] - v[0]).abs()
+        } else {
+            1.0
+        }
+    };
+    let (dx, dy) = (cell(xv), cell(yv));
+    write_raster(
+        stem,
+        &RasterFigure {
+            title: title.into(),
+            x_label: xp.to_string(),
+            y_label: yp.to_string(),
+            x: (xv[0] - dx / 2.0, xv[xv.len() - 1] + dx / 2.0, xv.len()),
+            y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
+            colors,
+            legend: if vals.iter().any(|v| !v.is_finite()) {
+                vec![LegendEntry::dot("no value (failed run)", UNSETTLED)]
+            } else {
+                vec![]
+            },
+            legend_title: String::new(),
+            colorbar: Some((
+                if lo.is_finite() { lo } else { 0.0 },
+                if hi.is_finite() { hi } else { 1.0 },
+                metric.to_string(),
+            )),
+            marks: vec![],
+        },
+    )?;
+    Ok((lo, hi))
 }

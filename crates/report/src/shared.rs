@@ -246,7 +246,7 @@ pub fn basin_render(
     }));
     let stem = dir.join(name);
     let grid = ((x.0, x.1, n), (v.0, v.1, n));
-    write_basin_raster(&stem, title, r, grid, colors, legend)?;
+    write_basin_raster(&stem, title, r, grid, ("x0", "x0'"), colors, legend)?;
     let cells_csv = dir.join(format!("{name}_cells.csv"));
     write_csv(
         &cells_csv,

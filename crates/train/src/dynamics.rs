@@ -683,6 +683,22 @@ impl<const N: usize> TrainModel<N> {
         y
     }
 
+    /// The displacement of the elastic coordinates (padded to `N`, in `[..dof]`) that changes
+    /// mesh `k`'s deflection by one unit with the least mass-weighted size: `u = b_k / |b_k|²`
+    /// (the coordinates are mass-normalised, so `|u|²` is `u`'s kinetic-energy metric). It moves
+    /// the other meshes coupled to mesh `k` as that least-inertia motion does. A plane of
+    /// initial states "mesh `k`'s deflection and its rate" through a state `y` is
+    /// `y + (a - delta_k) u` in positions and `b u` in velocities.
+    pub fn mesh_coordinate(&self, k: usize) -> [f64; N] {
+        let b = &self.meshes[k].b;
+        let norm: f64 = b.iter().map(|b| b * b).sum();
+        let mut u = [0.0; N];
+        for (u, b) in u.iter_mut().zip(b) {
+            *u = b / norm;
+        }
+        u
+    }
+
     /// Mechanical energy `|x'|² / 2 + xᵀ K_s x / 2 + sum_k kappa_k k_k g(delta_k)² / 2 - F · x`
     /// in `mode`: constant along a motion of the undamped train (`c = 0`) of constant stiffness
     /// (`kappa = 0`) without transmission error (`xi = 0`) — an invariant for tests.
