@@ -1,5 +1,6 @@
-//! Gear trains on the command line: `modes`, `simulate` and `bifurcation` with the train presets
-//! and a description file, and the errors of bad trains and of commands that run only the pair.
+//! Gear trains on the command line: `modes`, `simulate`, `bifurcation`, `basins` and `map2d` with
+//! the train presets and a description file, and the errors of bad trains and of commands that
+//! run only the pair.
 
 mod common;
 use common::{geardyn, geardyn_ok, s};
@@ -119,11 +120,11 @@ fn bad_planetary_stages_are_refused() {
             );
         }
     }
-    // the pair's commands say that they do not run trains
-    let (code, _, err) = geardyn(&["basins", "--preset", "planetary"]);
+    // the pair's commands say that they do not run trains, and which do
+    let (code, _, err) = geardyn(&["continuation", "--preset", "planetary"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("gear train") && err.contains("geardyn simulate"),
+        err.contains("gear train") && err.contains("basins, map2d"),
         "{err}"
     );
 }
@@ -329,4 +330,168 @@ fn show_prints_a_train_resolved() {
     assert_eq!(again, text);
     let (code, _, e) = geardyn(&["show", "--preset", "planetary", "--set", "stage.planets=7"]);
     assert!(code == 2 && e.contains("stage.planets"), "{e}");
+}
+
+/// The attractor column of a basins.csv.
+fn basin_cells(out: &std::path::Path) -> Vec<String> {
+    csv_rows(&out.join("basins.csv"))
+        .into_iter()
+        .map(|r| r[2].clone())
+        .collect()
+}
+
+/// The single pair written as a train has the pair's basins on its mesh's plane (case C1 at
+/// omega = 2: a healthy 1-1-0 orbit beside a 3-1-1 orbit with back-side contacts), cell for
+/// cell; a planetary stage's basins lie on the mesh named by `--mesh`.
+#[test]
+fn basins_of_a_train_on_a_mesh_plane() {
+    let grid = ["--grid", "x:-2:2:16", "--grid", "v:-1.5:1.5:16"];
+    let (pair, train) = (tmp("basins-c1"), tmp("basins-pair"));
+    let mut a = vec!["basins", "--preset", "classic", "--set", "omega=2"];
+    a.extend(grid);
+    a.extend(["--out", s(&pair)]);
+    let text_pair = geardyn_ok(&a);
+    let mut b = vec![
+        "basins",
+        "--preset",
+        "pair",
+        "--set",
+        "kappa=0.2",
+        "--set",
+        "xi=0.2",
+        "--set",
+        "omega=2",
+    ];
+    b.extend(grid);
+    b.extend(["--out", s(&train)]);
+    let text_train = geardyn_ok(&b);
+    assert!(
+        text_pair.contains("3-1-1") && text_train.contains("3-1-1"),
+        "{text_train}"
+    );
+    assert_eq!(basin_cells(&pair), basin_cells(&train));
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(train.join("attractors.json")).unwrap())
+            .unwrap();
+    assert_eq!(js["mesh"], "mesh");
+    // a planetary stage on its second mesh; a mesh that does not exist, --mesh on the pair
+    let out = tmp("basins-planetary");
+    let text = geardyn_ok(&[
+        "basins",
+        "--preset",
+        "planetary",
+        "--set",
+        "xi=0.1",
+        "--mesh",
+        "ring-planet 1",
+        "--grid",
+        "x:-2:2:6",
+        "--grid",
+        "v:-1:1:6",
+        "--periods",
+        "20",
+        "--transient",
+        "100",
+        "--out",
+        s(&out),
+    ]);
+    assert!(text.contains("attractor #0"), "{text}");
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("attractors.json")).unwrap())
+            .unwrap();
+    assert_eq!(js["mesh"], "ring-planet 1");
+    assert!(out.join("basins.png").exists() && out.join("system.toml").exists());
+    let (code, _, err) = geardyn(&["basins", "--preset", "planetary", "--mesh", "7"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--mesh 7") && err.contains("'sun-planet 1'"),
+        "{err}"
+    );
+    let (code, _, err) = geardyn(&["basins", "--preset", "classic", "--mesh", "1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--mesh"), "{err}");
+}
+
+/// A train's two-parameter map: the single pair written as a train gives the pair's map (labels,
+/// peak forces to the force extremes' accuracy); a planetary stage's has a column per mesh and
+/// load-sharing factors of at least 1, and resumes from its folder.
+#[test]
+fn maps_of_a_train_with_columns_per_mesh() {
+    // (both from the static deflection: the pair's x0 = D + F; at omega = 1.2, F = 0.15 a 2-1-0
+    // orbit coexists with the 2-2-0 one that the static state leads to)
+    let axes = [
+        "--x",
+        "omega:0.8:1.6:3",
+        "--y",
+        "xi:0.1:0.2:2",
+        "--set",
+        "F=0.15",
+    ];
+    let (pair, train) = (tmp("map-c1"), tmp("map-pair"));
+    let mut a = vec!["map2d", "--preset", "classic", "--set", "x0=1.15"];
+    a.extend(axes);
+    a.extend(["--out", s(&pair)]);
+    geardyn_ok(&a);
+    let mut b = vec![
+        "map2d",
+        "--preset",
+        "pair",
+        "--set",
+        "kappa=0.2",
+        "--set",
+        "xi=0.2",
+    ];
+    b.extend(axes);
+    b.extend(["--out", s(&train)]);
+    geardyn_ok(&b);
+    let (rp, rt) = (
+        csv_rows(&pair.join("map.csv")),
+        csv_rows(&train.join("map.csv")),
+    );
+    assert_eq!(rp.len(), 6);
+    for (p, t) in rp.iter().zip(&rt) {
+        // omega, F, label, period, healthy, max_force (of a periodic motion: a chaotic one's
+        // record differs with the trajectory)
+        assert_eq!(p[..5], t[..5]);
+        let (fp, ft): (f64, f64) = (p[5].parse().unwrap(), t[5].parse().unwrap());
+        assert!(p[3] == "0" || (fp - ft).abs() < 1e-4 * fp, "{p:?} {t:?}");
+    }
+    assert!(rp.iter().filter(|r| r[3] != "0").count() >= 3, "{rp:?}");
+    let out = tmp("map-planetary");
+    let args = [
+        "map2d",
+        "--preset",
+        "planetary",
+        "--set",
+        "xi=0.1",
+        "--x",
+        "omega:0.9:1.3:2",
+        "--y",
+        "F:0.05:0.1:2",
+        "--metric",
+        "load_sharing",
+        "--periods",
+        "20",
+        "--out",
+        s(&out),
+    ];
+    geardyn_ok(&args);
+    let text = std::fs::read_to_string(out.join("map.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    assert!(header.contains(&"max_force ring-planet 3") && header.contains(&"load_sharing_max"));
+    let col = header
+        .iter()
+        .position(|h| *h == "load_sharing_max")
+        .unwrap();
+    for r in csv_rows(&out.join("map.csv")) {
+        let f: f64 = r[col].parse().unwrap();
+        assert!(f >= 1.0 - 1e-9, "{r:?}");
+    }
+    assert!(out.join("map.png").exists() && out.join("map.npy").exists());
+    let (code, _, err) = geardyn(&args);
+    assert_eq!(code, 0);
+    assert!(err.contains("resuming: 4 items"), "{err}");
+    let (code, _, err) = geardyn(&["map2d", "--preset", "planetary", "--metric", "tle"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("load_sharing"), "{err}");
 }
