@@ -53,11 +53,12 @@ pub fn mesh_slice<const N: usize>(m: &TrainModel<N>, k: usize, t0: f64) -> Resul
     let u = m.mesh_coordinate(k);
     let h = N / 2;
     let (mut dx, mut dv, mut base) = ([0.0; N], [0.0; N], y_s);
-    for i in 0..m.dof() {
-        dx[i] = u[i];
-        dv[h + i] = u[i];
-        base[i] -= d_s * u[i];
-        base[h + i] -= r_s * u[i];
+    let dof = m.dof();
+    dx[..dof].copy_from_slice(&u[..dof]);
+    dv[h..h + dof].copy_from_slice(&u[..dof]);
+    for (i, u) in u[..dof].iter().enumerate() {
+        base[i] -= d_s * u;
+        base[h + i] -= r_s * u;
     }
     Ok(Slice::along(base, dx, dv)?)
 }

@@ -776,36 +776,6 @@ pub fn plot_orbits(
     write_figure(stem, &fig)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn periodic_branches_get_visible_dots() {
-        // a period-1 run records its one stroboscopic point 100 times per value
-        let periodic: Vec<(f64, f64)> = (0..40)
-            .flat_map(|i| std::iter::repeat_n((i as f64, 0.01 * i as f64), 100))
-            .collect();
-        assert_eq!(dot_radius(&periodic, 40), 3);
-        assert_eq!(dot_radius(&periodic, 12), 4);
-        assert_eq!(dot_radius(&periodic, 400), 2);
-        // a chaotic band: hundreds of distinct points per value
-        let chaotic: Vec<(f64, f64)> = (0..4)
-            .flat_map(|i| (0..300).map(move |k| (i as f64, k as f64)))
-            .collect();
-        assert_eq!(dot_radius(&chaotic, 40), 2);
-        assert_eq!(dot_radius(&[], 40), 3);
-    }
-
-    #[test]
-    fn titles_leave_the_swept_parameter_out() {
-        let p = geardyn_model::presets::by_name("classic").unwrap();
-        let t = operating_point("preset classic", &p, &["omega"]);
-        assert!(t.starts_with("preset classic, F = "), "{t}");
-        assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
-    }
-}
-
 /// The range of the finite values (`(inf, -inf)` when none).
 fn finite_range(vals: &[f64]) -> (f64, f64) {
     vals.iter()
@@ -871,4 +841,34 @@ pub fn plot_metric_map(
         },
     )?;
     Ok((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn periodic_branches_get_visible_dots() {
+        // a period-1 run records its one stroboscopic point 100 times per value
+        let periodic: Vec<(f64, f64)> = (0..40)
+            .flat_map(|i| std::iter::repeat_n((i as f64, 0.01 * i as f64), 100))
+            .collect();
+        assert_eq!(dot_radius(&periodic, 40), 3);
+        assert_eq!(dot_radius(&periodic, 12), 4);
+        assert_eq!(dot_radius(&periodic, 400), 2);
+        // a chaotic band: hundreds of distinct points per value
+        let chaotic: Vec<(f64, f64)> = (0..4)
+            .flat_map(|i| (0..300).map(move |k| (i as f64, k as f64)))
+            .collect();
+        assert_eq!(dot_radius(&chaotic, 40), 2);
+        assert_eq!(dot_radius(&[], 40), 3);
+    }
+
+    #[test]
+    fn titles_leave_the_swept_parameter_out() {
+        let p = geardyn_model::presets::by_name("classic").unwrap();
+        let t = operating_point("preset classic", &p, &["omega"]);
+        assert!(t.starts_with("preset classic, F = "), "{t}");
+        assert!(t.contains("xi = ") && !t.contains("omega"), "{t}");
+    }
 }
