@@ -21,10 +21,15 @@
 //!   orbits);
 //! - **not periodic / periodic**: the last points of the non-periodic record all lie within
 //!   `match_tol` of the periodic orbit (a slow transient that had nearly arrived);
-//! - **not periodic / not periodic**: at least [`CONTAINED`] of the points of one record lie within
-//!   [`NEAR`] × the diagonal of the two clouds' joint bounding box of a point of the other (the
-//!   stroboscopic map is invertible, so two distinct attractors are disjoint sets: one cloud
-//!   sitting on another is one attractor seen over two records).
+//! - **not periodic / not periodic**: at least [`CONTAINED`] of the points of one record lie near
+//!   a point of the other (the stroboscopic map is invertible, so two distinct attractors are
+//!   disjoint sets: one cloud sitting on another is one attractor seen over two records). "Near"
+//!   is [`NEAR`] × the diagonal of the two clouds' joint bounding box, or [`NN_FACTOR`] × the
+//!   clouds' own spacing (the larger of their median nearest-neighbour distances) where that is
+//!   more: a cloud of at most [`MAX_CLOUD`] points on an attractor of a higher-dimensional
+//!   state (a planetary stage's chaotic section) is sparse, its points farther apart than a
+//!   fixed share of its size, and two records of one attractor then interleave at their own
+//!   spacing, not closer.
 //!
 //! [`consolidate`](crate::identify::consolidate) first decides every new non-periodic descriptor (the gear model: the decided
 //! classification of `crate::classify` continued from a point of the record, so a slowly settling
@@ -266,6 +271,9 @@ pub struct Descriptor<const N: usize = 2> {
 pub const CONTAINED: f64 = 0.8;
 /// "Near" for non-periodic clouds: this fraction of the diagonal of their joint bounding box.
 pub const NEAR: f64 = 0.05;
+/// "Near" for non-periodic clouds is at least this many times their own median nearest-neighbour
+/// distance (a sample of one attractor lies among another sample of it at about their spacing).
+pub const NN_FACTOR: f64 = 2.0;
 /// Recorded periods (at least) of the run that decides a new non-periodic attractor, so that its
 /// cloud is dense enough to be matched even when the cells record only a few periods.
 pub const DECIDE_RECORD: u64 = 128;
@@ -447,6 +455,28 @@ fn bbox<const N: usize>(points: &[[f64; N]]) -> Vec<f64> {
     b
 }
 
+/// Median distance (max norm) from each point of a cloud to its nearest other point (0 for fewer
+/// than two points).
+fn median_spacing<const N: usize>(points: &[[f64; N]]) -> f64 {
+    if points.len() < 2 {
+        return 0.0;
+    }
+    let mut nn: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, q)| dist(p, q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    nn.sort_by(f64::total_cmp);
+    nn[nn.len() / 2]
+}
+
 /// Largest component difference (the max norm).
 #[inline]
 pub(crate) fn dist<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
@@ -571,7 +601,8 @@ impl<const N: usize> Descriptor<N> {
                         d.hypot(hi - lo)
                     }
                 });
-                let r = (NEAR * diag).max(tol);
+                let spacing = median_spacing(&self.points).max(median_spacing(&other.points));
+                let r = (NEAR * diag).max(NN_FACTOR * spacing).max(tol);
                 let share = |a: &[[f64; N]], b: &[[f64; N]]| {
                     let n = a
                         .iter()
@@ -628,5 +659,48 @@ impl<const N: usize> Descriptor<N> {
             self.healthy = other.healthy;
             self.p_id = other.p_id;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// `n` points uniform in a unit cube of 4 of the 8 state components, shifted by `offset` in
+    /// the first: a stand-in for the stroboscopic cloud of a chaotic attractor of dimension ~4.
+    fn cloud(seed: u64, n: usize, offset: f64) -> Descriptor<8> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let pts: Vec<[f64; 8]> = (0..n)
+            .map(|_| {
+                let mut p = [0.0; 8];
+                p[0] = offset + rng.gen::<f64>();
+                p[3] = rng.gen();
+                p[5] = rng.gen();
+                p[6] = rng.gen();
+                p
+            })
+            .collect();
+        Descriptor::new(0, "chaotic".into(), false, &pts, 1.0, 0.5)
+    }
+
+    #[test]
+    fn two_sparse_records_of_one_high_dimensional_cloud_are_one_attractor() {
+        let (a, b) = (cloud(1, 128, 0.0), cloud(2, 128, 0.0));
+        // the clouds' own spacing exceeds NEAR x their diagonal: the fixed share alone splits them
+        let spacing = median_spacing(&a.points);
+        assert!(spacing > NEAR * 2.0, "{spacing}");
+        assert!(a.matches(&b, 1e-3) && b.matches(&a, 1e-3));
+        // a cloud beside it, one cube's width away, stays another attractor
+        let c = cloud(3, 128, 2.0);
+        assert!(!a.matches(&c, 1e-3) && !c.matches(&a, 1e-3));
+    }
+
+    #[test]
+    fn the_spacing_of_a_cloud_is_its_median_nearest_neighbour_distance() {
+        // points on a line at unit steps: every nearest neighbour at 1
+        let pts: Vec<[f64; 2]> = (0..9).map(|i| [f64::from(i), 0.0]).collect();
+        assert_eq!(median_spacing(&pts), 1.0);
+        assert_eq!(median_spacing(&pts[..1]), 0.0);
     }
 }

@@ -105,6 +105,23 @@ impl MapCell {
         }
     }
 
+    /// The cell of a parameter point the model refuses (`invalid: ...`, class failed).
+    pub fn invalid(index: usize, xy: (f64, f64), e: &impl std::fmt::Display) -> MapCell {
+        MapCell {
+            label: format!("invalid: {e}"),
+            motion: Motion::Failed {
+                reason: e.to_string(),
+            },
+            ..MapCell::empty(index, xy)
+        }
+    }
+
+    /// Whether the cell has no result (a failed run or an invalid point): its forces, P_ID and
+    /// period mean nothing.
+    pub fn no_result(&self) -> bool {
+        self.label.starts_with("failed") || self.label.starts_with("invalid")
+    }
+
     /// The cell of a run that failed (`failed: ...`).
     pub fn failed(index: usize, xy: (f64, f64), e: &impl std::fmt::Display) -> MapCell {
         MapCell {
@@ -120,7 +137,7 @@ impl MapCell {
     /// `healthy` (1/0), `class` (0 healthy periodic, 1 non-healthy periodic, 2 chaotic,
     /// 3 failed or diverged, 4 quasi-periodic, 5 unsettled, 6 transient chaos).
     pub fn metric(&self, name: &str) -> Option<f64> {
-        let failed = self.label.starts_with("failed") || self.label.starts_with("invalid");
+        let failed = self.no_result();
         Some(match name {
             _ if failed && name != "class" => f64::NAN,
             "max_force" => self.max_force,
@@ -200,18 +217,14 @@ fn cell_of(
     decided: Option<Decided>,
     o: &MapOptions,
 ) -> MapCell {
-    let mut cell = MapCell::empty(index, (x, y));
     let m = match model {
-        Err(e) => {
-            cell.label = format!("invalid: {e}");
-            return cell;
-        }
+        Err(e) => return MapCell::invalid(index, (x, y), e),
         Ok(m) => m,
     };
     match decided.expect("a decided run for every valid model") {
-        Err(e) => return MapCell::failed(index, (x, y), &e),
+        Err(e) => MapCell::failed(index, (x, y), &e),
         Ok((r, s, _)) => {
-            cell = MapCell::of_summary(index, (x, y), s);
+            let mut cell = MapCell::of_summary(index, (x, y), s);
             if o.lyapunov {
                 let (t, y) = r.final_state;
                 let start = (m, t, y, r.final_memory);
@@ -220,9 +233,9 @@ fn cell_of(
                     .flatten()
                     .map(|l| l.tle);
             }
+            cell
         }
     }
-    cell
 }
 
 /// The model at one map point, through the scenario's builder.

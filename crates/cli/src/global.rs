@@ -6,6 +6,7 @@ use clap::Args;
 use geardyn_analysis::attractor::{IdentifyOptions, IdentifyRequest};
 use geardyn_analysis::basins::{Axis, BasinResult, BasinsRequest};
 use geardyn_analysis::bifurcation::{range_values, MAX_RANGE_VALUES};
+use geardyn_analysis::continuation::ContinuationResult;
 use geardyn_exec::request::{ContinuationRequest, MapRequest};
 use geardyn_exec::{execute, BasinsJob, Checkpointed, ContinuationJob, MapJob};
 use geardyn_io::figure::LabelColors;
@@ -225,31 +226,41 @@ pub(crate) fn print_basins(r: &BasinResult, elapsed: f64, out: &Path) {
 #[derive(Args, Debug)]
 pub struct ContinuationArgs {
     #[command(flatten)]
-    run: RunArgs,
+    pub(crate) run: RunArgs,
     #[command(flatten)]
-    ident: IdentArgs,
+    pub(crate) ident: IdentArgs,
     /// Parameter.
     #[arg(long, default_value = "omega")]
-    param: String,
+    pub(crate) param: String,
     /// START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:61")]
-    range: String,
+    pub(crate) range: String,
     /// Initial states per value.
     #[arg(long, default_value_t = ContinuationRequest::DEFAULT_ICS)]
-    ics: usize,
+    pub(crate) ics: usize,
     // seed and ranges of the initial states
     #[command(flatten)]
-    initial: InitialStatesArgs,
+    pub(crate) initial: InitialStatesArgs,
     /// Phase of the initial states as a fraction of the excitation period, in [0, 1) (as for
     /// `basins`: each value's runs start at this phase of its own excitation period).
     #[arg(long, default_value_t = 0.0)]
-    phase: f64,
+    pub(crate) phase: f64,
+    /// Gear trains: the mesh whose deflection and rate the initial states' box spans (its name,
+    /// or its number from 1; default the first mesh), as for `basins`.
+    #[arg(long)]
+    pub(crate) mesh: Option<String>,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/continuation")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
 }
 
 pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
+        return crate::train_continuation::continuation(&t, &a);
+    }
+    if a.mesh.is_some() {
+        bail!("--mesh picks the mesh of a gear train's plane of initial states; the pair's are its whole state (x0, x0')");
+    }
     let (cfg, scenario) = a.run.resolve()?;
     let values = parse_range(&a.range)?;
     let (x0_range, v0_range) = a.initial.ranges()?;
@@ -280,10 +291,30 @@ pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
         &[run_record::Swept::of(&a.param, &opts.values)],
         started,
     )?;
+    let title = format!(
+        "Attractor continuation over {} ({} initial states per value): {}",
+        a.param,
+        a.ics,
+        sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[&a.param])
+    );
+    write_continuation(&a.out, (&a.param, "x"), &opts.values, &r, &title)?;
+    print_continuation(&a.param, &r, &a.out);
+    Ok(())
+}
+
+/// Writes a continuation's files: continuation.csv (a row per attractor and value),
+/// continuation.json and the figure.
+pub(crate) fn write_continuation(
+    out: &Path,
+    (param, point): (&str, &str),
+    values: &[f64],
+    r: &ContinuationResult,
+    title: &str,
+) -> Result<()> {
     write_csv(
-        &a.out.join("continuation.csv"),
+        &out.join("continuation.csv"),
         &[
-            a.param.as_str(),
+            param,
             "branch",
             "label",
             "period",
@@ -307,20 +338,20 @@ pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
             ]
         }),
     )?;
-    write_json(&a.out.join("continuation.json"), &r)?;
+    write_json(&out.join("continuation.json"), r)?;
     sweep_output::plot_continuation(
-        &a.out.join("continuation"),
-        &format!(
-            "Attractor continuation over {} ({} initial states per value): {}",
-            a.param,
-            a.ics,
-            sweep_output::operating_point(&a.run.cfg.source(), scenario.params(), &[&a.param])
-        ),
-        &a.param,
-        &opts.values,
-        &r,
+        &out.join("continuation"),
+        title,
+        (param, point),
+        values,
+        r,
         &mut LabelColors::default(),
     )?;
+    Ok(())
+}
+
+/// Prints a continuation's intervals and events.
+pub(crate) fn print_continuation(param: &str, r: &ContinuationResult, out: &Path) {
     for iv in &r.intervals {
         let fmt = |l: &Vec<(usize, String, f64, f64)>| {
             l.iter()
@@ -330,7 +361,7 @@ pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
         };
         println!(
             "{} in [{:.4}, {:.4}]: healthy {{{}}} non-healthy (back-side contact or not periodic) {{{}}}",
-            a.param,
+            param,
             iv.from,
             iv.to,
             fmt(&iv.healthy),
@@ -343,8 +374,7 @@ pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
             e.from, e.to, e.text, e.kind
         );
     }
-    println!("-> {}", a.out.display());
-    Ok(())
+    println!("-> {}", out.display());
 }
 
 /// Arguments of `geardyn map2d`.

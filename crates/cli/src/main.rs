@@ -16,6 +16,7 @@ mod stiffness;
 mod sweep;
 mod train;
 mod train_basins;
+mod train_continuation;
 mod train_lyapunov;
 mod train_map;
 mod train_signals;

@@ -68,6 +68,7 @@ fn train(a: &ModesArgs) -> Result<TrainSpec> {
 }
 
 pub fn run(a: ModesArgs) -> Result<()> {
+    let started = std::time::Instant::now();
     if !(1..=20).contains(&a.harmonics) {
         bail!("invalid --harmonics {}: allowed 1 ... 20", a.harmonics);
     }
@@ -88,6 +89,13 @@ pub fn run(a: ModesArgs) -> Result<()> {
     let cross = crossings(&t, &kin, &modes, a.harmonics, max_rpm);
     let _lock = run_record::prepare_folder(&a.out, "modes", None, false)?;
     write_text(&a.out.join("system.toml"), &t.to_toml())?;
+    run_record::write_train_record(
+        &a.out,
+        "modes",
+        serde_json::json!({ "name": t.name }),
+        &[],
+        started.elapsed().as_secs_f64(),
+    )?;
     // modes.csv: one row per mode, the shape as one column per body
     let mut csv = String::from("mode,frequency_hz,kind,multiplicity");
     for b in &modes.bodies {

@@ -16,9 +16,10 @@ pub struct ConfigArgs {
     /// TOML configuration file (as printed by `geardyn show`).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// A gear train's description (TOML, as `geardyn modes` writes it to system.toml): simulate,
-    /// bifurcation, lyapunov and signals run its dynamic model, modes its linear one (built-in
-    /// trains: --preset planetary, two-stage, pair).
+    /// A gear train's description (TOML, as `geardyn show --preset planetary` prints it and
+    /// every train command writes it to system.toml, its `[operating]` point included); the
+    /// commands that run trains are listed by `geardyn presets` (built-in trains: --preset
+    /// planetary, two-stage, pair).
     #[arg(long, conflicts_with_all = ["config", "preset"])]
     pub system: Option<PathBuf>,
     /// Override a parameter: NAME=VALUE (repeatable), e.g. --set omega=1.3 --set F=0.05, or a

@@ -19,7 +19,8 @@ use geardyn_train::TrainSpec;
 use std::path::Path;
 
 /// The commands that run gear trains (for messages and `geardyn presets`).
-pub const COMMANDS: &str = "modes, show, simulate, bifurcation, lyapunov, basins, map2d, signals";
+pub const COMMANDS: &str =
+    "modes, show, simulate, bifurcation, lyapunov, basins, continuation, map2d, signals";
 
 /// A train and its operating point, from the command line.
 pub struct TrainRun {
@@ -29,9 +30,63 @@ pub struct TrainRun {
     pub op: TrainOperating,
     /// `preset NAME` or `system FILE`, for titles.
     pub source: String,
+    /// The operating fields given by `--set`, in order.
+    pub set_fields: Vec<String>,
 }
 
 impl TrainRun {
+    /// The description with its operating point (`[operating]`): what `--system` runs again.
+    pub fn description(&self) -> String {
+        let mut spec = self.spec.clone();
+        spec.operating = Some(self.op);
+        spec.to_toml()
+    }
+
+    /// Writes `system.toml` ([`TrainRun::description`]) and `run.json` into the folder `out` of
+    /// command `kind` (`swept`: the parameters it varied).
+    pub fn write_record(
+        &self,
+        out: &Path,
+        kind: &str,
+        swept: &[run_record::Swept],
+        started: std::time::Instant,
+    ) -> Result<()> {
+        write_text(&out.join("system.toml"), &self.description())?;
+        run_record::write_train_record(
+            out,
+            kind,
+            serde_json::json!({
+                "name": self.spec.name,
+                "source": self.source,
+                "operating": self.op,
+            }),
+            swept,
+            started.elapsed().as_secs_f64(),
+        )?;
+        Ok(())
+    }
+
+    /// Refuses swept parameters `axes` that set the stiffness variation's form (`kappa`:
+    /// harmonic, `ratio`: rectangular) beside a `--set` or another axis of the other form, which
+    /// they would silently replace.
+    pub fn check_stiffness_form(&self, axes: &[&str]) -> Result<()> {
+        let other = |p: &str| match p {
+            "kappa" => Some("ratio"),
+            "ratio" => Some("kappa"),
+            _ => None,
+        };
+        for (i, a) in axes.iter().enumerate() {
+            let Some(o) = other(a) else { continue };
+            if axes[i + 1..].contains(&o) {
+                bail!("{a} and {o} both set the stiffness variation's form (harmonic kappa, rectangular ratio): sweep one of them");
+            }
+            if self.set_fields.iter().any(|f| f == o) {
+                bail!("sweeping {a} (the {} stiffness) replaces --set {o} (the {} one): sweep {o}, or leave out --set {o}", if *a == "kappa" { "harmonic" } else { "rectangular" }, if o == "kappa" { "harmonic" } else { "rectangular" });
+            }
+        }
+        Ok(())
+    }
+
     /// The operating point for a title, leaving out the parameters `swept`
     /// (`omega = 1, F = 0.1, xi = 0, c = 0.1, D = 1, rectangular 1.5`).
     pub fn op_text(&self, swept: &[&str]) -> String {
@@ -84,7 +139,7 @@ pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
     if cfg.contact.is_some() {
         bail!("--contact applies to the pair model; a train's meshes use the linear law with backlash (docs/model.md, section Gear trains)");
     }
-    let mut op = TrainOperating::default();
+    let mut operating = Vec::new();
     let mut stage = Vec::new();
     for s in &cfg.sets {
         let (k, v) = s
@@ -95,12 +150,12 @@ pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
             .parse()
             .with_context(|| format!("--set {s}: the value is not a number"))?;
         if TrainOperating::FIELDS.contains(&k) {
-            op.set(k, v)?;
+            operating.push((k.to_string(), v));
         } else {
             stage.push((k.to_string(), v));
         }
     }
-    let (spec, source) = match (&cfg.system, preset) {
+    let (mut spec, source) = match (&cfg.system, preset) {
         (Some(path), _) => {
             if let Some((k, _)) = stage.first() {
                 bail!("--set {k}: not a field of a train's operating point ({}); a description file is edited, not set", TrainOperating::FIELDS.join(", "));
@@ -119,8 +174,18 @@ pub fn from_args(cfg: &ConfigArgs) -> Result<Option<TrainRun>> {
         ),
         (None, None) => unreachable!("checked above"),
     };
+    // the description's own operating point (its `[operating]`), then the overrides
+    let mut op = spec.operating.take().unwrap_or_default();
+    for (k, v) in &operating {
+        op.set(k, *v)?;
+    }
     geardyn_train::kinematics::Kinematics::of(&spec)?;
-    Ok(Some(TrainRun { spec, op, source }))
+    Ok(Some(TrainRun {
+        spec,
+        op,
+        source,
+        set_fields: operating.into_iter().map(|(k, _)| k).collect(),
+    }))
 }
 
 /// The integration settings of a train's run (the defaults with the command's flags) and the
@@ -185,16 +250,9 @@ pub(crate) fn dynamic_factors<const N: usize>(m: &TrainModel<N>, s: &Summary) ->
 /// comments the operating point, the speeds and mesh orders per unit input speed, and each
 /// mesh's static force at mean stiffness (pin errors and separated meshes included).
 pub fn show(t: &TrainRun) -> Result<()> {
-    print!("{}", t.spec.to_toml());
-    let op = &t.op;
+    print!("{}", t.description());
     println!(
-        "\n# operating point (dimensionless; --set omega=, F=, xi=, c=, D=, kappa= or ratio=): omega = {}, F = {}, xi = {}, c = {}, D = {}, stiffness {}",
-        op.omega,
-        op.load,
-        op.xi,
-        op.c,
-        op.d,
-        serde_json::to_string(&op.stiffness)?
+        "\n# [operating] is the dimensionless operating point (--set omega=, F= (load), xi=, c=, D= (d), kappa= or ratio= (stiffness) override it)"
     );
     let kin = geardyn_train::kinematics::Kinematics::of(&t.spec)?;
     println!(
@@ -284,7 +342,7 @@ where
     let started = std::time::Instant::now();
     let _lock = run_record::prepare_folder(out, "simulate", None, false)?;
     let (res, s, used) = simulate_decided(m, m.static_state(), opts, Decide::default())?;
-    write_text(&out.join("system.toml"), &t.spec.to_toml())?;
+    t.write_record(out, "simulate", &[], started)?;
     let factors = dynamic_factors(m, &s);
     let sharing = load_sharing(&t.spec, &s);
     // meshes.csv
@@ -476,6 +534,7 @@ pub fn bifurcation(
             TrainOperating::FIELDS.join(", ")
         );
     }
+    t.check_stiffness_form(&[param])?;
     let continuation = match mode {
         _ if lyapunov => bail!("--lyapunov: a train's sweep decides each value (its exponent is in the verdict: `chaotic (TLE ...)` in runs.csv); the per-value exponent column is the pair's"),
         _ if sections != "strobe" => bail!("--sections {sections}: a train's sweep records the stroboscopic section only"),
@@ -520,7 +579,12 @@ where
     let _lock = run_record::prepare_folder(out, "bifurcation", None, false)?;
     let y0 = <Swept<'_> as Family<N>>::at(fam, values[0]).static_state();
     let pts = decided_sweep(fam, values, y0, opts, Decide::default(), continuation);
-    write_text(&out.join("system.toml"), &t.spec.to_toml())?;
+    t.write_record(
+        out,
+        "bifurcation",
+        &[run_record::Swept::of(param, values)],
+        started,
+    )?;
     let nm = t.spec.meshes.len();
     let names: Vec<String> = t.spec.meshes.iter().map(|m| m.name.clone()).collect();
     let mut runs = format!("{param},class,label");

@@ -13,7 +13,7 @@ use crate::sweep::progress;
 use crate::train::{check_work, sim_options, with_model, TrainRun};
 use anyhow::{bail, Result};
 use geardyn_analysis::attractor::{check_phase, Descriptor};
-use geardyn_analysis::basins::{BasinAttractor, BasinOptions, BasinResult, Slice};
+use geardyn_analysis::basins::{BasinAttractor, BasinOptions, BasinResult, Slice, SliceError};
 use geardyn_analysis::engine::Engine;
 use geardyn_exec::{execute, BasinsJob, Checkpointed};
 use geardyn_model::GearSystem;
@@ -47,7 +47,11 @@ pub fn mesh_index<const N: usize>(m: &TrainModel<N>, given: Option<&str>) -> Res
 }
 
 /// The plane of mesh `k`'s deflection and rate at `t0` through the static state.
-pub fn mesh_slice<const N: usize>(m: &TrainModel<N>, k: usize, t0: f64) -> Result<Slice<N>> {
+pub fn mesh_slice<const N: usize>(
+    m: &TrainModel<N>,
+    k: usize,
+    t0: f64,
+) -> Result<Slice<N>, SliceError> {
     let y_s = m.static_state();
     let [d_s, r_s] = m.mesh_state(t0, &y_s, k);
     let u = m.mesh_coordinate(k);
@@ -60,7 +64,7 @@ pub fn mesh_slice<const N: usize>(m: &TrainModel<N>, k: usize, t0: f64) -> Resul
         base[i] -= d_s * u;
         base[h + i] -= r_s * u;
     }
-    Ok(Slice::along(base, dx, dv)?)
+    Slice::along(base, dx, dv)
 }
 
 fn basins_model<const N: usize>(
@@ -109,7 +113,7 @@ where
         &progress(&a.out),
     )?;
     let elapsed = started.elapsed().as_secs_f64();
-    geardyn_io::output::write_text(&a.out.join("system.toml"), &t.spec.to_toml())?;
+    t.write_record(&a.out, "basins", &[], started)?;
     let on_plane = on_mesh_plane(m, k, t0, r);
     let mut extra = serde_json::Map::new();
     extra.insert("system".into(), t.spec.name.clone().into());
@@ -124,11 +128,10 @@ where
         .into(),
     );
     let title = format!(
-        "Basins of attraction on mesh {mesh} (initial phase {}): {}, omega = {}, F = {}",
+        "Basins of attraction on the plane of mesh '{mesh}' (initial phase {}): {}, {}",
         a.phase,
         t.title_name(),
-        t.op.omega,
-        t.op.load
+        t.op_text(&[])
     );
     let labels = (
         format!("deflection of {mesh} (b_c)"),
@@ -151,25 +154,11 @@ fn on_mesh_plane<const N: usize>(
     let attractors = r
         .attractors
         .into_iter()
-        .map(|at| {
-            let d = &at.descriptor;
-            let pts: Vec<[f64; 2]> = d.points.iter().map(|p| m.mesh_state(t0, p, k)).collect();
-            let mut out = Descriptor::new(
-                d.period,
-                d.label.clone(),
-                d.healthy,
-                &pts,
-                d.max_force,
-                d.p_id,
-            );
-            out.motion = d.motion.clone();
-            out.mesh_period = d.mesh_period;
-            BasinAttractor {
-                id: at.id,
-                descriptor: out,
-                cells: at.cells,
-                fraction: at.fraction,
-            }
+        .map(|at| BasinAttractor {
+            id: at.id,
+            descriptor: on_plane(m, k, t0, &at.descriptor),
+            cells: at.cells,
+            fraction: at.fraction,
         })
         .collect();
     BasinResult {
@@ -184,4 +173,26 @@ fn on_mesh_plane<const N: usize>(
         captured_early: r.captured_early,
         periods: r.periods,
     }
+}
+
+/// A descriptor of the train with its stroboscopic points (at `t0` plus whole excitation periods)
+/// as mesh `k`'s deflection and rate.
+pub fn on_plane<const N: usize>(
+    m: &TrainModel<N>,
+    k: usize,
+    t0: f64,
+    d: &Descriptor<N>,
+) -> Descriptor {
+    let pts: Vec<[f64; 2]> = d.points.iter().map(|p| m.mesh_state(t0, p, k)).collect();
+    let mut out = Descriptor::new(
+        d.period,
+        d.label.clone(),
+        d.healthy,
+        &pts,
+        d.max_force,
+        d.p_id,
+    );
+    out.motion = d.motion.clone();
+    out.mesh_period = d.mesh_period;
+    out
 }

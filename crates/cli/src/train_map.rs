@@ -13,6 +13,7 @@ use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::SimOptions;
 use geardyn_exec::{execute, Checkpointed, ExecError, Job};
 use geardyn_io::schema::{self, Values};
+use geardyn_io::sweep_output::MetricScale;
 use geardyn_model::GearSystem;
 use geardyn_train::dynamics::{TrainModel, TrainOperating};
 use geardyn_train::TrainSpec;
@@ -105,13 +106,11 @@ where
         let m = match TrainModel::<N>::new(self.spec, &self.op_at(i)) {
             Ok(m) => m,
             Err(e) => {
-                let mut cell = MapCell::empty(i, xy);
-                cell.label = format!("invalid: {e}");
                 return TrainCell {
-                    cell,
+                    cell: MapCell::invalid(i, xy, &e),
                     meshes: vec![],
                     load_sharing_max: None,
-                };
+                }
             }
         };
         match simulate_decided(&m, m.static_state(), &self.sim, Decide::default()) {
@@ -196,6 +195,23 @@ where
     }
 }
 
+/// The colours of a metric: ratios whose ideal is 1 cover [1, 1.05] at least (equal planets'
+/// load sharing is 1 to rounding); a dynamic factor is missing where a mesh has no static load.
+fn scale(metric: &str) -> MetricScale<'_> {
+    match metric {
+        "load_sharing" => MetricScale {
+            cover: Some((1.0, 1.05)),
+            ..MetricScale::of(metric)
+        },
+        "dynamic_factor" => MetricScale {
+            cover: Some((1.0, 1.05)),
+            missing: "no value (failed run, or no static load)",
+            ..MetricScale::of(metric)
+        },
+        _ => MetricScale::of(metric),
+    }
+}
+
 /// `geardyn map2d --preset planetary|two-stage|pair` or `--system FILE`.
 pub fn map(t: &TrainRun, a: &MapArgs) -> Result<()> {
     let x = parse_param_axis(&a.x, "--x")?;
@@ -218,10 +234,7 @@ pub fn map(t: &TrainRun, a: &MapArgs) -> Result<()> {
             x.0
         );
     }
-    let stiffness = |p: &str| p == "kappa" || p == "ratio";
-    if stiffness(&x.0) && stiffness(&y.0) {
-        bail!("--x {} and --y {}: both set the stiffness variation's form (harmonic kappa or rectangular ratio); map one of them", x.0, y.0);
-    }
+    t.check_stiffness_form(&[&x.0, &y.0])?;
     if !METRICS.contains(&a.metric.as_str()) {
         bail!(
             "--metric {}: a train's map draws one of {}",
@@ -267,7 +280,15 @@ where
         &progress(&a.out),
     )?;
     let (nx, ny) = (x.1.len(), y.1.len());
-    geardyn_io::output::write_text(&a.out.join("system.toml"), &t.spec.to_toml())?;
+    t.write_record(
+        &a.out,
+        "map2d",
+        &[
+            geardyn_io::run_record::Swept::of(x.0, x.1),
+            geardyn_io::run_record::Swept::of(y.0, y.1),
+        ],
+        started,
+    )?;
     let plain: Vec<MapCell> = cells.iter().map(|c| c.cell.clone()).collect();
     let mut table = schema::map_table(x.0, y.0, &plain);
     for (k, mesh) in t.spec.meshes.iter().enumerate() {
@@ -323,7 +344,7 @@ where
         x,
         y,
         &vals,
-        &a.metric,
+        scale(&a.metric),
     )?;
     let mut classes = std::collections::BTreeMap::<String, usize>::new();
     for c in &cells {

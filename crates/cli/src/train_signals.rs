@@ -17,9 +17,10 @@ use std::path::Path;
 
 /// Runs the stage's signals into `out`.
 pub fn signals(t: &TrainRun, req: &StageSignalsRequest, out: &Path) -> Result<()> {
+    let started = std::time::Instant::now();
     let (s, label) = with_model!(&t.spec, &t.op, |m| run(t, &m, req))?;
     let _lock = run_record::prepare_folder(out, "signals", None, false)?;
-    write_text(&out.join("system.toml"), &t.spec.to_toml())?;
+    t.write_record(out, "signals", &[], started)?;
     let mut csv = String::from("tau,carrier_revolutions,sensor,sun_torque\n");
     for j in 0..s.tau.len() {
         let _ = writeln!(

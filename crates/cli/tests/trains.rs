@@ -121,10 +121,10 @@ fn bad_planetary_stages_are_refused() {
         }
     }
     // the pair's commands say that they do not run trains, and which do
-    let (code, _, err) = geardyn(&["continuation", "--preset", "planetary"]);
+    let (code, _, err) = geardyn(&["orbits", "--preset", "planetary"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("gear train") && err.contains("basins, map2d"),
+        err.contains("gear train") && err.contains("basins, continuation, map2d"),
         "{err}"
     );
 }
@@ -318,16 +318,42 @@ fn show_prints_a_train_resolved() {
         "F=0.2",
     ]);
     assert!(text.contains("pin_error = 0.04"), "{text}");
+    // the operating point is part of the description: `--system` runs it again
     assert!(
-        text.contains("# operating point") && text.contains("F = 0.2"),
+        text.contains("[operating]") && text.contains("load = 0.2"),
         "{text}"
     );
     assert!(text.contains("#   carrier"), "{text}");
     let file = tmp("show").with_extension("toml");
     std::fs::create_dir_all(file.parent().unwrap()).unwrap();
     std::fs::write(&file, &text).unwrap();
-    let again = geardyn_ok(&["show", "--system", s(&file), "--set", "F=0.2"]);
+    let again = geardyn_ok(&["show", "--system", s(&file)]);
     assert_eq!(again, text);
+    // ... and every train command writes it into its folder, overrides applied
+    let out = tmp("show-run");
+    geardyn_ok(&[
+        "simulate",
+        "--system",
+        s(&file),
+        "--set",
+        "omega=1.5",
+        "--periods",
+        "5",
+        "--out",
+        s(&out),
+    ]);
+    let sys = std::fs::read_to_string(out.join("system.toml")).unwrap();
+    assert!(
+        sys.contains("omega = 1.5") && sys.contains("load = 0.2"),
+        "{sys}"
+    );
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["kind"], "simulate");
+    assert_eq!(run["system"]["operating"]["omega"], 1.5);
+    // so that another command's outputs are refused there
+    let (code, _, e) = geardyn(&["basins", "--system", s(&file), "--out", s(&out)]);
+    assert!(code == 2 && e.contains("geardyn simulate"), "{e}");
     let (code, _, e) = geardyn(&["show", "--preset", "planetary", "--set", "stage.planets=7"]);
     assert!(code == 2 && e.contains("stage.planets"), "{e}");
 }
@@ -494,4 +520,80 @@ fn maps_of_a_train_with_columns_per_mesh() {
     let (code, _, err) = geardyn(&["map2d", "--preset", "planetary", "--metric", "tle"]);
     assert_eq!(code, 2);
     assert!(err.contains("load_sharing"), "{err}");
+}
+
+/// A train's attractor continuation: the single pair written as a train continues the pair's
+/// attractors (the same initial states on its mesh's plane: the same table); a stiffness form
+/// swept beside a `--set` of the other is refused.
+#[test]
+fn continuation_of_a_train_on_a_mesh_plane() {
+    let args = ["--range", "1.6:2.4:3", "--ics", "8"];
+    let (pair, train) = (tmp("cont-c1"), tmp("cont-pair"));
+    let mut a = vec!["continuation", "--preset", "classic"];
+    a.extend(args);
+    a.extend(["--out", s(&pair)]);
+    geardyn_ok(&a);
+    let mut b = vec![
+        "continuation",
+        "--preset",
+        "pair",
+        "--set",
+        "kappa=0.2",
+        "--set",
+        "xi=0.2",
+    ];
+    b.extend(args);
+    b.extend(["--out", s(&train)]);
+    geardyn_ok(&b);
+    let cut = |out: &std::path::Path| -> Vec<Vec<String>> {
+        csv_rows(&out.join("continuation.csv"))
+            .into_iter()
+            .map(|r| r[..6].to_vec())
+            .collect()
+    };
+    let rows = cut(&pair);
+    assert!(rows.len() >= 4, "{rows:?}");
+    assert_eq!(rows, cut(&train));
+    assert!(rows.iter().any(|r| r[2] == "chaotic") && rows.iter().any(|r| r[2] == "1-1-0"));
+    let (code, _, e) = geardyn(&[
+        "continuation",
+        "--preset",
+        "planetary",
+        "--set",
+        "kappa=0.2",
+        "--param",
+        "ratio",
+    ]);
+    assert!(code == 2 && e.contains("--set kappa"), "{e}");
+}
+
+/// A map's cells that have no result (a pin error the backlash cannot take up: the planet jams)
+/// are failed, with no forces.
+#[test]
+fn a_train_map_marks_cells_without_a_result_failed() {
+    let out = tmp("map-jam");
+    geardyn_ok(&[
+        "map2d",
+        "--preset",
+        "planetary",
+        "--set",
+        "stage.pin_error=0.5",
+        "--x",
+        "D:0.1:1:2",
+        "--y",
+        "F:0.05:0.2:2",
+        "--periods",
+        "20",
+        "--out",
+        s(&out),
+    ]);
+    let text = std::fs::read_to_string(out.join("map.csv")).unwrap();
+    let jammed: Vec<&str> = text.lines().filter(|l| l.starts_with("0.1,")).collect();
+    assert_eq!(jammed.len(), 2, "{text}");
+    for l in jammed {
+        assert!(
+            l.contains("jams") && l.contains(",false,,,,0,,failed,"),
+            "{l}"
+        );
+    }
 }

@@ -413,7 +413,7 @@ impl MapRequest {
             (xp, xv),
             (yp, yv),
             &vals,
-            &self.metric,
+            sweep_output::MetricScale::of(&self.metric),
         )?;
         Ok((lo, hi))
     }

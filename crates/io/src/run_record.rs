@@ -434,6 +434,39 @@ pub fn write_run_record(
     write_json(&out.join("run.json"), &rec)
 }
 
+/// Writes `run.json` of a gear train's run into `out`: the fields of a [`RunRecord`] without the
+/// pair's configuration and resolved parameters, and `system` (the train's name, source and
+/// operating point) in their place. A `config.toml` of an earlier pair run of the same command
+/// (the folder taken over with `--force`) is removed: the folder's description is its
+/// `system.toml`.
+pub fn write_train_record(
+    out: &Path,
+    kind: &str,
+    system: serde_json::Value,
+    swept: &[Swept],
+    elapsed_s: f64,
+) -> Result<(), OutputError> {
+    let stale = out.join("config.toml");
+    if stale.is_file() {
+        std::fs::remove_file(&stale).map_err(|e| OutputError::Io {
+            path: stale.display().to_string(),
+            source: e,
+        })?;
+    }
+    let rec = serde_json::json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "git_commit": GIT_COMMIT,
+        "kind": kind,
+        "command": std::env::args().collect::<Vec<_>>(),
+        "system": system,
+        "swept": swept,
+        "threads": rayon_threads(),
+        "started_unix_s": now_unix_s() - elapsed_s,
+        "elapsed_s": elapsed_s,
+    });
+    write_json(&out.join("run.json"), &rec)
+}
+
 impl RunRecord {
     /// The record of a run of command `kind` by this build and process.
     fn new(

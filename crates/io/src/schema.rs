@@ -281,9 +281,13 @@ pub fn map_table(x: &str, y: &str, cells: &[geardyn_analysis::map2d::MapCell]) -
         "healthy",
         Values::Bool(cells.iter().map(|c| c.healthy).collect()),
     );
-    t.push("max_force", f(&|c| c.max_force));
-    t.push("min_force", f(&|c| c.min_force));
-    t.push("p_id", f(&|c| c.p_id));
+    // (a cell without a result has no forces: empty, not 0)
+    let measured = |v: fn(&geardyn_analysis::map2d::MapCell) -> f64| {
+        move |c: &geardyn_analysis::map2d::MapCell| if c.no_result() { f64::NAN } else { v(c) }
+    };
+    t.push("max_force", f(&measured(|c| c.max_force)));
+    t.push("min_force", f(&measured(|c| c.min_force)));
+    t.push("p_id", f(&measured(|c| c.p_id)));
     t.push(
         "impacts",
         Values::I64(cells.iter().map(|c| c.impacts as i64).collect()),

@@ -547,11 +547,12 @@ pub fn write_basin_raster(
 }
 
 /// Continuation figure: basin shares (healthy, non-healthy) and a stroboscopic point of every
-/// attractor over the parameter, coloured by label (non-periodic attractors in one grey group).
+/// attractor over the parameter, coloured by label (non-periodic attractors in one grey group);
+/// `point` names the coordinate of the points (the pair: `x`).
 pub fn plot_continuation(
     stem: &Path,
     title: &str,
-    param: &str,
+    (param, point): (&str, &str),
     values: &[f64],
     r: &geardyn_analysis::continuation::ContinuationResult,
     colors: &mut LabelColors,
@@ -635,7 +636,7 @@ pub fn plot_continuation(
                     ..Default::default()
                 },
                 figure::Panel {
-                    y_label: "x (a stroboscopic point)".into(),
+                    y_label: format!("{point} (a stroboscopic point)"),
                     layers: colored
                         .into_iter()
                         .map(|(_, c, points)| Layer {
@@ -786,18 +787,48 @@ fn finite_range(vals: &[f64]) -> (f64, f64) {
         })
 }
 
+/// How a map's metric is coloured.
+#[derive(Clone, Copy, Debug)]
+pub struct MetricScale<'a> {
+    /// The metric's name (the colour bar's).
+    pub metric: &'a str,
+    /// A range the colour scale always covers (a ratio whose ideal is 1, say: equal planets'
+    /// load-sharing factors differ from 1 by rounding, which a scale of their own extremes would
+    /// paint as contrast).
+    pub cover: Option<(f64, f64)>,
+    /// Legend entry of the cells without a value.
+    pub missing: &'a str,
+}
+
+impl<'a> MetricScale<'a> {
+    /// The scale of a metric over its own finite extremes, cells without a value being failed
+    /// runs.
+    pub fn of(metric: &'a str) -> Self {
+        MetricScale {
+            metric,
+            cover: None,
+            missing: "no value (failed run)",
+        }
+    }
+}
+
 /// Heatmap `stem` of a two-parameter map: `vals` row-major over `y` rows of the `x` values
 /// (`(name, values)` of each axis, evenly spaced), on the colour map between the finite values'
-/// extremes (a colour bar named `metric`), cells without a value grey. Returns the finite range.
+/// extremes (widened to `scale.cover`; a colour bar named after the metric), cells without a
+/// value grey. Returns the finite range of the values.
 pub fn plot_metric_map(
     stem: &Path,
     title: &str,
     (xp, xv): (&str, &[f64]),
     (yp, yv): (&str, &[f64]),
     vals: &[f64],
-    metric: &str,
+    scale: MetricScale,
 ) -> Result<(f64, f64), FigureError> {
-    let (lo, hi) = finite_range(vals);
+    let (v_lo, v_hi) = finite_range(vals);
+    let (lo, hi) = match scale.cover {
+        Some((a, b)) if v_lo <= v_hi => (v_lo.min(a), v_hi.max(b)),
+        _ => (v_lo, v_hi),
+    };
     let span = if hi > lo { hi - lo } else { 1.0 };
     let colors: Vec<_> = vals
         .iter()
@@ -827,7 +858,7 @@ pub fn plot_metric_map(
             y: (yv[0] - dy / 2.0, yv[yv.len() - 1] + dy / 2.0, yv.len()),
             colors,
             legend: if vals.iter().any(|v| !v.is_finite()) {
-                vec![LegendEntry::dot("no value (failed run)", UNSETTLED)]
+                vec![LegendEntry::dot(scale.missing, UNSETTLED)]
             } else {
                 vec![]
             },
@@ -835,12 +866,12 @@ pub fn plot_metric_map(
             colorbar: Some((
                 if lo.is_finite() { lo } else { 0.0 },
                 if hi.is_finite() { hi } else { 1.0 },
-                metric.to_string(),
+                scale.metric.to_string(),
             )),
             marks: vec![],
         },
     )?;
-    Ok((lo, hi))
+    Ok((v_lo, v_hi))
 }
 
 #[cfg(test)]

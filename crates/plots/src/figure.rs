@@ -362,7 +362,8 @@ pub(crate) fn legend_width(fig_legend: &[LegendEntry], title: &str) -> u32 {
         .chain(std::iter::once(title.chars().count()))
         .max()
         .unwrap_or(0) as u32;
-    (chars * 7 + 44).clamp(120, 380)
+    // (up to 560 px: a gear train's label is one per mesh, 70 characters for 4 planets)
+    (chars * 7 + 44).clamp(120, 560)
 }
 
 /// Pixels of a scatter layer merged: `(column, first row, last row)` runs.

@@ -327,7 +327,7 @@ pub fn continuation_figure(
     geardyn_io::sweep_output::plot_continuation(
         &stem,
         title,
-        param,
+        (param, "x"),
         &values,
         c,
         &mut geardyn_io::figure::LabelColors::default(),

@@ -58,6 +58,11 @@ pub struct TrainSpec {
     /// A localized tooth fault (`[fault]`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<ToothFault>,
+    /// The dimensionless operating point the description is run at (`[operating]`: `omega`,
+    /// `load`, `xi`, `c`, `d`, `[operating.stiffness]`), if it states one; the front ends start
+    /// from it (else from [`TrainOperating::default`]) and apply their overrides.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub operating: Option<crate::dynamics::TrainOperating>,
 }
 
 /// A localized fault of one tooth (`[fault]` of a description).
@@ -233,6 +238,9 @@ impl TrainSpec {
     /// a load path from `load.input` to `load.output`. (That the train turns with exactly one
     /// input is checked by [`crate::kinematics::Kinematics::of`].)
     pub fn validate(&self) -> Result<(), TrainError> {
+        if let Some(op) = &self.operating {
+            op.validate()?;
+        }
         if self.bodies.is_empty() {
             return Err(invalid("body", "[]", "at least two bodies"));
         }

@@ -148,7 +148,15 @@ impl PlanetaryParams {
             "stage.sun_teeth" => self.sun = whole(field, v)?,
             "stage.planet_teeth" => self.planet = whole(field, v)?,
             "stage.ring_teeth" => self.ring = whole(field, v)?,
-            "stage.planets" => self.planets = whole(field, v)?,
+            "stage.planets" => {
+                // (the range the stage's geometry allows, given here for any value)
+                let r = geardyn_physics::planetary::PLANETS;
+                let (lo, hi) = (f64::from(*r.start()), f64::from(*r.end()));
+                if !(v.is_finite() && v.fract() == 0.0 && (lo..=hi).contains(&v)) {
+                    return Err(invalid(field, v, format!("a whole number in [{lo}, {hi}]")));
+                }
+                self.planets = v as u32;
+            }
             "stage.module_mm" => self.module_mm = v,
             "stage.face_width_mm" => self.face_width_mm = v,
             "stage.carrier_inertia_kgm2" => self.carrier_inertia_kgm2 = v,
@@ -311,6 +319,7 @@ pub fn planetary(p: &PlanetaryParams) -> Result<TrainSpec, TrainError> {
             gear: "sun".into(),
             loss: p.sun_chip,
         }),
+        operating: None,
     };
     t.validate()?;
     Ok(t)
@@ -523,6 +532,7 @@ pub fn two_stage(p: &TwoStageParams) -> Result<TrainSpec, TrainError> {
             input_torque_nm: p.input_torque_nm,
         },
         fault: None,
+        operating: None,
     };
     t.validate()?;
     Ok(t)
@@ -563,6 +573,7 @@ pub fn single_pair() -> Result<TrainSpec, TrainError> {
             input_torque_nm: 100.0,
         },
         fault: None,
+        operating: None,
     };
     t.validate()?;
     Ok(t)
