@@ -19,6 +19,7 @@ mod train_basins;
 mod train_continuation;
 mod train_lyapunov;
 mod train_map;
+mod train_orbits;
 mod train_signals;
 
 use clap::{Parser, Subcommand};

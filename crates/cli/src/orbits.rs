@@ -18,43 +18,46 @@ use std::path::PathBuf;
 #[derive(Args, Debug)]
 pub struct OrbitArgs {
     #[command(flatten)]
-    cfg: ConfigArgs,
+    pub(crate) cfg: ConfigArgs,
     /// Excitation periods of the orbit sought; default: the period of the motion after the
     /// transient (which must then be periodic).
     #[arg(long)]
-    period: Option<u32>,
+    pub(crate) period: Option<u32>,
     /// Excitation periods simulated from the initial state (`--set x0= --set v0=`) before
     /// Newton's method starts (0: start from the initial state itself).
     #[arg(long, default_value_t = OrbitsRequest::default().transient)]
-    transient: u64,
+    pub(crate) transient: u64,
     /// Parameter continued (omega, F, xi, c, kappa, D, pair.mu, ...); without it, one orbit.
     #[arg(long)]
-    param: Option<String>,
+    pub(crate) param: Option<String>,
     /// START:STOP of the continuation (the first orbit is found at START).
     #[arg(long)]
-    range: Option<String>,
+    pub(crate) range: Option<String>,
     /// Largest arclength step of the continuation (scaled (x, x', parameter) space).
     #[arg(long, default_value_t = OrbitsRequest::default().ds)]
-    ds: f64,
+    pub(crate) ds: f64,
     /// Most branch points in all.
     #[arg(long, default_value_t = OrbitsRequest::default().max_points)]
-    max_points: usize,
+    pub(crate) max_points: usize,
     /// Follow the doubled branch at each period doubling, up to this period (0: no switching).
     #[arg(long, default_value_t = OrbitsRequest::default().switch_up_to)]
-    switch_up_to: u32,
+    pub(crate) switch_up_to: u32,
     /// Relative tolerance of the integration (absolute: 1e-2 times it).
     #[arg(long, default_value_t = OrbitsRequest::default().rtol)]
-    rtol: f64,
+    pub(crate) rtol: f64,
     /// Brute-force diagram drawn under the branches: values of the parameter over the range
     /// (simulated from the initial state, strobe points of the last 60 of 360 periods); 0: none.
     #[arg(long, default_value_t = 60)]
-    diagram: usize,
+    pub(crate) diagram: usize,
     /// Output directory.
     #[arg(long, default_value = "out/orbits")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
 }
 
 pub fn run(a: OrbitArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.cfg)? {
+        return crate::train_orbits::run(&t, &a);
+    }
     let (cfg, scenario) = a.cfg.resolve()?;
     if a.diagram > 2000 {
         bail!("bad --diagram {}: allowed 0 ..= 2000", a.diagram);

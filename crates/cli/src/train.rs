@@ -20,7 +20,7 @@ use std::path::Path;
 
 /// The commands that run gear trains (for messages and `geardyn presets`).
 pub const COMMANDS: &str =
-    "modes, show, simulate, bifurcation, lyapunov, basins, continuation, map2d, signals";
+    "modes, show, simulate, bifurcation, lyapunov, basins, continuation, orbits, map2d, signals";
 
 /// A train and its operating point, from the command line.
 pub struct TrainRun {

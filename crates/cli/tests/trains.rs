@@ -121,10 +121,10 @@ fn bad_planetary_stages_are_refused() {
         }
     }
     // the pair's commands say that they do not run trains, and which do
-    let (code, _, err) = geardyn(&["orbits", "--preset", "planetary"]);
+    let (code, _, err) = geardyn(&["response", "--preset", "planetary"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("gear train") && err.contains("basins, continuation, map2d"),
+        err.contains("gear train") && err.contains("basins, continuation, orbits, map2d"),
         "{err}"
     );
 }
@@ -596,4 +596,103 @@ fn a_train_map_marks_cells_without_a_result_failed() {
             "{l}"
         );
     }
+}
+
+/// A train's periodic orbits: the single pair written as a train has the pair's orbit and
+/// multipliers (C1 at omega = 0.8), and its orbit followed over omega turns unstable by a flip
+/// between the two values that bracket the pair's located period doubling (omega = 0.877).
+#[test]
+fn orbits_of_a_train_match_the_pair_and_find_its_doubling() {
+    let c1 = ["--set", "kappa=0.2", "--set", "xi=0.2"];
+    let out = tmp("orbit-pair");
+    let mut a = vec!["orbits", "--preset", "pair", "--set", "omega=0.8"];
+    a.extend(c1);
+    a.extend(["--out", s(&out)]);
+    let text = geardyn_ok(&a);
+    assert!(
+        text.contains("stable") && text.contains("label 1-1-0"),
+        "{text}"
+    );
+    let pair = tmp("orbit-c1");
+    let text_pair = geardyn_ok(&[
+        "orbits",
+        "--preset",
+        "classic",
+        "--set",
+        "omega=0.8",
+        "--out",
+        s(&pair),
+    ]);
+    // the deflection and the leading multiplier, to the digits printed
+    let x = |t: &str, key: &str| -> f64 {
+        let i = t.find(key).unwrap() + key.len();
+        t[i..]
+            .split([',', ' ', ';'])
+            .find(|w| !w.is_empty())
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(
+        (x(&text, "deflection ") - x(&text_pair, "x = ")).abs() < 1e-6,
+        "{text}\n{text_pair}"
+    );
+    assert!(text.contains("multipliers -0.687358+0.487060i"), "{text}");
+    assert!(
+        text_pair.contains("multipliers -0.687358+0.487060i"),
+        "{text_pair}"
+    );
+    // over omega
+    let out = tmp("orbits-pair-omega");
+    let mut b = vec![
+        "orbits",
+        "--preset",
+        "pair",
+        "--param",
+        "omega",
+        "--range",
+        "0.6:1.2:13",
+    ];
+    b.extend(c1);
+    b.extend(["--out", s(&out)]);
+    let text = geardyn_ok(&b);
+    assert!(
+        text.contains("between omega = 0.85 and 0.9: period doubling (flip)"),
+        "{text}"
+    );
+    let pair = tmp("orbits-c1-omega");
+    let text_pair = geardyn_ok(&[
+        "orbits",
+        "--preset",
+        "classic",
+        "--param",
+        "omega",
+        "--range",
+        "0.6:1.2",
+        "--diagram",
+        "0",
+        "--out",
+        s(&pair),
+    ]);
+    let at = x(
+        &text_pair,
+        "period-doubling of the period-1 branch at omega = ",
+    );
+    assert!(at > 0.85 && at < 0.9, "{text_pair}");
+    let rows = csv_rows(&out.join("branch.csv"));
+    assert_eq!(rows.len(), 13);
+    assert!(out.join("branch.png").exists() && out.join("run.json").exists());
+    // the pair's branch switching is refused, an unknown parameter named
+    let (code, _, e) = geardyn(&["orbits", "--preset", "planetary", "--switch-up-to", "4"]);
+    assert!(code == 2 && e.contains("--switch-up-to"), "{e}");
+    let (code, _, e) = geardyn(&[
+        "orbits",
+        "--preset",
+        "planetary",
+        "--param",
+        "eps",
+        "--range",
+        "1:2",
+    ]);
+    assert!(code == 2 && e.contains("--param eps"), "{e}");
 }
