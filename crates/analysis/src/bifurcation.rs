@@ -533,30 +533,40 @@ pub fn detect_jumps(results: &[TaskResult]) -> Vec<Jump> {
         } else {
             pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
         }
-        if pts.len() < 3 {
-            continue;
-        }
-        let mut d: Vec<f64> = pts.windows(2).map(|w| (w[1].1 - w[0].1).abs()).collect();
-        let range = pts.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
-            - pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-        let steps = d.clone();
-        d.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-        let median = d[d.len() / 2];
-        for (i, &s) in steps.iter().enumerate() {
-            // a jump connects two decided periodic branches; chaotic windows fluctuate
-            let periodic = pts[i].2 > 0 && pts[i + 1].2 > 0;
-            if s > 5.0 * median && s > 0.1 * range && periodic {
-                jumps.push(Jump {
-                    branch: if branch == 1 { "up" } else { "down" },
-                    from: pts[i].0,
-                    to: pts[i + 1].0,
-                    rms_before: pts[i].1,
-                    rms_after: pts[i + 1].1,
-                });
-            }
+        for i in jump_steps(&pts) {
+            jumps.push(Jump {
+                branch: if branch == 1 { "up" } else { "down" },
+                from: pts[i].0,
+                to: pts[i + 1].0,
+                rms_before: pts[i].1,
+                rms_after: pts[i + 1].1,
+            });
         }
     }
     jumps
+}
+
+/// The jumps of one continuation branch `pts` — `(value, amplitude, period)` in the order the
+/// sweep visited them — as the indices `i` of the steps `i -> i + 1` that jump: the amplitude
+/// changes by more than five times the branch's median step change and by at least 10 % of its
+/// range, and both sides are decided periodic motions (period > 0). Fewer than 3 points: none.
+pub fn jump_steps(pts: &[(f64, f64, usize)]) -> Vec<usize> {
+    if pts.len() < 3 {
+        return Vec::new();
+    }
+    let steps: Vec<f64> = pts.windows(2).map(|w| (w[1].1 - w[0].1).abs()).collect();
+    let range = pts.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
+        - pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    let mut d = steps.clone();
+    d.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    let median = d[d.len() / 2];
+    steps
+        .iter()
+        .enumerate()
+        // a jump connects two decided periodic branches; chaotic windows fluctuate
+        .filter(|&(i, &s)| s > 5.0 * median && s > 0.1 * range && pts[i].2 > 0 && pts[i + 1].2 > 0)
+        .map(|(i, _)| i)
+        .collect()
 }
 
 /// Runs per thread in a batch of the lanes path of [`crate::bifurcation::run_sweep`].

@@ -121,19 +121,22 @@ pub fn run(a: BifurcationArgs, started: f64) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct ResponseArgs {
     #[command(flatten)]
-    run: RunArgs,
+    pub(crate) run: RunArgs,
     /// Parameter swept (normally omega).
     #[arg(long, default_value = "omega")]
-    param: String,
+    pub(crate) param: String,
     /// START:STOP:COUNT.
     #[arg(long, allow_hyphen_values = true, default_value = "0.5:2:150")]
-    range: String,
+    pub(crate) range: String,
     /// Output directory (rerunning the same command there resumes).
     #[arg(long, default_value = "out/response")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
 }
 
 pub fn response(a: ResponseArgs, started: f64) -> Result<()> {
+    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
+        return crate::train_response::response(&t, &a);
+    }
     let (cfg, scenario) = a.run.resolve()?;
     let opts =
         SweepSpec::response(a.param.clone(), parse_range(&a.range)?).options(&cfg, &scenario)?;

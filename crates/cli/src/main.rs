@@ -20,6 +20,7 @@ mod train_continuation;
 mod train_lyapunov;
 mod train_map;
 mod train_orbits;
+mod train_response;
 mod train_signals;
 
 use clap::{Parser, Subcommand};

@@ -20,7 +20,7 @@ use std::path::Path;
 
 /// The commands that run gear trains (for messages and `geardyn presets`).
 pub const COMMANDS: &str =
-    "modes, show, simulate, bifurcation, lyapunov, basins, continuation, orbits, map2d, signals";
+    "modes, show, simulate, bifurcation, response, lyapunov, basins, continuation, orbits, map2d, signals";
 
 /// A train and its operating point, from the command line.
 pub struct TrainRun {
@@ -488,10 +488,10 @@ fn mesh_force_figure<const N: usize>(
 }
 
 /// A train's model over one operating parameter.
-struct Swept<'a> {
-    spec: &'a TrainSpec,
-    op: TrainOperating,
-    param: &'a str,
+pub(crate) struct Swept<'a> {
+    pub(crate) spec: &'a TrainSpec,
+    pub(crate) op: TrainOperating,
+    pub(crate) param: &'a str,
 }
 
 impl<'a> Swept<'a> {

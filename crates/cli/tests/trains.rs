@@ -696,3 +696,58 @@ fn orbits_of_a_train_match_the_pair_and_find_its_doubling() {
     ]);
     assert!(code == 2 && e.contains("--param eps"), "{e}");
 }
+
+/// A train's frequency response: the single pair written as a train has the pair's up and down
+/// sweeps (both from the static deflection, the pair's `x0 = 1 + F - xi`), label by label
+/// through the chaotic band and over the coexistence of C1's 3-1-1 and 1-1-0 orbits above it
+/// (below omega = 1.1 the down sweep crosses fractal basins: labels there may differ with the
+/// last digits), and says where the sweeps end on different motions.
+#[test]
+fn response_of_a_train_shows_the_pairs_hysteresis() {
+    let (pair, train) = (tmp("resp-c1"), tmp("resp-pair"));
+    let range = ["--range", "0.5:2:31"];
+    let mut a = vec!["response", "--preset", "classic", "--set", "x0=0.9"];
+    a.extend(range);
+    a.extend(["--out", s(&pair)]);
+    geardyn_ok(&a);
+    let mut b = vec![
+        "response",
+        "--preset",
+        "pair",
+        "--set",
+        "kappa=0.2",
+        "--set",
+        "xi=0.2",
+    ];
+    b.extend(range);
+    b.extend(["--out", s(&train)]);
+    let text = geardyn_ok(&b);
+    assert!(text.contains("different motions"), "{text}");
+    let labels = |path: &std::path::Path, label_col: usize| -> Vec<(String, String, String)> {
+        let mut v: Vec<(String, String, String)> = csv_rows(path)
+            .into_iter()
+            .filter(|r| r[0].parse::<f64>().unwrap() >= 1.1)
+            .map(|r| (r[0].clone(), r[1].clone(), r[label_col].clone()))
+            .collect();
+        v.sort();
+        v
+    };
+    // runs.csv: omega, branch, ic, x0, v0, class, label; response.csv: omega, sweep, class, label
+    let (p, t) = (
+        labels(&pair.join("runs.csv"), 6),
+        labels(&train.join("response.csv"), 3),
+    );
+    assert_eq!(p, t);
+    assert!(
+        t.contains(&("2".into(), "up".into(), "3-1-1".into())),
+        "{t:?}"
+    );
+    assert!(
+        t.contains(&("2".into(), "down".into(), "1-1-0".into())),
+        "{t:?}"
+    );
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(train.join("jumps.json")).unwrap()).unwrap();
+    assert!(js["coexisting"].as_array().unwrap().len() >= 4, "{js}");
+    assert!(train.join("response.png").exists() && train.join("run.json").exists());
+}
