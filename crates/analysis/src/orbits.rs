@@ -208,16 +208,34 @@ pub fn floquet_multipliers<const N: usize>(m: &[[f64; N]; N]) -> [Multiplier; N]
     if !m.iter().flatten().all(|v| v.is_finite()) {
         return [nan; N];
     }
-    let a = nalgebra::DMatrix::from_fn(N, N, |i, j| m[i][j]);
-    let Some(schur) = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, 1000 * N.max(1)) else {
-        return [nan; N];
+    // components whose row and column are zero off the diagonal (a padded train's padding:
+    // copies of one decay factor) are their own multipliers, exactly; the Schur iteration does
+    // not always converge with such a block of equal eigenvalues beside the rest
+    let decoupled = |i: usize| (0..N).all(|j| j == i || (m[i][j] == 0.0 && m[j][i] == 0.0));
+    let (alone, rest): (Vec<usize>, Vec<usize>) = (0..N).partition(|&i| decoupled(i));
+    let mut blocks: Vec<Vec<Multiplier>> = alone
+        .iter()
+        .map(|&i| {
+            vec![Multiplier {
+                re: m[i][i],
+                im: 0.0,
+            }]
+        })
+        .collect();
+    let n = rest.len();
+    let a = nalgebra::DMatrix::from_fn(n, n, |i, j| m[rest[i]][rest[j]]);
+    let t = if n == 0 {
+        a
+    } else {
+        let Some(schur) = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, 1000 * n) else {
+            return [nan; N];
+        };
+        schur.unpack().1
     };
-    let (_, t) = schur.unpack();
     // the diagonal blocks: 1 x 1 (a real multiplier) or 2 x 2 (a pair)
-    let mut blocks: Vec<Vec<Multiplier>> = Vec::with_capacity(N);
     let mut i = 0;
-    while i < N {
-        if i + 1 < N && t[(i + 1, i)] != 0.0 {
+    while i < n {
+        if i + 1 < n && t[(i + 1, i)] != 0.0 {
             let b = [
                 [t[(i, i)], t[(i, i + 1)]],
                 [t[(i + 1, i)], t[(i + 1, i + 1)]],

@@ -108,7 +108,7 @@ enum Command {
 /// is kept, remove the folder's lock file and leave with the conventional status 130 (a
 /// checkpointed command has its finished items on disk already, one line each).
 fn on_interrupt() {
-    const MSG: &str = "\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate and lyapunov start over";
+    const MSG: &str = "\ninterrupted: sweeps, responses, basins, continuations, maps and reports keep their finished work (run the same command again to resume); simulate, lyapunov, orbits, and a gear train's bifurcation and response start over";
     geardyn_solvers::cancel::request();
     geardyn_io::run_record::release_held_lock();
     eprintln!("{MSG}");

@@ -14,6 +14,9 @@ use geardyn_io::run_record;
 use geardyn_io::schema::{bifurcations_table, full, orbit_branch_table, orbit_rows};
 use std::path::PathBuf;
 
+/// Values of the brute-force diagram under a branch by default.
+pub(crate) const DEFAULT_DIAGRAM: usize = 60;
+
 /// Arguments of `geardyn orbits`.
 #[derive(Args, Debug)]
 pub struct OrbitArgs {
@@ -30,8 +33,9 @@ pub struct OrbitArgs {
     /// Parameter continued (omega, F, xi, c, kappa, D, pair.mu, ...); without it, one orbit.
     #[arg(long)]
     pub(crate) param: Option<String>,
-    /// START:STOP of the continuation (the first orbit is found at START).
-    #[arg(long)]
+    /// START:STOP of the continuation (the first orbit is found at START; a gear train's:
+    /// START:STOP[:COUNT], the values it is followed at, default 41).
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) range: Option<String>,
     /// Largest arclength step of the continuation (scaled (x, x', parameter) space).
     #[arg(long, default_value_t = OrbitsRequest::default().ds)]
@@ -47,7 +51,7 @@ pub struct OrbitArgs {
     pub(crate) rtol: f64,
     /// Brute-force diagram drawn under the branches: values of the parameter over the range
     /// (simulated from the initial state, strobe points of the last 60 of 360 periods); 0: none.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = DEFAULT_DIAGRAM)]
     pub(crate) diagram: usize,
     /// Output directory.
     #[arg(long, default_value = "out/orbits")]

@@ -41,6 +41,13 @@ pub fn run(t: &TrainRun, a: &OrbitArgs) -> Result<()> {
     if a.switch_up_to != 0 {
         bail!("--switch-up-to: branch switching at doublings is the pair's (its plane); a train's orbit is followed over the values, its doublings located and typed");
     }
+    let pair = geardyn_analysis::orbits_request::OrbitsRequest::default();
+    if a.ds != pair.ds || a.max_points != pair.max_points {
+        bail!("--ds and --max-points set the pair's pseudo-arclength continuation; a train's orbit is followed at the --range START:STOP:COUNT values");
+    }
+    if a.diagram != crate::orbits::DEFAULT_DIAGRAM {
+        bail!("--diagram: the brute-force diagram under the branch is the pair's; for a train run `geardyn bifurcation` over the same range");
+    }
     let values = match (&a.param, &a.range) {
         (Some(p), Some(r)) => {
             if !TrainOperating::FIELDS.contains(&p.as_str()) {
@@ -61,6 +68,9 @@ pub fn run(t: &TrainRun, a: &OrbitArgs) -> Result<()> {
                 "--range",
                 "START:STOP or START:STOP:COUNT (a train's orbit is found at COUNT values, default 41)",
             )?;
+            if lo == hi {
+                bail!("bad --range {r:?}: START and STOP are equal; an orbit is followed between two different values");
+            }
             let v = range_values("range", (lo, hi, n), MAX_RANGE_VALUES)?;
             for &x in &v {
                 let mut op = t.op;
@@ -146,6 +156,21 @@ fn found<const N: usize>(m: &TrainModel<N>, value: f64, orbit: Orbit<N>) -> Foun
     }
 }
 
+/// Why Newton lost the orbit, in a train's terms (the pair's advice names its initial state).
+fn lost(e: &geardyn_analysis::orbits::OrbitError) -> String {
+    use geardyn_analysis::orbits::OrbitError;
+    match e {
+        OrbitError::NoConvergence {
+            iterations,
+            residual,
+            ..
+        } => format!(
+            "Newton's method did not converge from the orbit before in {iterations} iterations (residual {residual:e})"
+        ),
+        other => other.to_string(),
+    }
+}
+
 /// The kind of stability change between an orbit and the next, from the leading multiplier on
 /// the unstable side.
 fn change(mu: Multiplier) -> &'static str {
@@ -203,7 +228,11 @@ where
                         branch.push(found(&m, v, orbit));
                     }
                     Err(e) => {
-                        end = format!("the branch ends between {p} = {} and {v}: Newton lost the orbit there ({e}; a fold or a grazing)", branch.last().map_or(f64::NAN, |f| f.value));
+                        end = format!(
+                            "the branch ends between {p} = {} and {v}: {} (a fold turns the orbit back, or a grazing changes its events; a finer --range COUNT may follow it further)",
+                            branch.last().map_or(f64::NAN, |f| f.value),
+                            lost(&e)
+                        );
                         break;
                     }
                 }
@@ -257,7 +286,7 @@ where
         }
         Some(p) => {
             println!(
-                "{}: {} orbits over {p} ({} stable); {} stability change(s):",
+                "{}: {} orbits over {p} ({} stable); {} change(s) of stability or period:",
                 t.spec.name,
                 branch.len(),
                 branch.iter().filter(|f| f.orbit.stable).count(),
@@ -314,6 +343,14 @@ fn write_outputs<const N: usize>(
         let o = &f.orbit;
         let mu = o.multipliers[0];
         let s = f.summary.as_ref();
+        // (a single mesh's summary is the train's: no list per mesh)
+        let mesh = |k: usize| -> Option<(String, f64)> {
+            s.and_then(|s| match s.meshes.get(k) {
+                Some(x) => Some((x.label.clone(), x.max_force)),
+                None if names.len() == 1 => Some((s.label.clone(), s.max_force)),
+                None => None,
+            })
+        };
         let _ = write!(
             csv,
             "{},{},{},{},{},{},{},{},{},{}",
@@ -337,14 +374,14 @@ fn write_outputs<const N: usize>(
             dynamic_factors(&mm, s)
         });
         for k in 0..names.len() {
-            let ms = s.and_then(|s| s.meshes.get(k));
+            let ms = mesh(k);
             let df = factors.as_ref().map_or(f64::NAN, |d| d[k].1);
             let _ = write!(
                 csv,
                 ",{},{},{},{}",
                 f.deflections[k],
-                ms.map_or(String::new(), |x| x.label.clone()),
-                ms.map_or(f64::NAN, |x| x.max_force),
+                ms.as_ref().map_or(String::new(), |x| x.0.clone()),
+                ms.as_ref().map_or(f64::NAN, |x| x.1),
                 if df.is_finite() {
                     df.to_string()
                 } else {

@@ -121,7 +121,7 @@ fn bad_planetary_stages_are_refused() {
         }
     }
     // the pair's commands say that they do not run trains, and which do
-    let (code, _, err) = geardyn(&["response", "--preset", "planetary"]);
+    let (code, _, err) = geardyn(&["stiffness", "--preset", "planetary"]);
     assert_eq!(code, 2);
     assert!(
         err.contains("gear train") && err.contains("basins, continuation, orbits, map2d"),

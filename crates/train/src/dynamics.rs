@@ -122,11 +122,12 @@ impl TrainOperating {
             "kappa" => self.stiffness = MeshStiffness::Harmonic { kappa: v },
             "ratio" => self.stiffness = MeshStiffness::Rectangular { ratio: v },
             _ => {
-                return Err(crate::error::invalid(
-                    "--set",
-                    field,
-                    "one of omega, F, xi, c, D, kappa (harmonic stiffness), ratio (rectangular)",
-                ))
+                return Err(TrainError::Unknown {
+                    field: field.to_string(),
+                    allowed:
+                        "one of omega, F, xi, c, D, kappa (harmonic stiffness), ratio (rectangular)"
+                            .into(),
+                })
             }
         }
         self.validate()

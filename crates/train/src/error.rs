@@ -14,6 +14,14 @@ pub enum TrainError {
         /// What the field may be.
         allowed: String,
     },
+    /// A `--set` name the train does not have.
+    #[error("unknown --set {field}: allowed {allowed}")]
+    Unknown {
+        /// The name given.
+        field: String,
+        /// The names it may be.
+        allowed: String,
+    },
     /// The pair physics refused a mesh's gear pair (the message names the pair).
     #[error("{mesh}: {error}")]
     Pair {

@@ -170,19 +170,15 @@ impl PlanetaryParams {
 }
 
 fn unknown(field: &str, known: &[&str]) -> TrainError {
-    let operating = "the operating point's omega, F, xi, c, D, kappa, ratio";
-    if known.is_empty() {
-        invalid(
-            "--set",
-            field,
-            format!("{operating} (this train has no fields of its own)"),
-        )
-    } else {
-        invalid(
-            "--set",
-            field,
-            format!("one of {}, or {operating}", known.join(", ")),
-        )
+    // (a train's runs start at rest in its static deflection: it has no x0, v0)
+    let operating = "the operating point's omega, F, xi, c, D, kappa, ratio (a train starts at rest in its static deflection)";
+    TrainError::Unknown {
+        field: field.to_string(),
+        allowed: if known.is_empty() {
+            format!("{operating} (this train has no fields of its own)")
+        } else {
+            format!("one of {}, or {operating}", known.join(", "))
+        },
     }
 }
 

@@ -449,3 +449,43 @@ fn a_chipped_sun_tooth_shows_at_its_characteristic_order() {
     );
     assert!(t[57] > 1e-3 * top, "{:e} {top:e}", t[57]);
 }
+
+/// A stage of 4 planets runs padded (5 elastic degrees of freedom in 16 components): its orbit's
+/// multipliers are finite, the padding's are its decay factor (exactly decoupled), and the orbit
+/// the decided motion settles on is stable (the Schur iteration alone did not converge beside the
+/// padding's block of equal eigenvalues: every orbit read NaN and unstable).
+#[test]
+fn a_padded_stage_has_finite_floquet_multipliers() {
+    let spec = trains::by_name("planetary", &[("stage.planets".into(), 4.0)]).unwrap();
+    let op = TrainOperating {
+        xi: 0.1,
+        ..TrainOperating::default()
+    };
+    let m = TrainModel::<16>::new(&spec, &op).unwrap();
+    assert_eq!(m.dof(), 5);
+    let (res, s, _) = simulate_decided(
+        &m,
+        m.static_state(),
+        &SimOptions::default(),
+        Decide::default(),
+    )
+    .unwrap();
+    assert_eq!(s.period, 1, "{}", s.describe());
+    let y = *res.strobe_states().last().unwrap();
+    let o = geardyn_analysis::orbits::find_orbit(&m, y, &Default::default()).unwrap();
+    assert!(o.multipliers.iter().all(|mu| mu.abs().is_finite()));
+    assert!(
+        o.stable && o.multipliers[0].abs() < 1.0,
+        "{:?}",
+        o.multipliers
+    );
+    // the six padding components' multiplier: their own diagonal entry
+    let pad = o.monodromy[5][5];
+    assert_eq!(
+        o.multipliers
+            .iter()
+            .filter(|mu| mu.re == pad && mu.im == 0.0)
+            .count(),
+        6
+    );
+}
