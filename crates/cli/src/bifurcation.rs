@@ -134,9 +134,6 @@ pub struct ResponseArgs {
 }
 
 pub fn response(a: ResponseArgs, started: f64) -> Result<()> {
-    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
-        return crate::train_response::response(&t, &a);
-    }
     let (cfg, scenario) = a.run.resolve()?;
     let opts =
         SweepSpec::response(a.param.clone(), parse_range(&a.range)?).options(&cfg, &scenario)?;

@@ -118,9 +118,6 @@ impl BasinArgs {
 }
 
 pub fn basins_cmd(a: BasinArgs, started: f64) -> Result<()> {
-    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
-        return crate::train_basins::basins(&t, &a);
-    }
     if a.mesh.is_some() {
         bail!("--mesh picks the mesh of a gear train's basin plane; the pair's grid is its whole state (x0, x0')");
     }
@@ -255,9 +252,6 @@ pub struct ContinuationArgs {
 }
 
 pub fn continuation_cmd(a: ContinuationArgs, started: f64) -> Result<()> {
-    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
-        return crate::train_continuation::continuation(&t, &a);
-    }
     if a.mesh.is_some() {
         bail!("--mesh picks the mesh of a gear train's plane of initial states; the pair's are its whole state (x0, x0')");
     }
@@ -427,9 +421,6 @@ impl MapArgs {
 }
 
 pub fn map_cmd(a: MapArgs, started: f64) -> Result<()> {
-    if let Some(t) = crate::train::from_args(&a.run.cfg)? {
-        return crate::train_map::map(&t, &a);
-    }
     let (req, scenario) = a.request()?;
     let opts = &req.options;
     let (nx, ny) = (opts.x_values.len(), opts.y_values.len());

@@ -2,11 +2,11 @@
 
 use crate::run_config::ConfigArgs;
 use crate::sweep::SimArgs;
+use crate::tle_text::{print_convergence, print_round};
 use anyhow::Result;
 use clap::Args;
 use geardyn_analysis::lyapunov::LyapunovResult;
 use geardyn_analysis::lyapunov_request::{LyapunovRequest, TleMethod};
-use geardyn_analysis::tle_convergence::Round;
 use geardyn_exec::{execute, Each, LyapunovJob};
 
 /// `+- spread`, or why there is none (one period: no blocks to compare).
@@ -15,32 +15,6 @@ fn spread_text(spread: f64) -> String {
         format!("+- {spread:.6}")
     } else {
         "(no standard error: it needs at least 2 periods)".to_string()
-    }
-}
-
-/// One round of the doubling, as it finishes.
-pub(crate) fn print_round(r: &Round) {
-    println!(
-        "  {:>7} periods: TLE {:.6} (at half the run {:.6}), block stderr {:.2e}",
-        r.periods, r.tle, r.half, r.stderr
-    );
-}
-
-/// Whether the doubling converged within `max_periods`.
-pub(crate) fn print_convergence(
-    c: &geardyn_analysis::tle_convergence::ConvergedTle,
-    max_periods: u64,
-) {
-    if c.converged {
-        println!(
-            "converged: |TLE(N) - TLE(N/2)| and the standard error are below {:.1e}",
-            c.tol
-        );
-    } else {
-        println!(
-            "WARNING: not converged to {:.1e} within --max-periods {max_periods} (pass a larger cap, or --periods N for a fixed length)",
-            c.tol
-        );
     }
 }
 

@@ -14,6 +14,7 @@ mod signals;
 mod simulate;
 mod stiffness;
 mod sweep;
+mod tle_text;
 mod train;
 mod train_basins;
 mod train_continuation;
@@ -134,7 +135,7 @@ fn main() {
             for (name, what) in geardyn_model::presets::PRESETS {
                 println!("{name:<10} {what}");
             }
-            println!("gear trains (geardyn {}):", train::COMMANDS);
+            println!("gear trains (geardyn {}):", run_config::TRAIN_COMMANDS);
             for (name, what) in [
                 ("planetary", "sun 25 / planets 35 / ring 95, 3 equally spaced planets, m = 3 mm: sun input, carrier output, ring fixed"),
                 ("two-stage", "20/50 then 22/61 teeth on an elastic intermediate shaft (40 mm x 150 mm steel)"),
@@ -157,12 +158,34 @@ fn main() {
         Command::Simulate(args) => simulate::run(args),
         Command::Bifurcation(args) => bifurcation::run(args, started),
         Command::Lyapunov(args) => lyapunov::run(args),
-        Command::Response(args) => bifurcation::response(args, started),
-        Command::Basins(args) => global::basins_cmd(args, started),
-        Command::Continuation(args) => global::continuation_cmd(args, started),
-        Command::Orbits(args) => orbits::run(args, started),
+        // a gear train's analyses beside the pair's (the train modules use the pair's
+        // arguments and writers, so the choice is made here)
+        Command::Response(args) => match train::from_args(&args.run.cfg) {
+            Ok(Some(t)) => train_response::response(&t, &args),
+            Ok(None) => bifurcation::response(args, started),
+            Err(e) => Err(e),
+        },
+        Command::Basins(args) => match train::from_args(&args.run.cfg) {
+            Ok(Some(t)) => train_basins::basins(&t, &args),
+            Ok(None) => global::basins_cmd(args, started),
+            Err(e) => Err(e),
+        },
+        Command::Continuation(args) => match train::from_args(&args.run.cfg) {
+            Ok(Some(t)) => train_continuation::continuation(&t, &args),
+            Ok(None) => global::continuation_cmd(args, started),
+            Err(e) => Err(e),
+        },
+        Command::Orbits(args) => match train::from_args(&args.cfg) {
+            Ok(Some(t)) => train_orbits::run(&t, &args),
+            Ok(None) => orbits::run(args, started),
+            Err(e) => Err(e),
+        },
         Command::Signals(args) => signals::run(args, started),
-        Command::Map2d(args) => global::map_cmd(args, started),
+        Command::Map2d(args) => match train::from_args(&args.run.cfg) {
+            Ok(Some(t)) => train_map::map(&t, &args),
+            Ok(None) => global::map_cmd(args, started),
+            Err(e) => Err(e),
+        },
         Command::Modes(args) => modes::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Plan(args) => shard::plan(args),

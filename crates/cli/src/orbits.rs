@@ -59,9 +59,6 @@ pub struct OrbitArgs {
 }
 
 pub fn run(a: OrbitArgs, started: f64) -> Result<()> {
-    if let Some(t) = crate::train::from_args(&a.cfg)? {
-        return crate::train_orbits::run(&t, &a);
-    }
     let (cfg, scenario) = a.cfg.resolve()?;
     if a.diagram > 2000 {
         bail!("bad --diagram {}: allowed 0 ..= 2000", a.diagram);

@@ -41,13 +41,13 @@ impl ConfigArgs {
         let mut c = match (&self.preset, &self.config) {
             (_, Some(path)) => Config::from_file(path)?,
             _ if self.system.is_some() => {
-                anyhow::bail!("--system names a gear train: geardyn {} run trains; this command runs the single pair's model", crate::train::COMMANDS)
+                anyhow::bail!("--system names a gear train: geardyn {} run trains; this command runs the single pair's model", TRAIN_COMMANDS)
             }
             (Some(name), None)
                 if geardyn_train::presets::NAMES.contains(&name.as_str())
                     && Config::preset(name).is_err() =>
             {
-                anyhow::bail!("--preset {name} is a gear train: geardyn {} run trains; this command runs the single pair's model", crate::train::COMMANDS)
+                anyhow::bail!("--preset {name} is a gear train: geardyn {} run trains; this command runs the single pair's model", TRAIN_COMMANDS)
             }
             (Some(name), None) => Config::preset(name)?,
             (None, None) => Config::preset("classic")?,
@@ -77,3 +77,7 @@ impl ConfigArgs {
         Ok((c, s))
     }
 }
+
+/// The commands that run gear trains (for messages and `geardyn presets`).
+pub const TRAIN_COMMANDS: &str =
+    "modes, show, simulate, bifurcation, response, lyapunov, basins, continuation, orbits, map2d, signals";

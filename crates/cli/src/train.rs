@@ -18,10 +18,6 @@ use geardyn_train::dynamics::{TrainModel, TrainOperating};
 use geardyn_train::TrainSpec;
 use std::path::Path;
 
-/// The commands that run gear trains (for messages and `geardyn presets`).
-pub const COMMANDS: &str =
-    "modes, show, simulate, bifurcation, response, lyapunov, basins, continuation, orbits, map2d, signals";
-
 /// A train and its operating point, from the command line.
 pub struct TrainRun {
     /// The description.

@@ -92,8 +92,8 @@ where
         print_tle(m, r.tle, r.spread, n);
         return Ok(());
     }
-    let c = converge_by_doubling(conv, run, crate::lyapunov::print_round)?;
-    crate::lyapunov::print_convergence(&c, conv.max_periods);
+    let c = converge_by_doubling(conv, run, crate::tle_text::print_round)?;
+    crate::tle_text::print_convergence(&c, conv.max_periods);
     print_tle(
         m,
         c.result.tle,

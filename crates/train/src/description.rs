@@ -62,7 +62,7 @@ pub struct TrainSpec {
     /// `load`, `xi`, `c`, `d`, `[operating.stiffness]`), if it states one; the front ends start
     /// from it (else from [`TrainOperating::default`]) and apply their overrides.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub operating: Option<crate::dynamics::TrainOperating>,
+    pub operating: Option<crate::operating::TrainOperating>,
 }
 
 /// A localized fault of one tooth (`[fault]` of a description).

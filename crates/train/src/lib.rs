@@ -30,6 +30,7 @@ pub mod fault;
 pub mod kinematics;
 pub mod linear;
 pub mod modes;
+pub mod operating;
 pub mod presets;
 
 pub use description::{Body, Load, Mesh, Shaft, Support, TrainSpec};
