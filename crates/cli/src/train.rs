@@ -31,6 +31,28 @@ pub struct TrainRun {
 }
 
 impl TrainRun {
+    /// Runs `job` with the checkpoint of the folder `out` (its context: this train's description
+    /// and operating point; `force` sets aside a checkpoint of other settings) and the progress
+    /// line: how every resumable train analysis runs.
+    pub(crate) fn execute<J: geardyn_exec::Job>(
+        &self,
+        job: &J,
+        out: &Path,
+        force: bool,
+    ) -> Result<J::Output>
+    where
+        J::Record: serde::Serialize + serde::de::DeserializeOwned,
+    {
+        let context = serde_json::json!({ "system": self.spec.to_toml(), "operating": self.op });
+        Ok(geardyn_exec::execute(
+            job,
+            Some(&mut geardyn_exec::Checkpointed::folder(
+                out, &context, force,
+            )?),
+            &crate::sweep::progress(out),
+        )?)
+    }
+
     /// The description with its operating point (`[operating]`): what `--system` runs again.
     pub fn description(&self) -> String {
         let mut spec = self.spec.clone();

@@ -9,13 +9,13 @@
 //! stroboscopic points as the mesh's deflection and rate).
 
 use crate::global::{print_basins, write_basins, BasinArgs};
-use crate::sweep::progress;
+
 use crate::train::{check_work, sim_options, with_model, TrainRun};
 use anyhow::{bail, Result};
 use geardyn_analysis::attractor::{check_phase, Descriptor};
 use geardyn_analysis::basins::{BasinAttractor, BasinOptions, BasinResult, Slice, SliceError};
 use geardyn_analysis::engine::Engine;
-use geardyn_exec::{execute, BasinsJob, Checkpointed};
+use geardyn_exec::BasinsJob;
 use geardyn_model::GearSystem;
 use geardyn_train::dynamics::{elastic_dof, TrainModel};
 
@@ -94,23 +94,14 @@ where
     };
     check_work(m, &opts.identify.sim, x.n * v.n, cap)?;
     let mesh = m.mesh_name(k);
-    let context = serde_json::json!({
-        "system": t.spec.to_toml(),
-        "operating": t.op,
-        "mesh": mesh,
-    });
     let started = std::time::Instant::now();
-    let r = execute(
+    let r = t.execute(
         &BasinsJob {
             model: m,
             opts: &opts,
         },
-        Some(&mut Checkpointed::folder(
-            &a.out,
-            &context,
-            a.run.force.force,
-        )?),
-        &progress(&a.out),
+        &a.out,
+        a.run.force.force,
     )?;
     let elapsed = started.elapsed().as_secs_f64();
     t.write_record(&a.out, "basins", &[], started)?;

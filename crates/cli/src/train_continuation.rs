@@ -5,7 +5,7 @@
 //! the executor: one item per value, resumable from the folder.
 
 use crate::global::{print_continuation, write_continuation, ContinuationArgs};
-use crate::sweep::{parse_range, progress};
+use crate::sweep::parse_range;
 use crate::train::{check_work, sim_options, with_model, TrainRun};
 use crate::train_basins::{mesh_index, mesh_slice, on_plane};
 use anyhow::{bail, Result};
@@ -13,7 +13,7 @@ use geardyn_analysis::attractor::check_phase;
 use geardyn_analysis::bifurcation::InitialBox;
 use geardyn_analysis::continuation::{attractors_of, link, ContinuationOptions, ValueAttractors};
 use geardyn_analysis::engine::Engine;
-use geardyn_exec::{execute, Checkpointed, ExecError, Job};
+use geardyn_exec::{ExecError, Job};
 use geardyn_model::GearSystem;
 use geardyn_train::dynamics::{TrainModel, TrainOperating};
 use geardyn_train::TrainSpec;
@@ -144,17 +144,8 @@ where
         mesh,
         opts,
     };
-    let context = serde_json::json!({ "system": t.spec.to_toml(), "operating": t.op });
     let started = std::time::Instant::now();
-    let per_value = execute(
-        &job,
-        Some(&mut Checkpointed::folder(
-            &a.out,
-            &context,
-            a.run.force.force,
-        )?),
-        &progress(&a.out),
-    )?;
+    let per_value = t.execute(&job, &a.out, a.run.force.force)?;
     // branches linked on the mesh's plane, where the table and the figure show them
     let mut on_mesh = Vec::with_capacity(per_value.len());
     for va in &per_value {

@@ -4,14 +4,14 @@
 //! checkpoint and reported as it goes.
 
 use crate::global::{parse_param_axis, MapArgs};
-use crate::sweep::progress;
+
 use crate::train::{check_work, dynamic_factors, load_sharing, sim_options, with_model, TrainRun};
 use anyhow::{bail, Result};
 use geardyn_analysis::classify::{simulate_decided, Decide};
 use geardyn_analysis::engine::Engine;
 use geardyn_analysis::map2d::MapCell;
 use geardyn_analysis::simulate::SimOptions;
-use geardyn_exec::{execute, Checkpointed, ExecError, Job};
+use geardyn_exec::{ExecError, Job};
 use geardyn_io::schema::{self, Values};
 use geardyn_io::sweep_output::MetricScale;
 use geardyn_model::GearSystem;
@@ -268,17 +268,8 @@ where
         y,
         sim,
     };
-    let context = serde_json::json!({ "system": t.spec.to_toml(), "operating": t.op });
     let started = std::time::Instant::now();
-    let cells = execute(
-        &job,
-        Some(&mut Checkpointed::folder(
-            &a.out,
-            &context,
-            a.run.force.force,
-        )?),
-        &progress(&a.out),
-    )?;
+    let cells = t.execute(&job, &a.out, a.run.force.force)?;
     let (nx, ny) = (x.1.len(), y.1.len());
     t.write_record(
         &a.out,
